@@ -1,0 +1,40 @@
+// The one exception type of rayverify: bad input (a corpus line, a file, a
+// command-line value). It carries where the problem is so the message can
+// name file, line and field. Numeric code never throws; a miss is a value.
+#pragma once
+
+#include <cstddef>
+#include <stdexcept>
+#include <string>
+
+namespace rayverify {
+
+class input_error : public std::runtime_error {
+public:
+    // file may be empty (command line); line 0 means "the whole file";
+    // field may be empty.
+    input_error(std::string file, std::size_t line, std::string field, const std::string& problem)
+        : std::runtime_error(compose(file, line, field, problem)),
+          file_(std::move(file)),
+          line_(line),
+          field_(std::move(field)) {}
+
+    const std::string& file() const { return file_; }
+    std::size_t line() const { return line_; }
+    const std::string& field() const { return field_; }
+
+private:
+    static std::string compose(const std::string& file, std::size_t line, const std::string& field,
+                               const std::string& problem) {
+        std::string where = file.empty() ? std::string("<command line>") : file;
+        if (line > 0) where += ":" + std::to_string(line);
+        if (!field.empty()) where += ": field '" + field + "'";
+        return where + ": " + problem;
+    }
+
+    std::string file_;
+    std::size_t line_;
+    std::string field_;
+};
+
+}  // namespace rayverify

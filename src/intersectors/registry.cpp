@@ -1,0 +1,58 @@
+#include "intersectors/registry.h"
+
+#include <array>
+
+#include "intersectors/fma_discriminant.h"
+#include "intersectors/geometric.h"
+#include "intersectors/half_b.h"
+#include "intersectors/hearn_baker.h"
+#include "intersectors/naive.h"
+#include "intersectors/seed003_reduced.h"
+#include "intersectors/seed004_early_out.h"
+#include "intersectors/stable_roots.h"
+
+namespace rayverify {
+namespace {
+
+#define RAYVERIFY_BOTH_PRECISIONS(fn) &intersectors::fn<float>, &intersectors::fn<double>
+
+const std::array<variant, 8> registry{{
+    {"naive", "seed 000 / seed 001 (textbook quadratic)",
+     "b = 2d·f, C = f·f − r², Δ = b² − 4aC, t = (−b ∓ √Δ)/2a", intersectors::naive_contract,
+     RAYVERIFY_BOTH_PRECISIONS(naive)},
+    {"half_b", "Ray Tracing in One Weekend §6.2",
+     "h = d·(c − o), Δ = h² − aC, t = (h ∓ √Δ)/a", intersectors::half_b_contract,
+     RAYVERIFY_BOTH_PRECISIONS(half_b)},
+    {"seed003_reduced", "seed 003 (GLM-style reduced quadratic, as published)",
+     "p = d̂·f, q = f·f − r², Δ = p² − q, t = −p ∓ √Δ, tangent if Δ ≤ 1e-7",
+     intersectors::seed003_reduced_contract, RAYVERIFY_BOTH_PRECISIONS(seed003_reduced)},
+    {"seed004_early_out", "seed 004 (DirectX RayToSphere, as published)",
+     "b = f·d̂, C = f·f − r², miss if C > 0 ∧ b > 0, t = max(0, −b − √(b² − C))",
+     intersectors::seed004_early_out_contract, RAYVERIFY_BOTH_PRECISIONS(seed004_early_out)},
+    {"geometric", "seed 000 closest approach (three.js, PhysX)",
+     "t_ca = (c − o)·d̂, d² = |c − o|² − t_ca², miss if d² > r², t = t_ca ∓ √(r² − d²)",
+     intersectors::geometric_contract, RAYVERIFY_BOTH_PRECISIONS(geometric)},
+    {"stable_roots", "Numerical Recipes §5.6; RTG ch.7 method 1",
+     "q = −½(b + sign(b)√Δ), t = q/a, C/q", intersectors::stable_roots_contract,
+     RAYVERIFY_BOTH_PRECISIONS(stable_roots)},
+    {"hearn_baker", "Ray Tracing Gems ch.7 final form (Hearn–Baker Δ + stable roots)",
+     "b′ = −f·d, Δ = r² − |f + (b′/a)d|², q = b′ + sign(b′)√(aΔ), t = C/q, q/a",
+     intersectors::hearn_baker_contract, RAYVERIFY_BOTH_PRECISIONS(hearn_baker)},
+    {"fma_discriminant", "naive with Kahan's FMA difference of products (pbrt-v4)",
+     "Δ = DifferenceOfProducts(b, b, 4a, C), t = (−b ∓ √Δ)/2a",
+     intersectors::fma_discriminant_contract, RAYVERIFY_BOTH_PRECISIONS(fma_discriminant)},
+}};
+
+#undef RAYVERIFY_BOTH_PRECISIONS
+
+}  // namespace
+
+std::span<const variant> builtin_variants() { return registry; }
+
+const variant* find_builtin_variant(std::string_view name) {
+    for (const variant& v : registry)
+        if (v.name == name) return &v;
+    return nullptr;
+}
+
+}  // namespace rayverify

@@ -1,0 +1,81 @@
+// The exact oracle: what a ray–sphere test answers in exact arithmetic.
+//
+// Every input is a finite double, hence an exact dyadic rational, so the
+// quadratic a t² + 2b′t + C = 0 (a = d·d, b′ = d·(o − c), C = |o − c|² − r²)
+// has exact coefficients and its roots are exact algebraic numbers
+// (−b′ ∓ √Δ′)/a with Δ′ = b′² − aC. The oracle decides the line's class and
+// each root's sign exactly, and rounds roots and hit points correctly
+// (round-to-nearest-even) to the precision of the variant being judged.
+//
+// This header exposes no CGAL, GMP or MPFR type: the exact representation
+// lives behind `exact_solution`'s private handle, in oracle.cpp.
+#pragma once
+
+#include <memory>
+#include <optional>
+
+#include "core/ray_sphere_case.h"
+
+namespace rayverify {
+
+enum class line_class { miss, tangent, two_hit };
+const char* line_class_name(line_class c);
+
+enum class root_index { near_root, far_root };
+
+struct exact_root {
+    int sign = 0;         // exact sign of t*: −1 behind, 0 at the origin, +1 in front
+    double rounded = 0;   // RN(t*) in the solution's precision (a float value is exact in double)
+};
+
+class exact_solution {
+public:
+    // The case exactly as given (at the precision's rounding of its inputs).
+    invalid_reason invalid = invalid_reason::none;
+    precision prec = precision::binary64;
+    line_class cls = line_class::miss;
+    exact_root near_root;  // the smaller root; equals far_root for a tangent
+    exact_root far_root;
+
+    // The nearest root with t > 0, and o + t·d rounded per coordinate.
+    std::optional<root_index> nearest_in_front;
+    vec3<double> hit_point{};
+
+    // When the case carries an interval [tmin, tmax]: does a root lie in it?
+    std::optional<bool> hits_interval;
+
+    bool valid() const { return invalid == invalid_reason::none; }
+    const exact_root& root(root_index i) const {
+        return i == root_index::near_root ? near_root : far_root;
+    }
+
+    // sign(value − t*) exactly; value must be finite. Requires cls != miss.
+    int compare_root(root_index i, double value) const;
+
+    // |value − t*| / ulp(t*) in the solution's precision, with every printed
+    // digit right (the exact difference is bracketed adaptively). 0 exactly
+    // when value == t*; +inf for a non-finite value. Requires cls != miss.
+    double root_ulp_error(root_index i, double value) const;
+
+    // Same for coordinate `axis` of o + t·d with t the root i.
+    double hit_point_ulp_error(root_index i, int axis, double value) const;
+
+    // RN of coordinate `axis` of o + t·d for root i, in the solution's precision.
+    double rounded_hit_coordinate(root_index i, int axis) const;
+
+    struct exact_state;  // CGAL/GMP representation, defined in oracle.cpp
+
+private:
+    friend exact_solution solve_exact(const ray_sphere<double>&, precision,
+                                      std::optional<double>, std::optional<double>);
+    std::shared_ptr<const exact_state> exact_;
+};
+
+// Solve one case exactly. `geometry` must hold exactly the values the variant
+// receives (for a float variant: the inputs already rounded to float). Never
+// throws for bad geometry: an invalid case comes back with `invalid` set.
+exact_solution solve_exact(const ray_sphere<double>& geometry, precision prec,
+                           std::optional<double> tmin = std::nullopt,
+                           std::optional<double> tmax = std::nullopt);
+
+}  // namespace rayverify

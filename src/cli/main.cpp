@@ -1,1 +1,38 @@
-int main() { return 0; }
+// rayverify: audit floating-point ray–sphere intersectors against exact arithmetic.
+#include <fmt/format.h>
+
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <exception>
+
+#include "cli/commands.h"
+#include "core/input_error.h"
+
+int main(int argc, char** argv) {
+    using namespace rayverify;
+    std::string command_line;
+    for (int i = 0; i < argc; ++i) command_line += (i ? " " : "") + std::string(argv[i]);
+
+    CLI::App app{"rayverify — the truth about floating-point ray–sphere intersection code.\n"
+                 "Exit codes: 0 ok, 1 findings (disagreements with the exact answer), 2 usage or input error."};
+    app.require_subcommand(1);
+    const cli::command commands[] = {cli::add_variants_command(app), cli::add_audit_command(app, command_line),
+                                     cli::add_explain_command(app), cli::add_corpus_command(app)};
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        const int code = app.exit(e);
+        return code == 0 ? cli::exit_ok : cli::exit_input_error;
+    }
+    try {
+        for (const cli::command& command : commands)
+            if (command.parser->parsed()) return command.run();
+        return cli::exit_input_error;
+    } catch (const input_error& e) {
+        fmt::print(stderr, "rayverify: error: {}\n", e.what());
+        return cli::exit_input_error;
+    } catch (const std::exception& e) {
+        fmt::print(stderr, "rayverify: internal error: {}\n", e.what());
+        return 3;
+    }
+}

@@ -8,7 +8,9 @@ namespace rayverify {
 // Which answer an intersector gives.
 enum class query_kind {
     // Both roots of the line o + t·d (t of any sign), ordered t0 ≤ t1.
-    // count: 0 miss, 1 tangent (t0 == t1), 2 two roots.
+    // count: 0 miss, 1 tangent reported, 2 two roots. Whatever the count, t0
+    // and t1 are the variant's near and far roots (equal for most variants
+    // when they report a tangent) and both are judged.
     line_roots,
     // The nearest hit on the closed ray t ≥ 0. count: 0 miss, 1 hit with
     // distance t0 (t1 unused). A variant that clamps returns t0 = 0 when the

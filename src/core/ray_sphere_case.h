@@ -52,8 +52,8 @@ const char* invalid_reason_name(invalid_reason r);
 
 // The inputs rounded to precision P (round to nearest), which is what a
 // variant running in P receives.
-template <class T>
-ray_sphere<T> rounded_to(const ray_sphere<double>& g) {
+template <class T, class S>
+ray_sphere<T> rounded_to(const ray_sphere<S>& g) {
     return {vec3_cast<T>(g.origin), vec3_cast<T>(g.direction), vec3_cast<T>(g.centre),
             static_cast<T>(g.radius)};
 }

@@ -1,0 +1,149 @@
+#include <fmt/format.h>
+
+#include <sstream>
+
+#include "cli/commands.h"
+#include "core/input_error.h"
+#include "corpus/corpus_io.h"
+#include "report/audit_report.h"
+
+namespace rayverify::cli {
+namespace {
+
+struct explain_options {
+    std::vector<std::string> values;  // 10 numbers, or a corpus line
+    std::string case_id;
+    std::vector<std::string> corpus;
+    std::vector<std::string> variants;
+    std::vector<std::string> precisions;
+};
+
+constexpr const char* field_names[10] = {"ox", "oy", "oz", "dx", "dy", "dz", "cx", "cy", "cz", "r"};
+
+// The case from the command line: "ox oy oz dx dy dz cx cy cz r" or a whole
+// corpus line "id family ox ... r [tmin tmax]", as one argument or many.
+corpus_case case_from_arguments(const std::vector<std::string>& values) {
+    std::vector<std::string> tokens;
+    for (const std::string& v : values) {
+        std::istringstream words(v);
+        for (std::string w; words >> w;) tokens.push_back(w);
+    }
+    corpus_case c;
+    c.id = "command-line";
+    c.source = "<command line>";
+    std::size_t first = 0;
+    if (tokens.size() == 12 || tokens.size() == 14) {
+        c.id = tokens[0];
+        c.family = tokens[1] == "-" ? "" : tokens[1];
+        first = 2;
+    } else if (tokens.size() != 10) {
+        throw input_error("", 0, "case",
+                          fmt::format("expected 10 numbers (ox oy oz dx dy dz cx cy cz r) or a corpus line "
+                                      "(id family ox ... r [tmin tmax]), got {} fields",
+                                      tokens.size()));
+    }
+    double v[10];
+    for (int i = 0; i < 10; ++i) v[i] = parse_exact_double(tokens[first + i], "", 0, field_names[i]);
+    c.geometry = {{v[0], v[1], v[2]}, {v[3], v[4], v[5]}, {v[6], v[7], v[8]}, v[9]};
+    if (tokens.size() == 14) {
+        c.tmin = parse_exact_double(tokens[12], "", 0, "tmin");
+        c.tmax = parse_exact_double(tokens[13], "", 0, "tmax");
+    }
+    return c;
+}
+
+corpus_case case_from_corpus(const explain_options& options) {
+    std::vector<std::filesystem::path> paths(options.corpus.begin(), options.corpus.end());
+    if (paths.empty()) paths.emplace_back(RAYVERIFY_DEFAULT_CORPUS);
+    for (corpus_case& c : read_corpus(paths))
+        if (c.id == options.case_id) return c;
+    throw input_error("", 0, "--case", fmt::format("no case with id '{}' in the corpus", options.case_id));
+}
+
+std::string root_text(double t, int sign) {
+    const char* side = sign > 0 ? "in front" : (sign == 0 ? "at the origin" : "behind");
+    return fmt::format("{} ({}, {})", t, hex_float(t), side);
+}
+
+void print_exact(const char* label, const exact_solution& e) {
+    if (!e.valid()) {
+        fmt::print("{}: invalid ({})\n", label, invalid_reason_name(e.invalid));
+        return;
+    }
+    fmt::print("{}: {}\n", label, line_class_name(e.cls));
+    if (e.cls == line_class::miss) return;
+    fmt::print("    t_near = {}\n    t_far  = {}\n", root_text(e.near_root.rounded, e.near_root.sign),
+               root_text(e.far_root.rounded, e.far_root.sign));
+    if (e.nearest_in_front)
+        fmt::print("    hit point (nearest root in front) = ({}, {}, {})\n", e.hit_point.x, e.hit_point.y,
+                   e.hit_point.z);
+    else
+        fmt::print("    no root in front of the origin\n");
+    if (e.hits_interval) fmt::print("    a root in [tmin, tmax]: {}\n", *e.hits_interval ? "yes" : "no");
+}
+
+std::string optional_number(const std::optional<double>& x) {
+    return x ? fmt::format("{:.3g}", *x) : std::string("-");
+}
+
+int run(const explain_options& options) {
+    if (!options.case_id.empty() && !options.values.empty())
+        throw input_error("", 0, "--case", "give either --case ID or the case's numbers, not both");
+    if (options.case_id.empty() && options.values.empty())
+        throw input_error("", 0, "case", "give the case as 10 numbers, a corpus line, or --case ID");
+    const corpus_case c = options.case_id.empty() ? case_from_arguments(options.values) : case_from_corpus(options);
+    const std::vector<audit_target> targets = select_targets(options.variants, options.precisions);
+    const audited_case audited = audit_case(c, targets);
+
+    const auto& g = c.geometry;
+    fmt::print("case {}: o = ({}, {}, {})  d = ({}, {}, {})  c = ({}, {}, {})  r = {}\n", c.id, g.origin.x,
+               g.origin.y, g.origin.z, g.direction.x, g.direction.y, g.direction.z, g.centre.x, g.centre.y,
+               g.centre.z, g.radius);
+    fmt::print("corpus line: {}\n\n", format_case_line(c));
+    print_exact("exact, double inputs", audited.exact_double);
+    if (audited.exact_float) print_exact("exact, inputs rounded to float", *audited.exact_float);
+
+    fmt::print("\n{:<26} {:<18} {:>5} {:>24} {:>24} {:>10} {:>10}\n", "variant", "verdict", "count", "t0", "t1",
+               "near_ulp", "far_ulp");
+    bool findings = false;
+    std::vector<verdict_kind> seen;
+    for (std::size_t i = 0; i < targets.size(); ++i) {
+        const target_outcome& o = audited.outcomes[i];
+        const auto& r = o.output.roots;
+        const bool ran = o.score.verdict != verdict_kind::invalid && o.score.verdict != verdict_kind::contract_violation;
+        fmt::print("{:<26} {:<18} {:>5} {:>24} {:>24} {:>10} {:>10}\n", targets[i].label(),
+                   verdict_name(o.score.verdict), ran ? std::to_string(r.count) : "-",
+                   ran && r.count > 0 ? fmt::format("{}", r.t0) : "-",
+                   ran && r.count > 1 ? fmt::format("{}", r.t1) : "-", optional_number(o.score.near_ulp),
+                   optional_number(o.score.far_ulp));
+        if (!o.score.detail.empty()) fmt::print("    {}\n", o.score.detail);
+        findings = findings || is_disagreement(o.score.verdict);
+        if (o.score.verdict != verdict_kind::agree &&
+            std::find(seen.begin(), seen.end(), o.score.verdict) == seen.end())
+            seen.push_back(o.score.verdict);
+    }
+    if (!seen.empty()) fmt::print("\n");
+    for (verdict_kind k : seen) fmt::print("{}: {}\n", verdict_name(k), verdict_meaning(k));
+    return findings ? exit_findings : exit_ok;
+}
+
+}  // namespace
+
+command add_explain_command(CLI::App& app) {
+    auto options = std::make_shared<explain_options>();
+    auto* sub = app.add_subcommand(
+        "explain", "One case, exact answer and every variant's answer side by side. Give the case as "
+                   "'ox oy oz dx dy dz cx cy cz r' (decimal or C99 hex floats), as a corpus line, or --case ID");
+    sub->add_option("case", options->values, "The case's numbers or corpus line");
+    sub->add_option("--case", options->case_id, "Id of a case in --corpus");
+    sub->add_option("--corpus", options->corpus, "Corpus to look --case up in (default: the shipped corpus)");
+    sub->add_option("--variant", options->variants, "Variant to show (repeatable; default: all)");
+    sub->add_option("--precision", options->precisions, "float or double (repeatable; default: both)")
+        ->check(CLI::IsMember({"float", "double"}));
+    // Negative numbers are values here, not options.
+    sub->allow_extras(false);
+    sub->positionals_at_end(false);
+    return {sub, [options] { return run(*options); }};
+}
+
+}  // namespace rayverify::cli

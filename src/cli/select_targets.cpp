@@ -1,0 +1,33 @@
+#include <fmt/format.h>
+
+#include "cli/commands.h"
+#include "core/input_error.h"
+
+namespace rayverify::cli {
+
+std::vector<audit_target> select_targets(const std::vector<std::string>& variant_names,
+                                         const std::vector<std::string>& precisions) {
+    std::vector<variant> chosen;
+    if (variant_names.empty()) {
+        const auto all = builtin_variants();
+        chosen.assign(all.begin(), all.end());
+    }
+    for (const std::string& name : variant_names) {
+        const variant* v = find_builtin_variant(name);
+        if (!v) {
+            std::string known;
+            for (const variant& b : builtin_variants()) known += (known.empty() ? "" : ", ") + b.name;
+            throw input_error("", 0, "--variant", fmt::format("unknown variant '{}'; known: {}", name, known));
+        }
+        chosen.push_back(*v);
+    }
+    std::vector<audit_target> targets;
+    for (audit_target& t : targets_for(chosen)) {
+        const bool wanted = precisions.empty() ||
+                            std::find(precisions.begin(), precisions.end(), precision_name(t.prec)) != precisions.end();
+        if (wanted) targets.push_back(std::move(t));
+    }
+    return targets;
+}
+
+}  // namespace rayverify::cli

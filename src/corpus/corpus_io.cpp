@@ -1,0 +1,463 @@
+#include "corpus/corpus_io.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <optional>
+#include <stdexcept>
+#include <system_error>
+#include <unordered_map>
+#include <utility>
+
+namespace rayverify {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr std::size_t max_line_bytes = std::size_t{1} << 20;
+
+// Text-corpus field order; the CSV header uses the same names.
+constexpr std::array<std::string_view, 14> field_names = {
+    "id", "family", "ox", "oy", "oz", "dx", "dy", "dz", "cx", "cy", "cz", "r", "tmin", "tmax"};
+constexpr std::size_t id_field = 0, family_field = 1, first_number_field = 2, tmin_field = 12;
+
+// The cells of one case by field index; nullopt when the corpus does not give the field.
+using case_cells = std::array<std::optional<std::string_view>, field_names.size()>;
+
+char ascii_lower(char c) { return c >= 'A' && c <= 'Z' ? static_cast<char>(c - 'A' + 'a') : c; }
+
+bool iequals(std::string_view a, std::string_view b) {
+    return std::ranges::equal(a, b,
+                              [](char x, char y) { return ascii_lower(x) == ascii_lower(y); });
+}
+
+bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
+
+std::string_view trim(std::string_view s) {
+    while (!s.empty() && is_space(s.front())) s.remove_prefix(1);
+    while (!s.empty() && is_space(s.back())) s.remove_suffix(1);
+    return s;
+}
+
+// An id or family must survive a trip through the text format: one token, not a comment.
+bool is_plain_token(std::string_view s) {
+    return !s.empty() && s.front() != '#' &&
+           std::ranges::none_of(s, [](char c) { return is_space(c) || c == '\n'; });
+}
+
+int hex_digit_value(char c) {
+    if (c >= '0' && c <= '9') return c - '0';
+    c = ascii_lower(c);
+    return c >= 'a' && c <= 'f' ? c - 'a' + 10 : -1;
+}
+
+// Where the significant digits of a significand such as "12.50" sit: the
+// powers of the base of its first and last non-zero digit, and those digits.
+// Lets us tell overflow from underflow, and check a hex float is exact,
+// without trusting what from_chars left in its output on a range error.
+struct digit_span {
+    long long high = 0, low = 0;
+    int high_digit = 0, low_digit = 0;  // high_digit 0: the significand is zero
+};
+
+digit_span span_of(std::string_view significand) {
+    digit_span s;
+    auto power = static_cast<long long>(std::min(significand.find('.'), significand.size()));
+    for (char c : significand) {
+        if (c == '.') continue;
+        --power;
+        const int d = hex_digit_value(c);
+        if (d == 0) continue;
+        if (s.high_digit == 0) s = {power, power, d, d};
+        s.low = power;
+        s.low_digit = d;
+    }
+    return s;
+}
+
+// An exponent such as "+12" or "-3", saturated far outside any double's range.
+long long exponent_of(std::string_view text) {
+    const bool negative = !text.empty() && text.front() == '-';
+    if (!text.empty() && (text.front() == '-' || text.front() == '+')) text.remove_prefix(1);
+    long long e = 0;
+    for (char c : text) e = std::min(e * 10 + (c - '0'), 1'000'000'000'000LL);
+    return negative ? -e : e;
+}
+
+// RFC 3629 well-formed UTF-8: no overlong forms, surrogates or code points past U+10FFFF.
+bool is_valid_utf8(std::string_view s) {
+    for (std::size_t i = 0; i < s.size();) {
+        const auto b = static_cast<unsigned char>(s[i]);
+        if (b < 0x80) {
+            ++i;
+            continue;
+        }
+        if (b < 0xC2 || b > 0xF4) return false;
+        const std::size_t n = b >= 0xF0 ? 3 : b >= 0xE0 ? 2 : 1;  // continuation bytes
+        // The second byte's range is what excludes overlong forms, surrogates and > U+10FFFF.
+        const unsigned lo = b == 0xE0 ? 0xA0 : b == 0xF0 ? 0x90 : 0x80;
+        const unsigned hi = b == 0xED ? 0x9F : b == 0xF4 ? 0x8F : 0xBF;
+        if (s.size() - i <= n) return false;
+        for (std::size_t k = 1; k <= n; ++k) {
+            const unsigned c = static_cast<unsigned char>(s[i + k]);
+            if (c < (k == 1 ? lo : 0x80u) || c > (k == 1 ? hi : 0xBFu)) return false;
+        }
+        i += n + 1;
+    }
+    return true;
+}
+
+// Calls on_line(number, text) for every line, after the checks that keep
+// binary garbage from reaching the parsers.
+template <class F>
+void for_each_line(const std::string& file, std::string_view contents, F&& on_line) {
+    if (contents.starts_with("\xEF\xBB\xBF")) contents.remove_prefix(3);  // UTF-8 byte order mark
+    for (std::size_t number = 1; !contents.empty(); ++number) {
+        const std::size_t end = std::min(contents.find('\n'), contents.size());
+        std::string_view line = contents.substr(0, end);
+        contents.remove_prefix(std::min(end + 1, contents.size()));
+        if (line.size() > max_line_bytes)
+            throw input_error(file, number, "", "line is longer than 1 MB");
+        if (line.ends_with('\r')) line.remove_suffix(1);
+        if (line.find('\0') != std::string_view::npos)
+            throw input_error(file, number, "", "line contains a NUL byte (binary file?)");
+        if (!is_valid_utf8(line))
+            throw input_error(file, number, "", "line is not valid UTF-8 text");
+        on_line(number, line);
+    }
+}
+
+corpus_case make_case(const case_cells& cells, const std::string& file, std::size_t line) {
+    const auto field = [](std::size_t i) { return std::string(field_names[i]); };
+    corpus_case c;
+    c.id = std::string(cells[id_field].value_or(""));
+    if (!is_plain_token(c.id))
+        throw input_error(file, line, "id",
+                          fmt::format("expected a token without spaces, got '{}'", c.id));
+    if (cells[family_field] && *cells[family_field] != "-")
+        c.family = std::string(*cells[family_field]);
+    if (!c.family.empty() && !is_plain_token(c.family))
+        throw input_error(file, line, "family",
+                          fmt::format("expected a token without spaces, got '{}'", c.family));
+
+    std::array<double, 10> v{};
+    for (std::size_t i = 0; i < v.size(); ++i)
+        v[i] = parse_exact_double(*cells[first_number_field + i], file, line,
+                                  field(first_number_field + i));
+    c.geometry = {{v[0], v[1], v[2]}, {v[3], v[4], v[5]}, {v[6], v[7], v[8]}, v[9]};
+
+    const auto bound = [&](std::size_t i) -> std::optional<double> {
+        if (!cells[i] || cells[i]->empty() || *cells[i] == "-") return std::nullopt;
+        return parse_exact_double(*cells[i], file, line, field(i));
+    };
+    c.tmin = bound(tmin_field);
+    c.tmax = bound(tmin_field + 1);
+    c.source = fmt::format("{}:{}", file, line);
+    return c;
+}
+
+std::vector<corpus_case> parse_text(const std::string& file, std::string_view contents) {
+    std::vector<corpus_case> cases;
+    std::vector<std::string_view> tokens;
+    for_each_line(file, contents, [&](std::size_t number, std::string_view line) {
+        tokens.clear();
+        for (line = trim(line); !line.empty() && line.front() != '#'; line = trim(line)) {
+            const auto end = std::ranges::find_if(line, is_space) - line.begin();
+            tokens.push_back(line.substr(0, end));
+            line.remove_prefix(end);
+        }
+        if (tokens.empty()) return;
+        if (tokens.size() != 12 && tokens.size() != 14)
+            throw input_error(
+                file, number, "",
+                fmt::format("found {} fields, expected 12 (id family ox oy oz dx dy dz cx cy "
+                            "cz r) or 14 (the same and tmin tmax)",
+                            tokens.size()));
+        case_cells cells;
+        std::ranges::copy(tokens, cells.begin());
+        cases.push_back(make_case(cells, file, number));
+    });
+    return cases;
+}
+
+std::vector<std::string_view> split_csv_row(std::string_view line) {
+    std::vector<std::string_view> cells;
+    for (std::size_t start = 0;;) {
+        const std::size_t end = std::min(line.find(',', start), line.size());
+        std::string_view cell = trim(line.substr(start, end - start));
+        if (cell.size() >= 2 && cell.front() == '"' && cell.back() == '"')
+            cell = cell.substr(1, cell.size() - 2);
+        cells.push_back(cell);
+        if (end == line.size()) return cells;
+        start = end + 1;
+    }
+}
+
+std::vector<corpus_case> parse_csv(const std::string& file, std::string_view contents) {
+    std::vector<corpus_case> cases;
+    // For each field, the index of its cell in a row, when the header names it.
+    std::array<std::optional<std::size_t>, field_names.size()> column;
+    std::size_t header_line = 0, width = 0;
+    for_each_line(file, contents, [&](std::size_t number, std::string_view line) {
+        if (trim(line).empty() || trim(line).front() == '#') return;
+        const auto cells = split_csv_row(line);
+        if (header_line == 0) {
+            header_line = number;
+            width = cells.size();
+            for (std::size_t i = 0; i < cells.size(); ++i) {
+                const auto known =
+                    std::ranges::find_if(field_names, [&](auto n) { return iequals(n, cells[i]); });
+                if (known == field_names.end()) continue;
+                auto& slot = column[static_cast<std::size_t>(known - field_names.begin())];
+                if (slot)
+                    throw input_error(file, number, std::string(*known),
+                                      "column appears twice in the header");
+                slot = i;
+            }
+            for (std::size_t f = 0; f < field_names.size(); ++f)
+                if (!column[f] && f != family_field && f < tmin_field)
+                    throw input_error(file, number, std::string(field_names[f]),
+                                      "required column is missing from the CSV header");
+            return;
+        }
+        if (cells.size() != width)
+            throw input_error(
+                file, number, "",
+                fmt::format("found {} fields, expected {} as in the header on line {}",
+                            cells.size(), width, header_line));
+        case_cells row;
+        for (std::size_t f = 0; f < field_names.size(); ++f)
+            if (column[f]) row[f] = cells[*column[f]];
+        cases.push_back(make_case(row, file, number));
+    });
+    return cases;
+}
+
+// corpus_case::source is "file:line"; the file part may itself contain ':'.
+std::pair<std::string, std::size_t> split_source(const std::string& source) {
+    const std::size_t colon = source.rfind(':');
+    std::size_t line = 0;
+    if (colon == std::string::npos ||
+        std::from_chars(source.data() + colon + 1, source.data() + source.size(), line).ec !=
+            std::errc{})
+        return {source, 0};
+    return {source.substr(0, colon), line};
+}
+
+// The first case whose id an earlier case already has, with that earlier case.
+std::optional<std::pair<const corpus_case*, const corpus_case*>> find_duplicate_id(
+    const std::vector<corpus_case>& cases) {
+    std::unordered_map<std::string_view, const corpus_case*> first;
+    for (const auto& c : cases)
+        if (const auto [seen, inserted] = first.try_emplace(c.id, &c); !inserted)
+            return std::pair{seen->second, &c};
+    return std::nullopt;
+}
+
+void check_unique_ids(const std::vector<corpus_case>& cases) {
+    const auto duplicate = find_duplicate_id(cases);
+    if (!duplicate) return;
+    const auto& [first, second] = *duplicate;
+    auto [file, line] = split_source(second->source);
+    throw input_error(
+        std::move(file), line, "id",
+        fmt::format("duplicate id '{}', first defined at {}", second->id, first->source));
+}
+
+// The files a path names: itself, or a directory's *.txt and *.csv sorted by name.
+std::vector<fs::path> corpus_files(const fs::path& path) {
+    std::error_code ec;
+    if (!fs::is_directory(path, ec)) return {path};
+    std::vector<fs::path> files;
+    for (fs::directory_iterator it(path, ec), end; !ec && it != end; it.increment(ec)) {
+        const std::string ext = it->path().extension().string();
+        if ((iequals(ext, ".txt") || iequals(ext, ".csv")) && it->is_regular_file(ec))
+            files.push_back(it->path());
+    }
+    if (ec)
+        throw input_error(path.string(), 0, "",
+                          fmt::format("cannot list directory: {}", ec.message()));
+    std::ranges::sort(files);
+    return files;
+}
+
+}  // namespace
+
+double parse_exact_double(std::string_view token, const std::string& file, std::size_t line,
+                          const std::string& field) {
+    const auto fail = [&](std::string_view problem) {
+        throw input_error(file, line, field, fmt::format("{}, got '{}'", problem, token));
+    };
+    // from_chars rejects a leading '+', so the sign is ours to handle.
+    std::string_view body = token;
+    const bool negative = body.starts_with('-');
+    if (body.starts_with('-') || body.starts_with('+')) body.remove_prefix(1);
+    const double sign = negative ? -1.0 : 1.0;
+    if (iequals(body, "nan")) return std::copysign(std::numeric_limits<double>::quiet_NaN(), sign);
+    if (iequals(body, "inf") || iequals(body, "infinity"))
+        return sign * std::numeric_limits<double>::infinity();
+
+    const bool hex = body.size() >= 2 && body[0] == '0' && ascii_lower(body[1]) == 'x';
+    if (hex) body.remove_prefix(2);
+    // from_chars would also take "inf", "nan(...)" or a second sign here.
+    const char first = body.empty() ? '\0' : body.front();
+    const bool starts_as_number =
+        first == '.' || (hex ? hex_digit_value(first) >= 0 : first >= '0' && first <= '9');
+    double value = 0;
+    const char* last = body.data() + body.size();
+    const auto [end, ec] = std::from_chars(
+        body.data(), last, value, hex ? std::chars_format::hex : std::chars_format::general);
+    if (!starts_as_number || ec == std::errc::invalid_argument || end != last)
+        fail("expected a number");
+
+    const std::size_t e = body.find_first_of(hex ? "pP" : "eE");
+    const digit_span s = span_of(body.substr(0, e));
+    const long long exponent = e == std::string_view::npos ? 0 : exponent_of(body.substr(e + 1));
+    if (hex && s.high_digit != 0) {
+        // Bit positions of the leading and trailing one bits: a double holds 53
+        // consecutive bits between 2^1023 and 2^-1074; from_chars would round the rest.
+        const long long high =
+            4 * s.high + std::bit_width(static_cast<unsigned>(s.high_digit)) - 1 + exponent;
+        const long long low =
+            4 * s.low + std::countr_zero(static_cast<unsigned>(s.low_digit)) + exponent;
+        if (high > 1023) fail("out of double range");
+        if (low < -1074 || high - low > 52)
+            fail("not exactly representable as a double (more than 53 bits, or below 0x1p-1074)");
+    }
+    if (ec == std::errc::result_out_of_range) {
+        if (hex || s.high + exponent >= 0) fail("out of double range");
+        fail("not exactly representable as a double (underflows to zero)");
+    }
+    return negative ? -value : value;
+}
+
+std::string hex_float(double x) {
+    std::string text = fmt::format("{:a}", x);
+    const double back = parse_exact_double(text, "hex_float", 0, "");
+    const bool same = std::isnan(x)
+                          ? std::isnan(back) && std::signbit(back) == std::signbit(x)
+                          : std::bit_cast<std::uint64_t>(back) == std::bit_cast<std::uint64_t>(x);
+    if (!same)
+        throw std::logic_error(fmt::format("hex_float: '{}' does not read back as {}", text, x));
+    return text;
+}
+
+std::string shortest_decimal(double x) { return fmt::format("{}", x); }
+
+std::string format_case_line(const corpus_case& c) {
+    if (!is_plain_token(c.id))
+        throw input_error(c.source, 0, "id",
+                          fmt::format("cannot be written as one token: '{}'", c.id));
+    if (!c.family.empty() && (!is_plain_token(c.family) || c.family == "-"))
+        throw input_error(c.source, 0, "family",
+                          fmt::format("cannot be written as one token: '{}'", c.family));
+    const auto& g = c.geometry;
+    std::string line = fmt::format("{} {}", c.id, c.family.empty() ? "-" : c.family);
+    for (double v : {g.origin.x, g.origin.y, g.origin.z, g.direction.x, g.direction.y,
+                     g.direction.z, g.centre.x, g.centre.y, g.centre.z, g.radius})
+        line += ' ' + hex_float(v);
+    if (c.tmin || c.tmax)
+        for (const auto& bound : {c.tmin, c.tmax})
+            line += ' ' + (bound ? hex_float(*bound) : std::string("-"));
+    return line;
+}
+
+std::string corpus_header_comment() {
+    std::string header = "#";
+    for (std::size_t i = 0; i < tmin_field; ++i) header += fmt::format(" {}", field_names[i]);
+    return header + " [tmin tmax]   (C99 hex floats, exact; '-' = none)";
+}
+
+std::vector<corpus_case> read_corpus_file(const fs::path& path) {
+    const std::string file = path.string();
+    std::error_code ec;
+    const fs::file_status status = fs::status(path, ec);
+    if (status.type() == fs::file_type::not_found) throw input_error(file, 0, "", "no such file");
+    if (ec) throw input_error(file, 0, "", ec.message());
+    if (fs::is_directory(status))
+        throw input_error(file, 0, "", "is a directory, expected a corpus file");
+    if (!fs::is_regular_file(status)) throw input_error(file, 0, "", "is not a regular file");
+
+    std::ifstream in(path, std::ios::binary);
+    if (!in)
+        throw input_error(file, 0, "",
+                          fmt::format("cannot open: {}", std::generic_category().message(errno)));
+    const std::string contents{std::istreambuf_iterator<char>(in),
+                               std::istreambuf_iterator<char>()};
+    if (in.bad()) throw input_error(file, 0, "", "cannot read");
+
+    auto cases = iequals(path.extension().string(), ".csv") ? parse_csv(file, contents)
+                                                            : parse_text(file, contents);
+    check_unique_ids(cases);
+    return cases;
+}
+
+std::vector<corpus_case> read_corpus(const std::vector<fs::path>& paths) {
+    std::vector<corpus_case> cases;
+    for (const auto& path : paths)
+        for (const auto& file : corpus_files(path)) {
+            auto part = read_corpus_file(file);
+            cases.insert(cases.end(), std::make_move_iterator(part.begin()),
+                         std::make_move_iterator(part.end()));
+        }
+    if (cases.empty()) {
+        std::string names;
+        for (const auto& path : paths) names += (names.empty() ? "" : ", ") + path.string();
+        throw input_error(names, 0, "", "empty corpus: no cases found");
+    }
+    check_unique_ids(cases);
+    return cases;
+}
+
+void write_corpus_file(const fs::path& path, const std::vector<corpus_case>& cases,
+                       const std::vector<std::string>& header_comments) {
+    // A corpus we could not read back is refused before anything is written.
+    if (const auto duplicate = find_duplicate_id(cases))
+        throw input_error(
+            path.string(), 0, "id",
+            fmt::format("duplicate id '{}' in the cases to write", duplicate->second->id));
+    std::string out = corpus_header_comment() + '\n';
+    for (const auto& comment : header_comments)
+        for (std::string_view rest = comment;;) {  // an embedded newline must not start a case line
+            const std::size_t end = std::min(rest.find('\n'), rest.size());
+            out += rest.substr(0, end).empty() ? "#\n" : fmt::format("# {}\n", rest.substr(0, end));
+            if (end == rest.size()) break;
+            rest.remove_prefix(end + 1);
+        }
+    for (const auto& c : cases) out += format_case_line(c) + '\n';
+    write_file_atomically(path, out);
+}
+
+void write_file_atomically(const fs::path& path, const std::string& contents) {
+    fs::path temporary = path;
+    temporary += ".tmp";
+    const auto fail = [&](const std::string& problem) {
+        std::error_code ignored;
+        fs::remove(temporary, ignored);
+        throw input_error(path.string(), 0, "", problem);
+    };
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    if (!out)  // nothing was created, so nothing to remove
+        throw input_error(path.string(), 0, "",
+                          fmt::format("cannot create '{}': {}", temporary.string(),
+                                      std::generic_category().message(errno)));
+    out.write(contents.data(), static_cast<std::streamsize>(contents.size()));
+    out.close();
+    if (!out) fail(fmt::format("cannot write '{}'", temporary.string()));
+    std::error_code ec;
+    fs::rename(temporary, path, ec);
+    if (ec)
+        fail(fmt::format("cannot rename '{}' into place: {}", temporary.string(), ec.message()));
+}
+
+}  // namespace rayverify

@@ -1,0 +1,75 @@
+// Reading and writing corpora of ray–sphere cases, exactly.
+//
+// Text corpus (any extension but .csv): one case a line,
+//     id family ox oy oz dx dy dz cx cy cz r [tmin tmax]
+// separated by whitespace; `#` starts a comment (a whole line, or from a
+// token that begins with `#` to the end of the line); blank lines are ignored.
+// `-` as family means unknown; `-` as tmin or tmax means that bound is absent.
+//
+// CSV corpus (.csv, any case): a header line names the columns id, ox, oy, oz,
+// dx, dy, dz, cx, cy, cz, r (required) and family, tmin, tmax (optional), in
+// any order; other columns are ignored. Cells are trimmed of whitespace and
+// of one pair of surrounding double quotes (a quoted comma is not supported).
+// An empty tmin or tmax cell means absent.
+//
+// Numbers are read exactly: shortest round-trip decimals, C99 hex floats
+// (which must fit a double without rounding), and nan / inf / infinity.
+// Every problem is an input_error naming file, line and field.
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/input_error.h"
+#include "core/ray_sphere_case.h"
+
+namespace rayverify {
+
+// Parse one number field exactly (decimal or C99 hex float, nan/inf allowed).
+// Throws input_error(file, line, field, ...) on anything else: a token that is
+// not entirely a number, a value out of double range, a decimal that
+// underflows to zero, a hex float with more significant bits than a double.
+double parse_exact_double(std::string_view token, const std::string& file, std::size_t line,
+                          const std::string& field);
+
+// The text format of a double that reads back bit-exactly: C99 hex float like
+// "0x1.8p+1", "-0x0p+0", "inf", "-inf", "nan".
+std::string hex_float(double x);
+
+// Shortest round-trip decimal, e.g. "0.1", "5e-324".
+std::string shortest_decimal(double x);
+
+// One case as a text-corpus line (hex floats, family "-" when empty, tmin and
+// tmax appended when either is present, "-" for the absent one). Pasteable
+// back into a corpus file; parses back to an identical case. Throws
+// input_error when the id or family could not be read back as one token.
+std::string format_case_line(const corpus_case& c);
+
+// The comment header every written corpus file starts with (column names),
+// without a trailing newline.
+std::string corpus_header_comment();
+
+// Read one file, text or CSV by extension. Each case gets source "file:line".
+// A file without cases gives an empty vector; duplicate ids are an error.
+std::vector<corpus_case> read_corpus_file(const std::filesystem::path& path);
+
+// Read files and directories (a directory contributes its *.txt and *.csv
+// files, non-recursive, sorted by name), in the order given. Duplicate ids
+// across everything read, or no case at all, are errors.
+std::vector<corpus_case> read_corpus(const std::vector<std::filesystem::path>& paths);
+
+// Write cases as a text corpus, atomically (see write_file_atomically):
+// corpus_header_comment(), then each of header_comments prefixed by "# ",
+// then one format_case_line per case.
+void write_corpus_file(const std::filesystem::path& path, const std::vector<corpus_case>& cases,
+                       const std::vector<std::string>& header_comments);
+
+// Write to "<path>.tmp" in the same directory, then rename over path, so a
+// reader never sees half a file. On any error the temporary is removed and
+// an input_error naming path (line 0) is thrown.
+void write_file_atomically(const std::filesystem::path& path, const std::string& contents);
+
+}  // namespace rayverify

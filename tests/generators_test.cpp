@@ -1,0 +1,287 @@
+#include "corpus/generators.h"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <iostream>
+#include <set>
+#include <string>
+
+#include "core/input_error.h"
+#include "oracle/oracle.h"
+
+namespace rayverify {
+namespace {
+
+std::array<std::uint64_t, 10> bits_of(const ray_sphere<double>& g) {
+    return {std::bit_cast<std::uint64_t>(g.origin.x),    std::bit_cast<std::uint64_t>(g.origin.y),
+            std::bit_cast<std::uint64_t>(g.origin.z),    std::bit_cast<std::uint64_t>(g.direction.x),
+            std::bit_cast<std::uint64_t>(g.direction.y), std::bit_cast<std::uint64_t>(g.direction.z),
+            std::bit_cast<std::uint64_t>(g.centre.x),    std::bit_cast<std::uint64_t>(g.centre.y),
+            std::bit_cast<std::uint64_t>(g.centre.z),    std::bit_cast<std::uint64_t>(g.radius)};
+}
+
+bool same_case(const corpus_case& a, const corpus_case& b) {
+    return a.id == b.id && a.family == b.family && a.source == b.source &&
+           bits_of(a.geometry) == bits_of(b.geometry);
+}
+
+// FNV-1a over the ids and input bits of a batch: a fingerprint of the output.
+std::uint64_t fingerprint(const std::vector<corpus_case>& cases) {
+    std::uint64_t h = 0xcbf29ce484222325ULL;
+    auto mix = [&h](std::uint64_t byte) {
+        h ^= byte;
+        h *= 0x100000001b3ULL;
+    };
+    for (const corpus_case& c : cases) {
+        for (const char ch : c.id) mix(static_cast<unsigned char>(ch));
+        for (const std::uint64_t word : bits_of(c.geometry))
+            for (int i = 0; i < 64; i += 8) mix((word >> i) & 0xff);
+    }
+    return h;
+}
+
+bool float_exact(const ray_sphere<double>& g) {
+    return bits_of(rounded_to<double>(rounded_to<float>(g))) == bits_of(g);
+}
+
+struct class_counts {
+    int miss = 0, tangent = 0, two_hit = 0;
+    void add(line_class c) {
+        (c == line_class::miss ? miss : c == line_class::tangent ? tangent : two_hit)++;
+    }
+};
+
+std::ostream& operator<<(std::ostream& out, const class_counts& n) {
+    return out << "miss " << n.miss << ", tangent " << n.tangent << ", two_hit " << n.two_hit;
+}
+
+class_counts classify(const std::vector<corpus_case>& cases, precision p) {
+    class_counts n;
+    for (const corpus_case& c : cases) n.add(solve_exact(c.geometry, p).cls);
+    return n;
+}
+
+// The class a (non-"any") claim promises.
+line_class claimed_class(class_claim c) {
+    if (c == class_claim::miss) return line_class::miss;
+    if (c == class_claim::tangent) return line_class::tangent;
+    return line_class::two_hit;
+}
+
+constexpr std::uint64_t oracle_seed = 20240611;
+
+// ---------------------------------------------------------------------------
+// The family table and errors.
+
+TEST(Generators, FamiliesAreNamedAndDescribedOnce) {
+    std::set<std::string_view> names;
+    for (const family_info& f : generator_families()) {
+        EXPECT_TRUE(names.insert(f.name).second) << f.name;
+        EXPECT_FALSE(f.description.empty()) << f.name;
+        EXPECT_EQ(find_generator_family(f.name), &f);
+    }
+    EXPECT_GE(names.size(), 6u);
+    EXPECT_EQ(find_generator_family("nope"), nullptr);
+}
+
+TEST(Generators, UnknownFamilyThrowsAndListsTheKnownOnes) {
+    try {
+        generate_family("nope", 1, 1);
+        FAIL() << "no exception";
+    } catch (const input_error& e) {
+        EXPECT_EQ(e.field(), "family");
+        const std::string what = e.what();
+        EXPECT_NE(what.find("unknown generator family 'nope'"), std::string::npos) << what;
+        for (const family_info& f : generator_families())
+            EXPECT_NE(what.find(std::string(f.name)), std::string::npos) << what;
+    }
+}
+
+TEST(Generators, ZeroCountIsEmpty) { EXPECT_TRUE(generate_family("uniform", 0, 1).empty()); }
+
+// ---------------------------------------------------------------------------
+// Determinism.
+
+TEST(Generators, SameSeedGivesTheSameBits) {
+    for (const family_info& f : generator_families()) {
+        SCOPED_TRACE(std::string(f.name) + ", seed 7");
+        const auto a = generate_family(f.name, 300, 7);
+        const auto b = generate_family(f.name, 300, 7);
+        ASSERT_EQ(a.size(), 300u);
+        ASSERT_EQ(b.size(), 300u);
+        for (std::size_t i = 0; i < a.size(); ++i) EXPECT_TRUE(same_case(a[i], b[i])) << a[i].id;
+    }
+}
+
+TEST(Generators, CaseDoesNotDependOnCount) {
+    for (const family_info& f : generator_families()) {
+        SCOPED_TRACE(std::string(f.name) + ", seed 7");
+        const auto few = generate_family(f.name, 10, 7);
+        const auto many = generate_family(f.name, 100, 7);
+        for (std::size_t i = 0; i < few.size(); ++i) EXPECT_TRUE(same_case(few[i], many[i])) << few[i].id;
+    }
+}
+
+TEST(Generators, DifferentSeedsGiveDifferentCases) {
+    for (const family_info& f : generator_families()) {
+        SCOPED_TRACE(std::string(f.name) + ", seeds 7 and 8");
+        const auto a = generate_family(f.name, 100, 7);
+        const auto b = generate_family(f.name, 100, 8);
+        for (std::size_t i = 0; i < a.size(); ++i)
+            EXPECT_NE(bits_of(a[i].geometry), bits_of(b[i].geometry)) << a[i].id;
+    }
+}
+
+// Output bits recorded once; a change here means every generated corpus
+// changes (other platform, other libstdc++, or an edited generator).
+TEST(Generators, OutputMatchesTheRecordedFingerprints) {
+    const std::array<std::pair<std::string_view, std::uint64_t>, 6> expected{{
+        {"uniform", 0x471d3a496623252cULL},
+        {"tangent_exact", 0x08f9d7d556592a5cULL},
+        {"near_tangent", 0x40ebc10dc0a831f1ULL},
+        {"far_sphere", 0xafe2d9f2ddff82a3ULL},
+        {"on_surface", 0x2074a813e75e77b1ULL},
+        {"inside", 0xc826a31d55114dfdULL},
+    }};
+    for (const auto& [name, print] : expected) {
+        SCOPED_TRACE(std::string(name) + ", 64 cases, seed 1");
+        EXPECT_EQ(fingerprint(generate_family(name, 64, 1)), print)
+            << std::hex << fingerprint(generate_family(name, 64, 1));
+    }
+}
+
+// ---------------------------------------------------------------------------
+// Well-formed cases.
+
+TEST(Generators, CasesAreWellFormed) {
+    for (const family_info& f : generator_families()) {
+        const std::uint64_t seed = 3;
+        SCOPED_TRACE(std::string(f.name) + ", seed 3");
+        const auto cases = generate_family(f.name, 1000, seed);
+        std::set<std::string> ids;
+        for (std::size_t i = 0; i < cases.size(); ++i) {
+            const corpus_case& c = cases[i];
+            SCOPED_TRACE(c.id);
+            const std::string index = std::to_string(i);
+            EXPECT_EQ(c.id, std::string(f.name) + "-3-" + std::string(6 - index.size(), '0') + index);
+            EXPECT_TRUE(ids.insert(c.id).second);
+            EXPECT_EQ(c.family, f.name);
+            EXPECT_EQ(c.source, "generated");
+            EXPECT_FALSE(c.tmin.has_value());
+            EXPECT_FALSE(c.tmax.has_value());
+            EXPECT_EQ(validity<double>(c.geometry), invalid_reason::none);
+            for (const std::uint64_t word : bits_of(c.geometry))
+                EXPECT_TRUE(std::isfinite(std::bit_cast<double>(word)));
+            EXPECT_GE(c.geometry.radius, 0);
+            EXPECT_NE(c.geometry.direction, (vec3<double>{}));
+            if (f.unit_direction) {
+                EXPECT_LE(std::fabs(length_squared(c.geometry.direction) - 1), 4 * 0x1p-53);
+            }
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------
+// Claims, confirmed by the exact oracle.
+
+TEST(Generators, ClaimedClassHoldsExactly) {
+    for (const family_info& f : generator_families()) {
+        if (f.claim == class_claim::any) continue;
+        SCOPED_TRACE(std::string(f.name) + ", seed " + std::to_string(oracle_seed));
+        for (const corpus_case& c : generate_family(f.name, 300, oracle_seed)) {
+            const exact_solution s = solve_exact(c.geometry, precision::binary64);
+            ASSERT_TRUE(s.valid()) << c.id;
+            EXPECT_EQ(s.cls, claimed_class(f.claim)) << c.id << " claim " << class_claim_name(f.claim)
+                                                     << ", got " << line_class_name(s.cls);
+        }
+    }
+}
+
+TEST(Generators, TangentExactIsTangentInDoubleAndFloat) {
+    SCOPED_TRACE("seed " + std::to_string(oracle_seed));
+    int at_origin = 0, ahead = 0, behind = 0, unit = 0;
+    for (const corpus_case& c : generate_family("tangent_exact", 1000, oracle_seed)) {
+        SCOPED_TRACE(c.id);
+        const exact_solution s = solve_exact(c.geometry, precision::binary64);
+        ASSERT_EQ(s.cls, line_class::tangent);
+        EXPECT_EQ(s.near_root.sign, s.far_root.sign);
+        (s.near_root.sign == 0 ? at_origin : s.near_root.sign > 0 ? ahead : behind)++;
+        if (length_squared(c.geometry.direction) == 1) ++unit;
+
+        ASSERT_TRUE(float_exact(c.geometry));
+        EXPECT_EQ(solve_exact(c.geometry, precision::binary32).cls, line_class::tangent);
+    }
+    std::cout << "tangent_exact: root 0: " << at_origin << ", > 0: " << ahead << ", < 0: " << behind
+              << ", unit direction: " << unit << " of 1000\n";
+    EXPECT_GT(at_origin, 100);
+    EXPECT_GT(ahead, 100);
+    EXPECT_GT(behind, 100);
+    EXPECT_GT(unit, 300);
+    EXPECT_LT(unit, 700);
+}
+
+TEST(Generators, NearTangentIsNeverTangentAndGoesBothWays) {
+    SCOPED_TRACE("seed " + std::to_string(oracle_seed));
+    const auto cases = generate_family("near_tangent", 1000, oracle_seed);
+    const class_counts n = classify(cases, precision::binary64);
+    std::cout << "near_tangent: " << n << "\n";
+    EXPECT_EQ(n.tangent, 0);
+    EXPECT_GT(n.miss, 300);
+    EXPECT_GT(n.two_hit, 300);
+}
+
+TEST(Generators, OnSurfaceHasAZeroRootInDoubleAndFloat) {
+    SCOPED_TRACE("seed " + std::to_string(oracle_seed));
+    int entering = 0, leaving = 0;
+    for (const corpus_case& c : generate_family("on_surface", 1000, oracle_seed)) {
+        SCOPED_TRACE(c.id);
+        const exact_solution s = solve_exact(c.geometry, precision::binary64);
+        ASSERT_NE(s.cls, line_class::miss);
+        EXPECT_EQ(s.cls, line_class::two_hit);
+        if (s.near_root.sign == 0 && s.far_root.sign > 0) ++entering;
+        else if (s.near_root.sign < 0 && s.far_root.sign == 0) ++leaving;
+        else ADD_FAILURE() << "root signs " << s.near_root.sign << ", " << s.far_root.sign;
+
+        // Origin and centre are float-exact; d moves by 2^-24 but d·f keeps its sign.
+        const ray_sphere<double> in_float = rounded_to<double>(rounded_to<float>(c.geometry));
+        EXPECT_EQ(in_float.origin, c.geometry.origin);
+        EXPECT_EQ(in_float.centre, c.geometry.centre);
+        EXPECT_EQ(in_float.radius, c.geometry.radius);
+        const exact_solution f = solve_exact(in_float, precision::binary32);
+        EXPECT_EQ(f.cls, line_class::two_hit);
+        EXPECT_EQ(f.near_root.sign, s.near_root.sign);
+        EXPECT_EQ(f.far_root.sign, s.far_root.sign);
+    }
+    std::cout << "on_surface: entering " << entering << ", leaving " << leaving << "\n";
+    EXPECT_GT(entering, 400);
+    EXPECT_GT(leaving, 400);
+}
+
+TEST(Generators, InsideHasRootsOfOppositeSigns) {
+    SCOPED_TRACE("seed " + std::to_string(oracle_seed));
+    for (const corpus_case& c : generate_family("inside", 1000, oracle_seed)) {
+        SCOPED_TRACE(c.id);
+        const exact_solution s = solve_exact(c.geometry, precision::binary64);
+        ASSERT_EQ(s.cls, line_class::two_hit);
+        EXPECT_LT(s.near_root.sign, 0);
+        EXPECT_GT(s.far_root.sign, 0);
+    }
+}
+
+TEST(Generators, UniformAndFarSphereBothHitAndMiss) {
+    SCOPED_TRACE("seed " + std::to_string(oracle_seed));
+    for (const std::string_view name : {"uniform", "far_sphere"}) {
+        SCOPED_TRACE(name);
+        const class_counts n = classify(generate_family(name, 1000, oracle_seed), precision::binary64);
+        std::cout << name << ": " << n << "\n";
+        EXPECT_GT(n.miss, 200);
+        EXPECT_GT(n.two_hit, 200);
+    }
+}
+
+}  // namespace
+}  // namespace rayverify

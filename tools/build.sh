@@ -1,0 +1,16 @@
+#!/usr/bin/env bash
+# Set up packages, configure and build. Usage: tools/build.sh [--sanitize]
+# The default build goes to build/, the ASan+UBSan build to build-sanitize/.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+build_dir=build
+cmake_args=(-DCMAKE_BUILD_TYPE=RelWithDebInfo)
+if [ "${1:-}" = "--sanitize" ]; then
+  build_dir=build-sanitize
+  cmake_args+=(-DRAYVERIFY_SANITIZE=ON)
+fi
+
+tools/setup.sh
+cmake -S . -B "$build_dir" "${cmake_args[@]}" >/dev/null
+cmake --build "$build_dir" -j "$(nproc)"

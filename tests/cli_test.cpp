@@ -1,0 +1,173 @@
+// The rayverify executable end to end: exit codes, messages naming file,
+// line and field, no partial output on error, and the shape of its outputs.
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct result {
+    int exit_code = -1;
+    std::string output;  // stdout and stderr together
+};
+
+result run(const std::string& arguments) {
+    const std::string command = std::string(RAYVERIFY_CLI) + " " + arguments + " 2>&1";
+    result r;
+    FILE* pipe = popen(command.c_str(), "r");
+    if (!pipe) return r;
+    std::array<char, 4096> buffer{};
+    while (std::size_t n = std::fread(buffer.data(), 1, buffer.size(), pipe)) r.output.append(buffer.data(), n);
+    const int status = pclose(pipe);
+    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return r;
+}
+
+std::string read_text(const fs::path& p) {
+    std::ifstream in(p);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+class Cli : public testing::Test {
+protected:
+    void SetUp() override {
+        dir_ = fs::temp_directory_path() /
+               ("rayverify_cli_test_" + std::string(testing::UnitTest::GetInstance()->current_test_info()->name()));
+        fs::remove_all(dir_);
+        fs::create_directories(dir_);
+    }
+    void TearDown() override { fs::remove_all(dir_); }
+
+    fs::path write(const std::string& name, const std::string& contents) {
+        const fs::path p = dir_ / name;
+        std::ofstream(p) << contents;
+        return p;
+    }
+    fs::path dir_;
+};
+
+// Unit sphere at the origin; exact roots 4 and 6 along +z from z = −5.
+const char* simple_case = "hit-4-6 - 0 0 -5 0 0 1 0 0 0 1\n";
+
+TEST_F(Cli, VariantsListsEveryBuiltIn) {
+    const result r = run("variants");
+    EXPECT_EQ(r.exit_code, 0);
+    for (const char* name : {"naive", "half_b", "seed003_reduced", "seed004_early_out", "geometric", "stable_roots",
+                             "hearn_baker", "fma_discriminant"})
+        EXPECT_NE(r.output.find(name), std::string::npos) << name;
+    const result json = run("variants --json");
+    EXPECT_EQ(nlohmann::json::parse(json.output).size(), 8u);
+}
+
+TEST_F(Cli, AuditWithoutDisagreementExitsZeroAndWritesReports) {
+    const fs::path corpus = write("ok.txt", simple_case);
+    const result r = run("audit --corpus " + corpus.string() + " --report " + (dir_ / "rep").string() +
+                         " --per-case " + (dir_ / "cases.jsonl").string());
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find("naive"), std::string::npos);
+    EXPECT_NE(r.output.find("-ffp-contract=off"), std::string::npos) << "flags must be recorded";
+
+    const auto report = nlohmann::json::parse(read_text(dir_ / "rep" / "report.json"));
+    EXPECT_EQ(report["corpus"]["cases"], 1);
+    EXPECT_EQ(report["results"].size(), 16u);
+    EXPECT_NE(report["build"]["flags"].get<std::string>().find("-ffp-contract=off"), std::string::npos);
+
+    const auto line = nlohmann::json::parse(read_text(dir_ / "cases.jsonl"));
+    EXPECT_EQ(line["id"], "hit-4-6");
+    EXPECT_EQ(line["exact"]["class"], "two_hit");
+    EXPECT_EQ(line["exact"]["t_near"], "0x1p+2");
+    EXPECT_EQ(line["exact"]["t_far"], "0x1.8p+2");
+    EXPECT_EQ(line["results"]["naive/double"]["verdict"], "agree");
+}
+
+TEST_F(Cli, AuditWithFindingsExitsOne) {
+    // A unit sphere 4100 away, hit off-centre: naive float loses the two roots.
+    const fs::path corpus = write("far.txt", "far - 0.5 0.25 0 0 0 1 0 0 4100 1\n");
+    const result r = run("audit --corpus " + corpus.string() + " --variant naive --precision float");
+    EXPECT_EQ(r.exit_code, 1) << r.output;
+}
+
+TEST_F(Cli, MalformedCorpusNamesFileLineAndFieldAndWritesNothing) {
+    const fs::path corpus = write("bad.txt", std::string(simple_case) + "b - 0 0 -5 0 0 1x 0 0 0 1\n");
+    const result r = run("audit --corpus " + corpus.string() + " --report " + (dir_ / "rep").string() +
+                         " --per-case " + (dir_ / "cases.jsonl").string());
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.output.find("bad.txt:2: field 'dz'"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(dir_ / "cases.jsonl"));
+    EXPECT_FALSE(fs::exists(dir_ / "cases.jsonl.tmp"));
+    EXPECT_FALSE(fs::exists(dir_ / "rep" / "report.json"));
+}
+
+TEST_F(Cli, MissingCorpusAndUnknownVariantAreInputErrors) {
+    const result missing = run("audit --corpus " + (dir_ / "nope.txt").string());
+    EXPECT_EQ(missing.exit_code, 2);
+    EXPECT_NE(missing.output.find("nope.txt"), std::string::npos);
+    const result unknown = run("audit --variant no_such_variant");
+    EXPECT_EQ(unknown.exit_code, 2);
+    EXPECT_NE(unknown.output.find("unknown variant 'no_such_variant'"), std::string::npos);
+    EXPECT_EQ(run("").exit_code, 2);
+    EXPECT_EQ(run("audit --precision quad").exit_code, 2);
+}
+
+TEST_F(Cli, InvalidCasesAreCountedNotScored) {
+    const fs::path corpus = write("mixed.txt", std::string(simple_case) +
+                                                   "nan-origin - nan 0 -5 0 0 1 0 0 0 1\n"
+                                                   "zero-dir - 0 0 -5 0 0 0 0 0 0 1\n"
+                                                   "neg-r - 0 0 -5 0 0 1 0 0 0 -1\n"
+                                                   "float-overflow - 0 0 -5 0 0 1 0 0 1e300 1\n");
+    const result r = run("audit --corpus " + corpus.string() + " --variant naive --report " + (dir_ / "rep").string());
+    // The 1e300 centre overflows naive's f·f in double: a real finding, so exit 1.
+    EXPECT_EQ(r.exit_code, 1) << r.output;
+    const auto report = nlohmann::json::parse(read_text(dir_ / "rep" / "report.json"));
+    EXPECT_EQ(report["corpus"]["invalid_cases"]["double"], 3);
+    EXPECT_EQ(report["corpus"]["invalid_cases"]["float"], 4);
+    for (const auto& entry : report["results"])
+        EXPECT_EQ(entry["verdicts"]["invalid"], entry["precision"] == "float" ? 4 : 3);
+}
+
+TEST_F(Cli, ExplainShowsExactAndVariantsSideBySide) {
+    const result r = run("explain 0.5 0.25 0 0 0 1 0 0 4100 1 --variant naive --variant hearn_baker");
+    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_NE(r.output.find("exact, double inputs: two_hit"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("naive/float"), std::string::npos);
+    EXPECT_NE(r.output.find("corpus line:"), std::string::npos);
+    const result negative = run("explain -5 0 0 1 0 0 0 0 0 1 --variant naive --precision double");
+    EXPECT_EQ(negative.exit_code, 0) << negative.output;
+    const result wrong = run("explain 1 2 3");
+    EXPECT_EQ(wrong.exit_code, 2);
+    EXPECT_NE(wrong.output.find("got 3 fields"), std::string::npos);
+}
+
+TEST_F(Cli, ExplainPrintsAPasteableCorpusLine) {
+    const result r = run("explain 0x1p-1 0.25 0 0 0 1 0 0 4100 1 --variant naive --precision double");
+    const auto start = r.output.find("corpus line: ") + std::string("corpus line: ").size();
+    const std::string line = r.output.substr(start, r.output.find('\n', start) - start);
+    const fs::path corpus = write("pasted.txt", line + "\n");
+    const result again = run("audit --corpus " + corpus.string() + " --variant naive --precision double");
+    EXPECT_EQ(again.exit_code, 0) << again.output;
+}
+
+TEST_F(Cli, CorpusGenerateIsDeterministicAndReadable) {
+    const fs::path a = dir_ / "a.txt", b = dir_ / "b.txt";
+    ASSERT_EQ(run("corpus generate --family far_sphere --count 50 --seed 7 -o " + a.string()).exit_code, 0);
+    ASSERT_EQ(run("corpus generate --family far_sphere --count 50 --seed 7 -o " + b.string()).exit_code, 0);
+    EXPECT_EQ(read_text(a), read_text(b));
+    EXPECT_NE(read_text(a).find("--seed 7"), std::string::npos) << "provenance must be recorded";
+    const result audit = run("audit --corpus " + a.string() + " --variant hearn_baker --precision double");
+    EXPECT_NE(audit.exit_code, 2) << audit.output;
+    const result unknown = run("corpus generate --family nope --count 5");
+    EXPECT_EQ(unknown.exit_code, 2);
+    EXPECT_NE(unknown.output.find("unknown generator family"), std::string::npos);
+}
+
+}  // namespace

@@ -54,7 +54,7 @@ bool is_disagreement(verdict_kind k) {
 }
 
 template <class T>
-variant_output evaluate(root_pair<T> (*run)(const ray_sphere<T>&), const contract& promises,
+variant_output evaluate(const std::function<root_pair<T>(const ray_sphere<T>&)>& run, const contract& promises,
                         const ray_sphere<T>& input) {
     const root_pair<T> r = run(input);
     variant_output out;
@@ -74,10 +74,10 @@ variant_output evaluate(root_pair<T> (*run)(const ray_sphere<T>&), const contrac
     return out;
 }
 
-template variant_output evaluate<float>(root_pair<float> (*)(const ray_sphere<float>&), const contract&,
-                                        const ray_sphere<float>&);
-template variant_output evaluate<double>(root_pair<double> (*)(const ray_sphere<double>&), const contract&,
-                                         const ray_sphere<double>&);
+template variant_output evaluate<float>(const std::function<root_pair<float>(const ray_sphere<float>&)>&,
+                                        const contract&, const ray_sphere<float>&);
+template variant_output evaluate<double>(const std::function<root_pair<double>(const ray_sphere<double>&)>&,
+                                         const contract&, const ray_sphere<double>&);
 
 std::optional<std::string> contract_breach(const contract& promises, const ray_sphere<double>& input,
                                            precision prec) {

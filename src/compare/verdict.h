@@ -3,6 +3,7 @@
 #pragma once
 
 #include <array>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -48,7 +49,7 @@ struct variant_output {
 
 // Run a variant's function in precision T on the case and widen its answer.
 template <class T>
-variant_output evaluate(root_pair<T> (*run)(const ray_sphere<T>&), const contract& promises,
+variant_output evaluate(const std::function<root_pair<T>(const ray_sphere<T>&)>& run, const contract& promises,
                         const ray_sphere<T>& input);
 
 // Does the case satisfy the variant's assumptions at this precision?

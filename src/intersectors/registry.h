@@ -3,6 +3,7 @@
 // tests and benchmarks iterate over it instead of naming variants.
 #pragma once
 
+#include <functional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -17,11 +18,13 @@ struct variant {
     std::string citation;  // where the formula comes from
     std::string formula;   // one line, in the paper's notation
     contract promises;
-    root_pair<float> (*run_float)(const ray_sphere<float>&) = nullptr;
-    root_pair<double> (*run_double)(const ray_sphere<double>&) = nullptr;
+    // Empty when the variant does not run in that precision. A std::function
+    // so that a variant can carry state (a plugin's loaded symbol, a mutant).
+    std::function<root_pair<float>(const ray_sphere<float>&)> run_float;
+    std::function<root_pair<double>(const ray_sphere<double>&)> run_double;
 
     bool runs_in(precision p) const {
-        return p == precision::binary32 ? run_float != nullptr : run_double != nullptr;
+        return p == precision::binary32 ? static_cast<bool>(run_float) : static_cast<bool>(run_double);
     }
 };
 

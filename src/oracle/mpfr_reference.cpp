@@ -21,14 +21,22 @@ constexpr mpfr_prec_t working_precision = 12000;
 
 struct mp {
     mpfr_t v;
-    mp() { mpfr_init2(v, working_precision); }
+    // mpfr_init2 leaves NaN; the accumulators below start from +0.
+    mp() {
+        mpfr_init2(v, working_precision);
+        mpfr_set_zero(v, +1);
+    }
     explicit mp(double x) : mp() { mpfr_set_d(v, x, MPFR_RNDN); }
     ~mp() { mpfr_clear(v); }
     mp(const mp&) = delete;
     mp& operator=(const mp&) = delete;
 };
 
-double to_precision(const mp& x, precision prec) {
+// An exact zero is +0, as RN(0) in the oracle; the sign of an MPFR zero here
+// is an accident of the operations (−b′ − √Δ′ with b′ = +0 gives −0). A
+// nonzero value that underflows keeps its sign (−0 for a tiny negative root).
+double to_precision(mp& x, precision prec) {
+    if (mpfr_zero_p(x.v)) mpfr_set_zero(x.v, +1);
     if (prec == precision::binary32) return static_cast<double>(mpfr_get_flt(x.v, MPFR_RNDN));
     return mpfr_get_d(x.v, MPFR_RNDN);
 }

@@ -13,7 +13,8 @@ namespace {
 namespace fs = std::filesystem;
 
 const std::map<std::string, int> layer_rank = {{"core", 0},   {"intersectors", 1}, {"oracle", 2}, {"compare", 3},
-                                               {"corpus", 4}, {"report", 5},       {"cli", 6}};
+                                               {"plugin", 4}, {"corpus", 5},       {"bench", 6},  {"report", 7},
+                                               {"testing", 8}, {"cli", 9}};
 
 TEST(Architecture, LayersIncludeOnlyThemselvesAndLayersBelow) {
     const std::regex project_include(R"re(^\s*#\s*include\s*"([a-z_]+)/)re");
@@ -45,9 +46,11 @@ TEST(Architecture, OnlyOracleSourcesIncludeCgalGmpMpfr) {
             const bool oracle_source = entry.path().parent_path().filename() == "oracle" &&
                                        entry.path().extension() == ".cpp";
             std::ifstream in(entry.path());
-            for (std::string line; std::getline(in, line);)
-                if (std::regex_search(line, heavy))
+            for (std::string line; std::getline(in, line);) {
+                if (std::regex_search(line, heavy)) {
                     EXPECT_TRUE(oracle_source) << entry.path() << " includes " << line;
+                }
+            }
         }
     }
 }

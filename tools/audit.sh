@@ -8,4 +8,4 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 tools/build.sh >/dev/null
 mkdir -p report
-exec build/rayverify audit --corpus corpus --report report --per-case report/cases.jsonl "$@"
+exec build/rayverify audit --corpus corpus --report report --plots --per-case report/cases.jsonl "$@"

@@ -9,7 +9,10 @@ packages=(
   libcgal-dev libgmp-dev libmpfr-dev libboost-dev   # exact oracle (CGAL 5.5 is header-only)
   libgtest-dev                 # tests
   libcli11-dev nlohmann-json3-dev libfmt-dev        # CLI, JSON reports, formatting
+  libbenchmark-dev python3-matplotlib               # rayverify bench (Google Benchmark), report plots
 )
+# tools/fuzz.sh: clang and its runtime libraries (libFuzzer, sanitizers).
+[ "${1:-}" = "--fuzz" ] && packages+=(clang libclang-rt-14-dev)
 
 missing=()
 for package in "${packages[@]}"; do

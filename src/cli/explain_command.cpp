@@ -15,6 +15,7 @@ struct explain_options {
     std::string case_id;
     std::vector<std::string> corpus;
     std::vector<std::string> variants;
+    std::vector<std::string> plugins;
     std::vector<std::string> precisions;
 };
 
@@ -92,7 +93,7 @@ int run(const explain_options& options) {
     if (options.case_id.empty() && options.values.empty())
         throw input_error("", 0, "case", "give the case as 10 numbers, a corpus line, or --case ID");
     const corpus_case c = options.case_id.empty() ? case_from_arguments(options.values) : case_from_corpus(options);
-    const std::vector<audit_target> targets = select_targets(options.variants, options.precisions);
+    const std::vector<audit_target> targets = select_targets(options.variants, options.plugins, options.precisions);
     const audited_case audited = audit_case(c, targets);
 
     const auto& g = c.geometry;
@@ -138,6 +139,7 @@ command add_explain_command(CLI::App& app) {
     sub->add_option("--case", options->case_id, "Id of a case in --corpus");
     sub->add_option("--corpus", options->corpus, "Corpus to look --case up in (default: the shipped corpus)");
     sub->add_option("--variant", options->variants, "Variant to show (repeatable; default: all)");
+    sub->add_option("--plugin", options->plugins, "Shared library implementing rayverify_plugin.h (repeatable)");
     sub->add_option("--precision", options->precisions, "float or double (repeatable; default: both)")
         ->check(CLI::IsMember({"float", "double"}));
     // Negative numbers are values here, not options.

@@ -17,7 +17,9 @@ int main(int argc, char** argv) {
                  "Exit codes: 0 ok, 1 findings (disagreements with the exact answer), 2 usage or input error."};
     app.require_subcommand(1);
     const cli::command commands[] = {cli::add_variants_command(app), cli::add_audit_command(app, command_line),
-                                     cli::add_explain_command(app), cli::add_corpus_command(app)};
+                                     cli::add_explain_command(app), cli::add_corpus_command(app),
+                                     cli::add_bench_command(app, command_line), cli::add_gate_command(app), cli::add_diff_command(app),
+                                     cli::add_hunt_command(app, command_line)};
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -2,13 +2,20 @@
 
 #include "cli/commands.h"
 #include "core/input_error.h"
+#include "plugin/plugin_loader.h"
 
 namespace rayverify::cli {
 
 std::vector<audit_target> select_targets(const std::vector<std::string>& variant_names,
                                          const std::vector<std::string>& precisions) {
+    return select_targets(variant_names, {}, precisions);
+}
+
+std::vector<audit_target> select_targets(const std::vector<std::string>& variant_names,
+                                         const std::vector<std::string>& plugin_paths,
+                                         const std::vector<std::string>& precisions) {
     std::vector<variant> chosen;
-    if (variant_names.empty()) {
+    if (variant_names.empty() && plugin_paths.empty()) {
         const auto all = builtin_variants();
         chosen.assign(all.begin(), all.end());
     }
@@ -21,6 +28,15 @@ std::vector<audit_target> select_targets(const std::vector<std::string>& variant
         }
         chosen.push_back(*v);
     }
+    const std::size_t first_plugin = chosen.size();
+    for (const std::string& path : plugin_paths) chosen.push_back(load_plugin(path));
+    for (std::size_t i = first_plugin; i < chosen.size(); ++i)
+        for (std::size_t j = 0; j < i; ++j)
+            if (chosen[i].name == chosen[j].name)
+                throw input_error(plugin_paths[i - first_plugin], 0, "--plugin",
+                                  fmt::format("two targets named '{}' (a plugin's name must differ from the "
+                                              "built-in variants and other plugins)",
+                                              chosen[i].name));
     std::vector<audit_target> targets;
     for (audit_target& t : targets_for(chosen)) {
         const bool wanted = precisions.empty() ||

@@ -92,6 +92,10 @@ void audit_accumulator::add(const audited_case& c) {
     ++cases_by_family_[family];
     if (!c.exact_double.valid()) ++invalid_[1];
     if (c.exact_float && !c.exact_float->valid()) ++invalid_[0];
+    if (!c.exact_double.valid() || (c.exact_float && !c.exact_float->valid()))
+        invalid_list_.push_back({c.source->id, c.source->source,
+                                 c.exact_float ? c.exact_float->invalid : invalid_reason::none,
+                                 c.exact_double.invalid});
 
     auto& family_samples = by_family_[family];
     family_samples.resize(targets_.size());
@@ -111,8 +115,6 @@ void audit_accumulator::add(const audited_case& c) {
         }
     }
 }
-
-namespace {
 
 // Nearest-rank quantiles; ties in the maximum go to the earliest case.
 error_statistics statistics_of(std::vector<std::pair<double, std::size_t>> sample,
@@ -134,8 +136,6 @@ error_statistics statistics_of(std::vector<std::pair<double, std::size_t>> sampl
     return stats;
 }
 
-}  // namespace
-
 target_tally audit_accumulator::summarise(const samples& s) const {
     target_tally tally;
     tally.cases = s.cases;
@@ -153,6 +153,7 @@ audit_totals audit_accumulator::finish() const {
     totals.cases = case_ids_.size();
     totals.cases_by_family = cases_by_family_;
     totals.invalid_cases = invalid_;
+    totals.invalid_list = invalid_list_;
     for (const samples& s : overall_) totals.overall.push_back(summarise(s));
     for (const auto& [family, per_target] : by_family_) {
         auto& out = totals.by_family[family];

@@ -52,6 +52,11 @@ struct error_statistics {
     std::string max_case;  // id of the case with the largest error
 };
 
+// Order statistics of (error, case index) pairs, nearest rank; `ids` names
+// the cases by index.
+error_statistics statistics_of(std::vector<std::pair<double, std::size_t>> sample,
+                               const std::vector<std::string>& ids);
+
 // Everything tallied for one target over a set of cases.
 struct target_tally {
     std::size_t cases = 0;
@@ -61,6 +66,14 @@ struct target_tally {
     std::size_t disagreements() const;
 };
 
+// A case that is invalid in some precision: listed in reports, never scored.
+struct invalid_case {
+    std::string id;
+    std::string source;  // "file:line"
+    invalid_reason at_float = invalid_reason::none;   // none when valid there or not run in float
+    invalid_reason at_double = invalid_reason::none;
+};
+
 struct audit_totals {
     std::vector<audit_target> targets;
     std::size_t cases = 0;
@@ -68,6 +81,7 @@ struct audit_totals {
     std::vector<target_tally> overall;                             // aligned with targets
     std::map<std::string, std::vector<target_tally>> by_family;   // family → aligned with targets
     std::array<std::size_t, 2> invalid_cases{};                    // [float, double]
+    std::vector<invalid_case> invalid_list;                       // every invalid case, in corpus order
 };
 
 // Accumulates audited cases, then computes the statistics.
@@ -87,6 +101,7 @@ private:
     std::vector<std::string> case_ids_;
     std::map<std::string, std::size_t> cases_by_family_;
     std::array<std::size_t, 2> invalid_{};
+    std::vector<invalid_case> invalid_list_;
     std::vector<samples> overall_;
     std::map<std::string, std::vector<samples>> by_family_;
 

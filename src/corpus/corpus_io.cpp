@@ -49,9 +49,13 @@ std::string_view trim(std::string_view s) {
     return s;
 }
 
+// U+FEFF in UTF-8. Skipped at the start of a file; anywhere else it is refused,
+// since a token starting with it would not read back the same from a new file.
+constexpr std::string_view byte_order_mark = "\xEF\xBB\xBF";
+
 // An id or family must survive a trip through the text format: one token, not a comment.
 bool is_plain_token(std::string_view s) {
-    return !s.empty() && s.front() != '#' &&
+    return !s.empty() && s.front() != '#' && s.find(byte_order_mark) == std::string_view::npos &&
            std::ranges::none_of(s, [](char c) { return is_space(c) || c == '\n'; });
 }
 
@@ -121,7 +125,7 @@ bool is_valid_utf8(std::string_view s) {
 // binary garbage from reaching the parsers.
 template <class F>
 void for_each_line(const std::string& file, std::string_view contents, F&& on_line) {
-    if (contents.starts_with("\xEF\xBB\xBF")) contents.remove_prefix(3);  // UTF-8 byte order mark
+    if (contents.starts_with(byte_order_mark)) contents.remove_prefix(byte_order_mark.size());
     for (std::size_t number = 1; !contents.empty(); ++number) {
         const std::size_t end = std::min(contents.find('\n'), contents.size());
         std::string_view line = contents.substr(0, end);
@@ -133,6 +137,9 @@ void for_each_line(const std::string& file, std::string_view contents, F&& on_li
             throw input_error(file, number, "", "line contains a NUL byte (binary file?)");
         if (!is_valid_utf8(line))
             throw input_error(file, number, "", "line is not valid UTF-8 text");
+        if (line.find(byte_order_mark) != std::string_view::npos)
+            throw input_error(file, number, "",
+                              "line contains a byte order mark (U+FEFF), as where files were concatenated");
         on_line(number, line);
     }
 }
@@ -181,8 +188,11 @@ std::vector<corpus_case> parse_text(const std::string& file, std::string_view co
             throw input_error(
                 file, number, "",
                 fmt::format("found {} fields, expected 12 (id family ox oy oz dx dy dz cx cy "
-                            "cz r) or 14 (the same and tmin tmax)",
-                            tokens.size()));
+                            "cz r) or 14 (the same and tmin tmax); {}",
+                            tokens.size(),
+                            tokens.size() < field_names.size()
+                                ? fmt::format("field '{}' is missing", field_names[tokens.size()])
+                                : fmt::format("'{}' comes after tmax", tokens[field_names.size()])));
         case_cells cells;
         std::ranges::copy(tokens, cells.begin());
         cases.push_back(make_case(cells, file, number));
@@ -388,16 +398,37 @@ std::vector<corpus_case> read_corpus_file(const fs::path& path) {
         throw input_error(file, 0, "", "is a directory, expected a corpus file");
     if (!fs::is_regular_file(status)) throw input_error(file, 0, "", "is not a regular file");
 
+    // Refused by size before reading; the read is capped too, since some
+    // regular files (/proc) report a size of 0 and a file may grow meanwhile.
+    const auto too_large = [&](std::uintmax_t size) {
+        return input_error(file, 0, "",
+                           fmt::format("is {} bytes, over the {} MiB limit for one corpus file; "
+                                       "split it into several files",
+                                       size, max_corpus_file_bytes >> 20));
+    };
+    const std::uintmax_t size = fs::file_size(path, ec);
+    if (!ec && size > max_corpus_file_bytes) throw too_large(size);
+
     std::ifstream in(path, std::ios::binary);
     if (!in)
         throw input_error(file, 0, "",
                           fmt::format("cannot open: {}", std::generic_category().message(errno)));
-    const std::string contents{std::istreambuf_iterator<char>(in),
-                               std::istreambuf_iterator<char>()};
+    std::string contents;
+    if (!ec) contents.reserve(static_cast<std::size_t>(size));
+    std::array<char, 1 << 16> chunk{};
+    while (in.read(chunk.data(), chunk.size()) || in.gcount() > 0) {
+        const auto n = static_cast<std::size_t>(in.gcount());
+        if (contents.size() + n > max_corpus_file_bytes) throw too_large(contents.size() + n);
+        contents.append(chunk.data(), n);
+    }
     if (in.bad()) throw input_error(file, 0, "", "cannot read");
 
-    auto cases = iequals(path.extension().string(), ".csv") ? parse_csv(file, contents)
-                                                            : parse_text(file, contents);
+    return parse_corpus(file, contents, iequals(path.extension().string(), ".csv"));
+}
+
+std::vector<corpus_case> parse_corpus(const std::string& file, std::string_view contents,
+                                      bool csv) {
+    auto cases = csv ? parse_csv(file, contents) : parse_text(file, contents);
     check_unique_ids(cases);
     return cases;
 }

@@ -18,6 +18,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <string_view>
@@ -52,9 +53,19 @@ std::string format_case_line(const corpus_case& c);
 // without a trailing newline.
 std::string corpus_header_comment();
 
+// The largest corpus file read_corpus_file accepts. A larger file is refused
+// before anything is read (a parsed case takes up to ~10x its line in memory,
+// and 64 MiB is already ~300 000 cases of hex floats): split it, and pass the
+// parts or their directory.
+inline constexpr std::uintmax_t max_corpus_file_bytes = std::uintmax_t{64} << 20;
+
 // Read one file, text or CSV by extension. Each case gets source "file:line".
 // A file without cases gives an empty vector; duplicate ids are an error.
 std::vector<corpus_case> read_corpus_file(const std::filesystem::path& path);
+
+// Parse a corpus held in memory, as read_corpus_file would parse a file named
+// `file` with that contents (`csv`: the CSV format, else the text format).
+std::vector<corpus_case> parse_corpus(const std::string& file, std::string_view contents, bool csv);
 
 // Read files and directories (a directory contributes its *.txt and *.csv
 // files, non-recursive, sorted by name), in the order given. Duplicate ids

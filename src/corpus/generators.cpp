@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <type_traits>
 #include <string>
 #include <utility>
 
@@ -185,7 +186,9 @@ std::int64_t tangent_parameter(random_source& g, std::int64_t bound) {
     return g.integer(0, 3) == 0 ? 0 : g.integer(-bound, bound);
 }
 
-tangent_construction make_tangent(random_source& g) {
+// `closest`: t = 0 always (the origin is the tangent point: b = 0 and Δ = 0),
+// without drawing the tangent parameter.
+tangent_construction make_tangent(random_source& g, bool closest = false) {
     tangent_construction c{};
     c.k = static_cast<int>(g.integer(-20, 20));
     c.centre = random_offset(g);
@@ -197,7 +200,7 @@ tangent_construction make_tangent(random_source& g) {
         c.perpendicular[(axis + 1) % 3] = g.coin() ? tr.u : -tr.u;
         c.perpendicular[(axis + 2) % 3] = g.coin() ? tr.v : -tr.v;
         c.w = tr.w;
-        c.t = tangent_parameter(g, 4 * tr.w);
+        c.t = closest ? 0 : tangent_parameter(g, 4 * tr.w);
     } else {
         // Integer direction d = f′ × g ⟂ f′, f′ from a quadruple.
         const quadruple q = pythagorean_quadruple(g, 6);
@@ -211,7 +214,7 @@ tangent_construction make_tangent(random_source& g) {
         c.perpendicular = q.v;
         c.direction = d;
         c.w = q.w;
-        c.t = tangent_parameter(g, 16);
+        c.t = closest ? 0 : tangent_parameter(g, 16);
     }
     return c;
 }
@@ -263,12 +266,29 @@ double power_of_ten(int k) {
     return p;
 }
 
-ray_sphere<double> make_far_sphere(random_source& g) {
-    const double radius = g.uniform(0.5, 2);
+// Rounds to T and back: the identity for double, float snapping for float.
+// The volatile store is needed: GCC 12 at -O2 (SLP vectorizer) drops the
+// double → float → double round trip on some lanes of a struct copy.
+template <class T>
+double snap(double x) {
+    const volatile T rounded = static_cast<T>(x);
+    return static_cast<double>(rounded);
+}
+template <class T>
+v3 snap(v3 v) {
+    return {snap<T>(v.x), snap<T>(v.y), snap<T>(v.z)};
+}
 
-    // D/r = x·10^e: e uniform in [1, 8], x in [1, 10) with density ∝ 1/x
-    // (uniform x accepted with probability 1/x), so D/r is log-uniform on [10, 10^9).
-    const int e = static_cast<int>(g.integer(1, 8));
+// A small sphere far away, D/r log-uniform on [10^e_lo, 10^(e_hi+1)). For T =
+// float, o, c and r are snapped to float before d is aimed, so the aim is
+// computed for the inputs a float intersector sees.
+template <class T>
+ray_sphere<double> far_sphere_case(random_source& g, std::int64_t e_lo, std::int64_t e_hi) {
+    const double radius = snap<T>(g.uniform(0.5, 2));
+
+    // D/r = x·10^e: e uniform in [e_lo, e_hi], x in [1, 10) with density ∝ 1/x
+    // (uniform x accepted with probability 1/x), so D/r is log-uniform.
+    const int e = static_cast<int>(g.integer(e_lo, e_hi));
     double x;
     do x = g.uniform(1, 10);
     while (!(g.unit() * x < 1));
@@ -278,8 +298,8 @@ ray_sphere<double> make_far_sphere(random_source& g) {
     const v3 sight = random_unit(g);
     const v3 near_end = cube_point(g, -1, 1);
     const bool origin_near = g.coin();
-    const v3 origin = origin_near ? near_end : near_end - distance * sight;
-    const v3 centre = origin_near ? near_end + distance * sight : near_end;
+    const v3 origin = snap<T>(origin_near ? near_end : near_end - distance * sight);
+    const v3 centre = snap<T>(origin_near ? near_end + distance * sight : near_end);
 
     // Aim at c + ρ·w, ρ/r uniform in [0, 1.5), w a unit vector ⟂ the line of sight.
     v3 direction;
@@ -293,6 +313,8 @@ ray_sphere<double> make_far_sphere(random_source& g) {
     }
     return {origin, direction, centre, radius};
 }
+
+ray_sphere<double> make_far_sphere(random_source& g) { return far_sphere_case<double>(g, 1, 8); }
 
 ray_sphere<double> make_on_surface(random_source& g) {
     const int k = static_cast<int>(g.integer(-20, 20));
@@ -335,9 +357,253 @@ ray_sphere<double> make_inside(random_source& g) {
 }
 
 // ---------------------------------------------------------------------------
+// Edge-case families (generator version 1). Each maker is a template on the
+// precision T whose inputs it builds: T = float makes the "_f32" variant,
+// whose every input is exactly a float, so float intersectors see exact inputs.
+
+// Every input rounded to T (exact for T = double).
+template <class T>
+ray_sphere<double> exactly_in(const ray_sphere<double>& s) {
+    return {snap<T>(s.origin), snap<T>(s.direction), snap<T>(s.centre), snap<T>(s.radius)};
+}
+
+// One step of T's ulp from x towards ±infinity.
+template <class T>
+double ulp_step(double x, bool up) {
+    const T inf = std::numeric_limits<T>::infinity();
+    return static_cast<double>(std::nextafter(static_cast<T>(x), up ? inf : -inf));
+}
+
+// A tangent_exact line moved by one ulp of T to one known side. The squared
+// distance of the line from c is w² exactly; moving r up (down) puts the line
+// inside (outside); moving origin coordinate i by δ changes the squared
+// distance by 2δf′_i + δ²|P e_i|² (P projects ⟂ d), moving centre coordinate
+// i by δ changes it by −2δf′_i + δ²|P e_i|². Coordinates are integers below
+// 2^22 times 2^k and |f′_i| ≥ 2^k, so |δ| ≤ 2^(k−2) even in float and the
+// linear term decides the side.
+template <class T>
+ray_sphere<double> nudged_tangent(random_source& g, bool inside) {
+    const tangent_construction c = make_tangent(g);
+    ray_sphere<double> s = c.geometry();
+    const std::int64_t what = g.integer(0, 2);
+    if (what == 0) {
+        s.radius = ulp_step<T>(s.radius, inside);
+        return s;
+    }
+    std::array<int, 3> moving{};
+    int n = 0;
+    for (int i = 0; i < 3; ++i)
+        if (c.perpendicular[i] != 0) moving[n++] = i;
+    const int i = moving[g.integer(0, n - 1)];
+    const bool positive = c.perpendicular[i] > 0;
+    // Origin: inside needs δf′_i < 0; centre: inside needs δf′_i > 0.
+    const bool up = what == 1 ? (positive != inside) : (positive == inside);
+    v3& point = what == 1 ? s.origin : s.centre;
+    double* coordinate = i == 0 ? &point.x : (i == 1 ? &point.y : &point.z);
+    *coordinate = ulp_step<T>(*coordinate, up);
+    return s;
+}
+
+template <class T>
+ray_sphere<double> make_near_tangent_hit(random_source& g) { return nudged_tangent<T>(g, true); }
+template <class T>
+ray_sphere<double> make_near_tangent_miss(random_source& g) { return nudged_tangent<T>(g, false); }
+
+ray_sphere<double> make_tangent_closest(random_source& g) { return make_tangent(g, true).geometry(); }
+
+// The sphere behind the origin: d points from a point p with |p − c| ≤ 0.9r
+// to o with |o − c| ≥ 1.5r, so (o − c)·(o − p) > 0 and both roots are < 0.
+template <class T>
+ray_sphere<double> make_behind(random_source& g) {
+    const v3 centre = snap<T>(cube_point(g, -10, 10));
+    const double radius = snap<T>(g.uniform(0.1, 5));
+    const double distance = radius * g.uniform(1.5, 20);
+    const v3 origin = snap<T>(centre + distance * random_unit(g));
+    v3 direction;
+    for (;;) {
+        const v3 aim = centre + (0.9 * radius) * ball_point(g);
+        if (unit_towards(aim, origin, direction)) break;
+    }
+    return exactly_in<T>({origin, direction, centre, radius});
+}
+
+// Far spheres over a wider range than far_sphere: D/r from 10^2 to 10^15 in
+// double; 10^2 to 10^7 in float (beyond, rounding d to float alone moves the
+// line by more than r).
+template <class T>
+ray_sphere<double> make_far_sphere_wide(random_source& g) {
+    return exactly_in<T>(far_sphere_case<T>(g, 2, std::is_same_v<T, float> ? 6 : 14));
+}
+
+// A sphere of radius r = u·2^-j, u in [1, 2), j in [20, 40] (float: [6, 14]),
+// centre within 4r of the coordinate origin (so c itself is exact to ~2^-53 r),
+// seen from o in [-8, 8]^3 and aimed at c + ρw, ρ/r uniform in [0, 1.5).
+template <class T>
+ray_sphere<double> make_tiny_sphere(random_source& g) {
+    const bool single = std::is_same_v<T, float>;
+    const double radius = snap<T>(std::ldexp(g.uniform(1, 2), -static_cast<int>(g.integer(single ? 6 : 20,
+                                                                                              single ? 14 : 40))));
+    const v3 centre = snap<T>(radius * cube_point(g, -4, 4));
+    v3 origin;
+    do origin = snap<T>(cube_point(g, -8, 8));
+    while (length_squared(origin - centre) < 1);
+    const v3 sight = normalised(centre - origin);
+    v3 direction;
+    for (;;) {
+        const v3 s = random_unit(g);
+        const v3 across = s - dot(s, sight) * sight;
+        if (length_squared(across) < 0.01) continue;
+        const v3 aim = centre + (1.5 * radius * g.unit()) * normalised(across);
+        if (unit_towards(origin, aim, direction)) break;
+    }
+    return exactly_in<T>({origin, direction, centre, radius});
+}
+
+// RTG ch.7 fig. 7-4: a huge sphere as a ground plane, the origin at height h
+// above it. R = u·2^e, e in [8, 30] (float: [8, 16]); h = u·2^j, j in [-4, 4]
+// (float: [-2, 4]), well above the rounding of c. Half the directions are
+// steep (almost always two roots close to the origin: the near root cancels),
+// half graze the horizon with slope ±u·2√(2h/R) (hits and misses).
+template <class T>
+ray_sphere<double> make_ground_plane(random_source& g) {
+    const bool single = std::is_same_v<T, float>;
+    const double big = snap<T>(std::ldexp(g.uniform(1, 2), static_cast<int>(g.integer(8, single ? 16 : 30))));
+    const double height = std::ldexp(g.uniform(1, 2), static_cast<int>(g.integer(single ? -2 : -4, 4)));
+    const v3 up = random_unit(g);
+    const v3 origin = snap<T>(cube_point(g, -1, 1));
+    const v3 centre = snap<T>(origin - (big + height) * up);
+    v3 horizontal;
+    for (;;) {
+        const v3 s = random_unit(g);
+        const v3 across = s - dot(s, up) * up;
+        if (length_squared(across) < 0.01) continue;
+        horizontal = normalised(across);
+        break;
+    }
+    double slope;
+    if (g.coin()) {
+        slope = g.uniform(-4, 1);  // mostly downwards
+    } else {
+        const double critical = std::sqrt(2 * height / big);
+        slope = (g.coin() ? 1 : -1) * 2 * critical * g.unit();
+    }
+    const v3 direction = normalised(horizontal + slope * up);
+    return exactly_in<T>({origin, direction, centre, big});
+}
+
+// A uniform-like scene (o, c in a box of side 20, r in [0.5, 2], d aimed at the
+// ball of radius 2r around c) translated by T with |T_i| up to 10^e, e in
+// [6, 12] (float: [4, 7]); o and c are rounded there before d is aimed.
+template <class T>
+ray_sphere<double> make_world_offset(random_source& g) {
+    const bool single = std::is_same_v<T, float>;
+    const int e = static_cast<int>(g.integer(single ? 4 : 6, single ? 7 : 12));
+    const v3 offset = power_of_ten(e) * cube_point(g, -1, 1);
+    const v3 origin = snap<T>(offset + cube_point(g, -10, 10));
+    const v3 centre = snap<T>(offset + cube_point(g, -10, 10));
+    const double radius = snap<T>(g.uniform(0.5, 2));
+    v3 direction;
+    for (;;) {
+        const v3 aim = centre + (2 * radius) * ball_point(g);
+        if (unit_towards(origin, aim, direction)) break;
+    }
+    return exactly_in<T>({origin, direction, centre, radius});
+}
+
+// A uniform case with d scaled by 2^k, k in [-200, 200] (float: [-100, 100]):
+// exact scaling, so the class is the unscaled case's and every root is scaled
+// by 2^-k; a = d·d over- or underflows in the intersector, not in the input.
+template <class T>
+ray_sphere<double> make_scaled_direction(random_source& g) {
+    const bool single = std::is_same_v<T, float>;
+    ray_sphere<double> s = exactly_in<T>(make_uniform(g));
+    const int k = static_cast<int>(g.integer(single ? -100 : -200, single ? 100 : 200));
+    s.direction = std::ldexp(1.0, k) * s.direction;
+    return s;
+}
+
+// A uniform case with o, c and r scaled by 2^k (exact: the class is kept, every
+// root scales by 2^k): k in [990, 1010] puts coordinates within 2^-10 of the
+// double overflow threshold, where f·f and b² overflow (float: k in [100, 120]).
+template <class T>
+ray_sphere<double> make_near_overflow(random_source& g) {
+    const bool single = std::is_same_v<T, float>;
+    ray_sphere<double> s = exactly_in<T>(make_uniform(g));
+    const int k = static_cast<int>(g.integer(single ? 100 : 990, single ? 120 : 1010));
+    s.origin = std::ldexp(1.0, k) * s.origin;
+    s.centre = std::ldexp(1.0, k) * s.centre;
+    s.radius = std::ldexp(s.radius, k);
+    return s;
+}
+
+// A uniform case with o, c and r scaled into the subnormal range, 2^-k with k
+// in [1050, 1070] (float: [130, 145]): the scaling rounds (fewer significant
+// bits are left), so the oracle decides the class; every product underflows.
+template <class T>
+ray_sphere<double> make_subnormal(random_source& g) {
+    const bool single = std::is_same_v<T, float>;
+    const ray_sphere<double> u = exactly_in<T>(make_uniform(g));
+    const int k = -static_cast<int>(g.integer(single ? 130 : 1050, single ? 145 : 1070));
+    ray_sphere<double> s = u;
+    s.origin = {snap<T>(std::ldexp(u.origin.x, k)), snap<T>(std::ldexp(u.origin.y, k)),
+                snap<T>(std::ldexp(u.origin.z, k))};
+    s.centre = {snap<T>(std::ldexp(u.centre.x, k)), snap<T>(std::ldexp(u.centre.y, k)),
+                snap<T>(std::ldexp(u.centre.z, k))};
+    s.radius = snap<T>(std::ldexp(u.radius, k));
+    return s;
+}
+
+// A secondary ray spawned from a hit point computed in T (the
+// self-intersection case). A primary ray from outside (|o − c| in [1.5r, 20r])
+// aimed inside (line distance ≤ 0.9r) is solved in T with the Hearn–Baker
+// discriminant and stable roots; p = o + t·d is rounded in T. From p, a quarter
+// each: the reflection (leaving), the primary direction continued (entering),
+// a random direction leaving or entering with |d·n| ≥ 1/8. The line through p
+// crosses the surface at an angle, so it has two roots, one within rounding
+// of 0 whose sign is the self-hit question.
+template <class T>
+ray_sphere<double> make_secondary_ray(random_source& g) {
+    const ray_sphere<double> primary = make_behind<T>(g);  // d points away from the sphere
+    const vec3<T> o = vec3_cast<T>(primary.origin);
+    const vec3<T> d = T(-1) * vec3_cast<T>(primary.direction);
+    const vec3<T> c = vec3_cast<T>(primary.centre);
+    const T r = static_cast<T>(primary.radius);
+
+    // Nearest root: b′ = −f·d > 0, Δ = r² − |f + (b′/a)d|², q = b′ + √(aΔ), t = C/q.
+    const vec3<T> f = o - c;
+    const T a = dot(d, d);
+    const T b = -dot(f, d);
+    const vec3<T> perpendicular = f + (b / a) * d;
+    const T delta = r * r - dot(perpendicular, perpendicular);
+    const T q = b + std::sqrt(a * (delta > 0 ? delta : T(0)));
+    const T t = (dot(f, f) - r * r) / q;
+    const vec3<T> p = o + t * d;
+    const vec3<T> pc = p - c;
+    const vec3<T> n = (T(1) / std::sqrt(dot(pc, pc))) * pc;
+
+    vec3<T> out;
+    switch (g.integer(0, 3)) {
+        case 0: out = d - (T(2) * dot(d, n)) * n; break;
+        case 1: out = d; break;
+        default: {
+            const bool leaving = g.coin();
+            for (;;) {
+                const v3 s = random_unit(g);
+                const T cosine = dot(vec3_cast<T>(s), n);
+                if (cosine < T(0.125) && cosine > T(-0.125)) continue;
+                out = (cosine > 0) == leaving ? vec3_cast<T>(s) : T(-1) * vec3_cast<T>(s);
+                break;
+            }
+        }
+    }
+    const vec3<T> unit = (T(1) / std::sqrt(dot(out, out))) * out;
+    return exactly_in<T>({vec3_cast<double>(p), vec3_cast<double>(unit), primary.centre, primary.radius});
+}
+
+// ---------------------------------------------------------------------------
 // The table.
 
-constexpr std::array<family_info, 6> families{{
+constexpr std::array<family_info, 30> families{{
     {"uniform",
      "baseline: o, c uniform in [-10,10]^3, r uniform in [0.1,5], unit d aimed at a uniform "
      "point of the ball of radius 2r around c (hits and misses, origin sometimes inside)",
@@ -347,7 +613,7 @@ constexpr std::array<family_info, 6> families{{
      "float too; half unit axis directions +-e_a with a Pythagorean-triple offset, half NON-UNIT "
      "integer directions d = f' x g with a Pythagorean-quadruple offset f'; tangent root t*2^k, "
      "t = 0 one time in four (b = 0 and Delta = 0)",
-     class_claim::tangent, false},
+     class_claim::tangent, false, true},
     {"near_tangent",
      "a tangent_exact line with r, or an origin or centre coordinate off the line's axis, moved "
      "1 ulp (double) up or down: never tangent, miss or two_hit about half each; directions as "
@@ -369,12 +635,118 @@ constexpr std::array<family_info, 6> families{{
      "[0.1,5]; o at c, uniform with |f| <= 0.9r, or |f| = r(1 - 2^-j), j in [10,40], a third "
      "each; unit d uniform",
      class_claim::two_hit, true},
+    {"near_tangent_hit",
+     "a tangent_exact line moved one double ulp inwards (r up, or an origin or centre coordinate "
+     "moved so that the line's distance from c drops below r): two roots the last bit decides",
+     class_claim::two_hit, false},
+    {"near_tangent_miss",
+     "a tangent_exact line moved one double ulp outwards (r down, or a coordinate moved so that "
+     "the line's distance from c exceeds r): a miss the last bit decides",
+     class_claim::miss, false},
+    {"tangent_closest",
+     "tangent_exact with the origin at the tangent point: b = 0 and Delta = 0, the double root is "
+     "t = 0 (0/0 in the stable-roots form); float-exact",
+     class_claim::tangent, false, true},
+    {"behind",
+     "the sphere behind the origin: |o - c| in [1.5r, 20r], unit d pointing away from a point "
+     "within 0.9r of c, so both roots are negative",
+     class_claim::two_hit, true},
+    {"far_sphere_wide",
+     "far_sphere with D/r log-uniform on [1e2, 1e15): C = |f|^2 - r^2 loses all of r^2 in double "
+     "beyond 1e8",
+     class_claim::any, true},
+    {"tiny_sphere",
+     "radius u*2^-j, j in [20,40], centre within 4r of the coordinate origin, seen from [-8,8]^3 "
+     "and aimed within 1.5r of c: r^2 is below the rounding of every other term",
+     class_claim::any, true},
+    {"ground_plane",
+     "a huge sphere (R = u*2^e, e in [8,30]) as a ground plane with the origin at height u*2^j, "
+     "j in [-4,4]; half steep rays, half grazing the horizon: the near root cancels",
+     class_claim::any, false},
+    {"world_offset",
+     "a unit-scale scene (r in [0.5,2], o and c within 20) translated by up to 10^e, e in [6,12]: "
+     "coordinates carry the offset, the geometry lives in the low bits",
+     class_claim::any, true},
+    {"scaled_direction",
+     "a uniform case with d scaled by 2^k, k in [-200,200] (|d| from 2^-200 to 2^200): same class, "
+     "roots scaled by 2^-k; a = d.d over- or underflows",
+     class_claim::any, false},
+    {"near_overflow",
+     "a uniform case with o, c, r scaled by 2^k, k in [990,1010]: coordinates near the double "
+     "overflow threshold, |f|^2 and b^2 overflow; invalid in float",
+     class_claim::any, true},
+    {"subnormal",
+     "a uniform case with o, c, r scaled by 2^-k, k in [1050,1070]: subnormal coordinates, every "
+     "product underflows; in float every input but d rounds to 0",
+     class_claim::any, true},
+    {"secondary_ray",
+     "a secondary ray from a hit point p = o + t*d computed in double (reflected, continued, or "
+     "random leaving/entering with |cos| >= 1/8): one root is within rounding of 0 (self-hit)",
+     class_claim::two_hit, false},
+    {"uniform_f32", "uniform with every input rounded to float (float-exact)", class_claim::any, false, true},
+    {"near_tangent_hit_f32",
+     "near_tangent_hit with a one-FLOAT-ulp step: float-exact, two roots decided by the last float bit",
+     class_claim::two_hit, false, true},
+    {"near_tangent_miss_f32",
+     "near_tangent_miss with a one-FLOAT-ulp step: float-exact, a miss decided by the last float bit",
+     class_claim::miss, false, true},
+    {"behind_f32", "behind, float-exact (o, c, r rounded to float before d is aimed)", class_claim::two_hit,
+     false, true},
+    {"far_sphere_f32",
+     "far_sphere with D/r log-uniform on [1e2, 1e7), float-exact (o, c, r rounded to float before d is "
+     "aimed)",
+     class_claim::any, false, true},
+    {"tiny_sphere_f32", "tiny_sphere with j in [6,14], float-exact", class_claim::any, false, true},
+    {"ground_plane_f32", "ground_plane with e in [8,16], j in [-2,4], float-exact", class_claim::any, false,
+     true},
+    {"world_offset_f32",
+     "world_offset with offsets up to 10^e, e in [4,7] (float ulp 2^-20 r to 8 r), float-exact",
+     class_claim::any, false, true},
+    {"scaled_direction_f32", "scaled_direction with k in [-100,100], float-exact", class_claim::any, false,
+     true},
+    {"near_overflow_f32",
+     "near_overflow with k in [100,120]: coordinates near the FLOAT overflow threshold, float-exact",
+     class_claim::any, false, true},
+    {"subnormal_f32", "subnormal with k in [130,145]: FLOAT subnormal coordinates, float-exact",
+     class_claim::any, false, true},
+    {"secondary_ray_f32",
+     "secondary_ray with the primary hit point computed in FLOAT: the float self-intersection case, "
+     "float-exact",
+     class_claim::two_hit, false, true},
 }};
 
 using maker = ray_sphere<double> (*)(random_source&);
 constexpr std::array<maker, families.size()> makers{
-    make_uniform,    make_tangent_exact, make_near_tangent,
-    make_far_sphere, make_on_surface,    make_inside,
+    make_uniform,
+    make_tangent_exact,
+    make_near_tangent,
+    make_far_sphere,
+    make_on_surface,
+    make_inside,
+    make_near_tangent_hit<double>,
+    make_near_tangent_miss<double>,
+    make_tangent_closest,
+    make_behind<double>,
+    make_far_sphere_wide<double>,
+    make_tiny_sphere<double>,
+    make_ground_plane<double>,
+    make_world_offset<double>,
+    make_scaled_direction<double>,
+    make_near_overflow<double>,
+    make_subnormal<double>,
+    make_secondary_ray<double>,
+    [](random_source& g) { return exactly_in<float>(make_uniform(g)); },
+    make_near_tangent_hit<float>,
+    make_near_tangent_miss<float>,
+    make_behind<float>,
+    make_far_sphere_wide<float>,
+    make_tiny_sphere<float>,
+    make_ground_plane<float>,
+    make_world_offset<float>,
+    make_scaled_direction<float>,
+    make_near_overflow<float>,
+    make_subnormal<float>,
+    make_secondary_ray<float>,
 };
 
 std::string case_id(std::string_view family, std::uint64_t seed, std::size_t index) {
@@ -403,8 +775,9 @@ const family_info* find_generator_family(std::string_view name) {
     return nullptr;
 }
 
-std::vector<corpus_case> generate_family(std::string_view family, std::size_t count,
-                                         std::uint64_t seed) {
+namespace {
+
+const family_info& known_family(std::string_view family) {
     const family_info* info = find_generator_family(family);
     if (info == nullptr) {
         std::string known;
@@ -412,20 +785,33 @@ std::vector<corpus_case> generate_family(std::string_view family, std::size_t co
         throw input_error("", 0, "family",
                           "unknown generator family '" + std::string(family) + "' (known: " + known + ")");
     }
-    const maker make = makers[static_cast<std::size_t>(info - families.data())];
+    return *info;
+}
 
+corpus_case make_case(const family_info& info, std::uint64_t seed, std::size_t index) {
+    const maker make = makers[static_cast<std::size_t>(&info - families.data())];
+    random_source g(info.name, seed, index);
+    corpus_case c;
+    c.id = case_id(info.name, seed, index);
+    c.family = std::string(info.name);
+    c.geometry = make(g);
+    c.source = "generated";
+    return c;
+}
+
+}  // namespace
+
+std::vector<corpus_case> generate_family(std::string_view family, std::size_t count,
+                                         std::uint64_t seed) {
+    const family_info& info = known_family(family);
     std::vector<corpus_case> cases;
     cases.reserve(count);
-    for (std::size_t i = 0; i < count; ++i) {
-        random_source g(info->name, seed, i);
-        corpus_case c;
-        c.id = case_id(info->name, seed, i);
-        c.family = std::string(info->name);
-        c.geometry = make(g);
-        c.source = "generated";
-        cases.push_back(std::move(c));
-    }
+    for (std::size_t i = 0; i < count; ++i) cases.push_back(make_case(info, seed, i));
     return cases;
+}
+
+corpus_case generate_case(std::string_view family, std::uint64_t seed, std::size_t index) {
+    return make_case(known_family(family), seed, index);
 }
 
 }  // namespace rayverify

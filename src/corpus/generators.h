@@ -30,6 +30,8 @@ struct family_info {
     std::string_view description;  // what it stresses and how it is built
     class_claim claim;
     bool unit_direction;  // every direction is normalised in double (|d·d − 1| ≤ 2^-51)
+    bool float_exact = false;  // every input is exactly a float: float variants see the case itself
+    int version = 1;           // bumped whenever the family's output for a (seed, index) changes
 };
 
 // All families, in a fixed order.
@@ -43,5 +45,8 @@ const family_info* find_generator_family(std::string_view name);
 // Throws input_error (field "family") for an unknown family.
 std::vector<corpus_case> generate_family(std::string_view family, std::size_t count,
                                          std::uint64_t seed);
+
+// Case `index` of generate_family(family, n, seed) for any n > index, alone.
+corpus_case generate_case(std::string_view family, std::uint64_t seed, std::size_t index);
 
 }  // namespace rayverify

@@ -232,7 +232,11 @@ double ulp_error(const quadratic_irrational& x, double value) {
         const long bound_exponent = 4 - static_cast<long>(precision) + e - ulp_exponent;
         const bool separated =
             sign_x == 0 || (mpfr_get_exp(difference.get()) - 1 > bound_exponent + 60);
-        if (separated || precision > (1 << 17)) return mpfr_get_d(difference.get(), MPFR_RNDN);
+        if (separated || precision > (1 << 17)) {
+            // An error below the double range is still not 0, which would claim value == x.
+            const double error = mpfr_get_d(difference.get(), MPFR_RNDN);
+            return error == 0 ? std::numeric_limits<double>::denorm_min() : error;
+        }
     }
 }
 

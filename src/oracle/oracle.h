@@ -54,7 +54,8 @@ public:
 
     // |value − t*| / ulp(t*) in the solution's precision, with every printed
     // digit right (the exact difference is bracketed adaptively). 0 exactly
-    // when value == t*; +inf for a non-finite value. Requires cls != miss.
+    // when value == t* (an error below the double range is the smallest
+    // subnormal, not 0); +inf for a non-finite value. Requires cls != miss.
     double root_ulp_error(root_index i, double value) const;
 
     // Same for coordinate `axis` of o + t·d with t the root i.

@@ -1,0 +1,38 @@
+// The intersectors as concrete callables for timing: each entry is a generic
+// lambda naming the intersector template directly, so a loop instantiated
+// over it inlines the formula (no std::function or virtual call per case, as
+// the registry's run_float/run_double would add). Names match the registry;
+// tests/bench_test.cpp checks that both lists agree and that each kernel
+// returns exactly what the registry's function returns.
+#pragma once
+
+#include <string_view>
+
+#include "intersectors/fma_discriminant.h"
+#include "intersectors/geometric.h"
+#include "intersectors/half_b.h"
+#include "intersectors/hearn_baker.h"
+#include "intersectors/naive.h"
+#include "intersectors/seed003_reduced.h"
+#include "intersectors/seed004_early_out.h"
+#include "intersectors/stable_roots.h"
+
+namespace rayverify::bench {
+
+// Calls visit(name, kernel) for every built-in variant, in registry order;
+// kernel(s) works for ray_sphere<float>, <double> and <long double>.
+template <class Visitor>
+void for_each_kernel(Visitor&& visit) {
+#define RAYVERIFY_KERNEL(fn) visit(std::string_view(#fn), [](const auto& s) { return intersectors::fn(s); })
+    RAYVERIFY_KERNEL(naive);
+    RAYVERIFY_KERNEL(half_b);
+    RAYVERIFY_KERNEL(seed003_reduced);
+    RAYVERIFY_KERNEL(seed004_early_out);
+    RAYVERIFY_KERNEL(geometric);
+    RAYVERIFY_KERNEL(stable_roots);
+    RAYVERIFY_KERNEL(hearn_baker);
+    RAYVERIFY_KERNEL(fma_discriminant);
+#undef RAYVERIFY_KERNEL
+}
+
+}  // namespace rayverify::bench

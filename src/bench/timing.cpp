@@ -1,0 +1,175 @@
+#include "bench/timing.h"
+
+#include <benchmark/benchmark.h>
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <fstream>
+#include <functional>
+
+#include "bench/kernels.h"
+#include "core/input_error.h"
+#include "intersectors/registry.h"
+#include "oracle/oracle.h"
+
+namespace rayverify::bench {
+namespace {
+
+// Collects the per-repetition runs of the one benchmark registered at a time.
+class collecting_reporter : public benchmark::BenchmarkReporter {
+public:
+    bool ReportContext(const Context&) override { return true; }
+    void ReportRuns(const std::vector<Run>& runs) override {
+        for (const Run& run : runs)
+            if (run.run_type == Run::RT_Iteration && !run.error_occurred) repetitions.push_back(run);
+    }
+    std::vector<Run> repetitions;
+};
+
+// The family's cases valid at precision T, rounded to T.
+template <class T>
+std::vector<ray_sphere<T>> rounded_cases(const std::vector<corpus_case>& cases) {
+    std::vector<ray_sphere<T>> out;
+    using valid_in = std::conditional_t<std::is_same_v<T, float>, float, double>;
+    for (const corpus_case& c : cases)
+        if (validity<valid_in>(c.geometry) == invalid_reason::none) out.push_back(rounded_to<T>(c.geometry));
+    return out;
+}
+
+// The timed loop: `kernel` is a concrete callable, and flatten makes GCC
+// inline it (and the intersector) into the loop, as in a renderer's inner
+// loop. Left to its heuristics GCC keeps the intersectors out of line, and
+// returning root_pair<float> through registers then costs a store-forwarding
+// stall that doubles the float time.
+template <class T, class Kernel>
+[[gnu::flatten]] void run_loop(benchmark::State& state, const std::vector<ray_sphere<T>>& cases, Kernel kernel) {
+    for (auto _ : state) {
+        for (const ray_sphere<T>& s : cases) {
+            auto result = kernel(s);
+            benchmark::DoNotOptimize(result);
+        }
+    }
+}
+
+template <class T, class Kernel>
+double checksum_of(const std::vector<ray_sphere<T>>& cases, Kernel kernel) {
+    double sum = 0;
+    for (const ray_sphere<T>& s : cases) sum += kernel(s).count;
+    return sum;
+}
+
+struct pending {
+    timing_row row;
+    std::function<void(benchmark::State&)> body;
+};
+
+timing_row measure(pending p, const timing_options& options) {
+    collecting_reporter reporter;
+    benchmark::RegisterBenchmark(p.row.label().c_str(), [&p](benchmark::State& state) { p.body(state); })
+        ->Repetitions(options.repetitions)
+        ->MinTime(options.min_time_s)
+        ->MinWarmUpTime(options.warmup_s)
+        ->ReportAggregatesOnly(false);
+    benchmark::RunSpecifiedBenchmarks(&reporter);
+    benchmark::ClearRegisteredBenchmarks();
+    timing_row row = std::move(p.row);
+    const double per_pass = 1e9 / static_cast<double>(std::max<std::size_t>(row.cases, 1));
+    for (const auto& run : reporter.repetitions) {
+        const double iterations = static_cast<double>(run.iterations);
+        row.ns_per_test.push_back(run.cpu_accumulated_time / iterations * per_pass);
+        row.real_ns_per_test.push_back(run.real_accumulated_time / iterations * per_pass);
+    }
+    if (!row.ns_per_test.empty()) {
+        row.median = median_of(row.ns_per_test);
+        row.real_median = median_of(row.real_ns_per_test);
+        row.min = *std::min_element(row.ns_per_test.begin(), row.ns_per_test.end());
+        row.max = *std::max_element(row.ns_per_test.begin(), row.ns_per_test.end());
+    }
+    return row;
+}
+
+}  // namespace
+
+double median_of(std::vector<double> values) {
+    if (values.empty()) return 0;
+    std::sort(values.begin(), values.end());
+    const std::size_t n = values.size();
+    return n % 2 ? values[n / 2] : (values[n / 2 - 1] + values[n / 2]) / 2;
+}
+
+std::string cpu_model() {
+    std::ifstream in("/proc/cpuinfo");
+    for (std::string line; std::getline(in, line);)
+        if (line.rfind("model name", 0) == 0) {
+            const auto colon = line.find(':');
+            if (colon != std::string::npos) return line.substr(line.find_first_not_of(" \t", colon + 1));
+        }
+    return "unknown";
+}
+
+std::vector<timing_row> time_variants(const std::map<std::string, std::vector<corpus_case>>& cases_by_family,
+                                      const timing_options& options,
+                                      void (*on_progress)(std::size_t, std::size_t)) {
+    for (const std::string& name : options.variants)
+        if (!find_builtin_variant(name)) throw input_error("", 0, "--variant", fmt::format("unknown variant '{}'", name));
+    const auto wanted = [&](std::string_view name) {
+        return options.variants.empty() ||
+               std::find(options.variants.begin(), options.variants.end(), name) != options.variants.end();
+    };
+
+    // Inputs rounded once per family and precision; the bodies refer to them.
+    struct family_inputs {
+        std::vector<ray_sphere<float>> f;
+        std::vector<ray_sphere<double>> d;
+        std::vector<ray_sphere<long double>> ld;
+    };
+    std::map<std::string, family_inputs> inputs;
+    for (const auto& [family, cases] : cases_by_family)
+        inputs[family] = {rounded_cases<float>(cases), rounded_cases<double>(cases),
+                          rounded_cases<long double>(cases)};
+
+    std::vector<pending> work;
+    for (const auto& [family, in] : inputs) {
+        for_each_kernel([&, &in = in, &family = family](std::string_view name, auto kernel) {
+            if (!wanted(name)) return;
+            const auto add = [&](const char* prec, const auto& cases) {
+                timing_row row;
+                row.variant = name;
+                row.precision = prec;
+                row.family = family;
+                row.cases = cases.size();
+                row.checksum = checksum_of(cases, kernel);
+                work.push_back({std::move(row), [&cases, kernel](benchmark::State& s) { run_loop(s, cases, kernel); }});
+            };
+            add("float", in.f);
+            add("double", in.d);
+            add("long double", in.ld);
+        });
+    }
+    if (options.include_oracle) {
+        for (const auto& [family, in] : inputs) {
+            timing_row row;
+            row.variant = "exact_oracle";
+            row.precision = "exact";
+            row.family = family;
+            row.cases = in.d.size();
+            const auto& cases = in.d;
+            work.push_back({std::move(row), [&cases](benchmark::State& state) {
+                                for (auto _ : state)
+                                    for (const ray_sphere<double>& s : cases) {
+                                        exact_solution e = solve_exact(s, precision::binary64);
+                                        benchmark::DoNotOptimize(e);
+                                    }
+                            }});
+        }
+    }
+
+    std::vector<timing_row> rows;
+    for (std::size_t i = 0; i < work.size(); ++i) {
+        rows.push_back(measure(std::move(work[i]), options));
+        if (on_progress) on_progress(i + 1, work.size());
+    }
+    return rows;
+}
+
+}  // namespace rayverify::bench

@@ -1,0 +1,60 @@
+// Run time of the intersectors and of the exact oracle, measured with Google
+// Benchmark. Measuring only: reports render what this returns.
+//
+// Each (variant, precision, family) is one benchmark whose body is a tight
+// loop over that family's cases, pre-rounded to the precision, calling the
+// intersector through a template instantiated on its concrete function (see
+// kernels.h), each result passed to benchmark::DoNotOptimize. Google
+// Benchmark warms up, picks the iteration count so that one repetition lasts
+// at least `min_time_s`, and repeats; we keep every repetition's CPU time.
+#pragma once
+
+#include <cstddef>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "core/ray_sphere_case.h"
+
+namespace rayverify::bench {
+
+struct timing_options {
+    std::vector<std::string> variants;  // empty: all built-in variants
+    int repetitions = 9;
+    double min_time_s = 0.01;     // per repetition
+    double warmup_s = 0.02;       // before the first repetition
+    bool include_oracle = true;   // also time solve_exact (double inputs)
+};
+
+// Precisions timed: the two the audit judges plus long double.
+inline constexpr const char* timed_precisions[] = {"float", "double", "long double"};
+
+struct timing_row {
+    std::string variant;    // a registry name, or "exact_oracle"
+    std::string precision;  // "float", "double", "long double"; "exact" for the oracle
+    std::string family;
+    std::size_t cases = 0;  // cases in one pass (valid at that precision)
+    // ns per ray–sphere test, CPU time, one value per repetition, in run order.
+    std::vector<double> ns_per_test;
+    std::vector<double> real_ns_per_test;  // wall-clock time, same repetitions
+    double median = 0, min = 0, max = 0;   // of ns_per_test
+    double real_median = 0;
+    double checksum = 0;  // sum of returned counts over one pass: proves the results were used
+    std::string label() const { return variant + "/" + precision; }
+};
+
+// Times every selected variant in every precision on each family's cases
+// (families in map order), then the oracle if asked. `on_progress(done,
+// total)` is called after each benchmark. Throws input_error for an unknown
+// variant name.
+std::vector<timing_row> time_variants(const std::map<std::string, std::vector<corpus_case>>& cases_by_family,
+                                      const timing_options& options,
+                                      void (*on_progress)(std::size_t, std::size_t) = nullptr);
+
+// Median of a sample (mean of the two middle values for an even count); 0 for empty.
+double median_of(std::vector<double> values);
+
+// The CPU model from /proc/cpuinfo ("unknown" when unreadable).
+std::string cpu_model();
+
+}  // namespace rayverify::bench

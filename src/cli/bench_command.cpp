@@ -1,0 +1,184 @@
+// rayverify bench: run time of every variant in float, double and long double
+// beside its accuracy and stability, and the exact oracle's own cost.
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <map>
+#include <thread>
+
+#include "bench/far_sphere_sweep.h"
+#include "bench/long_double.h"
+#include "bench/timing.h"
+#include "cli/commands.h"
+#include "compare/stability.h"
+#include "core/input_error.h"
+#include "corpus/corpus_io.h"
+#include "report/audit_report.h"
+#include "report/markdown_report.h"
+#include "report/stability_report.h"
+
+namespace rayverify::cli {
+namespace {
+
+using json = nlohmann::ordered_json;
+
+constexpr const char* reference_label = "naive/double";
+
+struct bench_options {
+    std::vector<std::string> corpus;
+    std::vector<std::string> variants;
+    std::vector<std::string> families;
+    std::string report_dir;
+    int repetitions = 9;
+    double min_time = 0.01;
+    std::size_t sweep = 5000;
+};
+
+// The totals of targets [first, first + count), as if audited alone.
+audit_totals slice(const audit_totals& all, std::size_t first, std::size_t count) {
+    audit_totals out = all;
+    const auto cut = [&](auto& v) { v = {v.begin() + first, v.begin() + first + count}; };
+    cut(out.targets);
+    cut(out.overall);
+    for (auto& [family, tallies] : out.by_family) cut(tallies);
+    return out;
+}
+
+// Accuracy and stability of `targets` over `cases` (one oracle pass).
+struct accuracy_run {
+    audit_totals totals;
+    stability_totals stability;
+    json points;
+};
+
+accuracy_run audit_with_stability(const std::vector<corpus_case>& cases, const std::vector<audit_target>& targets,
+                                  const std::vector<std::string>& labels) {
+    stability_accumulator stability(targets);
+    case_points points(targets, labels);
+    const auto on_case = [&](const audited_case& c) {
+        const case_stability s = assess_case(c, targets);
+        stability.add(c, s);
+        points.add(c, s);
+    };
+    accuracy_run run;
+    run.totals = run_audit(cases, targets, on_case);
+    run.stability = stability.finish();
+    run.points = points.to_json();
+    return run;
+}
+
+void progress(std::size_t done, std::size_t total) {
+    if (!isatty(STDERR_FILENO)) return;
+    fmt::print(stderr, "\rbench: {}/{} timings", done, total);
+    if (done == total) fmt::print(stderr, "\n");
+}
+
+int run(const bench_options& options, const std::string& command_line) {
+    std::vector<std::filesystem::path> paths(options.corpus.begin(), options.corpus.end());
+    if (paths.empty()) paths.emplace_back(RAYVERIFY_DEFAULT_CORPUS);
+    std::vector<corpus_case> cases;
+    for (corpus_case& c : read_corpus(paths))
+        if (options.families.empty() ||
+            std::find(options.families.begin(), options.families.end(), c.family) != options.families.end())
+            cases.push_back(std::move(c));
+    if (cases.empty()) throw input_error("", 0, "--family", "no case of the chosen families in the corpus");
+    if (options.repetitions < 1) throw input_error("", 0, "--repetitions", "must be at least 1");
+
+    // Accuracy: float and double as audited, then long double on double inputs.
+    std::vector<audit_target> targets = select_targets(options.variants, {});
+    std::vector<std::string> labels;
+    for (const audit_target& t : targets) labels.push_back(t.label());
+    const std::size_t audited = targets.size();
+    for (const variant& v : bench::long_double_variants()) {
+        if (!options.variants.empty() &&
+            std::find(options.variants.begin(), options.variants.end(), v.name) == options.variants.end())
+            continue;
+        targets.push_back({v, precision::binary64});
+        labels.push_back(v.name + "/long double");
+    }
+    std::vector<std::string> precision_labels;
+    for (const std::string& l : labels) precision_labels.push_back(l.substr(l.find('/') + 1));
+    if (isatty(STDERR_FILENO)) fmt::print(stderr, "bench: auditing {} cases\n", cases.size());
+    const accuracy_run accuracy = audit_with_stability(cases, targets, labels);
+
+    // Run time, per family.
+    std::map<std::string, std::vector<corpus_case>> by_family;
+    for (const corpus_case& c : cases) by_family[c.family.empty() ? "-" : c.family].push_back(c);
+    bench::timing_options timing;
+    timing.variants = options.variants;
+    timing.repetitions = options.repetitions;
+    timing.min_time_s = options.min_time;
+    const std::vector<bench::timing_row> rows = bench::time_variants(by_family, timing, progress);
+    const json timing_section = timing_json(rows, timing, reference_label);
+
+    fmt::print("{:<18} {:<12} {:>12} {:>10}\n", "variant", "precision", "ns/test", "ratio");
+    for (const json& r : timing_section["overall"])
+        fmt::print("{:<18} {:<12} {:>12.2f} {:>10}\n", r["variant"].get<std::string>(),
+                   r["precision"].get<std::string>(), r["ns_per_test"].get<double>(),
+                   r["ratio_to_reference"].is_null() ? std::string("-")
+                                                     : fmt::format("{:.2f}", r["ratio_to_reference"].get<double>()));
+    fmt::print("{} cases; ns per ray–sphere test, CPU time, median of {} repetitions per family, case-weighted; "
+               "ratio to {} in this run.\n",
+               cases.size(), options.repetitions, reference_label);
+    fmt::print("build: {} {} [{}]; CPU: {}\n", build_json()["compiler"].get<std::string>(),
+               build_json()["flags"].get<std::string>(), build_json()["build_type"].get<std::string>(),
+               bench::cpu_model());
+    if (options.report_dir.empty()) return exit_ok;
+
+    // The report: the audit's sections for float and double, then ours.
+    run_context context{command_line, {}};
+    for (const auto& p : paths) context.corpus_paths.push_back(p.string());
+    json report = audit_report_json(slice(accuracy.totals, 0, audited), context);
+    report["tool"] = "rayverify bench";
+    report["machine"] = {{"cpu", bench::cpu_model()}, {"hardware_threads", std::thread::hardware_concurrency()}};
+    json long_double = audit_report_json(slice(accuracy.totals, audited, targets.size() - audited), context);
+    for (json& r : long_double["results"]) r["precision"] = "long double";
+    report["long_double"] = {{"description", "x87 80-bit long double arithmetic on the double inputs, roots rounded "
+                                             "to double, judged against the exact roots of the double inputs"},
+                             {"results", long_double["results"]}};
+    report["stability"] = stability_json(accuracy.totals, accuracy.stability, precision_labels);
+    report["timing"] = timing_section;
+    report["case_points"] = accuracy.points;
+
+    if (options.sweep > 0) {
+        const std::vector<corpus_case> sweep = bench::far_sphere_sweep(options.sweep, 2);
+        const std::vector<audit_target> sweep_targets(targets.begin(), targets.begin() + static_cast<long>(audited));
+        const std::vector<std::string> sweep_labels(labels.begin(), labels.begin() + static_cast<long>(audited));
+        const accuracy_run far = audit_with_stability(sweep, sweep_targets, sweep_labels);
+        report["far_sphere_sweep"] = {
+            {"description", fmt::format("{} far_sphere cases (rayverify corpus generate --family far_sphere --count {} "
+                                        "--seed 2), grouped by decade of |o - c| / r; every maximum is over this "
+                                        "finite sample",
+                                        sweep.size(), sweep.size())},
+            {"results", audit_report_json(far.totals, context)["results"]},
+            {"case_points", far.points}};
+    }
+    const std::filesystem::path dir(options.report_dir);
+    std::error_code error;
+    std::filesystem::create_directories(dir, error);
+    if (error) throw input_error(options.report_dir, 0, "--report", "cannot create directory: " + error.message());
+    const plot_outcome plots = write_report_bundle(dir, std::move(report), true);
+    fmt::print("report: {}\nplots: {}\n", (dir / "report.json").string(), plots.message);
+    return exit_ok;
+}
+
+}  // namespace
+
+command add_bench_command(CLI::App& app, const std::string& command_line) {
+    auto options = std::make_shared<bench_options>();
+    auto* sub = app.add_subcommand("bench", "Time every variant in float, double and long double on each corpus "
+                                            "family (Google Benchmark), beside its accuracy and stability, and the "
+                                            "exact oracle's cost; --report writes report.json, report.md and plots.");
+    sub->add_option("--corpus", options->corpus, "Corpus file or directory; repeatable. Default: the shipped corpus");
+    sub->add_option("--variant", options->variants, "Variant to time (repeatable; default: all built-in)");
+    sub->add_option("--family", options->families, "Only cases of this family (repeatable; default: all)");
+    sub->add_option("--report", options->report_dir, "Directory for report.json, report.md and the PNG plots");
+    sub->add_option("--repetitions", options->repetitions, "Timed repetitions per benchmark (default 9)");
+    sub->add_option("--min-time", options->min_time, "Minimum seconds per repetition (default 0.01)");
+    sub->add_option("--sweep", options->sweep, "Far-sphere sweep cases for the report (default 5000; 0: none)");
+    return {sub, [options, command_line] { return run(*options, command_line); }};
+}
+
+}  // namespace rayverify::cli

@@ -1,0 +1,90 @@
+#include <fmt/format.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "cli/commands.h"
+#include "compare/gate.h"
+#include "core/input_error.h"
+#include "corpus/corpus_io.h"
+#include "report/gate_report.h"
+
+namespace rayverify::cli {
+namespace {
+
+struct gate_options {
+    std::string baseline;
+    std::vector<std::string> corpus;
+    std::vector<std::string> variants;
+    std::vector<std::string> plugins;
+    std::vector<std::string> precisions;
+    std::string junit;
+    bool update = false;
+    std::size_t examples = 3;
+};
+
+std::string read_text_file(const std::filesystem::path& path, const std::string& field) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw input_error(path.string(), 0, field, "cannot open for reading");
+    std::ostringstream text;
+    text << in.rdbuf();
+    if (in.bad()) throw input_error(path.string(), 0, field, "read error");
+    return text.str();
+}
+
+int run(const gate_options& options) {
+    const std::filesystem::path baseline_path(options.baseline);
+    std::error_code error;
+    const bool exists = std::filesystem::exists(baseline_path, error);
+    if (!exists && !options.update)
+        throw input_error(options.baseline, 0, "--baseline",
+                          "no such baseline; create it with `rayverify gate --baseline FILE --update`");
+    const baseline base =
+        exists ? parse_baseline(options.baseline, read_text_file(baseline_path, "--baseline")) : new_baseline();
+
+    std::vector<std::filesystem::path> paths(options.corpus.begin(), options.corpus.end());
+    if (paths.empty()) paths.emplace_back(RAYVERIFY_DEFAULT_CORPUS);
+    const std::vector<corpus_case> cases = read_corpus(paths);
+    const std::vector<audit_target> targets = select_targets(options.variants, options.plugins, options.precisions);
+    if (targets.empty()) throw input_error("", 0, "--precision", "no variant runs in the chosen precision");
+
+    const gate_run run = run_gate(cases, targets, base, options.examples);
+    if (options.update) {
+        write_file_atomically(baseline_path, format_baseline(updated_baseline(base, run.current)));
+        std::size_t changed = 0;
+        for (const figure_change& c : run.result.changes) changed += c.kind == change_kind::new_entry ? 0 : 1;
+        fmt::print("gate: {} {}: {} figures of {} target(s) over {} cases; {} changed, {} new\n",
+                   exists ? "updated" : "created", options.baseline, run.current.size(), targets.size(),
+                   cases.size(), changed, run.result.changes.size() - changed);
+        return exit_ok;
+    }
+    fmt::print("{}", render_gate_text(run, cases));
+    if (!options.junit.empty()) write_file_atomically(options.junit, render_junit(run, cases));
+    return run.result.passed() ? exit_ok : exit_findings;
+}
+
+}  // namespace
+
+command add_gate_command(CLI::App& app) {
+    auto options = std::make_shared<gate_options>();
+    auto* sub = app.add_subcommand(
+        "gate", "Audit, then compare every figure (per variant, precision and family: each disagreement count, "
+                "max and p99 ULP error of each root) with a reviewed baseline. Exit 1 when a figure is worse "
+                "than the baseline's policy allows; better figures pass and say the baseline can be tightened.");
+    sub->add_option("--baseline", options->baseline, "Baseline file (text, one figure a line)")->required();
+    sub->add_option("--corpus", options->corpus,
+                    "Corpus file (.txt or .csv) or directory of them; repeatable. Default: the shipped corpus");
+    sub->add_option("--variant", options->variants, "Built-in variant to gate (repeatable; default: all)");
+    sub->add_option("--plugin", options->plugins, "Shared library implementing rayverify_plugin.h (repeatable)");
+    sub->add_option("--precision", options->precisions, "float or double (repeatable; default: both)")
+        ->check(CLI::IsMember({"float", "double"}));
+    sub->add_option("--junit", options->junit, "Also write JUnit XML (a test case per variant and family)");
+    sub->add_flag("--update", options->update,
+                  "Rewrite the baseline with this run's figures (comments and policy lines are kept)");
+    sub->add_option("--examples", options->examples, "Cases shown as corpus lines per failing figure")
+        ->capture_default_str();
+    return {sub, [options] { return run(*options); }};
+}
+
+}  // namespace rayverify::cli

@@ -1,0 +1,356 @@
+#include "compare/gate.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <limits>
+#include <set>
+#include <utility>
+
+#include "core/input_error.h"
+
+namespace rayverify {
+namespace {
+
+constexpr std::array<std::string_view, 14> figure_list = {
+    "cases",         "false_miss",   "false_hit",    "tangent_split", "tangent_missed",
+    "false_tangent", "wrong_root",   "wrong_side",   "non_finite",    "malformed_output",
+    "near_ulp_max",  "near_ulp_p99", "far_ulp_max",  "far_ulp_p99"};
+
+std::size_t figure_index(std::string_view figure) {
+    return static_cast<std::size_t>(std::find(figure_list.begin(), figure_list.end(), figure) - figure_list.begin());
+}
+
+constexpr std::string_view format_line = "rayverify-baseline 1";
+
+std::string variant_of(const std::string& target) { return target.substr(0, target.find('/')); }
+
+std::string number_text(double x) {
+    if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
+    return fmt::format("{}", x);  // shortest round trip
+}
+
+}  // namespace
+
+std::span<const std::string_view> figure_names() { return figure_list; }
+
+bool is_ulp_figure(std::string_view figure) { return figure.find("_ulp_") != std::string_view::npos; }
+
+bool figure_key::operator<(const figure_key& other) const {
+    if (target != other.target) return target < other.target;
+    const bool whole = family == all_families, other_whole = other.family == all_families;
+    if (whole != other_whole) return whole;
+    if (family != other.family) return family < other.family;
+    const std::size_t a = figure_index(figure), b = figure_index(other.figure);
+    return a != b ? a < b : figure < other.figure;
+}
+
+std::string figure_key::text() const { return target + " " + family + " " + figure; }
+
+figure_table figures_of(const audit_totals& totals) {
+    figure_table table;
+    const auto add = [&](const std::string& target, const std::string& family, const target_tally& t) {
+        table[{target, family, "cases"}] = static_cast<double>(t.cases);
+        for (int k = 0; k < verdict_kind_count; ++k) {
+            const auto kind = static_cast<verdict_kind>(k);
+            if (is_disagreement(kind))
+                table[{target, family, std::string(verdict_name(kind))}] = static_cast<double>(t.verdicts[k]);
+        }
+        const auto statistics = [&](const char* name, const error_statistics& s) {
+            if (s.count == 0) return;
+            table[{target, family, std::string(name) + "_max"}] = s.max;
+            table[{target, family, std::string(name) + "_p99"}] = s.p99;
+        };
+        statistics("near_ulp", t.near_root_ulp);
+        statistics("far_ulp", t.far_root_ulp);
+    };
+    for (std::size_t i = 0; i < totals.targets.size(); ++i) {
+        const std::string target = totals.targets[i].label();
+        add(target, std::string(all_families), totals.overall[i]);
+        for (const auto& [family, tallies] : totals.by_family) add(target, family, tallies[i]);
+    }
+    return table;
+}
+
+gate_policy baseline::policy_for(const std::string& target) const {
+    gate_policy policy;
+    const std::string variant = variant_of(target);
+    // Least specific first, so that the most specific line wins.
+    for (const std::string& scope : {std::string("default"), variant, target}) {
+        for (const policy_line& p : policies) {
+            if (p.scope != scope) continue;
+            (p.key == "ulp_slack" ? policy.ulp_slack : policy.count_slack) = p.value;
+        }
+    }
+    return policy;
+}
+
+baseline parse_baseline(const std::string& file, std::string_view text) {
+    baseline b;
+    std::vector<std::string> pending;  // comment lines waiting for their entry
+    bool seen_format = false;
+    std::size_t line_number = 0;
+    while (!text.empty()) {
+        const std::size_t end = text.find('\n');
+        std::string line(text.substr(0, end));
+        text.remove_prefix(end == std::string_view::npos ? text.size() : end + 1);
+        ++line_number;
+        if (!line.empty() && line.back() == '\r') line.pop_back();
+        const std::size_t first = line.find_first_not_of(" \t");
+        if (first == std::string::npos) continue;
+        if (line[first] == '#') {
+            pending.push_back(line.substr(first));
+            continue;
+        }
+        std::vector<std::string> words;
+        {
+            std::size_t at = 0;
+            // A `#` token ends the entry: what follows is a comment on the same line (not kept).
+            while ((at = line.find_first_not_of(" \t", at)) != std::string::npos && line[at] != '#') {
+                const std::size_t stop = std::min(line.find_first_of(" \t", at), line.size());
+                words.push_back(line.substr(at, stop - at));
+                at = stop;
+            }
+        }
+        const auto error = [&](const std::string& field, const std::string& problem) {
+            return input_error(file, line_number, field, problem);
+        };
+        const auto number = [&](const std::string& token, const std::string& field) {
+            if (token == "inf") return std::numeric_limits<double>::infinity();
+            double value = 0;
+            const auto [ptr, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
+            if (ec != std::errc() || ptr != token.data() + token.size() || std::isnan(value) || value < 0)
+                throw error(field, fmt::format("'{}' is not a number ≥ 0 (decimal or inf)", token));
+            return value;
+        };
+        if (!seen_format) {
+            if (line.substr(first) != format_line)
+                throw error("format", fmt::format("the first entry must be '{}' (is this a rayverify gate baseline?)",
+                                                  format_line));
+            seen_format = true;
+            b.format_comments = std::exchange(pending, {});
+            continue;
+        }
+        if (words[0] == "policy") {
+            if (words.size() != 4) throw error("policy", "expected 'policy SCOPE ulp_slack|count_slack VALUE'");
+            if (words[2] != "ulp_slack" && words[2] != "count_slack")
+                throw error("policy", fmt::format("unknown policy key '{}' (ulp_slack or count_slack)", words[2]));
+            const double value = number(words[3], "value");
+            if (words[2] == "ulp_slack" && !(value >= 1 && std::isfinite(value)))
+                throw error("value", "ulp_slack is a factor ≥ 1");
+            b.policies.push_back({words[1], words[2], value, std::exchange(pending, {})});
+            continue;
+        }
+        if (words.size() != 4) throw error("entry", fmt::format("expected 'TARGET FAMILY FIGURE VALUE', got {} fields",
+                                                                words.size()));
+        if (words[0].find('/') == std::string::npos)
+            throw error("target", fmt::format("'{}' is not a target like naive/float", words[0]));
+        if (figure_index(words[2]) == figure_list.size())
+            throw error("figure", fmt::format("unknown figure '{}'", words[2]));
+        const double value = number(words[3], "value");
+        figure_key key{words[0], words[1], words[2]};
+        if (!b.figures.emplace(key, value).second)
+            throw error("entry", fmt::format("duplicate entry for {}", key.text()));
+        if (!pending.empty()) b.comments[key] = std::exchange(pending, {});
+    }
+    if (!seen_format) throw input_error(file, 0, "format", fmt::format("empty baseline: no '{}' line", format_line));
+    b.trailing_comments = std::move(pending);
+    return b;
+}
+
+std::string format_baseline(const baseline& b) {
+    std::string out;
+    const auto comments = [&](const std::vector<std::string>& lines) {
+        for (const std::string& c : lines) out += c + "\n";
+    };
+    comments(b.format_comments);
+    out += std::string(format_line) + "\n";
+    for (const policy_line& p : b.policies) {
+        comments(p.comments);
+        out += fmt::format("policy {} {} {}\n", p.scope, p.key, number_text(p.value));
+    }
+    std::string previous;
+    for (const auto& [key, value] : b.figures) {
+        if (key.target + key.family != previous) out += "\n";
+        previous = key.target + key.family;
+        if (auto it = b.comments.find(key); it != b.comments.end()) comments(it->second);
+        out += fmt::format("{} {}\n", key.text(), number_text(value));
+    }
+    if (!b.trailing_comments.empty()) out += "\n";
+    comments(b.trailing_comments);
+    return out;
+}
+
+baseline new_baseline() {
+    baseline b;
+    b.format_comments = {
+        "# rayverify gate baseline: the audit figures a change may not make worse.",
+        "# One entry a line: TARGET FAMILY FIGURE VALUE (FAMILY 'all' is the whole corpus).",
+        "# Counts are cases with that verdict; *_ulp_max and *_ulp_p99 are the nearest (near_)",
+        "# and far root's error in ULPs over the agreeing cases. Regenerate with",
+        "# `rayverify gate --baseline FILE --update`; `#` lines stay with the entry below them."};
+    b.policies = {{"default", "ulp_slack", 1, {"# A ULP figure may grow to baseline × ulp_slack, a count by count_slack cases;",
+                                               "# add 'policy VARIANT|TARGET KEY VALUE' lines to override per variant."}},
+                  {"default", "count_slack", 0, {}}};
+    return b;
+}
+
+baseline updated_baseline(const baseline& old, const figure_table& current) {
+    baseline b = old;
+    std::set<std::string> run;
+    for (const auto& entry : current) run.insert(entry.first.target);
+    b.figures.clear();
+    b.comments.clear();
+    for (const auto& [key, value] : old.figures)
+        if (!run.count(key.target)) b.figures.emplace(key, value);
+    for (const auto& [key, value] : current) b.figures.emplace(key, value);
+    for (const auto& [key, lines] : old.comments) {
+        if (b.figures.count(key))
+            b.comments[key] = lines;
+        else
+            b.trailing_comments.insert(b.trailing_comments.end(), lines.begin(), lines.end());
+    }
+    return b;
+}
+
+bool gate_result::passed() const {
+    if (compared == 0) return false;
+    return std::none_of(changes.begin(), changes.end(), [](const figure_change& c) {
+        return c.kind == change_kind::worse || c.kind == change_kind::stale;
+    });
+}
+
+namespace {
+
+// One figure against its baseline value under a policy; nullopt when equal.
+std::optional<figure_change> judge(const figure_key& key, double before, double after, const gate_policy& policy) {
+    if (before == after) return std::nullopt;
+    figure_change change{key, before, after, change_kind::better, 0};
+    if (after < before) return change;
+    change.limit = is_ulp_figure(key.figure) ? before * policy.ulp_slack : before + policy.count_slack;
+    change.kind = after > change.limit ? change_kind::worse : change_kind::within_slack;
+    return change;
+}
+
+template <class PolicyOf>
+gate_result compare(const figure_table& before, const figure_table& after, const PolicyOf& policy_of,
+                    bool notes_for_unrun) {
+    gate_result result;
+    std::set<std::string> targets_run, targets_known;
+    for (const auto& entry : after) targets_run.insert(entry.first.target);
+    for (const auto& entry : before) targets_known.insert(entry.first.target);
+
+    // Which (target, family) groups are comparable, from their case counts.
+    std::set<std::pair<std::string, std::string>> skipped;
+    for (const auto& [key, value] : after) {
+        if (key.figure != "cases") continue;
+        const auto old = before.find(key);
+        if (old == before.end()) {
+            if (!targets_known.count(key.target)) {
+                if (key.family == all_families)
+                    result.notes.push_back(fmt::format("{}: new, no baseline", key.target));
+            } else {
+                result.notes.push_back(fmt::format("{} {}: new family, no baseline", key.target, key.family));
+            }
+            skipped.insert({key.target, key.family});
+        } else if (old->second != value) {
+            skipped.insert({key.target, key.family});
+            if (key.family == all_families)
+                result.notes.push_back(fmt::format("{} all: corpus has {} cases, baseline {}; whole-corpus figures "
+                                                   "not compared (families are)",
+                                                   key.target, value, old->second));
+            else
+                result.changes.push_back({key, old->second, value, change_kind::stale, 0});
+        }
+    }
+    for (const auto& [key, value] : after) {
+        if (key.figure == "cases" || skipped.count({key.target, key.family})) continue;
+        const auto old = before.find(key);
+        if (old == before.end()) {
+            result.changes.push_back({key, std::nullopt, value, change_kind::new_entry, 0});
+            continue;
+        }
+        ++result.compared;
+        if (auto change = judge(key, old->second, value, policy_of(key.target))) result.changes.push_back(*change);
+    }
+    // A baseline figure with no current value: its error statistics have no sample any more.
+    std::set<std::pair<std::string, std::string>> missing_families;
+    for (const auto& [key, value] : before) {
+        if (!targets_run.count(key.target) || after.count(key)) continue;
+        if (key.figure == "cases")
+            missing_families.insert({key.target, key.family});
+        else if (!missing_families.count({key.target, key.family}))
+            result.notes.push_back(fmt::format("{}: in the baseline ({}), no value in this run (no agreeing case)",
+                                               key.text(), number_text(value)));
+    }
+    for (const auto& [target, family] : missing_families)
+        result.notes.push_back(fmt::format("{} {}: in the baseline, not in this corpus", target, family));
+    if (notes_for_unrun) {
+        std::size_t unrun = 0;
+        for (const std::string& t : targets_known) unrun += targets_run.count(t) ? 0 : 1;
+        if (unrun > 0) result.notes.push_back(fmt::format("{} target(s) in the baseline were not run", unrun));
+    }
+    std::stable_sort(result.changes.begin(), result.changes.end(),
+                     [](const figure_change& a, const figure_change& b) { return a.key < b.key; });
+    return result;
+}
+
+}  // namespace
+
+gate_result compare_to_baseline(const baseline& base, const figure_table& current) {
+    return compare(base.figures, current, [&](const std::string& target) { return base.policy_for(target); }, true);
+}
+
+gate_result compare_figures(const figure_table& before, const figure_table& after, const gate_policy& policy) {
+    return compare(before, after, [&](const std::string&) { return policy; }, false);
+}
+
+void gate_examples::add(const audited_case& c, const std::vector<audit_target>& targets) {
+    if (per_figure_ == 0) return;
+    const std::string family = c.source->family.empty() ? "-" : c.source->family;
+    for (std::size_t t = 0; t < targets.size(); ++t) {
+        const verdict_kind verdict = c.outcomes[t].score.verdict;
+        if (!is_disagreement(verdict)) continue;
+        for (const std::string& f : {std::string(all_families), family}) {
+            auto& list = cases_[{targets[t].label(), f, std::string(verdict_name(verdict))}];
+            if (list.size() < per_figure_) list.push_back(c.source);
+        }
+    }
+}
+
+std::vector<const corpus_case*> gate_examples::cases_for(const figure_key& key, const audit_totals& totals,
+                                                         std::span<const corpus_case> corpus) const {
+    if (!is_ulp_figure(key.figure)) {
+        const auto it = cases_.find(key);
+        return it == cases_.end() ? std::vector<const corpus_case*>{} : it->second;
+    }
+    for (std::size_t t = 0; t < totals.targets.size(); ++t) {
+        if (totals.targets[t].label() != key.target) continue;
+        const target_tally* tally = &totals.overall[t];
+        if (key.family != all_families) {
+            const auto family = totals.by_family.find(key.family);
+            if (family == totals.by_family.end()) return {};
+            tally = &family->second[t];
+        }
+        const std::string& id = key.figure.starts_with("near") ? tally->near_root_ulp.max_case
+                                                                : tally->far_root_ulp.max_case;
+        for (const corpus_case& c : corpus)
+            if (c.id == id) return {&c};
+    }
+    return {};
+}
+
+gate_run run_gate(std::span<const corpus_case> cases, const std::vector<audit_target>& targets,
+                  const baseline& base, std::size_t examples_per_figure) {
+    gate_run run;
+    run.examples = gate_examples(examples_per_figure);
+    run.totals = run_audit(cases, targets, [&](const audited_case& c) { run.examples.add(c, targets); });
+    run.current = figures_of(run.totals);
+    run.result = compare_to_baseline(base, run.current);
+    return run;
+}
+
+}  // namespace rayverify

@@ -1,0 +1,378 @@
+#include "compare/hunt.h"
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <type_traits>
+
+namespace rayverify {
+
+const char* hunt_objective_name(hunt_objective o) { return o == hunt_objective::ulp ? "ulp" : "misclass"; }
+const char* hunt_strategy_name(hunt_strategy s) { return s == hunt_strategy::search ? "search" : "random"; }
+
+namespace {
+
+// splitmix64: the hunter's own generator (no std distributions).
+class hunt_random {
+public:
+    explicit hunt_random(std::uint64_t seed) : state_(seed ^ 0x5eed0fa11b0c5e1fULL) {}
+    std::uint64_t next() {
+        std::uint64_t z = (state_ += 0x9e3779b97f4a7c15ULL);
+        z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+        z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+        return z ^ (z >> 31);
+    }
+    // Uniform on [0, n) (n small: the bias of the modulo is below 2^-50).
+    std::uint64_t below(std::uint64_t n) { return next() % n; }
+    bool coin() { return (next() >> 63) != 0; }
+
+private:
+    std::uint64_t state_;
+};
+
+double& input_at(ray_sphere<double>& g, int i) {
+    switch (i) {
+        case 0: return g.origin.x;
+        case 1: return g.origin.y;
+        case 2: return g.origin.z;
+        case 3: return g.direction.x;
+        case 4: return g.direction.y;
+        case 5: return g.direction.z;
+        case 6: return g.centre.x;
+        case 7: return g.centre.y;
+        case 8: return g.centre.z;
+        default: return g.radius;
+    }
+}
+double input_at(const ray_sphere<double>& g, int i) { return input_at(const_cast<ray_sphere<double>&>(g), i); }
+
+// x moved by `steps` representable values of T (sign-magnitude encoding mapped
+// onto a monotone integer line, so the step crosses zero correctly).
+template <class T>
+double step_ulps(double x, std::int64_t steps) {
+    using bits = std::conditional_t<std::is_same_v<T, float>, std::int32_t, std::int64_t>;
+    constexpr bits magnitude = std::numeric_limits<bits>::max();
+    const bits raw = std::bit_cast<bits>(static_cast<T>(x));
+    const std::int64_t ordered = raw < 0 ? -static_cast<std::int64_t>(raw & magnitude) : raw;
+    const std::int64_t moved = ordered + steps;
+    if (moved > static_cast<std::int64_t>(magnitude) || moved < -static_cast<std::int64_t>(magnitude))
+        return std::numeric_limits<double>::quiet_NaN();
+    const bits back = moved < 0 ? static_cast<bits>((-moved) | (std::int64_t{1} << (sizeof(bits) * 8 - 1)))
+                                : static_cast<bits>(moved);
+    return static_cast<double>(std::bit_cast<T>(back));
+}
+
+double step_in(precision p, double x, std::int64_t steps) {
+    return p == precision::binary32 ? step_ulps<float>(x, steps) : step_ulps<double>(x, steps);
+}
+
+// x rounded to the precision. The volatile store is needed: GCC 12 at -O2
+// (SLP vectorizer) drops a double → float → double round trip on some lanes
+// when a whole ray_sphere is converted at once.
+double round_to(precision p, double x) {
+    if (p == precision::binary64) return x;
+    const volatile float rounded = static_cast<float>(x);
+    return static_cast<double>(rounded);
+}
+
+ray_sphere<double> rounded_in(precision p, const ray_sphere<double>& g) {
+    ray_sphere<double> out = g;
+    for (int i = 0; i < 10; ++i) input_at(out, i) = round_to(p, input_at(g, i));
+    return out;
+}
+
+// x with only its `bits` leading significant bits (round to nearest, ties to even).
+double keep_bits(double x, int bits) {
+    if (x == 0 || !std::isfinite(x)) return x;
+    int e = 0;
+    const double m = std::frexp(x, &e);                      // x = m·2^e, 0.5 ≤ |m| < 1
+    return std::ldexp(std::nearbyint(std::ldexp(m, bits)), e - bits);  // exact: bits ≤ 53
+}
+
+int bits_of(double x) {
+    if (x == 0 || !std::isfinite(x)) return 0;
+    int e = 0;
+    double m = std::fabs(std::frexp(x, &e));
+    int bits = 0;
+    while (m != 0) {
+        m = m * 2;
+        m -= std::floor(m);
+        ++bits;
+    }
+    return bits;
+}
+
+template <class T>
+hunt_evaluation evaluate_in(const audit_target& target, const ray_sphere<double>& g) {
+    hunt_evaluation e;
+    const invalid_reason reason = validity<T>(g);
+    if (reason != invalid_reason::none) {
+        e.verdict = verdict_kind::invalid;
+        e.detail = invalid_reason_name(reason);
+        return e;
+    }
+    const ray_sphere<T> input = rounded_to<T>(g);
+    const ray_sphere<double> widened = rounded_in(target.prec, g);  // == the widened input, see round_to
+    if (auto breach = contract_breach(target.subject.promises, widened, target.prec)) {
+        e.verdict = verdict_kind::contract_violation;
+        e.detail = *breach;
+        return e;
+    }
+    const exact_solution exact = solve_exact(widened, target.prec);
+    variant_output output;
+    if constexpr (std::is_same_v<T, float>)
+        output = evaluate(target.subject.run_float, target.subject.promises, input);
+    else
+        output = evaluate(target.subject.run_double, target.subject.promises, input);
+    const case_score score = score_case(target.subject.promises, output, exact, widened);
+    e.verdict = score.verdict;
+    e.detail = score.detail;
+    if (score.verdict == verdict_kind::agree)
+        e.error = std::max(score.near_ulp.value_or(0), score.far_ulp.value_or(0));
+    return e;
+}
+
+// How far the line is from tangency, relative: |dist² − r²| / r², with dist the
+// distance of the line from c, in long double. Only a guide towards the
+// boundary where classes flip; the oracle decides every verdict.
+long double tangency_gap(const ray_sphere<double>& g) {
+    using L = long double;
+    const L fx = L(g.origin.x) - g.centre.x, fy = L(g.origin.y) - g.centre.y, fz = L(g.origin.z) - g.centre.z;
+    const L dx = g.direction.x, dy = g.direction.y, dz = g.direction.z;
+    const L a = dx * dx + dy * dy + dz * dz;
+    const L b = fx * dx + fy * dy + fz * dz;
+    const L s = b / a;
+    const L px = fx - s * dx, py = fy - s * dy, pz = fz - s * dz;
+    const L r2 = L(g.radius) * g.radius;
+    const L gap = std::fabs(px * px + py * py + pz * pz - r2);
+    return r2 > 0 ? gap / r2 : gap;
+}
+
+// The hunter's score of a case: larger is worse for the variant. A
+// disagreement outranks everything under misclass; under ulp only agreeing
+// answers count (their error), anything else is −1.
+struct fitness {
+    int tier = 0;
+    long double value = 0;
+    friend bool operator>=(const fitness& a, const fitness& b) {
+        return a.tier != b.tier ? a.tier > b.tier : a.value >= b.value;
+    }
+    friend bool operator>(const fitness& a, const fitness& b) {
+        return a.tier != b.tier ? a.tier > b.tier : a.value > b.value;
+    }
+};
+
+fitness fitness_of(hunt_objective objective, const hunt_evaluation& e, const ray_sphere<double>& g) {
+    if (e.verdict == verdict_kind::invalid || e.verdict == verdict_kind::contract_violation) return {-1, 0};
+    if (objective == hunt_objective::misclass) {
+        if (is_disagreement(e.verdict)) return {1, 0};
+        const long double gap = tangency_gap(g);
+        return {0, gap > 0 ? 1 / gap : std::numeric_limits<long double>::max()};
+    }
+    if (e.verdict != verdict_kind::agree) return {-1, 0};
+    return {0, static_cast<long double>(e.error)};
+}
+
+// Does `e` fail the way `original` did? Same disagreement kind; for an ULP find,
+// an agreeing answer with at least half the error.
+bool same_failure(hunt_objective objective, const hunt_evaluation& original, const hunt_evaluation& e) {
+    if (objective == hunt_objective::misclass) return e.verdict == original.verdict;
+    return e.verdict == verdict_kind::agree && e.error >= original.error / 2 && e.error > 0;
+}
+
+class hunter {
+public:
+    hunter(const audit_target& target, const hunt_start& start, const hunt_options& options)
+        : target_(target), start_(start), options_(options), random_(options.seed),
+          began_(std::chrono::steady_clock::now()) {}
+
+    hunt_result run() {
+        best_.reset();
+        while (!exhausted()) {
+            const std::uint64_t index = result_.starts++;
+            ray_sphere<double> current = rounded_in(target_.prec, start_(index));
+            hunt_evaluation current_eval = judge(current);
+            fitness current_fit = fitness_of(options_.objective, current_eval, current);
+            note(current, current_eval, current_fit, index);
+            if (options_.strategy == hunt_strategy::random || done()) continue;
+
+            std::uint64_t stale = 0;
+            while (!exhausted() && !done() && stale < options_.patience && current_fit.tier < 1) {
+                const ray_sphere<double> candidate = mutate(current);
+                const hunt_evaluation candidate_eval = judge(candidate);
+                const fitness candidate_fit = fitness_of(options_.objective, candidate_eval, candidate);
+                note(candidate, candidate_eval, candidate_fit, index);
+                stale = candidate_fit > current_fit ? 0 : stale + 1;
+                if (candidate_fit >= current_fit) {
+                    current = candidate;
+                    current_eval = candidate_eval;
+                    current_fit = candidate_fit;
+                }
+            }
+        }
+        result_.seconds = elapsed();
+        if (options_.objective == hunt_objective::ulp && best_) result_.finds.push_back(*best_);
+        if (options_.shrink)
+            for (hunt_find& f : result_.finds) shrink(f);
+        return result_;
+    }
+
+private:
+    double elapsed() const {
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - began_).count();
+    }
+    bool exhausted() const {
+        if (done()) return true;
+        if (options_.max_evaluations > 0 && result_.evaluations >= options_.max_evaluations) return true;
+        return options_.max_seconds > 0 && elapsed() >= options_.max_seconds;
+    }
+    bool done() const {
+        return options_.objective == hunt_objective::misclass && result_.finds.size() >= options_.max_finds;
+    }
+
+    hunt_evaluation judge(const ray_sphere<double>& g) {
+        ++result_.evaluations;
+        return target_.prec == precision::binary32 ? evaluate_in<float>(target_, g) : evaluate_in<double>(target_, g);
+    }
+
+    void note(const ray_sphere<double>& g, const hunt_evaluation& e, const fitness& f, std::uint64_t index) {
+        if (options_.objective == hunt_objective::misclass) {
+            if (f.tier == 1 && !done()) result_.finds.push_back(make_find(g, e, index));
+            return;
+        }
+        if (f.tier == 0 && e.error > 0 && (!best_ || e.error > best_->found_eval.error))
+            best_ = make_find(g, e, index);
+    }
+
+    hunt_find make_find(const ray_sphere<double>& g, const hunt_evaluation& e, std::uint64_t index) const {
+        hunt_find f;
+        f.found = f.shrunk = g;
+        f.found_eval = f.shrunk_eval = e;
+        f.found_bits = f.shrunk_bits = significant_bits(g);
+        f.evaluation = result_.evaluations;
+        f.seconds = elapsed();
+        f.start_index = index;
+        return f;
+    }
+
+    // One to three inputs moved by ±2^j ulps, j uniform in [0, p − 1]. A moved
+    // direction is renormalised (in the working precision) for a variant that
+    // assumes a unit direction.
+    ray_sphere<double> mutate(const ray_sphere<double>& g) {
+        ray_sphere<double> out = g;
+        const int p = significand_bits(target_.prec);
+        const std::uint64_t moves = 1 + random_.below(3);
+        bool direction_moved = false;
+        for (std::uint64_t m = 0; m < moves; ++m) {
+            const int i = static_cast<int>(random_.below(10));
+            const std::int64_t size = std::int64_t{1} << random_.below(static_cast<std::uint64_t>(p));
+            input_at(out, i) = step_in(target_.prec, input_at(out, i), random_.coin() ? size : -size);
+            direction_moved = direction_moved || (i >= 3 && i < 6);
+        }
+        if (direction_moved && target_.subject.promises.assumes_unit_direction) {
+            const double n = std::sqrt(length_squared(out.direction));
+            if (n > 0 && std::isfinite(n))
+                out.direction = {round_to(target_.prec, out.direction.x / n),
+                                 round_to(target_.prec, out.direction.y / n),
+                                 round_to(target_.prec, out.direction.z / n)};
+        }
+        return out;
+    }
+
+    // Greedy shrinking: whole-scene simplifications first (translate c to 0,
+    // scale to unit size), then each input zeroed or cut to the fewest leading
+    // bits that keep the failure; repeated until nothing changes.
+    void shrink(hunt_find& f) {
+        std::uint64_t budget = options_.shrink_evaluations;
+        const auto fails_same = [&](const ray_sphere<double>& g) {
+            if (budget == 0) return false;
+            --budget;
+            ++result_.shrink_evaluations;
+            const hunt_evaluation e = target_.prec == precision::binary32 ? evaluate_in<float>(target_, g)
+                                                                          : evaluate_in<double>(target_, g);
+            if (!same_failure(options_.objective, f.found_eval, e)) return false;
+            if (significant_bits(g) > f.shrunk_bits) return false;
+            f.shrunk = g;
+            f.shrunk_eval = e;
+            f.shrunk_bits = significant_bits(g);
+            return true;
+        };
+        for (bool changed = true; changed && budget > 0;) {
+            changed = false;
+            // The scene translated so that c = 0 (o − c rounded in the precision).
+            if (f.shrunk.centre != vec3<double>{}) {
+                ray_sphere<double> t = f.shrunk;
+                t.origin = {round_to(target_.prec, t.origin.x - t.centre.x),
+                            round_to(target_.prec, t.origin.y - t.centre.y),
+                            round_to(target_.prec, t.origin.z - t.centre.z)};
+                t.centre = {};
+                changed = fails_same(t) || changed;
+            }
+            // o, c, r scaled by a power of two towards r = 1, d towards |d| = 1 (exact scalings).
+            if (f.shrunk.radius > 0) {
+                const int k = -std::ilogb(f.shrunk.radius);
+                if (k != 0) {
+                    ray_sphere<double> t = f.shrunk;
+                    t.origin = std::ldexp(1.0, k) * t.origin;
+                    t.centre = std::ldexp(1.0, k) * t.centre;
+                    t.radius = std::ldexp(t.radius, k);
+                    changed = fails_same(rounded_in(target_.prec, t)) || changed;
+                }
+            }
+            const double d_max = std::max({std::fabs(f.shrunk.direction.x), std::fabs(f.shrunk.direction.y),
+                                           std::fabs(f.shrunk.direction.z)});
+            if (d_max > 0 && std::ilogb(d_max) != 0) {
+                ray_sphere<double> t = f.shrunk;
+                t.direction = std::ldexp(1.0, -std::ilogb(d_max)) * t.direction;
+                changed = fails_same(rounded_in(target_.prec, t)) || changed;
+            }
+            for (int i = 0; i < 10 && budget > 0; ++i) {
+                const double x = input_at(f.shrunk, i);
+                if (x == 0) continue;
+                ray_sphere<double> t = f.shrunk;
+                input_at(t, i) = 0;
+                if (fails_same(t)) {
+                    changed = true;
+                    continue;
+                }
+                const int have = bits_of(x);
+                for (int bits = 1; bits < have && budget > 0; ++bits) {
+                    input_at(t, i) = round_to(target_.prec, keep_bits(x, bits));
+                    if (fails_same(t)) {
+                        changed = true;
+                        break;
+                    }
+                }
+            }
+        }
+    }
+
+    const audit_target& target_;
+    const hunt_start& start_;
+    hunt_options options_;
+    hunt_random random_;
+    std::chrono::steady_clock::time_point began_;
+    hunt_result result_;
+    std::optional<hunt_find> best_;
+};
+
+}  // namespace
+
+hunt_evaluation evaluate_for_hunt(const audit_target& target, const ray_sphere<double>& input) {
+    return target.prec == precision::binary32 ? evaluate_in<float>(target, input) : evaluate_in<double>(target, input);
+}
+
+int significant_bits(const ray_sphere<double>& g) {
+    int total = 0;
+    for (int i = 0; i < 10; ++i) total += bits_of(input_at(g, i));
+    return total;
+}
+
+hunt_result hunt(const audit_target& target, const hunt_start& start, const hunt_options& options) {
+    return hunter(target, start, options).run();
+}
+
+}  // namespace rayverify

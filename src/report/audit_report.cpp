@@ -1,0 +1,236 @@
+#include "report/audit_report.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+#include "core/build_info.h"
+#include "corpus/corpus_io.h"
+
+namespace rayverify {
+
+using json = nlohmann::ordered_json;
+
+json json_number(double x) {
+    if (std::isnan(x)) return "nan";
+    if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
+    return x;
+}
+
+json build_json() {
+    return {{"rayverify_version", build_info::version},
+            {"compiler", build_info::compiler},
+            {"build_type", build_info::build_type},
+            {"flags", build_info::flags}};
+}
+
+namespace {
+
+// Table columns for the verdict kinds, in enum order.
+constexpr const char* verdict_column[verdict_kind_count] = {
+    "agree", "f_miss", "f_hit", "t_split", "t_miss", "f_tan", "w_root", "w_side", "nonfin", "malf", "contract", "invalid"};
+
+std::string compact(double x) {
+    if (std::isinf(x)) return "inf";
+    if (x == 0) return "0";
+    return fmt::format("{:.3g}", x);
+}
+
+json statistics_json(const error_statistics& s, const char* scope) {
+    json out = {{"count", s.count}};
+    if (s.count == 0) return out;
+    out["max"] = json_number(s.max);
+    out["p99"] = json_number(s.p99);
+    out["median"] = json_number(s.median);
+    out["max_case"] = s.max_case;
+    out["max_is"] = scope;
+    return out;
+}
+
+json tally_json(const target_tally& t, const char* scope) {
+    json verdicts = json::object();
+    for (int k = 0; k < verdict_kind_count; ++k)
+        verdicts[std::string(verdict_name(static_cast<verdict_kind>(k)))] = t.verdicts[k];
+    return {{"cases", t.cases},
+            {"disagreements", t.disagreements()},
+            {"verdicts", verdicts},
+            {"near_root_ulp", statistics_json(t.near_root_ulp, scope)},
+            {"far_root_ulp", statistics_json(t.far_root_ulp, scope)},
+            {"near_root_bits", statistics_json(t.near_root_bits, scope)},
+            {"hit_point_ulp", statistics_json(t.hit_point_ulp, scope)}};
+}
+
+json contract_json(const contract& c) {
+    return {{"query", c.query == query_kind::line_roots ? "line_roots" : "nearest_on_ray"},
+            {"assumes_unit_direction", c.assumes_unit_direction},
+            {"reports_tangent", c.reports_tangent},
+            {"tangent_rule", std::string(c.tangent_rule)},
+            {"clamps_to_zero", c.clamps_to_zero}};
+}
+
+json exact_json(const exact_solution& e) {
+    json out;
+    if (!e.valid()) {
+        out["invalid"] = invalid_reason_name(e.invalid);
+        return out;
+    }
+    out["class"] = line_class_name(e.cls);
+    if (e.cls != line_class::miss) {
+        out["t_near"] = hex_float(e.near_root.rounded);
+        out["t_far"] = hex_float(e.far_root.rounded);
+        out["near_sign"] = e.near_root.sign;
+        out["far_sign"] = e.far_root.sign;
+    }
+    if (e.nearest_in_front) {
+        out["front_root"] = *e.nearest_in_front == root_index::near_root ? "near" : "far";
+        out["hit_point"] = {hex_float(e.hit_point.x), hex_float(e.hit_point.y), hex_float(e.hit_point.z)};
+    }
+    if (e.hits_interval) out["hits_interval"] = *e.hits_interval;
+    return out;
+}
+
+// "zero_direction", or "float: not_representable_in_precision" when only float
+// finds it invalid. A case invalid in double is invalid in float too, unless float did not run.
+std::string invalid_reasons_text(const invalid_case& c) {
+    if (c.at_float == c.at_double || c.at_float == invalid_reason::none) return invalid_reason_name(c.at_double);
+    std::string text;
+    for (const auto& [name, reason] : {std::pair{"float", c.at_float}, std::pair{"double", c.at_double}})
+        if (reason != invalid_reason::none)
+            text += fmt::format("{}{}: {}", text.empty() ? "" : "; ", name, invalid_reason_name(reason));
+    return text;
+}
+
+}  // namespace
+
+std::string render_summary_table(const audit_totals& totals) {
+    std::string out;
+    std::size_t name_width = 7;
+    for (const auto& t : totals.targets) name_width = std::max(name_width, t.subject.name.size());
+    out += fmt::format("{:<{}} {:<6} {:>6}", "variant", name_width, "prec", "cases");
+    for (const char* column : verdict_column) out += fmt::format(" {:>{}}", column, std::max<std::size_t>(6, std::string_view(column).size()));
+    out += fmt::format(" {:>9} {:>9} {:>9}\n", "max_ulp", "p99_ulp", "med_ulp");
+    for (std::size_t i = 0; i < totals.targets.size(); ++i) {
+        const audit_target& target = totals.targets[i];
+        const target_tally& t = totals.overall[i];
+        out += fmt::format("{:<{}} {:<6} {:>6}", target.subject.name, name_width, precision_name(target.prec), t.cases);
+        for (int k = 0; k < verdict_kind_count; ++k)
+            out += fmt::format(" {:>{}}", t.verdicts[k], std::max<std::size_t>(6, std::string_view(verdict_column[k]).size()));
+        const error_statistics& s = t.near_root_ulp;
+        if (s.count == 0)
+            out += fmt::format(" {:>9} {:>9} {:>9}\n", "-", "-", "-");
+        else
+            out += fmt::format(" {:>9} {:>9} {:>9}\n", compact(s.max), compact(s.p99), compact(s.median));
+    }
+    out += fmt::format("{} cases; invalid: {} at float, {} at double. ULP columns: nearest root, agreeing cases, "
+                       "maxima over this finite corpus.\n",
+                       totals.cases, totals.invalid_cases[0], totals.invalid_cases[1]);
+    // Invalid cases are never scored, so they are named: the first few here, all in report.json.
+    constexpr std::size_t listed = 5;
+    if (!totals.invalid_list.empty()) {
+        out += fmt::format("invalid cases ({}, not scored):", totals.invalid_list.size());
+        for (std::size_t i = 0; i < std::min(listed, totals.invalid_list.size()); ++i)
+            out += fmt::format("{} {} ({})", i ? "," : "", totals.invalid_list[i].id,
+                               invalid_reasons_text(totals.invalid_list[i]));
+        if (totals.invalid_list.size() > listed)
+            out += fmt::format(", and {} more (all listed in report.json)", totals.invalid_list.size() - listed);
+        out += "\n";
+    }
+    return out;
+}
+
+json audit_report_json(const audit_totals& totals, const run_context& context) {
+    constexpr const char* scope = "maximum over this finite corpus";
+    json report;
+    report["tool"] = "rayverify audit";
+    report["build"] = build_json();
+    report["command"] = context.command_line;
+    report["corpus"] = {{"paths", context.corpus_paths},
+                        {"cases", totals.cases},
+                        {"cases_by_family", totals.cases_by_family},
+                        {"invalid_cases", {{"float", totals.invalid_cases[0]}, {"double", totals.invalid_cases[1]}}}};
+    json invalid_list = json::array();
+    for (const invalid_case& c : totals.invalid_list) {
+        json entry = {{"id", c.id}, {"source", c.source}};
+        if (c.at_float != invalid_reason::none) entry["float"] = invalid_reason_name(c.at_float);
+        if (c.at_double != invalid_reason::none) entry["double"] = invalid_reason_name(c.at_double);
+        invalid_list.push_back(entry);
+    }
+    report["corpus"]["invalid_case_list"] = invalid_list;
+    report["definitions"] = {
+        {"ulp", "for 2^e <= |x| < 2^(e+1): ulp(x) = 2^(max(e, emin) - p + 1); p = 24, emin = -126 (float); "
+                "p = 53, emin = -1022 (double); ulp(0) = smallest subnormal"},
+        {"ulp_error", "|t - t*| / ulp(t*), t* the exact root of the inputs the variant received"},
+        {"bits", "log2(1 + number of representable values between t and RN(t*))"},
+        {"error_statistics", "over the cases whose verdict is agree; p99 and median are nearest-rank"}};
+    json meanings = json::object();
+    for (int k = 0; k < verdict_kind_count; ++k) {
+        const auto kind = static_cast<verdict_kind>(k);
+        meanings[std::string(verdict_name(kind))] = std::string(verdict_meaning(kind));
+    }
+    report["verdicts"] = meanings;
+
+    json results = json::array();
+    for (std::size_t i = 0; i < totals.targets.size(); ++i) {
+        const audit_target& target = totals.targets[i];
+        json entry = {{"variant", target.subject.name},
+                      {"precision", precision_name(target.prec)},
+                      {"citation", target.subject.citation},
+                      {"formula", target.subject.formula},
+                      {"contract", contract_json(target.subject.promises)}};
+        entry.update(tally_json(totals.overall[i], scope));
+        json families = json::object();
+        for (const auto& [family, tallies] : totals.by_family) families[family] = tally_json(tallies[i], scope);
+        entry["by_family"] = families;
+        results.push_back(entry);
+    }
+    report["results"] = results;
+    return report;
+}
+
+std::string per_case_json_line(const audited_case& audited, const std::vector<audit_target>& targets) {
+    return per_case_json(audited, targets).dump();
+}
+
+json per_case_json(const audited_case& audited, const std::vector<audit_target>& targets) {
+    const corpus_case& c = *audited.source;
+    const auto& g = c.geometry;
+    json line;
+    line["id"] = c.id;
+    if (!c.family.empty()) line["family"] = c.family;
+    line["source"] = c.source;
+    line["input"] = {{"o", {hex_float(g.origin.x), hex_float(g.origin.y), hex_float(g.origin.z)}},
+                     {"d", {hex_float(g.direction.x), hex_float(g.direction.y), hex_float(g.direction.z)}},
+                     {"c", {hex_float(g.centre.x), hex_float(g.centre.y), hex_float(g.centre.z)}},
+                     {"r", hex_float(g.radius)}};
+    line["exact"] = exact_json(audited.exact_double);
+    if (audited.exact_float) line["exact_float"] = exact_json(*audited.exact_float);
+
+    json results = json::object();
+    for (std::size_t i = 0; i < targets.size(); ++i) {
+        const target_outcome& o = audited.outcomes[i];
+        json r = {{"verdict", std::string(verdict_name(o.score.verdict))}};
+        const bool ran = o.score.verdict != verdict_kind::invalid && o.score.verdict != verdict_kind::contract_violation;
+        if (ran) {
+            r["count"] = o.output.roots.count;
+            if (o.output.roots.count > 0) {
+                r["t0"] = hex_float(o.output.roots.t0);
+                if (o.output.roots.count > 1) r["t1"] = hex_float(o.output.roots.t1);
+            }
+        }
+        if (o.score.near_ulp) r["near_ulp"] = json_number(*o.score.near_ulp);
+        if (o.score.far_ulp) r["far_ulp"] = json_number(*o.score.far_ulp);
+        if (o.score.near_bits) r["near_bits"] = json_number(*o.score.near_bits);
+        if (o.score.hit_point_ulp) {
+            const auto& e = *o.score.hit_point_ulp;
+            r["hit_point_ulp"] = {json_number(e[0]), json_number(e[1]), json_number(e[2])};
+        }
+        if (!o.score.detail.empty()) r["detail"] = o.score.detail;
+        results[targets[i].label()] = r;
+    }
+    line["results"] = results;
+    return line;
+}
+
+}  // namespace rayverify

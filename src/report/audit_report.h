@@ -1,0 +1,37 @@
+// Rendering of audit results: the summary table, the JSON report and the
+// per-case JSON lines. Rendering only: every figure comes from audit_totals
+// or audited_case, computed in the compare layer.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "compare/audit.h"
+
+namespace rayverify {
+
+// How the run was made, recorded in every report.
+struct run_context {
+    std::string command_line;
+    std::vector<std::string> corpus_paths;
+};
+
+// Build facts (compiler, flags, build type, version) as JSON.
+nlohmann::ordered_json build_json();
+
+// The fixed-width table printed on stdout after an audit.
+std::string render_summary_table(const audit_totals& totals);
+
+// The machine-readable report (report.json).
+nlohmann::ordered_json audit_report_json(const audit_totals& totals, const run_context& context);
+
+// One line of --per-case output (no trailing newline).
+std::string per_case_json_line(const audited_case& audited, const std::vector<audit_target>& targets);
+// The same object before it is serialised (callers may add fields).
+nlohmann::ordered_json per_case_json(const audited_case& audited, const std::vector<audit_target>& targets);
+
+// A finite double as a JSON number, ±inf and NaN as strings ("inf", "-inf", "nan").
+nlohmann::ordered_json json_number(double x);
+
+}  // namespace rayverify

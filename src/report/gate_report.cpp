@@ -1,0 +1,195 @@
+#include "report/gate_report.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <limits>
+#include <map>
+
+#include "core/input_error.h"
+#include "corpus/corpus_io.h"
+
+namespace rayverify {
+namespace {
+
+std::string value_text(const std::optional<double>& x) {
+    if (!x) return "-";
+    if (std::isinf(*x)) return *x > 0 ? "inf" : "-inf";
+    return fmt::format("{}", *x);
+}
+
+std::string change_line(const figure_change& c) {
+    std::string line = fmt::format("{} {}: {} {} → {}", c.key.target, c.key.family, c.key.figure,
+                                   value_text(c.before), value_text(c.after));
+    if (c.kind == change_kind::worse || c.kind == change_kind::within_slack)
+        line += fmt::format(" (allowed ≤ {})", value_text(c.limit));
+    if (c.kind == change_kind::stale) line += " (the family's cases changed: figures not comparable; review, then --update)";
+    return line;
+}
+
+std::string xml_escaped(std::string_view text) {
+    std::string out;
+    for (char ch : text) {
+        switch (ch) {
+            case '&': out += "&amp;"; break;
+            case '<': out += "&lt;"; break;
+            case '>': out += "&gt;"; break;
+            case '"': out += "&quot;"; break;
+            default: out += ch;
+        }
+    }
+    return out;
+}
+
+bool fails(const figure_change& c) { return c.kind == change_kind::worse || c.kind == change_kind::stale; }
+
+// The failing figure's first cases, as corpus lines that paste back into a corpus file.
+std::string example_lines(const gate_run& run, const figure_change& c, std::span<const corpus_case> corpus,
+                          std::string_view indent) {
+    std::string out;
+    const auto cases = run.examples.cases_for(c.key, run.totals, corpus);
+    if (cases.empty()) return out;
+    out += fmt::format("{}# {}:\n", indent,
+                       is_ulp_figure(c.key.figure) ? "the case with the largest error" : "first cases, as corpus lines");
+    for (const corpus_case* k : cases) out += fmt::format("{}{}\n", indent, format_case_line(*k));
+    return out;
+}
+
+}  // namespace
+
+std::string render_gate_text(const gate_run& run, std::span<const corpus_case> corpus) {
+    const gate_result& r = run.result;
+    std::string out;
+    std::size_t worse = 0, better = 0, slack = 0, fresh = 0;
+    for (const figure_change& c : r.changes) {
+        if (!fails(c)) continue;
+        ++worse;
+        out += fmt::format("WORSE  {}\n", change_line(c));
+        out += example_lines(run, c, corpus, "    ");
+    }
+    for (const figure_change& c : r.changes) {
+        if (c.kind == change_kind::within_slack) {
+            ++slack;
+            out += fmt::format("slack  {}\n", change_line(c));
+        } else if (c.kind == change_kind::better) {
+            ++better;
+            out += fmt::format("better {}\n", change_line(c));
+        } else if (c.kind == change_kind::new_entry) {
+            ++fresh;
+        }
+    }
+    for (const std::string& note : r.notes) out += fmt::format("note   {}\n", note);
+    if (fresh > 0) out += fmt::format("note   {} figure(s) new, no baseline (--update adds them)\n", fresh);
+    if (r.compared == 0)
+        out += "gate: FAILED: no figure of this run has a baseline value (wrong baseline, or create it with --update)\n";
+    else if (!r.passed())
+        out += fmt::format("gate: FAILED: {} figure(s) worse than the baseline allows; {} compared\n", worse,
+                           r.compared);
+    else
+        out += fmt::format("gate: passed: {} figures compared, {} better{}, {} worse within the policy's slack\n",
+                           r.compared, better, better > 0 ? " (the baseline can be tightened: --update)" : "", slack);
+    return out;
+}
+
+std::string render_junit(const gate_run& run, std::span<const corpus_case> corpus) {
+    // target → family → changes; every compared (target, family) is a test case.
+    std::map<std::string, std::map<std::string, std::vector<const figure_change*>>> groups;
+    for (const auto& [key, value] : run.current) groups[key.target][key.family];
+    for (const figure_change& c : run.result.changes) groups[c.key.target][c.key.family].push_back(&c);
+
+    std::string suites;
+    std::size_t total_tests = 0, total_failures = 0;
+    for (const auto& [target, families] : groups) {
+        std::string cases;
+        std::size_t failures = 0;
+        for (const auto& [family, changes] : families) {
+            std::string failure_text, other_text;
+            for (const figure_change* c : changes) {
+                if (fails(*c))
+                    failure_text += change_line(*c) + "\n" + example_lines(run, *c, corpus, "    ");
+                else
+                    other_text += fmt::format("{}{}\n", c->kind == change_kind::new_entry ? "new: " : "",
+                                              change_line(*c));
+            }
+            cases += fmt::format("    <testcase classname=\"{}\" name=\"{}\">\n", xml_escaped(target),
+                                 xml_escaped(family));
+            if (!failure_text.empty()) {
+                ++failures;
+                cases += fmt::format("      <failure message=\"worse than the baseline\">{}</failure>\n",
+                                     xml_escaped(failure_text));
+            }
+            if (!other_text.empty()) cases += fmt::format("      <system-out>{}</system-out>\n", xml_escaped(other_text));
+            cases += "    </testcase>\n";
+        }
+        total_tests += families.size();
+        total_failures += failures;
+        suites += fmt::format("  <testsuite name=\"{}\" tests=\"{}\" failures=\"{}\">\n{}  </testsuite>\n",
+                              xml_escaped(target), families.size(), failures, cases);
+    }
+    return fmt::format("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
+                       "<testsuites name=\"rayverify gate\" tests=\"{}\" failures=\"{}\">\n{}</testsuites>\n",
+                       total_tests, total_failures, suites);
+}
+
+figure_table figures_from_report_json(const nlohmann::json& report, const std::string& file) {
+    const auto bad = [&](const std::string& field, const std::string& problem) {
+        return input_error(file, 0, field, problem);
+    };
+    if (!report.is_object() || report.value("tool", "") != "rayverify audit" || !report.contains("results") ||
+        !report["results"].is_array())
+        throw bad("tool", "not a report.json written by rayverify audit --report");
+    const auto number = [&](const nlohmann::json& v, const std::string& field) -> double {
+        if (v.is_number()) return v.get<double>();
+        if (v == "inf") return std::numeric_limits<double>::infinity();
+        throw bad(field, fmt::format("expected a number, got {}", v.dump()));
+    };
+    figure_table table;
+    for (const auto& entry : report["results"]) {
+        if (!entry.contains("variant") || !entry.contains("precision"))
+            throw bad("results", "an entry without variant or precision");
+        const std::string target =
+            entry["variant"].get<std::string>() + "/" + entry["precision"].get<std::string>();
+        const auto add = [&](const std::string& family, const nlohmann::json& tally) {
+            const std::string where = target + " " + family;
+            if (!tally.contains("cases") || !tally.contains("verdicts")) throw bad(where, "no cases or verdicts");
+            table[{target, family, "cases"}] = number(tally["cases"], where + " cases");
+            for (int k = 0; k < verdict_kind_count; ++k) {
+                const auto kind = static_cast<verdict_kind>(k);
+                const std::string name(verdict_name(kind));
+                if (is_disagreement(kind) && tally["verdicts"].contains(name))
+                    table[{target, family, name}] = number(tally["verdicts"][name], where + " " + name);
+            }
+            for (const auto& [json_name, figure] : {std::pair{"near_root_ulp", "near_ulp"}, std::pair{"far_root_ulp", "far_ulp"}}) {
+                if (!tally.contains(json_name) || tally[json_name].value("count", 0) == 0) continue;
+                const auto& s = tally[json_name];
+                table[{target, family, std::string(figure) + "_max"}] = number(s["max"], where + " " + json_name);
+                table[{target, family, std::string(figure) + "_p99"}] = number(s["p99"], where + " " + json_name);
+            }
+        };
+        add(std::string(all_families), entry);
+        if (entry.contains("by_family"))
+            for (const auto& [family, tally] : entry["by_family"].items()) add(family, tally);
+    }
+    return table;
+}
+
+std::string render_figure_diff(const gate_result& result) {
+    std::string out;
+    std::size_t worse = 0, better = 0;
+    for (const figure_change& c : result.changes) {
+        const char* tag = "";
+        switch (c.kind) {
+            case change_kind::worse: tag = "worse "; ++worse; break;
+            case change_kind::within_slack: tag = "worse "; ++worse; break;
+            case change_kind::better: tag = "better"; ++better; break;
+            case change_kind::stale: tag = "cases "; break;
+            case change_kind::new_entry: tag = "only B"; break;
+        }
+        out += fmt::format("{} {}\n", tag, change_line(figure_change{c.key, c.before, c.after, change_kind::better, 0}));
+    }
+    for (const std::string& note : result.notes) out += fmt::format("note   {}\n", note);
+    out += fmt::format("diff: {} figures compared, {} worse, {} better\n", result.compared, worse, better);
+    return out;
+}
+
+}  // namespace rayverify

@@ -1,0 +1,286 @@
+#include "report/markdown_report.h"
+
+#include <fmt/format.h>
+
+#include <array>
+#include <cstdio>
+#include <map>
+#include <memory>
+
+#include "corpus/corpus_io.h"
+
+namespace rayverify {
+
+using json = nlohmann::ordered_json;
+
+namespace {
+
+std::string number(const json& x) {
+    if (x.is_null()) return "-";
+    if (x.is_string()) return x.get<std::string>();
+    const double v = x.get<double>();
+    if (v == 0) return "0";
+    return fmt::format("{:.3g}", v);
+}
+
+std::string percent(std::size_t part, std::size_t whole) {
+    if (whole == 0) return "-";
+    return fmt::format("{:.1f}%", 100.0 * static_cast<double>(part) / static_cast<double>(whole));
+}
+
+std::size_t misclassified(const json& verdicts) {
+    std::size_t n = 0;
+    for (const char* k : {"false_miss", "false_hit", "tangent_split", "tangent_missed", "false_tangent"})
+        if (verdicts.contains(k)) n += verdicts[k].get<std::size_t>();
+    return n;
+}
+
+std::size_t scored(const json& entry) {
+    const json& v = entry["verdicts"];
+    return entry["cases"].get<std::size_t>() - v["invalid"].get<std::size_t>() -
+           v["contract_violation"].get<std::size_t>();
+}
+
+void accuracy_table(std::string& out, const json& results, const std::string& title) {
+    out += fmt::format("\n### {}\n\n", title);
+    out += "| variant | precision | scored | agree | misclassified | other disagreements | max ulp | p99 ulp | median ulp |\n";
+    out += "|---|---|---:|---:|---:|---:|---:|---:|---:|\n";
+    for (const json& r : results) {
+        const std::size_t n = scored(r), mis = misclassified(r["verdicts"]);
+        const json& u = r["near_root_ulp"];
+        out += fmt::format("| {} | {} | {} | {} | {} ({}) | {} | {} | {} | {} |\n", r["variant"].get<std::string>(),
+                           r["precision"].get<std::string>(), n, r["verdicts"]["agree"].get<std::size_t>(), mis,
+                           percent(mis, n), r["disagreements"].get<std::size_t>() - mis,
+                           number(u.value("max", json())), number(u.value("p99", json())),
+                           number(u.value("median", json())));
+    }
+    out += "\nULP columns: nearest root over the agreeing cases; every maximum is over this finite corpus "
+           "(sampled: a lower bound on the variant's worst case, not a bound).\n";
+}
+
+void stability_tables(std::string& out, const json& stability) {
+    out += "\n## Stability\n\n";
+    for (const auto& [name, text] : stability["definitions"].items())
+        out += fmt::format("- **{}**: {}\n", name, text.get<std::string>());
+    out += "\n| variant | precision | stable | judged | above 16·κ | above, κ < 1e3 | max excess | misclassified | "
+           "conditioning-limited | algorithmic |\n|---|---|---|---:|---:|---:|---:|---:|---:|---:|\n";
+    for (const json& r : stability["results"]) {
+        const json& line = r["reference_line"];
+        out += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", r["variant"].get<std::string>(),
+                           r["precision"].get<std::string>(), line["stable"].get<bool>() ? "yes" : "**no**",
+                           line["judged"].get<std::size_t>(), line["above_line"].get<std::size_t>(),
+                           line["well_conditioned_above_line"].get<std::size_t>(),
+                           number(line.value("max_excess", json())), r["misclassified"].get<std::size_t>(),
+                           r["conditioning_limited"].get<std::size_t>(), r["algorithmic"].get<std::size_t>());
+    }
+    out += "\nDisagreements are split into conditioning-limited and algorithmic (every disagreement, not only "
+           "wrong classes). Maximum excess is over this finite corpus.\n";
+
+    // Per family: which variants stay on the κ·u line.
+    out += "\n### Stable per family (no agreeing case above 16·κ ulps; unstable lists the count above)\n\n";
+    std::map<std::string, std::vector<std::string>> cells;
+    std::vector<std::string> families;
+    out += "| variant | precision |";
+    bool header_done = false;
+    for (const json& r : stability["results"]) {
+        if (!header_done) {
+            for (const auto& [family, _] : r["by_family"].items()) {
+                families.push_back(family);
+                out += fmt::format(" {} |", family);
+            }
+            out += "\n|---|---|";
+            for (std::size_t i = 0; i < families.size(); ++i) out += "---|";
+            out += "\n";
+            header_done = true;
+        }
+        out += fmt::format("| {} | {} |", r["variant"].get<std::string>(), r["precision"].get<std::string>());
+        for (const std::string& family : families) {
+            const json& line = r["by_family"][family]["reference_line"];
+            const std::size_t judged = line["judged"].get<std::size_t>(), above = line["above_line"].get<std::size_t>();
+            out += judged == 0 ? " - |" : (above == 0 ? " stable |" : fmt::format(" unstable ({}/{}) |", above, judged));
+        }
+        out += "\n";
+    }
+
+    // Condition buckets, overall.
+    out += "\n### By condition number of the near root (cases · misclassified · median / max ulp)\n\n";
+    std::vector<std::string> labels;
+    for (const json& r : stability["results"])
+        for (const json& b : r["buckets"]) {
+            const std::string label = b["condition"].get<std::string>();
+            if (std::find(labels.begin(), labels.end(), label) == labels.end()) labels.push_back(label);
+        }
+    out += "| variant | precision |";
+    for (const std::string& l : labels) out += fmt::format(" κ {} |", l);
+    out += "\n|---|---|";
+    for (std::size_t i = 0; i < labels.size(); ++i) out += "---|";
+    out += "\n";
+    for (const json& r : stability["results"]) {
+        out += fmt::format("| {} | {} |", r["variant"].get<std::string>(), r["precision"].get<std::string>());
+        for (const std::string& l : labels) {
+            const json* found = nullptr;
+            for (const json& b : r["buckets"])
+                if (b["condition"] == l) found = &b;
+            if (!found) {
+                out += " |";
+                continue;
+            }
+            const json& u = (*found)["near_root_ulp"];
+            out += fmt::format(" {} · {} · {} / {} |", (*found)["cases"].get<std::size_t>(),
+                               (*found)["misclassified"].get<std::size_t>(), number(u.value("median", json())),
+                               number(u.value("max", json())));
+        }
+        out += "\n";
+    }
+}
+
+void timing_tables(std::string& out, const json& timing) {
+    out += "\n## Run time\n\n";
+    for (const auto& [name, text] : timing["harness"].items())
+        out += fmt::format("- {}: {}\n", name, text.is_string() ? text.get<std::string>() : text.dump());
+    out += fmt::format("\nRatios are to `{}` measured in the same run, family by family. ns are CPU time per "
+                       "ray–sphere test, median over the repetitions.\n\n",
+                       timing["reference"].get<std::string>());
+    out += "| variant | precision | ns per test (all cases) | ratio to reference |\n|---|---|---:|---:|\n";
+    for (const json& r : timing["overall"])
+        out += fmt::format("| {} | {} | {:.2f} | {} |\n", r["variant"].get<std::string>(),
+                           r["precision"].get<std::string>(), r["ns_per_test"].get<double>(),
+                           number(r["ratio_to_reference"]));
+    out += fmt::format("\n({})\n\n### Per family: median ns per test [min–max over repetitions]\n\n",
+                       timing["overall_definition"].get<std::string>());
+    std::vector<std::string> families, labels;
+    std::map<std::string, std::map<std::string, const json*>> cell;
+    for (const json& r : timing["rows"]) {
+        const std::string family = r["family"], label = r["variant"].get<std::string>() + "/" + r["precision"].get<std::string>();
+        if (std::find(families.begin(), families.end(), family) == families.end()) families.push_back(family);
+        if (std::find(labels.begin(), labels.end(), label) == labels.end()) labels.push_back(label);
+        cell[label][family] = &r;
+    }
+    out += "| variant/precision |";
+    for (const auto& f : families) out += fmt::format(" {} |", f);
+    out += "\n|---|";
+    for (std::size_t i = 0; i < families.size(); ++i) out += "---:|";
+    out += "\n";
+    for (const auto& label : labels) {
+        out += fmt::format("| {} |", label);
+        for (const auto& f : families) {
+            const json* r = cell[label][f];
+            if (!r) {
+                out += " |";
+                continue;
+            }
+            const json& ns = (*r)["ns_per_test"];
+            out += fmt::format(" {:.2f} [{:.2f}–{:.2f}] |", ns["median"].get<double>(), ns["min"].get<double>(),
+                               ns["max"].get<double>());
+        }
+        out += "\n";
+    }
+}
+
+void sweep_table(std::string& out, const json& sweep) {
+    out += fmt::format("\n## Far-sphere sweep\n\n{}\n\n", sweep["description"].get<std::string>());
+    out += "Misclassified / scored cases per decade of distance/radius (|o − c| / r):\n\n| d/r |";
+    const json& results = sweep["results"];
+    for (const json& r : results)
+        out += fmt::format(" {}/{} |", r["variant"].get<std::string>(), r["precision"].get<std::string>());
+    out += "\n|---|";
+    for (std::size_t i = 0; i < results.size(); ++i) out += "---:|";
+    out += "\n";
+    if (results.empty()) return;
+    for (const auto& [decade, _] : results[0]["by_family"].items()) {
+        out += fmt::format("| {} |", decade);
+        for (const json& r : results) {
+            const json& f = r["by_family"][decade];
+            out += fmt::format(" {}/{} |", misclassified(f["verdicts"]), scored(f));
+        }
+        out += "\n";
+    }
+}
+
+}  // namespace
+
+std::string render_markdown(const json& report) {
+    std::string out = fmt::format("# {}\n\n", report.value("tool", std::string("rayverify report")));
+    out += fmt::format("- command: `{}`\n", report.value("command", std::string()));
+    const json& build = report["build"];
+    out += fmt::format("- build: {} `{}` [{}], rayverify {}\n", build["compiler"].get<std::string>(),
+                       build["flags"].get<std::string>(), build["build_type"].get<std::string>(),
+                       build["rayverify_version"].get<std::string>());
+    if (report.contains("machine"))
+        out += fmt::format("- CPU: {}\n", report["machine"]["cpu"].get<std::string>());
+    if (report.contains("corpus"))
+        out += fmt::format("- corpus: {} cases\n", report["corpus"]["cases"].get<std::size_t>());
+
+    out += "\n## Plots\n\n";
+    if (report.contains("plots")) {
+        const json& plots = report["plots"];
+        if (!plots["rendered"].get<bool>())
+            out += fmt::format("**No plots:** {}\n", plots["message"].get<std::string>());
+        for (const json& f : plots["files"]) out += fmt::format("![{0}]({0})\n\n", f.get<std::string>());
+    }
+
+    out += "\n## Accuracy\n";
+    if (report.contains("results")) accuracy_table(out, report["results"], "float and double (the audit)");
+    if (report.contains("long_double") && report["long_double"].contains("results"))
+        accuracy_table(out, report["long_double"]["results"],
+                       "long double arithmetic on double inputs, roots rounded to double");
+    if (report.contains("stability")) stability_tables(out, report["stability"]);
+    if (report.contains("timing")) timing_tables(out, report["timing"]);
+    if (report.contains("far_sphere_sweep")) sweep_table(out, report["far_sphere_sweep"]);
+    return out;
+}
+
+plot_outcome render_plots(const std::filesystem::path& dir) {
+    plot_outcome outcome;
+    const std::string python = RAYVERIFY_PLOT_PYTHON, script = RAYVERIFY_PLOT_SCRIPT;
+    if (!std::filesystem::exists(python)) {
+        outcome.message = python + " not found: install python3-matplotlib (tools/setup.sh) for the plots";
+        return outcome;
+    }
+    if (std::system((python + " -c 'import matplotlib' >/dev/null 2>&1").c_str()) != 0) {
+        outcome.message = "matplotlib is not installed for " + python +
+                          ": install python3-matplotlib (tools/setup.sh) for the plots";
+        return outcome;
+    }
+    const std::string command = fmt::format("'{}' '{}' '{}' 2>&1", python, script, dir.string());
+    std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), pclose);
+    if (!pipe) {
+        outcome.message = "cannot run " + script;
+        return outcome;
+    }
+    std::string output;
+    std::array<char, 512> buffer{};
+    while (fgets(buffer.data(), buffer.size(), pipe.get())) output += buffer.data();
+    const int status = pclose(pipe.release());
+    std::size_t start = 0;
+    std::vector<std::string> lines;
+    while (start < output.size()) {
+        const std::size_t end = output.find('\n', start);
+        lines.push_back(output.substr(start, end - start));
+        start = end == std::string::npos ? output.size() : end + 1;
+    }
+    if (status != 0) {
+        outcome.message = "the plotting script failed: " + output;
+        return outcome;
+    }
+    for (const std::string& line : lines)
+        if (line.rfind("wrote ", 0) == 0) outcome.files.push_back(line.substr(6));
+    outcome.rendered = true;
+    outcome.message = fmt::format("{} plots drawn by {} with matplotlib", outcome.files.size(), script);
+    return outcome;
+}
+
+plot_outcome write_report_bundle(const std::filesystem::path& dir, json report, bool draw) {
+    write_file_atomically(dir / "report.json", report.dump(2) + "\n");
+    plot_outcome plots;
+    if (draw)
+        plots = render_plots(dir);
+    else
+        plots.message = "not drawn (rayverify audit draws them with --plots; rayverify bench always does)";
+    report["plots"] = {{"rendered", plots.rendered}, {"message", plots.message}, {"files", plots.files}};
+    write_file_atomically(dir / "report.json", report.dump(2) + "\n");
+    write_file_atomically(dir / "report.md", render_markdown(report));
+    return plots;
+}
+
+}  // namespace rayverify

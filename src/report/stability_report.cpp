@@ -1,0 +1,219 @@
+#include "report/stability_report.h"
+
+#include <cmath>
+#include <map>
+
+#include "report/audit_report.h"
+
+namespace rayverify {
+
+using json = nlohmann::ordered_json;
+
+namespace {
+
+constexpr const char* scope = "maximum over this finite corpus";
+
+json optional_number(const std::optional<double>& x) { return x ? json_number(*x) : json(nullptr); }
+
+json bucket_json(const bucket_tally& b) {
+    json out = {{"cases", b.cases},
+                {"misclassified", b.misclassified},
+                {"misclassification_rate", b.cases ? static_cast<double>(b.misclassified) / b.cases : 0.0},
+                {"disagreements", b.disagreements},
+                {"conditioning_limited", b.conditioning_limited},
+                {"algorithmic", b.algorithmic}};
+    json ulp = {{"count", b.near_root_ulp.count}};
+    if (b.near_root_ulp.count) {
+        ulp["max"] = json_number(b.near_root_ulp.max);
+        ulp["p99"] = json_number(b.near_root_ulp.p99);
+        ulp["median"] = json_number(b.near_root_ulp.median);
+        ulp["max_case"] = b.near_root_ulp.max_case;
+        ulp["max_is"] = scope;
+    }
+    out["near_root_ulp"] = ulp;
+    return out;
+}
+
+json tally_json(const stability_tally& t) {
+    json buckets = json::array();
+    for (int b = 0; b < condition_bucket_count; ++b) {
+        if (t.buckets[b].cases == 0) continue;
+        json entry = {{"condition", condition_bucket_label(b)}};
+        entry.update(bucket_json(t.buckets[b]));
+        buckets.push_back(entry);
+    }
+    json line = {{"judged", t.judged},
+                 {"above_line", t.above_line},
+                 {"well_conditioned", t.well_conditioned},
+                 {"well_conditioned_above_line", t.well_conditioned_above},
+                 {"stable", t.stable()}};
+    if (t.excess.count) {
+        line["max_excess"] = json_number(t.excess.max);
+        line["p99_excess"] = json_number(t.excess.p99);
+        line["median_excess"] = json_number(t.excess.median);
+        line["max_excess_case"] = t.excess.max_case;
+        line["max_is"] = scope;
+    }
+    json out = bucket_json(t.all);
+    out["reference_line"] = line;
+    out["buckets"] = buckets;
+    return out;
+}
+
+json measures_json(const stability_measures& m) {
+    if (!m.valid) return {{"invalid", true}};
+    return {{"near_condition", optional_number(m.near_condition)},
+            {"far_condition", optional_number(m.far_condition)},
+            {"condition_bucket", condition_bucket_label(condition_bucket(m))},
+            {"tangency_distance", json_number(m.tangency_distance)},
+            {"tangency_margin", json_number(m.tangency_margin)},
+            {"distance_ratio", json_number(m.distance_ratio)}};
+}
+
+std::string precision_label(const std::vector<std::string>& labels, const std::vector<audit_target>& targets,
+                            std::size_t i) {
+    return i < labels.size() ? labels[i] : precision_name(targets[i].prec);
+}
+
+}  // namespace
+
+json stability_json(const audit_totals& totals, const stability_totals& stability,
+                    const std::vector<std::string>& precision_labels) {
+    json out;
+    out["definitions"] = {
+        {"condition",
+         "kappa of the near root for relative perturbations of the 10 inputs: "
+         "(sum_k |p_k|(|o_k| + |c_k| + |t||d_k|) + r^2) / (sqrt(D') |t|), p = o - c + t d, D' = b'^2 - aC; "
+         "inf for a double root (tangent) or t = 0; none for a miss"},
+        {"tangency_distance", "|D'| / (b'^2 + |a C|)"},
+        {"tangency_margin",
+         "|D'| / (u M), M = sum_i |dD'/dx_i| |x_i| = 2(sum_k |b'd_k - a f_k|(|o_k|+|c_k|) + sum_k |b'f_k - C d_k||d_k| + "
+         "a r^2), u = 2^-24 (float) or 2^-53 (double)"},
+        {"conditioning_limited",
+         "a wrong class with tangency_margin <= 8 (relative input perturbations of 8u, the backward error of a "
+         "stable evaluation, can flip the sign of D'); a wrong root or wrong side with margin <= 8 or 8 u kappa >= 1; "
+         "non-finite and malformed outputs are always algorithmic"},
+        {"reference_line",
+         "a backward-stable algorithm's near-root error is about kappa ulps or less (relative error kappa u); "
+         "excess = near-root ulps / max(kappa, 1) over agreeing cases with finite kappa; above_line counts excess > 16; "
+         "stable = no case above the line; well_conditioned = kappa < 1e3"},
+        {"buckets", "cases by decade of kappa; 'inf' = tangent or zero root, 'miss' = no real root"}};
+    json results = json::array();
+    for (std::size_t i = 0; i < totals.targets.size(); ++i) {
+        json entry = {{"variant", totals.targets[i].subject.name},
+                      {"precision", precision_label(precision_labels, totals.targets, i)}};
+        entry.update(tally_json(stability.overall[i]));
+        json families = json::object();
+        for (const auto& [family, tallies] : stability.by_family) families[family] = tally_json(tallies[i]);
+        entry["by_family"] = families;
+        results.push_back(entry);
+    }
+    out["results"] = results;
+    return out;
+}
+
+void add_stability_fields(json& line, const case_stability& s, const std::vector<audit_target>& targets) {
+    json measures = json::object();
+    if (s.at_float) measures["float"] = measures_json(*s.at_float);
+    if (s.at_double) measures["double"] = measures_json(*s.at_double);
+    line["stability"] = measures;
+    for (std::size_t i = 0; i < targets.size(); ++i)
+        if (s.causes[i]) line["results"][targets[i].label()]["cause"] = disagreement_cause_name(*s.causes[i]);
+}
+
+case_points::case_points(std::vector<audit_target> targets, std::vector<std::string> labels)
+    : targets_(std::move(targets)),
+      labels_(std::move(labels)),
+      verdict_(targets_.size(), json::array()),
+      near_ulp_(targets_.size(), json::array()) {}
+
+void case_points::add(const audited_case& c, const case_stability& s) {
+    family_.push_back(c.source->family);
+    const auto kappa = [](const std::optional<stability_measures>& m) -> json {
+        if (!m || !m->valid || !m->near_condition) return nullptr;
+        return json_number(*m->near_condition);
+    };
+    kappa_float_.push_back(kappa(s.at_float));
+    kappa_double_.push_back(kappa(s.at_double));
+    ratio_.push_back(s.at_double && s.at_double->valid ? json_number(s.at_double->distance_ratio) : json(nullptr));
+    for (std::size_t t = 0; t < targets_.size(); ++t) {
+        const case_score& score = c.outcomes[t].score;
+        verdict_[t].push_back(std::string(verdict_name(score.verdict)));
+        near_ulp_[t].push_back(score.verdict == verdict_kind::agree ? optional_number(score.near_ulp) : json(nullptr));
+    }
+}
+
+json case_points::to_json() const {
+    json targets = json::object();
+    for (std::size_t t = 0; t < targets_.size(); ++t)
+        targets[labels_[t]] = {{"variant", targets_[t].subject.name},
+                               {"precision_of_inputs", precision_name(targets_[t].prec)},
+                               {"verdict", verdict_[t]},
+                               {"near_ulp", near_ulp_[t]}};
+    return {{"cases", family_.size()},
+            {"family", family_},
+            {"distance_ratio", ratio_},
+            {"condition", {{"float", kappa_float_}, {"double", kappa_double_}}},
+            {"targets", targets}};
+}
+
+json timing_json(const std::vector<bench::timing_row>& rows, const bench::timing_options& options,
+                 const std::string& reference_label) {
+    std::map<std::string, double> reference;  // family → reference median
+    for (const auto& r : rows)
+        if (r.label() == reference_label) reference[r.family] = r.median;
+    json out;
+    out["harness"] = {{"library", "Google Benchmark " RAYVERIFY_BENCHMARK_VERSION},
+                      {"repetitions", options.repetitions},
+                      {"min_time_per_repetition_s", options.min_time_s},
+                      {"warmup_s", options.warmup_s},
+                      {"clock", "CPU time of the process (wall-clock time recorded beside it)"},
+                      {"loop", "one pass over the family's cases valid at that precision, pre-rounded; the "
+                               "intersector template instantiated on its concrete function (no std::function), "
+                               "each result passed to benchmark::DoNotOptimize"},
+                      {"long_double", "x87 80-bit arithmetic on the double inputs, roots rounded to double"},
+                      {"exact_oracle", "solve_exact on the double inputs (class, signs, correctly rounded roots "
+                                       "and hit point)"}};
+    out["reference"] = reference_label;
+    json table = json::array();
+    std::map<std::string, std::pair<double, std::size_t>> totals;  // label → (Σ ns·cases, Σ cases)
+    std::vector<std::string> order;
+    for (const auto& r : rows) {
+        json ratio = nullptr;
+        if (reference.count(r.family) && reference[r.family] > 0) ratio = r.median / reference[r.family];
+        table.push_back({{"variant", r.variant},
+                         {"precision", r.precision},
+                         {"family", r.family},
+                         {"cases", r.cases},
+                         {"ns_per_test", {{"median", r.median}, {"min", r.min}, {"max", r.max},
+                                          {"repetitions", r.ns_per_test}}},
+                         {"real_ns_per_test_median", r.real_median},
+                         {"ratio_to_reference", ratio},
+                         {"checksum_hits", r.checksum}});
+        if (!totals.count(r.label())) order.push_back(r.label());
+        auto& [weighted, cases] = totals[r.label()];
+        weighted += r.median * static_cast<double>(r.cases);
+        cases += r.cases;
+    }
+    out["rows"] = table;
+    json summary = json::array();
+    const double reference_total =
+        totals.count(reference_label) && totals[reference_label].second
+            ? totals[reference_label].first / static_cast<double>(totals[reference_label].second)
+            : 0;
+    for (const std::string& label : order) {
+        const auto& [weighted, cases] = totals[label];
+        const double ns = cases ? weighted / static_cast<double>(cases) : 0;
+        const auto slash = label.find('/');
+        summary.push_back({{"variant", label.substr(0, slash)},
+                           {"precision", label.substr(slash + 1)},
+                           {"cases", cases},
+                           {"ns_per_test", ns},
+                           {"ratio_to_reference", reference_total > 0 ? json(ns / reference_total) : json(nullptr)}});
+    }
+    out["overall"] = summary;
+    out["overall_definition"] = "case-weighted mean of the per-family medians: ns for one pass over every case";
+    return out;
+}
+
+}  // namespace rayverify

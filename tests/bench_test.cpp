@@ -1,0 +1,100 @@
+// The timing harness's correctness (never its speed): the kernels it times
+// are the registry's variants, return exactly what the audited functions
+// return, and every row it reports is complete.
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "bench/far_sphere_sweep.h"
+#include "bench/kernels.h"
+#include "bench/long_double.h"
+#include "bench/timing.h"
+#include "corpus/generators.h"
+#include "intersectors/registry.h"
+
+namespace rayverify::bench {
+namespace {
+
+std::vector<corpus_case> sample_cases() {
+    std::vector<corpus_case> out;
+    for (const char* family : {"uniform", "far_sphere", "tangent_exact", "on_surface"})
+        for (corpus_case& c : generate_family(family, 40, 3)) out.push_back(std::move(c));
+    return out;
+}
+
+template <class T>
+bool same(const root_pair<T>& a, const root_pair<T>& b) {
+    const auto bits_equal = [](T x, T y) { return (x == y && std::signbit(x) == std::signbit(y)) || (x != x && y != y); };
+    return a.count == b.count && (a.count == 0 || (bits_equal(a.t0, b.t0) && bits_equal(a.t1, b.t1)));
+}
+
+TEST(Bench, KernelsAreTheRegistryInOrder) {
+    std::vector<std::string> names;
+    for_each_kernel([&](std::string_view name, auto) { names.emplace_back(name); });
+    std::vector<std::string> registry;
+    for (const variant& v : builtin_variants()) registry.push_back(v.name);
+    EXPECT_EQ(names, registry);
+}
+
+TEST(Bench, KernelsReturnWhatTheAuditedFunctionsReturn) {
+    const std::vector<corpus_case> cases = sample_cases();
+    for_each_kernel([&](std::string_view name, auto kernel) {
+        const variant& v = *find_builtin_variant(name);
+        for (const corpus_case& c : cases) {
+            const auto f = rounded_to<float>(c.geometry);
+            EXPECT_TRUE(same(kernel(f), v.run_float(f))) << name << " float " << c.id;
+            EXPECT_TRUE(same(kernel(c.geometry), v.run_double(c.geometry))) << name << " double " << c.id;
+        }
+    });
+}
+
+TEST(Bench, LongDoubleVariantsComputeInLongDouble) {
+    const std::vector<variant> variants = long_double_variants();
+    ASSERT_EQ(variants.size(), builtin_variants().size());
+    // naive on a far sphere: long double keeps C = f·f − r² that double loses.
+    const ray_sphere<double> far{{-1e9, 0, 0}, {1, 0, 0}, {0, 0.5, 0}, 1};
+    const root_pair<double> wide = variants[0].run_double(far);
+    const root_pair<long double> direct = intersectors::naive(rounded_to<long double>(far));
+    EXPECT_EQ(wide.count, direct.count);
+    EXPECT_EQ(wide.t0, static_cast<double>(direct.t0));
+    EXPECT_FALSE(variants[0].run_float);
+}
+
+TEST(Bench, TimingRowsAreCompleteAndConsumeResults) {
+    std::map<std::string, std::vector<corpus_case>> by_family;
+    for (const corpus_case& c : sample_cases()) by_family[c.family].push_back(c);
+    timing_options options;
+    options.variants = {"naive", "hearn_baker"};
+    options.repetitions = 2;
+    options.min_time_s = 0.001;
+    options.warmup_s = 0;
+    const std::vector<timing_row> rows = time_variants(by_family, options);
+    // 2 variants × 3 precisions × 4 families, then the oracle per family.
+    ASSERT_EQ(rows.size(), 2u * 3u * 4u + 4u);
+    std::set<std::string> labels;
+    for (const timing_row& r : rows) {
+        labels.insert(r.label() + "@" + r.family);
+        EXPECT_EQ(r.ns_per_test.size(), 2u) << r.label();
+        EXPECT_GT(r.median, 0) << r.label();
+        EXPECT_LE(r.min, r.median);
+        EXPECT_GE(r.max, r.median);
+        EXPECT_GT(r.cases, 0u);
+        if (r.variant != "exact_oracle" && r.family == "uniform") {
+            EXPECT_GT(r.checksum, 0) << r.label();
+        }
+    }
+    EXPECT_EQ(labels.size(), rows.size());
+    EXPECT_EQ(rows.back().variant, "exact_oracle");
+    EXPECT_THROW(time_variants(by_family, {.variants = {"no_such_variant"}}), std::exception);
+}
+
+TEST(Bench, MedianAndSweep) {
+    EXPECT_EQ(median_of({3, 1, 2}), 2);
+    EXPECT_EQ(median_of({4, 1, 2, 3}), 2.5);
+    EXPECT_EQ(median_of({}), 0);
+    EXPECT_EQ(distance_decade(4096), "d/r 1e3..1e4");
+    for (const corpus_case& c : far_sphere_sweep(50, 2)) EXPECT_EQ(c.family.rfind("d/r 1e", 0), 0u) << c.id;
+}
+
+}  // namespace
+}  // namespace rayverify::bench

@@ -1,0 +1,102 @@
+// Determinism: the same inputs give the same report, summary, per-case lines
+// and stdout, byte for byte, run after run, through the CLI. (The audit runs
+// on one thread; there is no thread count to vary yet.)
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string read_bytes(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+class Determinism : public testing::Test {
+protected:
+    void SetUp() override {
+        dir_ = fs::temp_directory_path() /
+               fmt::format("rayverify_determinism_{}_{}", getpid(), std::random_device{}());
+        fs::create_directories(dir_);
+    }
+    void TearDown() override { fs::remove_all(dir_); }
+
+    // Runs `rayverify <arguments>` in dir_ (same paths every time, so the
+    // recorded command line is the same); returns the exit code, stdout in `out`.
+    int run(const std::string& arguments, std::string& out) {
+        const std::string command =
+            fmt::format("cd '{}' && '{}' {} >stdout.txt 2>/dev/null", dir_.string(), RAYVERIFY_CLI, arguments);
+        const int status = std::system(command.c_str());
+        out = read_bytes(dir_ / "stdout.txt");
+        fs::remove(dir_ / "stdout.txt");
+        return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    }
+
+    // Every output of one audit run (cases.jsonl and the whole report
+    // directory), moved aside into `name`/.
+    void keep_outputs(const std::string& name) {
+        fs::create_directories(dir_ / name);
+        fs::rename(dir_ / "cases.jsonl", dir_ / name / "cases.jsonl");
+        fs::rename(dir_ / "rep", dir_ / name / "rep");
+    }
+
+    fs::path dir_;
+};
+
+// The whole shipped corpus, every variant: stdout and every per-case line.
+TEST_F(Determinism, AuditOfTheShippedCorpusIsByteIdenticalAcrossRuns) {
+    const std::string arguments = fmt::format("audit --corpus '{}' --per-case cases.jsonl", RAYVERIFY_CORPUS_DIR);
+    std::string first_out, second_out;
+    const int first = run(arguments, first_out);
+    ASSERT_NE(first, 2) << first_out;
+    const std::string first_cases = read_bytes(dir_ / "cases.jsonl");
+    fs::remove(dir_ / "cases.jsonl");
+    const int second = run(arguments, second_out);
+    const std::string second_cases = read_bytes(dir_ / "cases.jsonl");
+
+    EXPECT_EQ(first, second);
+    EXPECT_EQ(first_out, second_out) << "stdout differs between runs";
+    EXPECT_FALSE(first_cases.empty());
+    EXPECT_TRUE(first_cases == second_cases) << "cases.jsonl differs between runs";
+}
+
+// A generated corpus, and the full report of its audit (every file --report writes).
+TEST_F(Determinism, GeneratedCorpusAndItsReportAreByteIdentical) {
+    std::string out;
+    for (const char* name : {"a.txt", "b.txt"})
+        ASSERT_EQ(run(fmt::format("corpus generate --family near_tangent --count 300 --seed 11 -o {}", name), out), 0);
+    EXPECT_EQ(read_bytes(dir_ / "a.txt"), read_bytes(dir_ / "b.txt"));
+
+    std::string first_out, second_out;
+    run("audit --corpus a.txt --report rep --per-case cases.jsonl", first_out);
+    keep_outputs("first");
+    run("audit --corpus a.txt --report rep --per-case cases.jsonl", second_out);
+    keep_outputs("second");
+    EXPECT_EQ(first_out, second_out);
+    std::size_t compared = 0;
+    for (const auto& entry : fs::recursive_directory_iterator(dir_ / "first")) {
+        if (!entry.is_regular_file()) continue;
+        const fs::path file = fs::relative(entry.path(), dir_ / "first");
+        const std::string a = read_bytes(entry.path()), b = read_bytes(dir_ / "second" / file);
+        EXPECT_FALSE(a.empty()) << file;
+        EXPECT_TRUE(a == b) << file << " differs between runs (" << a.size() << " vs " << b.size() << " bytes)";
+        ++compared;
+    }
+    for (const char* file : {"cases.jsonl", "rep/report.json", "rep/summary.txt"})
+        EXPECT_TRUE(fs::exists(dir_ / "first" / file)) << file;
+    EXPECT_GE(compared, 3u);
+}
+
+}  // namespace

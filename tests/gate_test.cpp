@@ -1,0 +1,298 @@
+// The gate: baseline text round trip (comments kept across --update), the
+// comparison under a policy, JUnit and diff, the CLI, our own committed
+// baseline, and the issue's end-to-end story with a user's plugin.
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "compare/gate.h"
+#include "corpus/corpus_io.h"
+#include "report/gate_report.h"
+
+namespace rayverify {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct cli_result {
+    int exit_code = -1;
+    std::string output;
+};
+
+cli_result run_shell(const std::string& command) {
+    cli_result r;
+    FILE* pipe = popen((command + " 2>&1").c_str(), "r");
+    if (!pipe) return r;
+    std::array<char, 4096> buffer{};
+    while (std::size_t n = std::fread(buffer.data(), 1, buffer.size(), pipe)) r.output.append(buffer.data(), n);
+    const int status = pclose(pipe);
+    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return r;
+}
+
+cli_result run_cli(const std::string& arguments) { return run_shell(std::string(RAYVERIFY_CLI) + " " + arguments); }
+
+std::string read_text(const fs::path& p) {
+    std::ifstream in(p);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+std::string parse_error(std::string_view text) {
+    try {
+        parse_baseline("b.txt", text);
+    } catch (const input_error& e) {
+        return e.what();
+    }
+    return "(parsed)";
+}
+
+const char* sample = R"(# header comment
+rayverify-baseline 1
+# loosen ULPs for naive
+policy default ulp_slack 1
+policy naive ulp_slack 2
+policy naive/float count_slack 3
+naive/float all cases 1000
+naive/float far_sphere cases 500
+# 45 known: C loses r² (RTG ch.7)
+naive/float far_sphere false_miss 45
+naive/float far_sphere near_ulp_max 100
+hearn_baker/double far_sphere cases 500
+hearn_baker/double far_sphere false_miss 0
+# trailing
+)";
+
+TEST(Gate, BaselineRoundTripsWithCommentsAndPolicies) {
+    const baseline b = parse_baseline("b.txt", sample);
+    EXPECT_EQ(b.figures.size(), 6u);
+    EXPECT_EQ(b.policy_for("naive/float").ulp_slack, 2);
+    EXPECT_EQ(b.policy_for("naive/float").count_slack, 3);
+    EXPECT_EQ(b.policy_for("naive/double").count_slack, 0);
+    EXPECT_EQ(b.policy_for("hearn_baker/double").ulp_slack, 1);
+    const std::string text = format_baseline(b);
+    EXPECT_EQ(format_baseline(parse_baseline("again.txt", text)), text);
+    for (const char* kept : {"# header comment\nrayverify-baseline 1\n", "# loosen ULPs for naive\npolicy default",
+                             "# 45 known: C loses r² (RTG ch.7)\nnaive/float far_sphere false_miss 45\n",
+                             "# trailing\n"})
+        EXPECT_NE(text.find(kept), std::string::npos) << kept << "\n---\n" << text;
+}
+
+TEST(Gate, UpdateKeepsCommentsAndUnrunTargets) {
+    const baseline old = parse_baseline("b.txt", sample);
+    const figure_table current = {{{"naive/float", "all", "cases"}, 1000},
+                                  {{"naive/float", "far_sphere", "cases"}, 500},
+                                  {{"naive/float", "far_sphere", "false_miss"}, 40}};
+    const std::string text = format_baseline(updated_baseline(old, current));
+    EXPECT_NE(text.find("# 45 known: C loses r² (RTG ch.7)\nnaive/float far_sphere false_miss 40\n"),
+              std::string::npos) << text;
+    EXPECT_EQ(text.find("near_ulp_max"), std::string::npos) << "a figure the run no longer has is dropped";
+    EXPECT_NE(text.find("hearn_baker/double far_sphere false_miss 0"), std::string::npos) << "not run: kept";
+    EXPECT_NE(text.find("policy naive/float count_slack 3"), std::string::npos);
+}
+
+TEST(Gate, MalformedBaselinesNameFileLineAndField) {
+    EXPECT_EQ(parse_error("naive/float all cases 3\n"),
+              "b.txt:1: field 'format': the first entry must be 'rayverify-baseline 1' (is this a rayverify gate "
+              "baseline?)");
+    EXPECT_EQ(parse_error("rayverify-baseline 1\nnaive/float all false_mis 3\n"),
+              "b.txt:2: field 'figure': unknown figure 'false_mis'");
+    EXPECT_EQ(parse_error("rayverify-baseline 1\n\nnaive/float all false_miss x3\n"),
+              "b.txt:3: field 'value': 'x3' is not a number ≥ 0 (decimal or inf)");
+    EXPECT_EQ(parse_error("rayverify-baseline 1\npolicy default ulp_slack 0.5\n"),
+              "b.txt:2: field 'value': ulp_slack is a factor ≥ 1");
+    EXPECT_EQ(parse_error("rayverify-baseline 1\npolicy default slack 2\n"),
+              "b.txt:2: field 'policy': unknown policy key 'slack' (ulp_slack or count_slack)");
+    EXPECT_EQ(parse_error("rayverify-baseline 1\nnaive all cases 3\n"),
+              "b.txt:2: field 'target': 'naive' is not a target like naive/float");
+    EXPECT_EQ(parse_error("rayverify-baseline 1\nnaive/float all cases 3\nnaive/float all cases 3\n"),
+              "b.txt:3: field 'entry': duplicate entry for naive/float all cases");
+    EXPECT_EQ(parse_error("# only a comment\n"), "b.txt: field 'format': empty baseline: no 'rayverify-baseline 1' line");
+}
+
+figure_change find_change(const gate_result& r, const std::string& text) {
+    for (const figure_change& c : r.changes)
+        if (c.key.text() == text) return c;
+    ADD_FAILURE() << "no change for " << text;
+    return {};
+}
+
+TEST(Gate, WorseFailsBetterPassesWithinSlackPasses) {
+    const baseline b = parse_baseline("b.txt", sample);
+    figure_table current = b.figures;
+    EXPECT_TRUE(compare_to_baseline(b, current).passed());
+    EXPECT_TRUE(compare_to_baseline(b, current).changes.empty());
+
+    current[{"naive/float", "far_sphere", "false_miss"}] = 48;  // within count_slack 3
+    current[{"naive/float", "far_sphere", "near_ulp_max"}] = 150;  // within ulp_slack 2
+    gate_result r = compare_to_baseline(b, current);
+    EXPECT_TRUE(r.passed());
+    EXPECT_EQ(find_change(r, "naive/float far_sphere false_miss").kind, change_kind::within_slack);
+
+    current[{"naive/float", "far_sphere", "false_miss"}] = 49;
+    current[{"hearn_baker/double", "far_sphere", "false_miss"}] = 1;
+    r = compare_to_baseline(b, current);
+    EXPECT_FALSE(r.passed());
+    EXPECT_EQ(find_change(r, "naive/float far_sphere false_miss").kind, change_kind::worse);
+    EXPECT_EQ(find_change(r, "naive/float far_sphere false_miss").limit, 48);
+    EXPECT_EQ(find_change(r, "hearn_baker/double far_sphere false_miss").kind, change_kind::worse);
+
+    figure_table better = b.figures;
+    better[{"naive/float", "far_sphere", "false_miss"}] = 12;
+    r = compare_to_baseline(b, better);
+    EXPECT_TRUE(r.passed());
+    EXPECT_EQ(find_change(r, "naive/float far_sphere false_miss").kind, change_kind::better);
+}
+
+TEST(Gate, NewFamiliesAndTargetsAreNotesAChangedFamilyIsStale) {
+    const baseline b = parse_baseline("b.txt", sample);
+    figure_table current = b.figures;
+    // Another family joined the corpus: the whole-corpus figures are not comparable, the families are.
+    current[{"naive/float", "all", "cases"}] = 1500;
+    current[{"naive/float", "all", "false_miss"}] = 500;
+    current[{"naive/float", "grazing", "cases"}] = 500;
+    current[{"naive/float", "grazing", "false_miss"}] = 7;
+    current[{"mine/double", "all", "cases"}] = 1500;
+    gate_result r = compare_to_baseline(b, current);
+    EXPECT_TRUE(r.passed());
+    std::string notes;
+    for (const std::string& n : r.notes) notes += n + "\n";
+    EXPECT_NE(notes.find("naive/float grazing: new family, no baseline"), std::string::npos) << notes;
+    EXPECT_NE(notes.find("mine/double: new, no baseline"), std::string::npos) << notes;
+    EXPECT_NE(notes.find("naive/float all: corpus has 1500 cases, baseline 1000"), std::string::npos) << notes;
+
+    current[{"naive/float", "far_sphere", "cases"}] = 501;
+    r = compare_to_baseline(b, current);
+    EXPECT_FALSE(r.passed());
+    EXPECT_EQ(find_change(r, "naive/float far_sphere cases").kind, change_kind::stale);
+
+    EXPECT_FALSE(compare_to_baseline(b, {{{"other/double", "all", "cases"}, 3}}).passed()) << "nothing compared";
+}
+
+TEST(Gate, CliUpdateThenGateThenRegressionWithJunitAndDiff) {
+    const fs::path dir = fs::temp_directory_path() / "rayverify_gate_cli";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    const std::string corpus = std::string(" --corpus ") + RAYVERIFY_CORPUS_DIR + "/far_sphere.txt --corpus " +
+                               RAYVERIFY_CORPUS_DIR + "/uniform.txt";
+    const std::string baseline = (dir / "baseline.txt").string();
+
+    cli_result r = run_cli("gate --baseline " + baseline + corpus + " --variant naive");
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find("no such baseline; create it with"), std::string::npos) << r.output;
+
+    r = run_cli("gate --baseline " + baseline + corpus + " --variant naive --update");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const std::string written = read_text(baseline);
+    EXPECT_NE(written.find("\nnaive/float far_sphere false_miss 45\n"), std::string::npos) << written;
+
+    r = run_cli("gate --baseline " + baseline + corpus + " --variant naive --junit " + (dir / "ok.xml").string());
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find("gate: passed: "), std::string::npos) << r.output;
+
+    // A baseline tighter than the truth: the gate fails with a readable diff and pasteable cases.
+    std::string tighter = written;
+    const std::string line = "naive/float far_sphere false_miss 45\n";
+    tighter.replace(tighter.find(line), line.size(), "# a reviewer's note\nnaive/float far_sphere false_miss 42\n");
+    std::ofstream(baseline) << tighter;
+    r = run_cli("gate --baseline " + baseline + corpus + " --variant naive --junit " + (dir / "fail.xml").string());
+    EXPECT_EQ(r.exit_code, 1) << r.output;
+    EXPECT_NE(r.output.find("WORSE  naive/float far_sphere: false_miss 42 → 45 (allowed ≤ 42)\n"
+                            "    # first cases, as corpus lines:\n    far_sphere-1-"),
+              std::string::npos)
+        << r.output;
+    const std::string junit = read_text(dir / "fail.xml");
+    EXPECT_NE(junit.find("<testcase classname=\"naive/float\" name=\"far_sphere\">\n      <failure"),
+              std::string::npos) << junit;
+    EXPECT_NE(junit.find("failures=\"1\""), std::string::npos) << junit;
+
+    // A looser baseline passes and says it can be tightened; --update keeps the reviewer's note.
+    std::ofstream(baseline) << tighter.replace(tighter.find("false_miss 42"), 13, "false_miss 50");
+    r = run_cli("gate --baseline " + baseline + corpus + " --variant naive");
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find("better naive/float far_sphere: false_miss 50 → 45"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("the baseline can be tightened"), std::string::npos) << r.output;
+    r = run_cli("gate --baseline " + baseline + corpus + " --variant naive --update");
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(read_text(baseline).find("# a reviewer's note\nnaive/float far_sphere false_miss 45\n"),
+              std::string::npos);
+
+    // diff of two audit reports, figure by figure: B is A with three more false misses on far_sphere.
+    r = run_cli("audit --variant naive --precision float --corpus " + std::string(RAYVERIFY_CORPUS_DIR) +
+                "/far_sphere.txt --report " + (dir / "a").string());
+    ASSERT_EQ(r.exit_code, 1) << r.output;
+    const fs::path a_json = dir / "a" / "report.json", b_json = dir / "b.json";
+    nlohmann::json report = nlohmann::json::parse(read_text(a_json));
+    auto& misses = report["results"][0]["by_family"]["far_sphere"]["verdicts"]["false_miss"];
+    ASSERT_EQ(misses, 45);
+    misses = 48;
+    std::ofstream(b_json) << report.dump(2);
+    r = run_cli("diff " + a_json.string() + " " + b_json.string());
+    EXPECT_EQ(r.exit_code, 1) << r.output;
+    EXPECT_NE(r.output.find("worse  naive/float far_sphere: false_miss 45 → 48\n"), std::string::npos) << r.output;
+    r = run_cli("diff " + b_json.string() + " " + a_json.string());
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find("better naive/float far_sphere: false_miss 48 → 45\n"), std::string::npos) << r.output;
+    r = run_cli("diff " + a_json.string() + " " + baseline);
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find(baseline + ": field 'report': not JSON"), std::string::npos) << r.output;
+    fs::remove_all(dir);
+}
+
+// What .ci/run does: our own variants on the shipped corpus against the committed baseline.
+TEST(Gate, OwnVariantsPassTheCommittedBaseline) {
+    const cli_result r = run_cli(std::string("gate --baseline ") + RAYVERIFY_BASELINE + " --corpus " +
+                                 RAYVERIFY_CORPUS_DIR);
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+}
+
+// The issue's "done when": a user's intersector in its own directory, built
+// as a plugin with the README's command, audited, baselined; then the naive
+// discriminant goes in and the gate fails.
+TEST(Gate, EndToEndUserPluginBaselineThenNaiveDiscriminantFails) {
+    const fs::path user = fs::temp_directory_path() / "rayverify_gate_user";
+    fs::remove_all(user);
+    fs::create_directories(user);
+    const fs::path source = user / "mine.c";
+    const std::string original = read_text(std::string(RAYVERIFY_SOURCE_DIR) + "/examples/plugin_rtg/rtg_sphere.c");
+    std::ofstream(source) << original;
+    const std::string build = "cd " + user.string() + " && " + RAYVERIFY_C_COMPILER + " -O2 -shared -fPIC -I " +
+                              RAYVERIFY_SOURCE_DIR + "/src/plugin mine.c -o libmine.so -lm";
+    const std::string gate = "cd " + user.string() + " && " + RAYVERIFY_CLI + " gate --plugin ./libmine.so --corpus " +
+                             RAYVERIFY_CORPUS_DIR + " --baseline baseline.txt";
+    cli_result r = run_shell(build);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    r = run_shell("cd " + user.string() + " && " + RAYVERIFY_CLI + " audit --plugin ./libmine.so --corpus " +
+                  RAYVERIFY_CORPUS_DIR);
+    EXPECT_EQ(r.exit_code, 1) << r.output;  // the RTG form's known 0/0 at exact tangents
+    EXPECT_NE(r.output.find("rtg_sphere"), std::string::npos) << r.output;
+    r = run_shell(gate + " --update");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    r = run_shell(gate);
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+
+    // The "simplification": the textbook discriminant instead of Hearn–Baker's.
+    const std::string hearn_baker = "const double disc = r * r - dot3(l, l);";
+    std::string naive = original;
+    ASSERT_NE(naive.find(hearn_baker), std::string::npos);
+    naive.replace(naive.find(hearn_baker), hearn_baker.size(), "const double disc = (b * b - a * C) / a;");
+    std::ofstream(source) << naive;
+    r = run_shell(build);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    r = run_shell(gate + " --junit junit.xml");
+    EXPECT_EQ(r.exit_code, 1) << r.output;
+    EXPECT_NE(r.output.find("WORSE  rtg_sphere/double far_sphere: false_miss 0 → "), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("gate: FAILED"), std::string::npos) << r.output;
+    EXPECT_NE(read_text(user / "junit.xml").find("<failure"), std::string::npos);
+    fs::remove_all(user);
+}
+
+}  // namespace
+}  // namespace rayverify

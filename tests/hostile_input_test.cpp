@@ -1,0 +1,398 @@
+// Hostile and broken input, end to end through the rayverify executable:
+// every class of bad input we know of gets an answer that names file, line and
+// field, exit code 2, and no output file left behind. The README table "Bad
+// input and what rayverify answers" is generated from these very runs, and a
+// test fails when the README differs from what the tool answers today.
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <random>
+#include <set>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "corpus/corpus_io.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string read_text(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+// A fresh directory under the system temporary directory, removed on destruction.
+struct scratch_dir {
+    fs::path path;
+    explicit scratch_dir(const std::string& tag) {
+        path = fs::temp_directory_path() /
+               fmt::format("rayverify_hostile_{}_{}_{}", tag, getpid(), std::random_device{}());
+        fs::create_directories(path);
+    }
+    ~scratch_dir() {
+        std::error_code ignored;
+        fs::permissions(path, fs::perms::owner_all, fs::perm_options::add, ignored);
+        for (const auto& entry : fs::recursive_directory_iterator(path, ignored))
+            fs::permissions(entry.path(), fs::perms::owner_all, fs::perm_options::add, ignored);
+        fs::remove_all(path, ignored);
+    }
+};
+
+struct run_result {
+    int exit_code = -1;
+    std::string out, err;
+    // What the tool answered: the first line of stderr, or else the stdout
+    // line starting with `prefix` (for bad input that is accepted and listed).
+    std::string answer(const std::string& prefix) const {
+        std::istringstream lines(err.empty() ? out : err);
+        for (std::string line; std::getline(lines, line);)
+            if (!err.empty() || line.starts_with(prefix)) return line;
+        return "";
+    }
+};
+
+// Runs `rayverify <arguments>` in `cwd`, so that messages name files as the
+// command does (relative), with stdout and stderr captured apart.
+run_result run_in(const fs::path& cwd, const std::string& arguments, bool unprivileged = false) {
+    scratch_dir logs("logs");
+    // Root reads a mode-000 file anyway; run as nobody to see what a user sees.
+    const std::string prefix =
+        unprivileged && geteuid() == 0 ? "setpriv --reuid=65534 --regid=65534 --clear-groups " : "";
+    const std::string command =
+        fmt::format("cd '{}' && {}'{}' {} >'{}' 2>'{}'", cwd.string(), prefix, RAYVERIFY_CLI, arguments,
+                    (logs.path / "out").string(), (logs.path / "err").string());
+    const int status = std::system(command.c_str());
+    run_result r;
+    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    r.out = read_text(logs.path / "out");
+    r.err = read_text(logs.path / "err");
+    return r;
+}
+
+std::set<std::string> listing(const fs::path& dir) {
+    std::set<std::string> names;
+    for (const auto& entry : fs::recursive_directory_iterator(dir))
+        names.insert(fs::relative(entry.path(), dir).string());
+    return names;
+}
+
+const std::string good = "good - 0 0 -5 0 0 1 0 0 0 1\n";  // a unit sphere hit at t = 4 and 6
+const std::string csv_header = "id,ox,oy,oz,dx,dy,dz,cx,cy,cz,r\n";
+
+// One row of the README table: a bad input, the command given it, and what
+// the answer must say. The answer itself is whatever the tool prints.
+struct bad_input {
+    std::string what;     // first column of the README table (markdown)
+    std::string command;  // as shown in the README; "rayverify" is the binary
+    std::vector<std::pair<std::string, std::string>> files;  // created in the row's directory
+    int exit_code = 2;
+    std::string expect;   // the answer contains this: file:line: field 'name' where there is one
+    std::function<void(const fs::path&)> prepare = {};  // for what a file's contents cannot make
+    bool unprivileged = false;
+};
+
+std::string bytes(const char* data, std::size_t size) { return std::string(data, size); }
+
+std::vector<bad_input> bad_inputs() {
+    const auto one = [](std::string name, std::string contents) {
+        return std::vector<std::pair<std::string, std::string>>{{std::move(name), std::move(contents)}};
+    };
+    return {
+        // Lines and fields of a text corpus.
+        {"truncated line (11 of 12 fields)", "rayverify audit --corpus cut.txt",
+         one("cut.txt", good + "cut - 0 0 -5 0 0 1 0 0 0\n"), 2, "cut.txt:2: found 11 fields"},
+        {"13 fields (tmin without tmax)", "rayverify audit --corpus half.txt",
+         one("half.txt", good + "half - 0 0 -5 0 0 1 0 0 0 1 0\n"), 2, "field 'tmax' is missing"},
+        {"15 fields", "rayverify audit --corpus long.txt",
+         one("long.txt", good + "long - 0 0 -5 0 0 1 0 0 0 1 0 9 7\n"), 2, "long.txt:2: found 15 fields"},
+        {"text in a number field (`one`)", "rayverify audit --corpus word.txt",
+         one("word.txt", good + "word - 0 0 -5 0 0 one 0 0 0 1\n"), 2, "word.txt:2: field 'dz'"},
+        {"number with trailing junk (`1.5x`)", "rayverify audit --corpus junk.txt",
+         one("junk.txt", good + "junk - 0 0 -5 0 0 1 0 0 0 1.5x\n"), 2, "junk.txt:2: field 'r'"},
+        {"decimal comma (`0,5`)", "rayverify audit --corpus comma.txt",
+         one("comma.txt", good + "comma - 0,5 0 -5 0 0 1 0 0 0 1\n"), 2, "comma.txt:2: field 'ox'"},
+        {"decimal overflow (`1e999`)", "rayverify audit --corpus over.txt",
+         one("over.txt", good + "over - 0 0 -5 0 0 1 0 0 0 1e999\n"), 2, "over.txt:2: field 'r'"},
+        {"decimal underflow (`1e-400`)", "rayverify audit --corpus under.txt",
+         one("under.txt", good + "under - 0 0 -5 0 0 1 1e-400 0 0 1\n"), 2, "under.txt:2: field 'cx'"},
+        {"30-digit exponent", "rayverify audit --corpus exp.txt",
+         one("exp.txt", good + "exp - 0 0 -5 0 0 1 0 0 0 1e999999999999999999999999999999\n"), 2,
+         "exp.txt:2: field 'r'"},
+        {"hex float with 54 significant bits", "rayverify audit --corpus bits.txt",
+         one("bits.txt", good + "bits - 0 0 -5 0 0 1 0 0 0 0x1.00000000000008p0\n"), 2, "bits.txt:2: field 'r'"},
+        {"hex float below the least subnormal (`0x1p-1075`)", "rayverify audit --corpus sub.txt",
+         one("sub.txt", good + "sub - 0x1p-1075 0 -5 0 0 1 0 0 0 1\n"), 2, "sub.txt:2: field 'ox'"},
+        {"hex float above the double range (`0x1p+1024`)", "rayverify audit --corpus big.txt",
+         one("big.txt", good + "big - 0 0 -5 0 0 1 0 0 0x1p+1024 1\n"), 2, "big.txt:2: field 'cz'"},
+        {"hex float without digits (`0x`, `0x1p`)", "rayverify audit --corpus hex.txt",
+         one("hex.txt", good + "hex - 0 0 -5 0 0 1 0 0 0x 0x1p\n"), 2, "hex.txt:2: field 'cz'"},
+        {"NaN with a payload (`nan(7)`)", "rayverify audit --corpus payload.txt",
+         one("payload.txt", good + "payload - nan(7) 0 -5 0 0 1 0 0 0 1\n"), 2, "payload.txt:2: field 'ox'"},
+        {"`nan`, `inf`, zero direction, negative radius in a good corpus: accepted, listed as invalid, "
+         "never scored",
+         "rayverify audit --corpus invalid.txt --variant hearn_baker --precision double",
+         one("invalid.txt", good + "nan-origin - nan 0 -5 0 0 1 0 0 0 1\n"
+                                   "inf-radius - 0 0 -5 0 0 1 0 0 0 inf\n"
+                                   "zero-dir - 0 0 -5 0 0 0 0 0 0 1\n"
+                                   "neg-radius - 0 0 -5 0 0 1 0 0 0 -1\n"),
+         0, "invalid cases (4, not scored): nan-origin"},
+        {"a value that overflows float (`1e300`): invalid in float only",
+         "rayverify audit --corpus huge.txt --variant hearn_baker --precision float",
+         one("huge.txt", good + "huge - 0 0 -5 0 0 1 0 0 1e300 1\n"), 0, "huge (float: not_representable"},
+        {"an invalid case among many: the first five are named", "rayverify audit --corpus many.txt --variant naive",
+         one("many.txt", [] {
+             std::string s = good;
+             for (int i = 0; i < 7; ++i) s += fmt::format("zero-{} - 0 0 -5 0 0 0 0 0 0 1\n", i);
+             return s;
+         }()),
+         0, "and 2 more (all listed in report.json)"},
+        // Ids.
+        {"duplicate id in one file", "rayverify audit --corpus dup.txt", one("dup.txt", good + good), 2,
+         "dup.txt:2: field 'id': duplicate id 'good', first defined at dup.txt:1"},
+        {"duplicate id across files", "rayverify audit --corpus a.txt --corpus b.txt",
+         {{"a.txt", good}, {"b.txt", good}}, 2, "b.txt:1: field 'id'"},
+        // Whole files.
+        {"empty file", "rayverify audit --corpus empty.txt", one("empty.txt", ""), 2, "empty.txt: empty corpus"},
+        {"comments and blank lines only", "rayverify audit --corpus notes.txt",
+         one("notes.txt", "# nothing here\n\n   \n"), 2, "notes.txt: empty corpus"},
+        {"binary garbage (an ELF header)", "rayverify audit --corpus elf.txt",
+         one("elf.txt", bytes("\x7f" "ELF\x02\x01\x01\0\0\0\n", 11)), 2, "elf.txt:1: line contains a NUL byte"},
+        {"UTF-16 text", "rayverify audit --corpus wide.txt",
+         one("wide.txt", bytes("\xff\xfeg\0o\0o\0d\0", 10)), 2, "wide.txt:1: line"},
+        {"a byte order mark inside the file (two files concatenated; found by fuzzing)",
+         "rayverify audit --corpus joined.txt", one("joined.txt", "\xEF\xBB\xBF" + good + "\xEF\xBB\xBF" + good), 2,
+         "joined.txt:2: line contains a byte order mark"},
+        {"Latin-1 bytes (not UTF-8)", "rayverify audit --corpus latin.txt",
+         one("latin.txt", good + "caf\xe9 - 0 0 -5 0 0 1 0 0 0 1\n"), 2, "latin.txt:2: line is not valid UTF-8"},
+        {"a 2 MB line without newline", "rayverify audit --corpus line.txt",
+         one("line.txt", good + std::string(2 << 20, '7')), 2, "line.txt:2: line is longer than 1 MB"},
+        {"a file over the 64 MiB limit (sparse, 64 MiB + 1 byte; 2 GB in the long test)",
+         "rayverify audit --corpus large.txt", {}, 2, "large.txt: is 67108865 bytes, over the 64 MiB limit",
+         [](const fs::path& dir) {
+             std::ofstream(dir / "large.txt") << good;
+             fs::resize_file(dir / "large.txt", rayverify::max_corpus_file_bytes + 1);
+         }},
+        // Paths.
+        {"missing file", "rayverify audit --corpus nowhere.txt", {}, 2, "nowhere.txt: no such file"},
+        {"a path through a file", "rayverify audit --corpus good.txt/x.txt", one("good.txt", good), 2,
+         "good.txt/x.txt: no such file"},
+        {"unreadable file (mode 000, as a user)", "rayverify audit --corpus locked.txt", one("locked.txt", good), 2,
+         "locked.txt: cannot open: Permission denied",
+         [](const fs::path& dir) { fs::permissions(dir / "locked.txt", fs::perms::none); }, true},
+        {"a directory without .txt or .csv files", "rayverify audit --corpus dir", {}, 2, "dir: empty corpus",
+         [](const fs::path& dir) { fs::create_directory(dir / "dir"); }},
+        {"a named pipe", "rayverify audit --corpus pipe.txt", {}, 2, "pipe.txt: is not a regular file",
+         [](const fs::path& dir) { ASSERT_EQ(mkfifo((dir / "pipe.txt").c_str(), 0600), 0); }},
+        {"a device", "rayverify audit --corpus /dev/zero", {}, 2, "/dev/zero: is not a regular file"},
+        // CSV.
+        {"CSV header without a required column", "rayverify audit --corpus norad.csv",
+         one("norad.csv", "id,ox,oy,oz,dx,dy,dz,cx,cy,cz\ngood,0,0,-5,0,0,1,0,0,0\n"), 2,
+         "norad.csv:1: field 'r': required column is missing"},
+        {"CSV column named twice", "rayverify audit --corpus twice.csv",
+         one("twice.csv", "id,ox,oy,oz,dx,dy,dz,cx,cy,cz,r,OX\n"), 2, "twice.csv:1: field 'ox'"},
+        {"CSV row with a cell missing", "rayverify audit --corpus short.csv",
+         one("short.csv", csv_header + "good,0,0,-5,0,0,1,0,0,0,1\ncut,0,0,-5,0,0,1,0,0,0\n"), 2,
+         "short.csv:3: found 10 fields"},
+        {"CSV row with text in a cell", "rayverify audit --corpus text.csv",
+         one("text.csv", csv_header + "good,0,0,-5,0,0,1,0,0,0,1\nword,0,0,-5,0,0,1,zero,0,0,1\n"), 2,
+         "text.csv:3: field 'cx'"},
+        {"CSV with a header and no rows", "rayverify audit --corpus header.csv", one("header.csv", csv_header), 2,
+         "header.csv: empty corpus"},
+        // Command line.
+        {"unknown variant", "rayverify audit --corpus good.txt --variant nosuch", one("good.txt", good), 2,
+         "field '--variant': unknown variant 'nosuch'"},
+        {"unknown precision", "rayverify audit --precision quad", {}, 2, "--precision"},
+        {"unknown option", "rayverify audit --bogus", {}, 2, "--bogus"},
+        {"negative count", "rayverify corpus generate --family uniform --count -1", {}, 2, "--count"},
+        {"count beyond the bound", "rayverify corpus generate --family uniform --count 99999999999999999999", {},
+         2, "--count"},
+        {"unknown family", "rayverify corpus generate --family nosuch", {}, 2, "unknown generator family"},
+        {"explain with 3 numbers", "rayverify explain 1 2 3", {}, 2, "field 'case'"},
+        {"explain with text for a number", "rayverify explain 0 0 -5 0 0 1 0 0 0 one", {}, 2, "field 'r'"},
+        {"explain an id not in the corpus", "rayverify explain --case nosuch --corpus good.txt",
+         one("good.txt", good), 2, "field '--case'"},
+        // Outputs.
+        {"`--per-case` names a directory", "rayverify audit --corpus good.txt --per-case out",
+         one("good.txt", good), 2, "out: field '--per-case': is a directory",
+         [](const fs::path& dir) { fs::create_directory(dir / "out"); }},
+        {"`--per-case` in a missing directory", "rayverify audit --corpus good.txt --per-case no/cases.jsonl",
+         one("good.txt", good), 2, "no/cases.jsonl: cannot write"},
+        {"`--report` names a file", "rayverify audit --corpus good.txt --report good.txt", one("good.txt", good), 2,
+         "good.txt: field '--report': cannot create directory"},
+        {"`--report` holds a directory named report.json", "rayverify audit --corpus good.txt --report rep",
+         one("good.txt", good), 2, "rep/report.json: field '--report': is a directory",
+         [](const fs::path& dir) { fs::create_directories(dir / "rep" / "report.json"); }},
+        {"`corpus generate -o` names a directory", "rayverify corpus generate --family uniform -o out", {}, 2,
+         "out: cannot rename 'out.tmp' into place", [](const fs::path& dir) { fs::create_directory(dir / "out"); }},
+        {"`corpus generate -o` in a missing directory", "rayverify corpus generate --family uniform -o no/c.txt",
+         {}, 2, "no/c.txt: cannot create"},
+    };
+}
+
+struct row_outcome {
+    run_result result;
+    std::set<std::string> before, after;  // the row's directory around the run
+};
+
+row_outcome run_row(const bad_input& row, const std::string& extra_arguments = "") {
+    scratch_dir dir("row");
+    for (const auto& [name, contents] : row.files) std::ofstream(dir.path / name, std::ios::binary) << contents;
+    if (row.prepare) row.prepare(dir.path);
+    row_outcome o;
+    o.before = listing(dir.path);
+    const std::string arguments = row.command.substr(std::string("rayverify ").size()) + extra_arguments;
+    o.result = run_in(dir.path, arguments, row.unprivileged);
+    o.after = listing(dir.path);
+    return o;
+}
+
+std::string escape_cell(std::string s) {
+    for (std::size_t i = 0; (i = s.find('|', i)) != std::string::npos; i += 2) s.replace(i, 1, "\\|");
+    return s;
+}
+
+// Long answers (lists of every family) are cut, so the README stays readable and stable.
+std::string shortened(std::string s) {
+    constexpr std::size_t width = 200;
+    return s.size() <= width ? s : s.substr(0, width) + " …";
+}
+
+// The README table, rendered from the outcomes.
+std::string render_table(const std::vector<bad_input>& rows, const std::vector<row_outcome>& outcomes) {
+    std::string table = "| bad input | command | exit | what rayverify answers |\n|---|---|---|---|\n";
+    for (std::size_t i = 0; i < rows.size(); ++i)
+        table += fmt::format("| {} | `{}` | {} | `{}` |\n", escape_cell(rows[i].what), escape_cell(rows[i].command),
+                             outcomes[i].result.exit_code,
+                             escape_cell(shortened(outcomes[i].result.answer("invalid cases"))));
+    return table;
+}
+
+const char* table_begin = "<!-- bad-input-table:begin (generated by tests/hostile_input_test.cpp) -->\n";
+const char* table_end = "<!-- bad-input-table:end -->";
+
+TEST(BadInput, EveryRowAnswersAsExpectedAndLeavesNothingBehind) {
+    for (const bad_input& row : bad_inputs()) {
+        SCOPED_TRACE(row.command);
+        const row_outcome o = run_row(row);
+        EXPECT_EQ(o.result.exit_code, row.exit_code) << o.result.err;
+        const std::string answer = o.result.answer("invalid cases");
+        EXPECT_NE(answer.find(row.expect), std::string::npos) << "answer: " << answer;
+        EXPECT_EQ(o.after, o.before) << "a file appeared or vanished";
+        if (row.exit_code == 2) {
+            EXPECT_EQ(o.result.out, "") << "nothing on stdout after an input error";
+            EXPECT_EQ(answer.find("internal error"), std::string::npos);
+        }
+    }
+}
+
+TEST(BadInput, AuditWithOutputsWritesNothingOnAnyBadCorpus) {
+    for (const bad_input& row : bad_inputs()) {
+        if (row.exit_code != 2 || !row.command.starts_with("rayverify audit --corpus") ||
+            row.command.find("--per-case") != std::string::npos || row.command.find("--report") != std::string::npos)
+            continue;
+        SCOPED_TRACE(row.command);
+        const row_outcome o = run_row(row, " --report rep --per-case cases.jsonl");
+        EXPECT_EQ(o.result.exit_code, 2) << o.result.err;
+        EXPECT_EQ(o.after, o.before) << "partial output left behind";
+    }
+}
+
+TEST(BadInput, ReadmeTableIsWhatTheToolAnswers) {
+    const std::vector<bad_input> rows = bad_inputs();
+    std::vector<row_outcome> outcomes;
+    for (const bad_input& row : rows) outcomes.push_back(run_row(row));
+    const std::string generated = render_table(rows, outcomes);
+
+    const std::string readme = read_text(fs::path(RAYVERIFY_SOURCE_DIR) / "README.md");
+    const std::size_t begin = readme.find(table_begin), end = readme.find(table_end);
+    ASSERT_NE(begin, std::string::npos) << "README.md lacks the marker " << table_begin;
+    ASSERT_NE(end, std::string::npos) << "README.md lacks the marker " << table_end;
+    const std::string in_readme =
+        readme.substr(begin + std::string(table_begin).size(), end - begin - std::string(table_begin).size());
+    if (in_readme != generated) {
+        ADD_FAILURE() << "README.md's bad-input table differs from what rayverify answers; replace what is "
+                         "between its markers with the table printed below";
+        std::printf("%s", generated.c_str());
+    }
+}
+
+// A larger corpus of ordinary lines is read whole and quickly; the limit is
+// far above what the shipped families produce.
+TEST(LargeInput, ManyThousandLinesReadInBoundedTime) {
+    scratch_dir dir("large");
+    std::string text;
+    for (int i = 0; i < 40000; ++i)
+        text += fmt::format("c{} far 0x1.9caf561af412ep+28 -0x1.e44e4bde22242p+27 -0x1.eb3bc9645ddcep+28 "
+                            "-0x1.341ee24486583p-1 0x1.69983663db4bep-2 0x1.6ec458382440fp-1 0x1.2841e1100c488p-1 "
+                            "-0x1.789da90131056p-1 -0x1.a8782c9b166fp-3 0x1.aee8db0b40b16p+0\n",
+                            i);
+    std::ofstream(dir.path / "large.txt") << text;
+    const auto start = std::chrono::steady_clock::now();
+    const auto cases = rayverify::read_corpus_file(dir.path / "large.txt");
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    EXPECT_EQ(cases.size(), 40000u);
+    EXPECT_LT(seconds, 10.0) << text.size() << " bytes";
+}
+
+// Peak resident memory of this process, in bytes.
+std::size_t peak_rss() {
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    return static_cast<std::size_t>(usage.ru_maxrss) * 1024;
+}
+
+// The 2 GB file of issue 8: refused by its size before a byte is read.
+TEST(LongSweepLargeInput, TwoGigabyteFileIsRefusedAtOnce) {
+    scratch_dir dir("2g");
+    std::ofstream(dir.path / "2g.txt") << good;
+    fs::resize_file(dir.path / "2g.txt", std::uintmax_t{2} << 30);  // sparse: no disk used
+    const auto start = std::chrono::steady_clock::now();
+    const run_result r = run_in(dir.path, "audit --corpus 2g.txt --report rep --per-case cases.jsonl");
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_EQ(r.answer(""), "rayverify: error: 2g.txt: is 2147483648 bytes, over the 64 MiB limit for one "
+                            "corpus file; split it into several files");
+    EXPECT_LT(seconds, 5.0);
+    EXPECT_EQ(listing(dir.path), std::set<std::string>{"2g.txt"});
+}
+
+// The worst case the limit lets through: a file just under 64 MiB of the
+// shortest possible lines (~2.4 million cases). Bounded time and memory.
+TEST(LongSweepLargeInput, LargestAcceptedFileOfShortLines) {
+    scratch_dir dir("64m");
+    std::string text;
+    text.reserve(rayverify::max_corpus_file_bytes);
+    for (std::size_t i = 0;; ++i) {
+        const std::string line = fmt::format("{:x} - 0 0 0 1 0 0 0 0 0 1\n", i);
+        if (text.size() + line.size() > rayverify::max_corpus_file_bytes) break;
+        text += line;
+    }
+    std::ofstream(dir.path / "short.txt") << text;
+    const std::size_t text_bytes = text.size();
+    std::string().swap(text);
+    const auto start = std::chrono::steady_clock::now();
+    const auto cases = rayverify::read_corpus_file(dir.path / "short.txt");
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::printf("read %zu bytes, %zu cases in %.1f s, peak RSS %.0f MB\n", text_bytes, cases.size(), seconds,
+                static_cast<double>(peak_rss()) / 1e6);
+    EXPECT_GT(cases.size(), 2'000'000u);
+    EXPECT_LT(seconds, 120.0);
+    EXPECT_LT(peak_rss(), std::size_t{3} << 30);
+}
+
+}  // namespace

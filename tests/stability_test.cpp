@@ -1,0 +1,174 @@
+// Condition numbers and the conditioning-limited criterion, against
+// hand-worked cases and against finite differences of the closed-form root.
+#include "compare/stability.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include "corpus/generators.h"
+
+namespace rayverify {
+namespace {
+
+constexpr double inf = std::numeric_limits<double>::infinity();
+
+ray_sphere<double> make(vec3<double> o, vec3<double> d, vec3<double> c, double r) { return {o, d, c, r}; }
+
+stability_measures measure(const ray_sphere<double>& g, precision p = precision::binary64) {
+    return measure_stability(g, p, solve_exact(g, p));
+}
+
+// o = 0, d = x̂, c = (5, 0, 0), r = 3: roots 2 and 8, Δ′ = 9. Along the axis
+// t = (c_x − o_x ∓ r)/d_x, so for t = 2: |∂t/∂c_x|·5 + |∂t/∂r|·3 + |∂t/∂d_x|·1
+// = 5 + 3 + 2 = 10 and κ = 10/2 = 5; for t = 8: (5 + 3 + 8)/8 = 2.
+// M: Δ′ = d_x²·r², so M = |2d_x r²|·1 + |2d_x² r|·3 = 18 + 18 = 36.
+TEST(Stability, HandWorkedAxisCase) {
+    const stability_measures m = measure(make({0, 0, 0}, {1, 0, 0}, {5, 0, 0}, 3));
+    ASSERT_TRUE(m.valid);
+    EXPECT_EQ(m.cls, line_class::two_hit);
+    ASSERT_TRUE(m.near_condition && m.far_condition);
+    EXPECT_NEAR(*m.near_condition, 5.0, 1e-14);
+    EXPECT_NEAR(*m.far_condition, 2.0, 1e-14);
+    EXPECT_DOUBLE_EQ(m.near_root, 2.0);
+    EXPECT_NEAR(m.tangency_distance, 9.0 / 41.0, 1e-15);  // 9 / (25 + 16)
+    EXPECT_NEAR(m.tangency_margin, 9.0 / (std::ldexp(1.0, -53) * 36.0), 1.0);
+    EXPECT_NEAR(m.distance_ratio, 5.0 / 3.0, 1e-15);
+    // Scaling every position by 2^40 and the direction by 2^-7 changes nothing.
+    const stability_measures scaled =
+        measure(make({0, 0, 0}, {0x1p-7, 0, 0}, {0x1p40 * 5, 0, 0}, 0x1p40 * 3));
+    EXPECT_NEAR(*scaled.near_condition, 5.0, 1e-14);
+    EXPECT_DOUBLE_EQ(scaled.near_root, 0x1p47 * 2);
+}
+
+// The origin on the sphere: the near root is exactly 0 (κ = ∞); the far root
+// t = c_x − o_x + r = 6 has κ = (5 + 2 + 3 + 6)/6 = 8/3.
+TEST(Stability, ZeroRootHasInfiniteCondition) {
+    const stability_measures m = measure(make({2, 0, 0}, {1, 0, 0}, {5, 0, 0}, 3));
+    ASSERT_TRUE(m.near_condition && m.far_condition);
+    EXPECT_EQ(*m.near_condition, inf);
+    EXPECT_NEAR(*m.far_condition, 8.0 / 3.0, 1e-14);
+    EXPECT_EQ(condition_bucket(m), condition_decades);
+}
+
+// An exact tangent (Δ′ = 0) is a double root: κ = ∞, distance to tangency 0,
+// and any wrong class is conditioning-limited.
+TEST(Stability, TangentIsInfinitelyIllConditioned) {
+    const stability_measures m = measure(make({0, 3, 0}, {1, 0, 0}, {5, 0, 0}, 3));
+    EXPECT_EQ(m.cls, line_class::tangent);
+    EXPECT_EQ(*m.near_condition, inf);
+    EXPECT_EQ(m.tangency_distance, 0);
+    EXPECT_EQ(m.tangency_margin, 0);
+    EXPECT_EQ(classify_disagreement(verdict_kind::tangent_split, m, precision::binary64),
+              disagreement_cause::conditioning_limited);
+    EXPECT_EQ(classify_disagreement(verdict_kind::non_finite, m, precision::binary64), disagreement_cause::algorithmic);
+    EXPECT_EQ(classify_disagreement(verdict_kind::agree, m, precision::binary64), std::nullopt);
+}
+
+TEST(Stability, MissHasNoConditionNumber) {
+    const stability_measures m = measure(make({0, 4, 0}, {1, 0, 0}, {5, 0, 0}, 3));
+    EXPECT_EQ(m.cls, line_class::miss);
+    EXPECT_FALSE(m.near_condition);
+    EXPECT_EQ(condition_bucket(m), condition_decades + 1);
+    // Δ′ = −7 against b′² + |aC| = 25 + 32.
+    EXPECT_NEAR(m.tangency_distance, 7.0 / 57.0, 1e-15);
+}
+
+// A unit sphere at distance D, the ray through its centre: Δ′ = r², and
+// M ≈ 4r² + 2·2rD·0 ... the class is safe; but a graze at one double ulp from
+// tangency is conditioning-limited in double and far more so in float.
+TEST(Stability, FarSphereIsWellConditionedForTheClass) {
+    const stability_measures through = measure(make({-4096, 0, 0}, {1, 0, 0}, {0, 0, 0}, 1), precision::binary32);
+    EXPECT_GT(through.tangency_margin, 1e5);  // naive float's false miss here is algorithmic
+    EXPECT_EQ(classify_disagreement(verdict_kind::false_miss, through, precision::binary32),
+              disagreement_cause::algorithmic);
+    const stability_measures graze = measure(make({-4096, std::nextafter(1.0, 2.0), 0}, {1, 0, 0}, {0, 0, 0}, 1));
+    EXPECT_EQ(graze.cls, line_class::miss);
+    EXPECT_LE(graze.tangency_margin, conditioning_gamma);
+    EXPECT_EQ(classify_disagreement(verdict_kind::false_hit, graze, precision::binary64),
+              disagreement_cause::conditioning_limited);
+}
+
+// The closed-form root (stable formula in long double) differentiated by
+// central differences, on random cases with a seed per iteration.
+long double near_root_of(const long double x[10]) {
+    long double f[3], a = 0, b = 0, C = -x[9] * x[9];
+    for (int k = 0; k < 3; ++k) {
+        f[k] = x[k] - x[6 + k];
+        a += x[3 + k] * x[3 + k];
+        b += x[3 + k] * f[k];
+        C += f[k] * f[k];
+    }
+    const long double disc = b * b - a * C;
+    const long double q = b >= 0 ? -(b + std::sqrt(disc)) : std::sqrt(disc) - b;
+    return std::min(q / a, C / q);
+}
+
+TEST(Stability, ConditionMatchesFiniteDifferences) {
+    int checked = 0;
+    for (std::uint64_t seed = 1; seed <= 200; ++seed) {
+        std::mt19937_64 rng(seed);
+        std::uniform_real_distribution<double> u(-4, 4);
+        const ray_sphere<double> g = make({u(rng), u(rng), u(rng)}, {u(rng), u(rng), u(rng)},
+                                          {u(rng), u(rng), u(rng)}, 1 + std::fabs(u(rng)));
+        const stability_measures m = measure(g);
+        if (m.cls != line_class::two_hit || *m.near_condition > 1e4) continue;
+        long double x[10] = {g.origin.x, g.origin.y, g.origin.z,       g.direction.x, g.direction.y,
+                             g.direction.z, g.centre.x, g.centre.y, g.centre.z,    g.radius};
+        const long double t = near_root_of(x);
+        long double sum = 0;
+        for (int i = 0; i < 10; ++i) {
+            const long double h = 1e-7L * std::max(1.0L, std::fabs(x[i]));
+            long double up[10], down[10];
+            std::copy(x, x + 10, up);
+            std::copy(x, x + 10, down);
+            up[i] += h;
+            down[i] -= h;
+            sum += std::fabs((near_root_of(up) - near_root_of(down)) / (2 * h)) * std::fabs(x[i]);
+        }
+        ++checked;
+        const double finite_difference = static_cast<double>(sum / std::fabs(t));
+        EXPECT_NEAR(*m.near_condition / finite_difference, 1.0, 1e-5) << "seed " << seed;
+        EXPECT_NEAR(m.near_root, static_cast<double>(t), 1e-12 * std::fabs(static_cast<double>(t)) + 1e-15)
+            << "seed " << seed;
+    }
+    EXPECT_GT(checked, 40);
+}
+
+// The double-double root agrees with the oracle's correctly rounded root on
+// the stiff families (a check of the dd evaluation, not of the oracle).
+TEST(Stability, RootMatchesOracleOnGeneratedFamilies) {
+    int checked = 0;
+    for (const char* family : {"uniform", "far_sphere", "near_tangent", "inside"}) {
+        for (const corpus_case& c : generate_family(family, 60, 7)) {
+            const exact_solution exact = solve_exact(c.geometry, precision::binary64);
+            const stability_measures m = measure_stability(c.geometry, precision::binary64, exact);
+            if (exact.cls == line_class::miss) continue;
+            ++checked;
+            EXPECT_LE(std::fabs(m.near_root - exact.near_root.rounded),
+                      std::ldexp(std::fabs(exact.near_root.rounded), -50))
+                << c.id;
+        }
+    }
+    EXPECT_GT(checked, 100);
+}
+
+TEST(Stability, BucketLabels) {
+    EXPECT_EQ(condition_bucket_label(0), "<1e1");
+    EXPECT_EQ(condition_bucket_label(3), "1e3..1e4");
+    EXPECT_EQ(condition_bucket_label(condition_decades), "inf");
+    EXPECT_EQ(condition_bucket_label(condition_decades + 1), "miss");
+    stability_measures m;
+    m.valid = true;
+    m.near_condition = 999.0;
+    EXPECT_EQ(condition_bucket(m), 2);
+    m.near_condition = 1000.0;
+    EXPECT_EQ(condition_bucket(m), 3);
+    m.near_condition = 0.5;
+    EXPECT_EQ(condition_bucket(m), 0);
+}
+
+}  // namespace
+}  // namespace rayverify

@@ -2,41 +2,16 @@
 // line and field, no partial output on error, and the shape of its outputs.
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
-#include <sys/wait.h>
 
-#include <array>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
+
+#include "support/process.h"
 
 namespace {
 
 namespace fs = std::filesystem;
-
-struct result {
-    int exit_code = -1;
-    std::string output;  // stdout and stderr together
-};
-
-result run(const std::string& arguments) {
-    const std::string command = std::string(RAYVERIFY_CLI) + " " + arguments + " 2>&1";
-    result r;
-    FILE* pipe = popen(command.c_str(), "r");
-    if (!pipe) return r;
-    std::array<char, 4096> buffer{};
-    while (std::size_t n = std::fread(buffer.data(), 1, buffer.size(), pipe)) r.output.append(buffer.data(), n);
-    const int status = pclose(pipe);
-    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return r;
-}
-
-std::string read_text(const fs::path& p) {
-    std::ifstream in(p);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
+using namespace rayverify::test_support;
 
 class Cli : public testing::Test {
 protected:
@@ -60,18 +35,18 @@ protected:
 const char* simple_case = "hit-4-6 - 0 0 -5 0 0 1 0 0 0 1\n";
 
 TEST_F(Cli, VariantsListsEveryBuiltIn) {
-    const result r = run("variants");
+    const command_result r = run_cli("variants");
     EXPECT_EQ(r.exit_code, 0);
     for (const char* name : {"naive", "half_b", "seed003_reduced", "seed004_early_out", "geometric", "stable_roots",
                              "hearn_baker", "fma_discriminant"})
         EXPECT_NE(r.output.find(name), std::string::npos) << name;
-    const result json = run("variants --json");
+    const command_result json = run_cli("variants --json");
     EXPECT_EQ(nlohmann::json::parse(json.output).size(), 8u);
 }
 
 TEST_F(Cli, AuditWithoutDisagreementExitsZeroAndWritesReports) {
     const fs::path corpus = write("ok.txt", simple_case);
-    const result r = run("audit --corpus " + corpus.string() + " --report " + (dir_ / "rep").string() +
+    const command_result r = run_cli("audit --corpus " + corpus.string() + " --report " + (dir_ / "rep").string() +
                          " --per-case " + (dir_ / "cases.jsonl").string());
     EXPECT_EQ(r.exit_code, 0) << r.output;
     EXPECT_NE(r.output.find("naive"), std::string::npos);
@@ -93,13 +68,13 @@ TEST_F(Cli, AuditWithoutDisagreementExitsZeroAndWritesReports) {
 TEST_F(Cli, AuditWithFindingsExitsOne) {
     // A unit sphere 4100 away, hit off-centre: naive float loses the two roots.
     const fs::path corpus = write("far.txt", "far - 0.5 0.25 0 0 0 1 0 0 4100 1\n");
-    const result r = run("audit --corpus " + corpus.string() + " --variant naive --precision float");
+    const command_result r = run_cli("audit --corpus " + corpus.string() + " --variant naive --precision float");
     EXPECT_EQ(r.exit_code, 1) << r.output;
 }
 
 TEST_F(Cli, MalformedCorpusNamesFileLineAndFieldAndWritesNothing) {
     const fs::path corpus = write("bad.txt", std::string(simple_case) + "b - 0 0 -5 0 0 1x 0 0 0 1\n");
-    const result r = run("audit --corpus " + corpus.string() + " --report " + (dir_ / "rep").string() +
+    const command_result r = run_cli("audit --corpus " + corpus.string() + " --report " + (dir_ / "rep").string() +
                          " --per-case " + (dir_ / "cases.jsonl").string());
     EXPECT_EQ(r.exit_code, 2);
     EXPECT_NE(r.output.find("bad.txt:2: field 'dz'"), std::string::npos) << r.output;
@@ -109,14 +84,14 @@ TEST_F(Cli, MalformedCorpusNamesFileLineAndFieldAndWritesNothing) {
 }
 
 TEST_F(Cli, MissingCorpusAndUnknownVariantAreInputErrors) {
-    const result missing = run("audit --corpus " + (dir_ / "nope.txt").string());
+    const command_result missing = run_cli("audit --corpus " + (dir_ / "nope.txt").string());
     EXPECT_EQ(missing.exit_code, 2);
     EXPECT_NE(missing.output.find("nope.txt"), std::string::npos);
-    const result unknown = run("audit --variant no_such_variant");
+    const command_result unknown = run_cli("audit --variant no_such_variant");
     EXPECT_EQ(unknown.exit_code, 2);
     EXPECT_NE(unknown.output.find("unknown variant 'no_such_variant'"), std::string::npos);
-    EXPECT_EQ(run("").exit_code, 2);
-    EXPECT_EQ(run("audit --precision quad").exit_code, 2);
+    EXPECT_EQ(run_cli("").exit_code, 2);
+    EXPECT_EQ(run_cli("audit --precision quad").exit_code, 2);
 }
 
 TEST_F(Cli, InvalidCasesAreCountedNotScored) {
@@ -125,7 +100,7 @@ TEST_F(Cli, InvalidCasesAreCountedNotScored) {
                                                    "zero-dir - 0 0 -5 0 0 0 0 0 0 1\n"
                                                    "neg-r - 0 0 -5 0 0 1 0 0 0 -1\n"
                                                    "float-overflow - 0 0 -5 0 0 1 0 0 1e300 1\n");
-    const result r = run("audit --corpus " + corpus.string() + " --variant naive --report " + (dir_ / "rep").string());
+    const command_result r = run_cli("audit --corpus " + corpus.string() + " --variant naive --report " + (dir_ / "rep").string());
     // The 1e300 centre overflows naive's f·f in double: a real finding, so exit 1.
     EXPECT_EQ(r.exit_code, 1) << r.output;
     const auto report = nlohmann::json::parse(read_text(dir_ / "rep" / "report.json"));
@@ -136,36 +111,36 @@ TEST_F(Cli, InvalidCasesAreCountedNotScored) {
 }
 
 TEST_F(Cli, ExplainShowsExactAndVariantsSideBySide) {
-    const result r = run("explain 0.5 0.25 0 0 0 1 0 0 4100 1 --variant naive --variant hearn_baker");
+    const command_result r = run_cli("explain 0.5 0.25 0 0 0 1 0 0 4100 1 --variant naive --variant hearn_baker");
     EXPECT_EQ(r.exit_code, 1);
     EXPECT_NE(r.output.find("exact, double inputs: two_hit"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("naive/float"), std::string::npos);
     EXPECT_NE(r.output.find("corpus line:"), std::string::npos);
-    const result negative = run("explain -5 0 0 1 0 0 0 0 0 1 --variant naive --precision double");
+    const command_result negative = run_cli("explain -5 0 0 1 0 0 0 0 0 1 --variant naive --precision double");
     EXPECT_EQ(negative.exit_code, 0) << negative.output;
-    const result wrong = run("explain 1 2 3");
+    const command_result wrong = run_cli("explain 1 2 3");
     EXPECT_EQ(wrong.exit_code, 2);
     EXPECT_NE(wrong.output.find("got 3 fields"), std::string::npos);
 }
 
 TEST_F(Cli, ExplainPrintsAPasteableCorpusLine) {
-    const result r = run("explain 0x1p-1 0.25 0 0 0 1 0 0 4100 1 --variant naive --precision double");
+    const command_result r = run_cli("explain 0x1p-1 0.25 0 0 0 1 0 0 4100 1 --variant naive --precision double");
     const auto start = r.output.find("corpus line: ") + std::string("corpus line: ").size();
     const std::string line = r.output.substr(start, r.output.find('\n', start) - start);
     const fs::path corpus = write("pasted.txt", line + "\n");
-    const result again = run("audit --corpus " + corpus.string() + " --variant naive --precision double");
+    const command_result again = run_cli("audit --corpus " + corpus.string() + " --variant naive --precision double");
     EXPECT_EQ(again.exit_code, 0) << again.output;
 }
 
 TEST_F(Cli, CorpusGenerateIsDeterministicAndReadable) {
     const fs::path a = dir_ / "a.txt", b = dir_ / "b.txt";
-    ASSERT_EQ(run("corpus generate --family far_sphere --count 50 --seed 7 -o " + a.string()).exit_code, 0);
-    ASSERT_EQ(run("corpus generate --family far_sphere --count 50 --seed 7 -o " + b.string()).exit_code, 0);
+    ASSERT_EQ(run_cli("corpus generate --family far_sphere --count 50 --seed 7 -o " + a.string()).exit_code, 0);
+    ASSERT_EQ(run_cli("corpus generate --family far_sphere --count 50 --seed 7 -o " + b.string()).exit_code, 0);
     EXPECT_EQ(read_text(a), read_text(b));
     EXPECT_NE(read_text(a).find("--seed 7"), std::string::npos) << "provenance must be recorded";
-    const result audit = run("audit --corpus " + a.string() + " --variant hearn_baker --precision double");
+    const command_result audit = run_cli("audit --corpus " + a.string() + " --variant hearn_baker --precision double");
     EXPECT_NE(audit.exit_code, 2) << audit.output;
-    const result unknown = run("corpus generate --family nope --count 5");
+    const command_result unknown = run_cli("corpus generate --family nope --count 5");
     EXPECT_EQ(unknown.exit_code, 2);
     EXPECT_NE(unknown.output.find("unknown generator family"), std::string::npos);
 }

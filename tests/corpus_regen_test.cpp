@@ -2,9 +2,7 @@
 // regenerates, and --check catches any change, naming file and line. Tampering
 // happens in temporary copies (--corpus-dir), never in corpus/.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
-#include <array>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -13,34 +11,13 @@
 
 #include "corpus/manifest.h"
 #include "core/input_error.h"
+#include "support/process.h"
 
 namespace {
 
 namespace fs = std::filesystem;
+using namespace rayverify::test_support;
 
-struct result {
-    int exit_code = -1;
-    std::string output;
-};
-
-result run(const std::string& arguments) {
-    const std::string command = std::string(RAYVERIFY_CLI) + " " + arguments + " 2>&1";
-    result r;
-    FILE* pipe = popen(command.c_str(), "r");
-    if (!pipe) return r;
-    std::array<char, 4096> buffer{};
-    while (std::size_t n = std::fread(buffer.data(), 1, buffer.size(), pipe)) r.output.append(buffer.data(), n);
-    const int status = pclose(pipe);
-    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return r;
-}
-
-std::string read_text(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
 
 void write_text(const fs::path& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; }
 
@@ -57,7 +34,7 @@ protected:
 };
 
 TEST_F(Regen, ShippedCorpusMatchesItsManifest) {
-    const result r = run(std::string("corpus regen --check --corpus-dir ") + RAYVERIFY_CORPUS_DIR);
+    const command_result r = run_cli(std::string("corpus regen --check --corpus-dir ") + RAYVERIFY_CORPUS_DIR);
     EXPECT_EQ(r.exit_code, 0) << r.output;
     EXPECT_NE(r.output.find("match"), std::string::npos) << r.output;
 }
@@ -97,63 +74,63 @@ TEST_F(Regen, CheckFailsOnATamperedCopyNamingFileAndLine) {
     digit = digit == '1' ? '2' : '1';
     write_text(victim, text);
 
-    const result r = run("corpus regen --check --corpus-dir " + (dir_ / "corpus").string());
+    const command_result r = run_cli("corpus regen --check --corpus-dir " + (dir_ / "corpus").string());
     EXPECT_EQ(r.exit_code, 1) << r.output;
     EXPECT_NE(r.output.find("edge/behind.txt:10:"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("1 of "), std::string::npos) << r.output;
 
     // regen repairs it, and then the check passes.
-    const result repaired = run("corpus regen --corpus-dir " + (dir_ / "corpus").string());
+    const command_result repaired = run_cli("corpus regen --corpus-dir " + (dir_ / "corpus").string());
     EXPECT_EQ(repaired.exit_code, 0) << repaired.output;
     EXPECT_EQ(read_text(victim), read_text(fs::path(RAYVERIFY_CORPUS_DIR) / "edge" / "behind.txt"));
-    EXPECT_EQ(run("corpus regen --check --corpus-dir " + (dir_ / "corpus").string()).exit_code, 0);
+    EXPECT_EQ(run_cli("corpus regen --check --corpus-dir " + (dir_ / "corpus").string()).exit_code, 0);
 }
 
 TEST_F(Regen, RegenIsByteIdenticalAcrossRunsAndEqualsGenerate) {
     write_text(dir_ / "MANIFEST", "# test\nsub/a.txt tiny_sphere 40 5 1\nb.txt near_tangent_hit_f32 30 2 1\n");
-    ASSERT_EQ(run("corpus regen --corpus-dir " + dir_.string()).exit_code, 0);
+    ASSERT_EQ(run_cli("corpus regen --corpus-dir " + dir_.string()).exit_code, 0);
     const std::string a = read_text(dir_ / "sub" / "a.txt"), b = read_text(dir_ / "b.txt");
-    ASSERT_EQ(run("corpus regen --corpus-dir " + dir_.string()).exit_code, 0);
+    ASSERT_EQ(run_cli("corpus regen --corpus-dir " + dir_.string()).exit_code, 0);
     EXPECT_EQ(read_text(dir_ / "sub" / "a.txt"), a);
     EXPECT_EQ(read_text(dir_ / "b.txt"), b);
-    EXPECT_EQ(run("corpus generate --family tiny_sphere --count 40 --seed 5").output, a);
-    ASSERT_EQ(run("corpus generate --family tiny_sphere --count 40 --seed 5 -o " + (dir_ / "c.txt").string()).exit_code,
+    EXPECT_EQ(run_cli("corpus generate --family tiny_sphere --count 40 --seed 5").output, a);
+    ASSERT_EQ(run_cli("corpus generate --family tiny_sphere --count 40 --seed 5 -o " + (dir_ / "c.txt").string()).exit_code,
               0);
     EXPECT_EQ(read_text(dir_ / "c.txt"), a);
     EXPECT_NE(a.find("--family tiny_sphere --count 40 --seed 5 (generator version 1)"), std::string::npos);
 
     fs::remove(dir_ / "b.txt");
-    const result missing = run("corpus regen --check --corpus-dir " + dir_.string());
+    const command_result missing = run_cli("corpus regen --check --corpus-dir " + dir_.string());
     EXPECT_EQ(missing.exit_code, 1);
     EXPECT_NE(missing.output.find("b.txt: missing"), std::string::npos) << missing.output;
     write_text(dir_ / "b.txt", b.substr(0, b.size() - 1));  // no final newline
-    EXPECT_EQ(run("corpus regen --check --corpus-dir " + dir_.string()).exit_code, 1);
+    EXPECT_EQ(run_cli("corpus regen --check --corpus-dir " + dir_.string()).exit_code, 1);
 }
 
 TEST_F(Regen, BadManifestIsAnInputErrorNamingLineAndField) {
     write_text(dir_ / "MANIFEST", "a.txt uniform 10 1 1\nb.txt nope 10 1 1\n");
-    result r = run("corpus regen --corpus-dir " + dir_.string());
+    command_result r = run_cli("corpus regen --corpus-dir " + dir_.string());
     EXPECT_EQ(r.exit_code, 2);
     EXPECT_NE(r.output.find("MANIFEST:2: field 'family'"), std::string::npos) << r.output;
     EXPECT_FALSE(fs::exists(dir_ / "a.txt")) << "nothing is written when the manifest is bad";
 
     write_text(dir_ / "MANIFEST", "a.txt uniform ten 1 1\n");
-    r = run("corpus regen --check --corpus-dir " + dir_.string());
+    r = run_cli("corpus regen --check --corpus-dir " + dir_.string());
     EXPECT_EQ(r.exit_code, 2);
     EXPECT_NE(r.output.find("MANIFEST:1: field 'count'"), std::string::npos) << r.output;
 
     write_text(dir_ / "MANIFEST", "a.txt uniform 10 1 9\n");
-    r = run("corpus regen --corpus-dir " + dir_.string());
+    r = run_cli("corpus regen --corpus-dir " + dir_.string());
     EXPECT_EQ(r.exit_code, 2);
     EXPECT_NE(r.output.find("field 'version'"), std::string::npos) << r.output;
 
     write_text(dir_ / "MANIFEST", "../a.txt uniform 10 1 1\n");
-    EXPECT_EQ(run("corpus regen --corpus-dir " + dir_.string()).exit_code, 2);
+    EXPECT_EQ(run_cli("corpus regen --corpus-dir " + dir_.string()).exit_code, 2);
     write_text(dir_ / "MANIFEST", "a.txt uniform 10 1\n");
-    r = run("corpus regen --corpus-dir " + dir_.string());
+    r = run_cli("corpus regen --corpus-dir " + dir_.string());
     EXPECT_EQ(r.exit_code, 2);
     EXPECT_NE(r.output.find("field 'version'"), std::string::npos) << r.output;
-    EXPECT_EQ(run("corpus regen --corpus-dir " + (dir_ / "nowhere").string()).exit_code, 2);
+    EXPECT_EQ(run_cli("corpus regen --corpus-dir " + (dir_ / "nowhere").string()).exit_code, 2);
 }
 
 TEST(CompareLines, NamesTheFirstDifferingLine) {
@@ -175,24 +152,24 @@ TEST(CompareLines, NamesTheFirstDifferingLine) {
 
 TEST_F(Regen, HuntWritesPasteableCorpusLinesWithProvenance) {
     const fs::path out = dir_ / "hunt.txt";
-    const result r = run("hunt --variant naive --precision float --objective misclass --budget 0 --evaluations 3000 "
+    const command_result r = run_cli("hunt --variant naive --precision float --objective misclass --budget 0 --evaluations 3000 "
                          "--finds 1 -o " + out.string());
     ASSERT_EQ(r.exit_code, 1) << r.output;
     const std::string text = read_text(out);
     EXPECT_NE(text.find("# rayverify hunt: naive/float, objective misclass"), std::string::npos) << text;
     EXPECT_NE(text.find("# find 1: "), std::string::npos) << text;
     // The finds audit as disagreements when read back.
-    const result audit = run("audit --corpus " + out.string() + " --variant naive --precision float");
+    const command_result audit = run_cli("audit --corpus " + out.string() + " --variant naive --precision float");
     EXPECT_EQ(audit.exit_code, 1) << audit.output;
     // A pasted line reproduces it in explain.
     EXPECT_NE(r.output.find("hunt-naive-float-misclass-search-1-1 hunt_uniform "), std::string::npos) << r.output;
 
-    const result ulp = run("hunt --variant naive --precision double --budget 0 --evaluations 2000 -o " +
+    const command_result ulp = run_cli("hunt --variant naive --precision double --budget 0 --evaluations 2000 -o " +
                            (dir_ / "ulp.txt").string());
     EXPECT_EQ(ulp.exit_code, 0) << ulp.output;
     EXPECT_NE(read_text(dir_ / "ulp.txt").find("lower bound"), std::string::npos);
 
-    const result bad = run("hunt --variant naive --family nope -o " + (dir_ / "bad.txt").string());
+    const command_result bad = run_cli("hunt --variant naive --family nope -o " + (dir_ / "bad.txt").string());
     EXPECT_EQ(bad.exit_code, 2);
     EXPECT_NE(bad.output.find("field '--family'"), std::string::npos) << bad.output;
     EXPECT_FALSE(fs::exists(dir_ / "bad.txt"));

@@ -3,9 +3,7 @@
 // baseline, and the end-to-end story with a user's plugin.
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
-#include <sys/wait.h>
 
-#include <array>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -14,36 +12,13 @@
 #include "compare/gate.h"
 #include "corpus/corpus_io.h"
 #include "report/gate_report.h"
+#include "support/process.h"
 
 namespace rayverify {
 namespace {
 
 namespace fs = std::filesystem;
-
-struct cli_result {
-    int exit_code = -1;
-    std::string output;
-};
-
-cli_result run_shell(const std::string& command) {
-    cli_result r;
-    FILE* pipe = popen((command + " 2>&1").c_str(), "r");
-    if (!pipe) return r;
-    std::array<char, 4096> buffer{};
-    while (std::size_t n = std::fread(buffer.data(), 1, buffer.size(), pipe)) r.output.append(buffer.data(), n);
-    const int status = pclose(pipe);
-    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return r;
-}
-
-cli_result run_cli(const std::string& arguments) { return run_shell(std::string(RAYVERIFY_CLI) + " " + arguments); }
-
-std::string read_text(const fs::path& p) {
-    std::ifstream in(p);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
+using namespace test_support;
 
 std::string parse_error(std::string_view text) {
     try {
@@ -184,7 +159,7 @@ TEST(Gate, CliUpdateThenGateThenRegressionWithJunitAndDiff) {
                                RAYVERIFY_CORPUS_DIR + "/uniform.txt";
     const std::string baseline = (dir / "baseline.txt").string();
 
-    cli_result r = run_cli("gate --baseline " + baseline + corpus + " --variant naive");
+    command_result r = run_cli("gate --baseline " + baseline + corpus + " --variant naive");
     EXPECT_EQ(r.exit_code, 2) << r.output;
     EXPECT_NE(r.output.find("no such baseline; create it with"), std::string::npos) << r.output;
 
@@ -248,7 +223,7 @@ TEST(Gate, CliUpdateThenGateThenRegressionWithJunitAndDiff) {
 
 // What .ci/run does: our own variants on the shipped corpus against the committed baseline.
 TEST(Gate, OwnVariantsPassTheCommittedBaseline) {
-    const cli_result r = run_cli(std::string("gate --baseline ") + RAYVERIFY_BASELINE + " --corpus " +
+    const command_result r = run_cli(std::string("gate --baseline ") + RAYVERIFY_BASELINE + " --corpus " +
                                  RAYVERIFY_CORPUS_DIR);
     EXPECT_EQ(r.exit_code, 0) << r.output;
 }
@@ -267,7 +242,7 @@ TEST(Gate, EndToEndUserPluginBaselineThenNaiveDiscriminantFails) {
                               RAYVERIFY_SOURCE_DIR + "/src/plugin mine.c -o libmine.so -lm";
     const std::string gate = "cd " + user.string() + " && " + RAYVERIFY_CLI + " gate --plugin ./libmine.so --corpus " +
                              RAYVERIFY_CORPUS_DIR + " --baseline baseline.txt";
-    cli_result r = run_shell(build);
+    command_result r = run_shell(build);
     ASSERT_EQ(r.exit_code, 0) << r.output;
     r = run_shell("cd " + user.string() + " && " + RAYVERIFY_CLI + " audit --plugin ./libmine.so --corpus " +
                   RAYVERIFY_CORPUS_DIR);

@@ -2,9 +2,7 @@
 // a built-in; garbage answers are verdicts, case by case; a library that
 // cannot be used is an input error naming it.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
-#include <array>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -13,6 +11,7 @@
 #include "corpus/corpus_io.h"
 #include "intersectors/registry.h"
 #include "plugin/plugin_loader.h"
+#include "support/process.h"
 
 namespace rayverify {
 namespace {
@@ -28,21 +27,7 @@ std::string load_error(const fs::path& library) {
     return "(loaded)";
 }
 
-struct cli_result {
-    int exit_code = -1;
-    std::string output;
-};
-
-cli_result run_cli(const std::string& arguments) {
-    cli_result r;
-    FILE* pipe = popen((std::string(RAYVERIFY_CLI) + " " + arguments + " 2>&1").c_str(), "r");
-    if (!pipe) return r;
-    std::array<char, 4096> buffer{};
-    while (std::size_t n = std::fread(buffer.data(), 1, buffer.size(), pipe)) r.output.append(buffer.data(), n);
-    const int status = pclose(pipe);
-    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return r;
-}
+using namespace test_support;
 
 TEST(Plugin, ExampleDescribesItselfAndRunsInDoubleOnly) {
     const variant v = load_plugin(RAYVERIFY_EXAMPLE_PLUGIN);
@@ -122,27 +107,27 @@ TEST(Plugin, UnusableLibrariesAreInputErrorsNamingTheFile) {
 TEST(Plugin, CliAuditAndExplainAcceptPlugins) {
     const fs::path corpus = fs::temp_directory_path() / "rayverify_plugin_cli.txt";
     std::ofstream(corpus) << "count3 - 0 0 -5 0 0 1 0 0 0 1\nright - 3 0 -5 0 0 1 3 0 0 1\n";
-    const cli_result audit = run_cli("audit --plugin " + std::string(RAYVERIFY_FIXTURE_PLUGIN_GARBAGE) +
+    const command_result audit = run_cli("audit --plugin " + std::string(RAYVERIFY_FIXTURE_PLUGIN_GARBAGE) +
                                      " --corpus " + corpus.string());
     EXPECT_EQ(audit.exit_code, 1) << audit.output;
     EXPECT_NE(audit.output.find("garbage"), std::string::npos) << audit.output;
     EXPECT_EQ(audit.output.find("naive"), std::string::npos) << "only the plugin when no --variant is given";
 
-    const cli_result both = run_cli("audit --variant hearn_baker --plugin " + std::string(RAYVERIFY_EXAMPLE_PLUGIN) +
+    const command_result both = run_cli("audit --variant hearn_baker --plugin " + std::string(RAYVERIFY_EXAMPLE_PLUGIN) +
                                     " --corpus " + corpus.string() + " --precision double");
     EXPECT_EQ(both.exit_code, 0) << both.output;
     EXPECT_NE(both.output.find("rtg_sphere"), std::string::npos) << both.output;
     EXPECT_NE(both.output.find("hearn_baker"), std::string::npos) << both.output;
 
-    const cli_result explain = run_cli("explain \"0 0 -5 0 0 1 0 0 0 1\" --plugin " + std::string(RAYVERIFY_EXAMPLE_PLUGIN));
+    const command_result explain = run_cli("explain \"0 0 -5 0 0 1 0 0 0 1\" --plugin " + std::string(RAYVERIFY_EXAMPLE_PLUGIN));
     EXPECT_EQ(explain.exit_code, 0) << explain.output;
     EXPECT_NE(explain.output.find("rtg_sphere/double"), std::string::npos) << explain.output;
 
-    const cli_result missing = run_cli("audit --plugin ./no_such_plugin.so --corpus " + corpus.string());
+    const command_result missing = run_cli("audit --plugin ./no_such_plugin.so --corpus " + corpus.string());
     EXPECT_EQ(missing.exit_code, 2) << missing.output;
     EXPECT_NE(missing.output.find("./no_such_plugin.so: field '--plugin': no such file"), std::string::npos)
         << missing.output;
-    const cli_result twice = run_cli("audit --plugin " + std::string(RAYVERIFY_EXAMPLE_PLUGIN) + " --plugin " +
+    const command_result twice = run_cli("audit --plugin " + std::string(RAYVERIFY_EXAMPLE_PLUGIN) + " --plugin " +
                                      RAYVERIFY_EXAMPLE_PLUGIN + " --corpus " + corpus.string());
     EXPECT_EQ(twice.exit_code, 2) << twice.output;
     EXPECT_NE(twice.output.find("two targets named 'rtg_sphere'"), std::string::npos) << twice.output;

@@ -30,7 +30,9 @@ endforeach()
 
 run("configure consumer" ${CMAKE_COMMAND} -S ${CONSUMER_SOURCE_DIR} -B ${WORK_DIR}/build
     -DCMAKE_PREFIX_PATH=${prefix} -DCMAKE_CXX_COMPILER=${CXX_COMPILER} -DCMAKE_BUILD_TYPE=RelWithDebInfo
-    -DRAYVERIFY_CORPUS_DIR=${CORPUS_DIR})
+    -DRAYVERIFY_CORPUS_DIR=${CORPUS_DIR}
+    # Empty, or the sanitizers an instrumented rayverify was built with.
+    "-DCMAKE_CXX_FLAGS=${CONSUMER_FLAGS}" "-DCMAKE_EXE_LINKER_FLAGS=${CONSUMER_FLAGS}")
 run("build consumer" ${CMAKE_COMMAND} --build ${WORK_DIR}/build)
 run("run consumer" ${WORK_DIR}/build/consumer_test)
 message(STATUS "${last_output}")

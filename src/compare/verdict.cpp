@@ -150,20 +150,28 @@ std::optional<std::string> side_difference(const char* which, int exact_sign, do
                        value);
 }
 
+// The exact answer and the variant's, side by side: the detail of most disagreements.
+std::string both_answers(const exact_solution& exact, const variant_output& out, query_kind query) {
+    return describe_exact(exact) + "; " + describe_output(out, query);
+}
+
+case_score disagreement(case_score s, verdict_kind k, std::string detail) {
+    s.verdict = k;
+    s.detail = std::move(detail);
+    return s;
+}
+
 case_score judge_line_roots(const variant_output& out, const exact_solution& exact) {
     case_score s;
     const auto& r = out.roots;
-    const auto fail = [&](verdict_kind k, std::string why) {
-        s.verdict = k;
-        s.detail = std::move(why);
-        return s;
-    };
-    const std::string both = describe_exact(exact) + "; " + describe_output(out, query_kind::line_roots);
+    const auto fail = [&](verdict_kind k, std::string why) { return disagreement(s, k, std::move(why)); };
+    // Formatted only for a disagreement: most cases agree.
+    const auto both = [&] { return both_answers(exact, out, query_kind::line_roots); };
     if (r.count < 0 || r.count > 2) return fail(verdict_kind::malformed_output, fmt::format("hit count {}", r.count));
     if (exact.cls == line_class::miss)
-        return r.count > 0 ? fail(verdict_kind::false_hit, both) : s;
+        return r.count > 0 ? fail(verdict_kind::false_hit, both()) : s;
     if (r.count == 0)
-        return fail(exact.cls == line_class::tangent ? verdict_kind::tangent_missed : verdict_kind::false_miss, both);
+        return fail(exact.cls == line_class::tangent ? verdict_kind::tangent_missed : verdict_kind::false_miss, both());
 
     // With count 1 (a reported tangent) t1 is still the variant's far root.
     const double t0 = r.t0, t1 = r.t1;
@@ -172,16 +180,16 @@ case_score judge_line_roots(const variant_output& out, const exact_solution& exa
     measure(exact, far, t1, s.far_ulp, s.far_bits);
 
     if ((!std::isfinite(t0) && std::isfinite(near.rounded)) || (!std::isfinite(t1) && std::isfinite(far.rounded)))
-        return fail(verdict_kind::non_finite, both);
+        return fail(verdict_kind::non_finite, both());
     if (t0 > t1) return fail(verdict_kind::malformed_output, "roots out of order: " + describe_output(out, query_kind::line_roots));
-    if (exact.cls == line_class::tangent && t0 != t1) return fail(verdict_kind::tangent_split, both);
+    if (exact.cls == line_class::tangent && t0 != t1) return fail(verdict_kind::tangent_split, both());
     const bool distinct_after_rounding = near.rounded != far.rounded;
     if (exact.cls == line_class::two_hit && distinct_after_rounding && (r.count == 1 || t0 == t1))
-        return fail(verdict_kind::false_tangent, both);
+        return fail(verdict_kind::false_tangent, both());
     if (exact.cls == line_class::two_hit && distinct_after_rounding &&
         (std::fabs(t0 - far.rounded) < std::fabs(t0 - near.rounded) ||
          std::fabs(t1 - near.rounded) < std::fabs(t1 - far.rounded)))
-        return fail(verdict_kind::wrong_root, both);
+        return fail(verdict_kind::wrong_root, both());
     if (auto why = side_difference("near", near.sign, near.rounded, t0)) return fail(verdict_kind::wrong_side, *why);
     if (auto why = side_difference("far", far.sign, far.rounded, t1)) return fail(verdict_kind::wrong_side, *why);
     return s;
@@ -190,18 +198,15 @@ case_score judge_line_roots(const variant_output& out, const exact_solution& exa
 case_score judge_nearest_on_ray(const contract& promises, const variant_output& out, const exact_solution& exact) {
     case_score s;
     const auto& r = out.roots;
-    const auto fail = [&](verdict_kind k, std::string why) {
-        s.verdict = k;
-        s.detail = std::move(why);
-        return s;
-    };
-    const std::string both = describe_exact(exact) + "; " + describe_output(out, query_kind::nearest_on_ray);
+    const auto fail = [&](verdict_kind k, std::string why) { return disagreement(s, k, std::move(why)); };
+    // Formatted only for a disagreement: most cases agree.
+    const auto both = [&] { return both_answers(exact, out, query_kind::nearest_on_ray); };
     if (r.count < 0 || r.count > 1) return fail(verdict_kind::malformed_output, fmt::format("hit count {}", r.count));
     // The closed ray t ≥ 0 is hit when the far root is not behind the origin.
     const bool exact_hit = exact.cls != line_class::miss && exact.far_root.sign >= 0;
-    if (!exact_hit) return r.count > 0 ? fail(verdict_kind::false_hit, both) : s;
+    if (!exact_hit) return r.count > 0 ? fail(verdict_kind::false_hit, both()) : s;
     if (r.count == 0)
-        return fail(exact.cls == line_class::tangent ? verdict_kind::tangent_missed : verdict_kind::false_miss, both);
+        return fail(exact.cls == line_class::tangent ? verdict_kind::tangent_missed : verdict_kind::false_miss, both());
 
     expected_root want;
     if (exact.near_root.sign >= 0)
@@ -211,11 +216,11 @@ case_score judge_nearest_on_ray(const contract& promises, const variant_output& 
     const double t = r.t0;
     measure(exact, want, t, s.near_ulp, s.near_bits);
 
-    if (!std::isfinite(t) && std::isfinite(want.rounded)) return fail(verdict_kind::non_finite, both);
+    if (!std::isfinite(t) && std::isfinite(want.rounded)) return fail(verdict_kind::non_finite, both());
     if (t < 0) return fail(verdict_kind::malformed_output, fmt::format("negative ray distance {}", t));
     if (want.root && exact.cls == line_class::two_hit && exact.near_root.rounded != exact.far_root.rounded) {
         const double other = want.root == root_index::near_root ? exact.far_root.rounded : exact.near_root.rounded;
-        if (std::fabs(t - other) < std::fabs(t - want.rounded)) return fail(verdict_kind::wrong_root, both);
+        if (std::fabs(t - other) < std::fabs(t - want.rounded)) return fail(verdict_kind::wrong_root, both());
     }
     const char* which = !want.root ? "clamped" : (want.root == root_index::near_root ? "near" : "far");
     if (auto why = side_difference(which, want.sign, want.rounded, t)) return fail(verdict_kind::wrong_side, *why);

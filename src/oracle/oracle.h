@@ -23,6 +23,12 @@ const char* line_class_name(line_class c);
 
 enum class root_index { near_root, far_root };
 
+// How far the oracle had to go to settle a case's class, root signs and
+// correctly rounded roots: a floating-point filter with rigorous error bounds
+// settled everything, or it could not and exact arithmetic ran. (Later ULP
+// queries on the solution may still do exact work; that is not counted.)
+enum class oracle_stage { filter, exact };
+
 struct exact_root {
     int sign = 0;         // exact sign of t*: −1 behind, 0 at the origin, +1 in front
     double rounded = 0;   // RN(t*) in the solution's precision (a float value is exact in double)
@@ -43,6 +49,9 @@ public:
 
     // When the case carries an interval [tmin, tmax]: does a root lie in it?
     std::optional<bool> hits_interval;
+
+    // The deepest stage this answer needed; its rate per family measures how stiff the family is.
+    oracle_stage stage = oracle_stage::exact;
 
     bool valid() const { return invalid == invalid_reason::none; }
     const exact_root& root(root_index i) const {

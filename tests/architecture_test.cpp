@@ -13,8 +13,8 @@ namespace {
 namespace fs = std::filesystem;
 
 const std::map<std::string, int> layer_rank = {{"core", 0},   {"intersectors", 1}, {"oracle", 2}, {"compare", 3},
-                                               {"plugin", 4}, {"corpus", 5},       {"bench", 6},  {"report", 7},
-                                               {"testing", 8}, {"cli", 9}};
+                                               {"plugin", 4}, {"corpus", 5},       {"scene", 6},  {"bench", 7},
+                                               {"report", 8}, {"testing", 9},      {"cli", 10}};
 
 TEST(Architecture, LayersIncludeOnlyThemselvesAndLayersBelow) {
     const std::regex project_include(R"re(^\s*#\s*include\s*"([a-z_]+)/)re");

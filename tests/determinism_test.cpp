@@ -1,6 +1,6 @@
 // Determinism: the same inputs give the same report, summary, per-case lines
-// and stdout, byte for byte, run after run, through the CLI. (The audit runs
-// on one thread; there is no thread count to vary yet.)
+// and stdout, byte for byte, run after run and whatever the thread count,
+// through the CLI.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <sys/wait.h>
@@ -97,6 +97,27 @@ TEST_F(Determinism, GeneratedCorpusAndItsReportAreByteIdentical) {
     for (const char* file : {"cases.jsonl", "rep/report.json", "rep/summary.txt"})
         EXPECT_TRUE(fs::exists(dir_ / "first" / file)) << file;
     EXPECT_GE(compared, 3u);
+}
+
+// The same audit on 1, 2 and 3 threads, every output byte for byte. The edge
+// corpus is more than one chunk of cases and holds invalid cases.
+TEST_F(Determinism, AuditIsByteIdenticalWhateverTheThreadCount) {
+    std::string outputs[3];
+    for (int threads = 1; threads <= 3; ++threads) {
+        const int code = run(fmt::format("audit --corpus '{}/edge' --threads {} --report rep --per-case cases.jsonl",
+                                         RAYVERIFY_CORPUS_DIR, threads),
+                             outputs[threads - 1]);
+        ASSERT_NE(code, 2) << outputs[threads - 1];
+        keep_outputs(fmt::format("t{}", threads));
+    }
+    for (int threads = 2; threads <= 3; ++threads) {
+        EXPECT_EQ(outputs[0], outputs[threads - 1]) << "stdout differs with " << threads << " threads";
+        for (const char* file : {"cases.jsonl", "rep/report.json", "rep/report.md", "rep/summary.txt"}) {
+            const std::string a = read_bytes(dir_ / "t1" / file), b = read_bytes(dir_ / fmt::format("t{}", threads) / file);
+            EXPECT_FALSE(a.empty()) << file;
+            EXPECT_TRUE(a == b) << file << " differs between 1 and " << threads << " threads";
+        }
+    }
 }
 
 }  // namespace

@@ -55,9 +55,17 @@ root_pair<double> contract_answer(const contract& c, const exact_solution& s) {
             case line_class::two_hit: return {2, near, far};
         }
     }
+    if (s.cls == line_class::miss) return {0, 0, 0};
+    if (takes_interval(c.query)) {
+        // Asked without an interval: the open ray (0, +inf), a root at the
+        // origin excluded. The nearest root in it, or whether there is one.
+        const double t = s.near_root.sign > 0 ? near : far;
+        if (s.near_root.sign <= 0 && s.far_root.sign <= 0) return {0, 0, 0};
+        if (c.query == query_kind::any_hit_in_interval) return {1, 0, 0};
+        return {1, t, t};
+    }
     // Nearest hit on the closed ray t ≥ 0. With the origin inside (or on the
     // surface, leaving) the first such root is the far one, or 0 when clamped.
-    if (s.cls == line_class::miss) return {0, 0, 0};
     if (s.near_root.sign >= 0) return {1, near, near};
     if (s.far_root.sign >= 0) {
         const double t = c.clamps_to_zero ? 0.0 : far;
@@ -97,20 +105,21 @@ const hand_case hand_cases[] = {
 };
 
 TEST(IntersectorHandCases, EveryVariantIsExactOnIntegerCases) {
-    ASSERT_EQ(builtin_variants().size(), 8u);
-    int checked = 0;
+    ASSERT_GE(builtin_variants().size(), 13u);
+    int checked = 0, expected = 0;
     for (const variant& v : builtin_variants()) {
         for (const precision p : both_precisions) {
             ASSERT_TRUE(v.runs_in(p)) << label(v, p);
             for (const hand_case& h : hand_cases) {
                 if (v.promises.assumes_unit_direction && !h.unit_direction) continue;
+                ++expected;
                 SCOPED_TRACE(label(v, p) + " on " + h.name);
                 const exact_solution s = exact_for(h.geometry, p);
                 const root_pair<double> want = contract_answer(v.promises, s);
                 const root_pair<double> got = run(v, p, h.geometry);
                 ++checked;
                 ASSERT_EQ(got.count, want.count);
-                if (got.count == 0) continue;
+                if (got.count == 0 || v.promises.query == query_kind::any_hit_in_interval) continue;
                 EXPECT_EQ(got.t0, want.t0);
                 if (v.promises.query == query_kind::line_roots) {
                     EXPECT_EQ(got.t1, want.t1);
@@ -118,9 +127,10 @@ TEST(IntersectorHandCases, EveryVariantIsExactOnIntegerCases) {
             }
         }
     }
-    // 8 variants × 2 precisions × 9 cases, less the non-unit case for the 3
-    // variants that assume a unit direction.
-    EXPECT_EQ(checked, 8 * 2 * 9 - 3 * 2);
+    // Every variant × 2 precisions × 9 cases, less the non-unit case for the
+    // variants that assume a unit direction: nothing skipped silently.
+    EXPECT_EQ(checked, expected);
+    EXPECT_GE(checked, 13 * 2 * 9 - 6 * 2);
 }
 
 TEST(IntersectorHandCases, NearestOnRayClampsInsideAndRejectsBehind) {
@@ -170,7 +180,11 @@ TEST(IntersectorHandCases, IrrationalRootsWithinTwoUlps) {
             SCOPED_TRACE(label(v, p));
             const exact_solution s = exact_for(g, p);
             const root_pair<double> got = run(v, p, g);
-            if (v.promises.query == query_kind::nearest_on_ray) {
+            if (v.promises.query == query_kind::any_hit_in_interval) {
+                EXPECT_EQ(got.count, 1);  // both roots 5 ∓ √2 lie in (0, +inf)
+                continue;
+            }
+            if (v.promises.query == query_kind::nearest_on_ray || v.promises.query == query_kind::nearest_in_interval) {
                 ASSERT_EQ(got.count, 1);
                 EXPECT_LE(s.root_ulp_error(near_root, got.t0), 2.0);
                 continue;

@@ -10,6 +10,7 @@ packages=(
   libgtest-dev                 # tests
   libcli11-dev nlohmann-json3-dev libfmt-dev        # CLI, JSON reports, formatting
   libbenchmark-dev python3-matplotlib               # rayverify bench (Google Benchmark), report plots
+  libpng-dev                   # rayverify render (PNG images)
 )
 # tools/fuzz.sh: clang and its runtime libraries (libFuzzer, sanitizers).
 [ "${1:-}" = "--fuzz" ] && packages+=(clang libclang-rt-14-dev)

@@ -12,6 +12,9 @@
 #include "intersectors/geometric.h"
 #include "intersectors/half_b.h"
 #include "intersectors/hearn_baker.h"
+#include "intersectors/hearn_baker_any_hit.h"
+#include "intersectors/hearn_baker_nearest.h"
+#include "intersectors/hearn_baker_unit.h"
 #include "intersectors/naive.h"
 #include "intersectors/seed003_reduced.h"
 #include "intersectors/seed004_early_out.h"
@@ -21,9 +24,15 @@ namespace rayverify::bench {
 
 // Calls visit(name, kernel) for every built-in variant, in registry order;
 // kernel(s) works for ray_sphere<float>, <double> and <long double>.
+// kernel(s, tmin, tmax) asks a kind that takes an interval for (tmin, tmax)
+// (kernel(s) for (0, +inf)); the other kinds ignore the interval, like
+// run_in (registry.h).
 template <class Visitor>
 void for_each_kernel(Visitor&& visit) {
-#define RAYVERIFY_KERNEL(fn) visit(std::string_view(#fn), [](const auto& s) { return intersectors::fn(s); })
+#define RAYVERIFY_KERNEL(fn) \
+    visit(std::string_view(#fn), [](const auto& s, auto... /*interval*/) { return intersectors::fn(s); })
+#define RAYVERIFY_INTERVAL_KERNEL(fn) \
+    visit(std::string_view(#fn), [](const auto& s, auto... interval) { return intersectors::fn(s, interval...); })
     RAYVERIFY_KERNEL(naive);
     RAYVERIFY_KERNEL(half_b);
     RAYVERIFY_KERNEL(seed003_reduced);
@@ -32,6 +41,12 @@ void for_each_kernel(Visitor&& visit) {
     RAYVERIFY_KERNEL(stable_roots);
     RAYVERIFY_KERNEL(hearn_baker);
     RAYVERIFY_KERNEL(fma_discriminant);
+    RAYVERIFY_INTERVAL_KERNEL(hearn_baker_any_hit);
+    RAYVERIFY_INTERVAL_KERNEL(hearn_baker_nearest);
+    RAYVERIFY_KERNEL(hearn_baker_unit);
+    RAYVERIFY_INTERVAL_KERNEL(hearn_baker_unit_nearest);
+    RAYVERIFY_INTERVAL_KERNEL(hearn_baker_unit_any_hit);
+#undef RAYVERIFY_INTERVAL_KERNEL
 #undef RAYVERIFY_KERNEL
 }
 

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <functional>
 
+#include "bench/collecting_reporter.h"
 #include "bench/kernels.h"
 #include "core/input_error.h"
 #include "intersectors/registry.h"
@@ -14,17 +15,6 @@
 
 namespace rayverify::bench {
 namespace {
-
-// Collects the per-repetition runs of the one benchmark registered at a time.
-class collecting_reporter : public benchmark::BenchmarkReporter {
-public:
-    bool ReportContext(const Context&) override { return true; }
-    void ReportRuns(const std::vector<Run>& runs) override {
-        for (const Run& run : runs)
-            if (run.run_type == Run::RT_Iteration && !run.error_occurred) repetitions.push_back(run);
-    }
-    std::vector<Run> repetitions;
-};
 
 // The family's cases valid at precision T, rounded to T.
 template <class T>
@@ -90,6 +80,18 @@ timing_row measure(pending p, const timing_options& options) {
 
 }  // namespace
 
+timing_row time_pass(timing_row row, const std::function<double()>& one_pass, const timing_options& options) {
+    row.checksum = one_pass();
+    return measure({std::move(row),
+                    [&one_pass](benchmark::State& state) {
+                        for (auto _ : state) {
+                            double value = one_pass();
+                            benchmark::DoNotOptimize(value);
+                        }
+                    }},
+                   options);
+}
+
 double median_of(std::vector<double> values) {
     if (values.empty()) return 0;
     std::sort(values.begin(), values.end());
@@ -113,6 +115,7 @@ std::vector<timing_row> time_variants(const std::map<std::string, std::vector<co
     for (const std::string& name : options.variants)
         if (!find_builtin_variant(name)) throw input_error("", 0, "--variant", fmt::format("unknown variant '{}'", name));
     const auto wanted = [&](std::string_view name) {
+        if (!options.builtins) return false;
         return options.variants.empty() ||
                std::find(options.variants.begin(), options.variants.end(), name) != options.variants.end();
     };
@@ -145,6 +148,23 @@ std::vector<timing_row> time_variants(const std::map<std::string, std::vector<co
             add("double", in.d);
             add("long double", in.ld);
         });
+    }
+    for (const variant& plugin : options.plugins) {
+        for (const auto& [family, in] : inputs) {
+            const auto add = [&, &family = family](const char* prec, const auto& cases) {
+                using T = decltype(std::decay_t<decltype(cases)>::value_type::radius);
+                timing_row row;
+                row.variant = plugin.name + " (called through a function pointer)";
+                row.precision = prec;
+                row.family = family;
+                row.cases = cases.size();
+                const auto through = [&plugin](const ray_sphere<T>& s) { return run_in(plugin, s, ray_interval<T>{}); };
+                row.checksum = checksum_of(cases, through);
+                work.push_back({std::move(row), [&cases, through](benchmark::State& s) { run_loop(s, cases, through); }});
+            };
+            if (plugin.runs_in(precision::binary32)) add("float", in.f);
+            if (plugin.runs_in(precision::binary64)) add("double", in.d);
+        }
     }
     if (options.include_oracle) {
         for (const auto& [family, in] : inputs) {

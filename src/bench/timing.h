@@ -10,16 +10,23 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
 
 #include "core/ray_sphere_case.h"
+#include "intersectors/registry.h"
 
 namespace rayverify::bench {
 
 struct timing_options {
-    std::vector<std::string> variants;  // empty: all built-in variants
+    std::vector<std::string> variants;  // empty: all built-in variants (unless builtins is false)
+    bool builtins = true;               // false: time only the plugins
+    // Variants without an inlined kernel (plugins): timed in float and double
+    // through their function (a call through a pointer per test), labelled
+    // "NAME (called through a function pointer)".
+    std::vector<variant> plugins;
     int repetitions = 9;
     double min_time_s = 0.01;     // per repetition
     double warmup_s = 0.02;       // before the first repetition
@@ -50,6 +57,12 @@ struct timing_row {
 std::vector<timing_row> time_variants(const std::map<std::string, std::vector<corpus_case>>& cases_by_family,
                                       const timing_options& options,
                                       void (*on_progress)(std::size_t, std::size_t) = nullptr);
+
+// Time one pass of a caller's loop like a row of time_variants: `one_pass`
+// runs the loop once over `row.cases` items and returns a value that depends
+// on every result (so nothing is optimised away). Fills ns_per_test (per
+// item), the medians, min, max and the checksum (one pass's value).
+timing_row time_pass(timing_row row, const std::function<double()>& one_pass, const timing_options& options);
 
 // Median of a sample (mean of the two middle values for an even count); 0 for empty.
 double median_of(std::vector<double> values);

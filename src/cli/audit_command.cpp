@@ -2,13 +2,16 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <thread>
 
 #include "cli/commands.h"
 #include "core/input_error.h"
+#include "corpus/case_stream.h"
 #include "corpus/corpus_io.h"
 #include "report/atomic_file.h"
 #include "report/audit_report.h"
 #include "report/markdown_report.h"
+#include "report/shard_state.h"
 #include "report/stability_report.h"
 
 namespace rayverify::cli {
@@ -16,21 +19,22 @@ namespace {
 
 struct audit_options {
     std::vector<std::string> corpus;
+    std::vector<std::string> generate;
     std::vector<std::string> variants;
     std::vector<std::string> plugins;
     std::vector<std::string> precisions;
     std::string report_dir;
     std::string per_case_file;
     bool plots = false;
+    unsigned threads = 0;  // 0: every hardware thread
+    std::string shard;
+    std::string scene;  // issue 6: audit a scene's rays instead (cli/scene_audit.cpp)
 };
 
 // Progress on stderr, only when a person is watching it.
-std::function<void(std::size_t, std::size_t)> progress_reporter() {
+std::function<void(std::size_t)> progress_reporter() {
     if (!isatty(STDERR_FILENO)) return {};
-    return [](std::size_t done, std::size_t total) {
-        fmt::print(stderr, "\raudit: {}/{} cases", done, total);
-        if (done == total) fmt::print(stderr, "\n");
-    };
+    return [](std::size_t done) { fmt::print(stderr, "\raudit: {} cases", done); };
 }
 
 // An output path naming an existing directory fails before the audit, not at the rename after it.
@@ -40,77 +44,191 @@ void refuse_directory(const std::filesystem::path& path, const char* option) {
         throw input_error(path.string(), 0, option, "is a directory, expected a file to write");
 }
 
+// Where a shard's per-case file is, as the merge finds it: relative to the
+// report directory when inside it (so shard directories can be moved, e.g.
+// as CI artifacts), else absolute.
+std::string per_case_location(const std::filesystem::path& per_case, const std::filesystem::path& report_dir) {
+    std::error_code error;
+    const auto file = std::filesystem::weakly_canonical(std::filesystem::absolute(per_case), error);
+    const auto dir = std::filesystem::weakly_canonical(std::filesystem::absolute(report_dir), error);
+    const auto relative = file.lexically_relative(dir);
+    if (!relative.empty() && *relative.begin() != "..") return relative.generic_string();
+    return file.string();
+}
+
 int run(const audit_options& options, const std::string& command_line) {
+    if (!options.scene.empty()) {
+        if (!options.corpus.empty() || !options.generate.empty() || !options.shard.empty() ||
+            !options.per_case_file.empty() || options.plots)
+            throw input_error("", 0, "--scene",
+                              "a scene makes its own rays: no --corpus, --generate, --shard, --per-case or --plots");
+        return run_scene_audit({options.scene, options.variants, options.plugins, options.precisions,
+                                options.report_dir, command_line});
+    }
+    if (!options.corpus.empty() && !options.generate.empty())
+        throw input_error("", 0, "--generate", "give either --corpus or --generate, not both");
+    const shard_spec shard = options.shard.empty() ? shard_spec{} : parse_shard(options.shard);
+    if (!options.shard.empty() && options.report_dir.empty())
+        throw input_error("", 0, "--shard", "a shard needs --report DIR (its state for `rayverify merge` goes there)");
     std::vector<std::filesystem::path> paths(options.corpus.begin(), options.corpus.end());
-    if (paths.empty()) paths.emplace_back(RAYVERIFY_DEFAULT_CORPUS);
-    const std::vector<corpus_case> cases = read_corpus(paths);
+    std::vector<generate_spec> specs;
+    for (const std::string& text : options.generate) specs.push_back(parse_generate_spec(text));
+    if (paths.empty() && specs.empty()) paths.emplace_back(RAYVERIFY_DEFAULT_CORPUS);
+    case_stream stream = specs.empty() ? case_stream(paths, shard) : case_stream(specs, shard);
     const std::vector<audit_target> targets = select_targets(options.variants, options.plugins, options.precisions);
     if (targets.empty()) throw input_error("", 0, "--precision", "no variant runs in the chosen precision");
+    const unsigned requested = options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency());
+    const unsigned threads = audit_threads(targets, requested);
+    if (threads < requested)
+        fmt::print(stderr, "audit: a plugin is not thread-safe (called from one thread): auditing on one thread\n");
 
     // Every output is opened (as a temporary) before the audit and committed
     // only once all of them are complete: an error leaves no output behind.
     const std::filesystem::path report_dir(options.report_dir);
-    const std::filesystem::path report_json_path = report_dir / "report.json", summary_path = report_dir / "summary.txt";
     refuse_directory(options.per_case_file, "--per-case");
-    if (!options.report_dir.empty()) {
-        refuse_directory(report_json_path, "--report");
-        refuse_directory(summary_path, "--report");
-    }
-    std::optional<atomic_file> per_case, report_json, summary;
-    if (!options.per_case_file.empty()) per_case.emplace(options.per_case_file);
-    if (!options.report_dir.empty()) {
-        std::error_code error;
-        std::filesystem::create_directories(options.report_dir, error);
-        if (error) throw input_error(options.report_dir, 0, "--report", "cannot create directory: " + error.message());
-        report_json.emplace(report_json_path);
-        summary.emplace(summary_path);
+    audit_outputs outputs;
+    outputs.open_report(report_dir);  // first: it creates the directory, which may hold the per-case file
+    if (!options.per_case_file.empty()) outputs.per_case.emplace(options.per_case_file);
+    std::optional<atomic_file> state_file;
+    if (!options.shard.empty()) {
+        refuse_directory(report_dir / shard_state_file, "--report");
+        state_file.emplace(report_dir / shard_state_file);
     }
 
-    // Stability (compare/stability.h) per case, for the per-case lines, the report and its plots.
-    stability_accumulator stability(targets);
-    std::vector<std::string> labels;
-    for (const audit_target& t : targets) labels.push_back(t.label());
-    case_points points(targets, labels);
-    const auto on_case = [&](const audited_case& c) {
+    // Per thread: the state, and the chunk's rendered per-case lines (written in order).
+    std::vector<audit_state> states(threads, audit_state(targets));
+    std::vector<std::string> lines(outputs.per_case ? case_stream::default_chunk : 0);
+    audit_hooks hooks;
+    hooks.parallel = [&](const audited_case& c, std::size_t index, std::size_t slot, unsigned worker) {
         const case_stability s = assess_case(c, targets);
-        stability.add(c, s);
-        if (report_json) points.add(c, s);
-        if (!per_case) return;
+        states[worker].stability.add(c, s, index);
+        if (outputs.report_json) states[worker].points.add(c, s, index);
+        if (!outputs.per_case) return;
         nlohmann::ordered_json line = per_case_json(c, targets);
         add_stability_fields(line, s, targets);
-        per_case->stream() << line.dump() << '\n';
+        lines[slot] = line.dump();
     };
-    const audit_totals totals = run_audit(cases, targets, on_case, progress_reporter());
-
-    const std::string table = render_summary_table(totals);
-    nlohmann::ordered_json report;
-    if (report_json) {
-        run_context context{command_line, {}};
-        for (const auto& p : paths) context.corpus_paths.push_back(p.string());
-        report = audit_report_json(totals, context);
-        report["stability"] = stability_json(totals, stability.finish());
-        report["case_points"] = points.to_json();
-        report_json->stream() << report.dump(2) << '\n';
-        summary->stream() << table;
+    if (outputs.per_case)
+        hooks.ordered = [&](const audited_case&, std::size_t, std::size_t slot) {
+            outputs.per_case->stream() << lines[slot] << '\n';
+        };
+    hooks.progress = progress_reporter();
+    const case_source next = [&](std::vector<corpus_case>& cases, std::vector<std::size_t>& indices) {
+        return stream.next(cases, indices);
+    };
+    states[0].audit = audit_stream(next, targets, threads, hooks);
+    if (hooks.progress) fmt::print(stderr, "\n");
+    for (unsigned w = 1; w < threads; ++w) {
+        states[0].stability.merge(states[w].stability);
+        states[0].points.merge(states[w].points);
     }
-    for (std::optional<atomic_file>* output : {&per_case, &report_json, &summary})
+
+    run_context context{recorded_command(command_line), {}};
+    for (const auto& p : paths) context.corpus_paths.push_back(p.string());
+    for (const generate_spec& s : specs) context.generated.push_back(s.text());
+    std::optional<nlohmann::ordered_json> report;
+    if (outputs.report_json) {
+        report = audit_report_document(states[0], context);
+        if (state_file) {
+            nlohmann::ordered_json state = {
+                {"format", shard_state_format},
+                {"build", build_json()},
+                {"command", context.command_line},
+                {"input", {{"paths", context.corpus_paths},
+                           {"generated", context.generated},
+                           {"cases", stream.total()},
+                           {"fingerprint", stream.fingerprint()}}},
+                {"shard", {{"index", shard.index}, {"count", shard.count}, {"cases", states[0].audit.cases}}},
+                {"targets", targets_json(targets)},
+                {"per_case_file", options.per_case_file.empty()
+                                      ? nlohmann::ordered_json(nullptr)
+                                      : nlohmann::ordered_json(per_case_location(options.per_case_file, report_dir))},
+                {"state", state_json(states[0])}};
+            state_file->stream() << state.dump() << '\n';
+            (*report)["shard"] = {{"index", shard.index},
+                                  {"count", shard.count},
+                                  {"cases", states[0].audit.cases},
+                                  {"input_cases", stream.total()},
+                                  {"merge", "rayverify merge -o DIR SHARD_DIR... combines the shards' " +
+                                                std::string(shard_state_file) + " into the whole run's report"}};
+        }
+    }
+    if (state_file) state_file->commit();
+    return publish_audit(states[0].audit.finish(), report, report_dir, outputs, options.plots);
+}
+
+}  // namespace
+
+std::string recorded_command(const std::string& command_line) {
+    // Options that choose where the outputs go or how the work is spread
+    // change no figure: they are left out, so that any thread count, any
+    // sharding and any output directory record the same command.
+    static const std::vector<std::string> with_value = {"--threads", "--shard", "--report", "--per-case"};
+    static const std::vector<std::string> flags = {"--plots"};
+    std::vector<std::string> words;
+    for (std::size_t at = 0; at <= command_line.size();) {
+        const std::size_t end = std::min(command_line.find(' ', at), command_line.size());
+        words.push_back(command_line.substr(at, end - at));
+        at = end + 1;
+    }
+    std::string out;
+    for (std::size_t i = 0; i < words.size(); ++i) {
+        const std::string& w = words[i];
+        const auto named = [&](const std::string& option) { return w == option || w.starts_with(option + "="); };
+        if (std::any_of(with_value.begin(), with_value.end(), named)) {
+            if (w.find('=') == std::string::npos) ++i;  // and its value
+            continue;
+        }
+        if (std::find(flags.begin(), flags.end(), w) != flags.end()) continue;
+        out += (out.empty() ? "" : " ") + w;
+    }
+    return out;
+}
+
+audit_outputs::created_directory::~created_directory() {
+    if (path.empty() || keep) return;
+    std::error_code ignored;
+    std::filesystem::remove(path, ignored);  // removes only an empty directory
+}
+
+void audit_outputs::open_report(const std::filesystem::path& report_dir) {
+    if (report_dir.empty()) return;
+    dir = report_dir;
+    refuse_directory(report_dir / "report.json", "--report");
+    refuse_directory(report_dir / "summary.txt", "--report");
+    std::error_code error;
+    const bool existed = std::filesystem::exists(report_dir, error);
+    std::filesystem::create_directories(report_dir, error);
+    if (error) throw input_error(report_dir.string(), 0, "--report", "cannot create directory: " + error.message());
+    if (!existed) created.path = report_dir;
+    report_json.emplace(report_dir / "report.json");
+    summary.emplace(report_dir / "summary.txt");
+}
+
+int publish_audit(const audit_totals& totals, const std::optional<nlohmann::ordered_json>& report,
+                  const std::filesystem::path& report_dir, audit_outputs& outputs, bool plots) {
+    const std::string table = render_summary_table(totals);
+    if (outputs.report_json) {
+        outputs.report_json->stream() << report->dump(2) << '\n';
+        outputs.summary->stream() << table;
+    }
+    for (std::optional<atomic_file>* output : {&outputs.per_case, &outputs.report_json, &outputs.summary})
         if (*output) (*output)->commit();
+    outputs.created.keep = true;
 
     fmt::print("{}", table);
     fmt::print("build: {} {} [{}]\n", build_json()["compiler"].get<std::string>(),
                build_json()["flags"].get<std::string>(), build_json()["build_type"].get<std::string>());
-    if (report_json) {
+    if (outputs.report_json) {
         // report.md and the plots render the committed report.json.
-        const plot_outcome plots = write_report_bundle(report_dir, report, options.plots);
-        fmt::print("report: {}\n", report_json_path.string());
-        fmt::print("plots: {}\n", plots.message);
+        const plot_outcome drawn = write_report_bundle(report_dir, *report, plots);
+        fmt::print("report: {}\n", (report_dir / "report.json").string());
+        fmt::print("plots: {}\n", drawn.message);
     }
     bool findings = false;
     for (const target_tally& t : totals.overall) findings = findings || t.disagreements() > 0;
     return findings ? exit_findings : exit_ok;
 }
-
-}  // namespace
 
 command add_audit_command(CLI::App& app, const std::string& command_line) {
     auto options = std::make_shared<audit_options>();
@@ -119,6 +237,12 @@ command add_audit_command(CLI::App& app, const std::string& command_line) {
                                             "disagrees with the exact answer on some case.");
     sub->add_option("--corpus", options->corpus,
                     "Corpus file (.txt or .csv) or directory of them; repeatable. Default: the shipped corpus");
+    sub->add_option("--generate", options->generate,
+                    "Audit generated cases instead of a corpus, made on the fly (no file, bounded memory): "
+                    "FAMILY:COUNT[:SEED], seed 1 by default, families as `corpus generate`; repeatable");
+    sub->add_option("--scene", options->scene,
+                    "Audit exactly the rays a scene file casts (corpus/scenes/README.md), judged at the level each "
+                    "ray's query needs, instead of a corpus");
     sub->add_option("--variant", options->variants, "Variant to audit (repeatable; default: all)");
     sub->add_option("--plugin", options->plugins,
                     "Shared library implementing rayverify_plugin.h, audited as a variant (repeatable)");
@@ -129,6 +253,13 @@ command add_audit_command(CLI::App& app, const std::string& command_line) {
     sub->add_flag("--plots", options->plots,
                   "With --report: also draw the PNG plots (tools/plot_report.py, matplotlib; takes seconds)");
     sub->add_option("--per-case", options->per_case_file, "Write one JSON object per case to this file");
+    sub->add_option("--threads", options->threads,
+                    "Threads auditing cases (default: every hardware thread); the output is the same for any number")
+        ->check(CLI::Range(1u, 4096u));
+    sub->add_option("--shard", options->shard,
+                    "Audit only shard K of N (K = 1..N): the cases whose index in the whole input is K-1 modulo N. "
+                    "Needs --report DIR, where the shard's state goes; `rayverify merge` combines the N shards "
+                    "into the report of the whole run");
     return {sub, [options, command_line] { return run(*options, command_line); }};
 }
 

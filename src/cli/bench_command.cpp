@@ -57,10 +57,11 @@ accuracy_run audit_with_stability(const std::vector<corpus_case>& cases, const s
                                   const std::vector<std::string>& labels) {
     stability_accumulator stability(targets);
     case_points points(targets, labels);
+    std::size_t index = 0;
     const auto on_case = [&](const audited_case& c) {
         const case_stability s = assess_case(c, targets);
-        stability.add(c, s);
-        points.add(c, s);
+        stability.add(c, s, index);
+        points.add(c, s, index++);
     };
     accuracy_run run;
     run.totals = run_audit(cases, targets, on_case);

@@ -8,7 +8,13 @@
 #include <string>
 #include <vector>
 
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <optional>
+
 #include "compare/audit.h"
+#include "report/atomic_file.h"
+#include "scene/scene.h"
 
 namespace rayverify::cli {
 
@@ -30,6 +36,21 @@ command add_bench_command(CLI::App& app, const std::string& command_line);
 command add_hunt_command(CLI::App& app, const std::string& command_line);
 command add_gate_command(CLI::App& app);
 command add_diff_command(CLI::App& app);
+command add_merge_command(CLI::App& app);
+command add_render_command(CLI::App& app);  // issue 6: cli/render_command.cpp
+command add_recommend_command(CLI::App& app);  // issue 6: cli/recommend_command.cpp
+
+// issue 6: `audit --scene FILE` (cli/scene_audit.cpp), called by the audit command.
+struct scene_audit_request {
+    std::string scene_file;
+    std::vector<std::string> variants, plugins, precisions;
+    std::string report_dir;    // scene_report.json goes there when not empty
+    std::string command_line;
+};
+int run_scene_audit(const scene_audit_request& request);
+// The chosen variants (all by default), each in the scene's precision.
+std::vector<audit_target> scene_audit_targets(const scene& s, const std::vector<std::string>& variant_names,
+                                              const std::vector<std::string>& plugin_paths);
 
 // Shared by the commands: the targets named by --variant and --precision
 // (all of them when empty). Throws input_error for an unknown name.
@@ -42,5 +63,36 @@ std::vector<audit_target> select_targets(const std::vector<std::string>& variant
 std::vector<audit_target> select_targets(const std::vector<std::string>& variant_names,
                                          const std::vector<std::string>& plugin_paths,
                                          const std::vector<std::string>& precisions);
+
+// Shared by audit and merge (cli/audit_command.cpp).
+// The command line as reports record it: without --threads, --shard,
+// --report, --per-case and --plots, which change where outputs go or how the
+// work is spread, never a figure.
+std::string recorded_command(const std::string& command_line);
+
+// An audit's output files, opened (as temporaries) before the work.
+// A report directory that open_report had to create is removed again (when
+// empty) unless publish_audit committed into it, so a failed audit leaves no
+// directory behind either.
+struct audit_outputs {
+    struct created_directory {
+        std::filesystem::path path;  // empty: nothing was created
+        bool keep = false;
+        created_directory() = default;
+        created_directory(const created_directory&) = delete;
+        created_directory& operator=(const created_directory&) = delete;
+        ~created_directory();
+    };
+    std::filesystem::path dir;
+    created_directory created;  // declared first: removed after the temporaries inside it
+    std::optional<atomic_file> per_case, report_json, summary;
+    void open_report(const std::filesystem::path& report_dir);  // nothing when empty
+};
+
+// Commits the outputs (report.json and summary.txt when the report is open),
+// prints the summary table, renders report.md (and the plots), and returns
+// exit_findings when any target disagrees with the oracle on some case.
+int publish_audit(const audit_totals& totals, const std::optional<nlohmann::ordered_json>& report,
+                  const std::filesystem::path& report_dir, audit_outputs& outputs, bool plots);
 
 }  // namespace rayverify::cli

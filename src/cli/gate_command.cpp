@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <thread>
 
 #include "cli/commands.h"
 #include "compare/gate.h"
@@ -22,6 +23,7 @@ struct gate_options {
     std::string junit;
     bool update = false;
     std::size_t examples = 3;
+    unsigned threads = 0;  // 0: every hardware thread
 };
 
 std::string read_text_file(const std::filesystem::path& path, const std::string& field) {
@@ -49,7 +51,8 @@ int run(const gate_options& options) {
     const std::vector<audit_target> targets = select_targets(options.variants, options.plugins, options.precisions);
     if (targets.empty()) throw input_error("", 0, "--precision", "no variant runs in the chosen precision");
 
-    const gate_run run = run_gate(cases, targets, base, options.examples);
+    const unsigned threads = options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency());
+    const gate_run run = run_gate(cases, targets, base, options.examples, threads);
     if (options.update) {
         write_file_atomically(baseline_path, format_baseline(updated_baseline(base, run.current)));
         std::size_t changed = 0;
@@ -84,6 +87,9 @@ command add_gate_command(CLI::App& app) {
                   "Rewrite the baseline with this run's figures (comments and policy lines are kept)");
     sub->add_option("--examples", options->examples, "Cases shown as corpus lines per failing figure")
         ->capture_default_str();
+    sub->add_option("--threads", options->threads,
+                    "Threads auditing cases (default: every hardware thread); the result is the same for any number")
+        ->check(CLI::Range(1u, 4096u));
     return {sub, [options] { return run(*options); }};
 }
 

@@ -11,6 +11,7 @@ namespace {
 
 struct hunt_command_options {
     std::string variant;
+    std::string plugin;  // a plugin library hunted instead of a built-in variant
     std::string precision = "double";
     std::string family = "uniform";
     double budget = 10;
@@ -26,9 +27,14 @@ struct hunt_command_options {
 std::string error_text(double ulps) { return fmt::format("{:.3g} ulp", ulps); }
 
 int run(const hunt_command_options& o, const std::string& command_line) {
-    const std::vector<audit_target> targets = select_targets({o.variant}, {o.precision});
+    if (o.variant.empty() == o.plugin.empty())
+        throw input_error("", 0, "--variant", "name exactly one target: --variant NAME or --plugin LIBRARY");
+    const std::vector<std::string> names = o.variant.empty() ? std::vector<std::string>{} : std::vector{o.variant};
+    const std::vector<std::string> plugins = o.plugin.empty() ? std::vector<std::string>{} : std::vector{o.plugin};
+    const std::vector<audit_target> targets = select_targets(names, plugins, {o.precision});
     if (targets.empty())
-        throw input_error("", 0, "--precision", fmt::format("variant {} does not run in {}", o.variant, o.precision));
+        throw input_error("", 0, "--precision",
+                          fmt::format("{} does not run in {}", o.variant.empty() ? o.plugin : o.variant, o.precision));
     const audit_target& target = targets.front();
     const family_info* family = find_generator_family(o.family);
     if (family == nullptr) {
@@ -114,7 +120,9 @@ command add_hunt_command(CLI::App& app, const std::string& command_line) {
                 "exact answer (--objective misclass): random restarts from a family's cases, local search by ulp "
                 "moves judged by the exact oracle, then shrinking. Writes the finds as corpus lines. Exit 1 when "
                 "a disagreement was found");
-    sub->add_option("--variant", o->variant, "Variant to hunt")->required();
+    sub->add_option("--variant", o->variant, "Variant to hunt");
+    sub->add_option("--plugin", o->plugin,
+                    "Hunt a plugin (rayverify_plugin.h) instead: its functions are called through a function pointer");
     sub->add_option("--precision", o->precision, "float or double")
         ->check(CLI::IsMember({"float", "double"}))
         ->capture_default_str();

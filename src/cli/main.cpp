@@ -19,7 +19,9 @@ int main(int argc, char** argv) {
     const cli::command commands[] = {cli::add_variants_command(app), cli::add_audit_command(app, command_line),
                                      cli::add_explain_command(app), cli::add_corpus_command(app),
                                      cli::add_bench_command(app, command_line), cli::add_gate_command(app), cli::add_diff_command(app),
-                                     cli::add_hunt_command(app, command_line)};
+                                     cli::add_hunt_command(app, command_line),
+                                     cli::add_merge_command(app),
+                                     cli::add_render_command(app), cli::add_recommend_command(app)};  // issue 6
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

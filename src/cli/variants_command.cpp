@@ -18,7 +18,7 @@ command add_variants_command(CLI::App& app) {
                         all.push_back({{"name", v.name},
                                        {"citation", v.citation},
                                        {"formula", v.formula},
-                                       {"query", c.query == query_kind::line_roots ? "line_roots" : "nearest_on_ray"},
+                                       {"query", query_kind_name(c.query)},
                                        {"assumes_unit_direction", c.assumes_unit_direction},
                                        {"reports_tangent", c.reports_tangent},
                                        {"tangent_rule", std::string(c.tangent_rule)},
@@ -32,10 +32,13 @@ command add_variants_command(CLI::App& app) {
                     const contract& c = v.promises;
                     fmt::print("{}\n  source:   {}\n  formula:  {}\n", v.name, v.citation, v.formula);
                     fmt::print("  returns:  {}\n",
-                               c.query == query_kind::line_roots
-                                   ? "both roots of the line, ordered, negative roots included"
-                                   : (c.clamps_to_zero ? "nearest hit on the ray t >= 0, clamped to 0 when the origin is inside"
-                                                       : "nearest hit on the ray t >= 0"));
+                               c.query == query_kind::line_roots ? "both roots of the line, ordered, negative roots included"
+                               : c.query == query_kind::any_hit_in_interval
+                                   ? "whether some root lies in the ray's interval (tmin, tmax), no root"
+                               : c.query == query_kind::nearest_in_interval
+                                   ? "the nearest root in the ray's interval (tmin, tmax)"
+                               : (c.clamps_to_zero ? "nearest hit on the ray t >= 0, clamped to 0 when the origin is inside"
+                                                   : "nearest hit on the ray t >= 0"));
                     fmt::print("  assumes:  {}\n", c.assumes_unit_direction ? "unit direction (|d|^2 = 1 within 8 eps)"
                                                                            : "any nonzero direction");
                     fmt::print("  tangent:  {}\n  precision: float, double\n\n",

@@ -1,7 +1,13 @@
 #include "compare/audit.h"
 
 #include <algorithm>
+#include <atomic>
+#include <bit>
 #include <cmath>
+#include <iterator>
+#include <thread>
+
+#include "compare/query.h"
 
 namespace rayverify {
 
@@ -30,10 +36,9 @@ target_outcome run_target(const audit_target& target, const corpus_case& c, cons
         outcome.score.detail = *breach;
         return outcome;
     }
-    if constexpr (std::is_same_v<T, float>)
-        outcome.output = evaluate(target.subject.run_float, target.subject.promises, input);
-    else
-        outcome.output = evaluate(target.subject.run_double, target.subject.promises, input);
+    // Kinds that take an interval are asked for the case's (default (0, +inf)).
+    const ray_interval<double> asked = interval_of(c, target.prec);
+    outcome.output = evaluate(target.subject, input, ray_interval<T>{static_cast<T>(asked.tmin), static_cast<T>(asked.tmax)});
     outcome.score = score_case(target.subject.promises, outcome.output, exact, widened);
     return outcome;
 }
@@ -82,97 +87,247 @@ std::size_t target_tally::disagreements() const {
     return n;
 }
 
-audit_accumulator::audit_accumulator(std::vector<audit_target> targets)
-    : targets_(std::move(targets)), overall_(targets_.size()) {}
+// Bucket keys: 0 holds exactly 0; key k ≥ 1 holds the doubles whose bits,
+// shifted right by 52 − resolution_bits, equal k − 1. For non-negative
+// doubles (with +inf and NaN above every finite value) the bits order as the
+// values do, so keys do too.
+namespace {
 
-void audit_accumulator::add(const audited_case& c) {
-    const std::size_t index = case_ids_.size();
-    case_ids_.push_back(c.source->id);
-    const std::string family = c.source->family.empty() ? "-" : c.source->family;
-    ++cases_by_family_[family];
-    if (!c.exact_double.valid()) ++invalid_[1];
-    if (c.exact_float && !c.exact_float->valid()) ++invalid_[0];
-    if (!c.exact_double.valid() || (c.exact_float && !c.exact_float->valid()))
-        invalid_list_.push_back({c.source->id, c.source->source,
-                                 c.exact_float ? c.exact_float->invalid : invalid_reason::none,
-                                 c.exact_double.invalid});
+constexpr int bucket_shift = 52 - error_summary::resolution_bits;
 
-    auto& family_samples = by_family_[family];
-    family_samples.resize(targets_.size());
-    for (std::size_t t = 0; t < targets_.size(); ++t) {
+std::uint64_t bits_of(double x) { return std::bit_cast<std::uint64_t>(x); }
+
+// Larger error wins; on equal errors the smaller global index.
+bool takes_max(double value, std::size_t index, double max, std::size_t max_index) {
+    const std::uint64_t a = bits_of(std::fabs(value)), b = bits_of(std::fabs(max));
+    return a != b ? a > b : index < max_index;
+}
+
+}  // namespace
+
+std::uint64_t error_summary::bucket_of(double error) {
+    const double x = std::fabs(error);
+    return x == 0 ? 0 : (bits_of(x) >> bucket_shift) + 1;
+}
+
+double error_summary::upper_edge(std::uint64_t bucket) {
+    if (bucket == 0) return 0;
+    const double lower = std::bit_cast<double>((bucket - 1) << bucket_shift);
+    if (!std::isfinite(lower)) return lower;  // +inf or NaN: a bucket of its own
+    return std::bit_cast<double>(bucket << bucket_shift);
+}
+
+void error_summary::add(double error, std::size_t index, const std::string& id) {
+    if (count == 0 || takes_max(error, index, max, max_index)) {
+        max = error;
+        max_index = index;
+        max_id = id;
+    }
+    ++count;
+    ++buckets[bucket_of(error)];
+}
+
+void error_summary::merge(const error_summary& other) {
+    if (other.count == 0) return;
+    if (count == 0 || takes_max(other.max, other.max_index, max, max_index)) {
+        max = other.max;
+        max_index = other.max_index;
+        max_id = other.max_id;
+    }
+    count += other.count;
+    for (const auto& [bucket, n] : other.buckets) buckets[bucket] += n;
+}
+
+double error_summary::quantile(double q) const {
+    if (count == 0) return 0;
+    const auto rank = std::clamp<std::size_t>(
+        static_cast<std::size_t>(std::ceil(q * static_cast<double>(count))), 1, count);
+    std::size_t seen = 0;
+    for (const auto& [bucket, n] : buckets) {
+        seen += n;
+        if (seen < rank) continue;
+        return bucket == bucket_of(max) ? max : upper_edge(bucket);
+    }
+    return max;
+}
+
+error_statistics error_summary::statistics() const {
+    error_statistics stats;
+    stats.count = count;
+    if (count == 0) return stats;
+    stats.max = max;
+    stats.max_case = max_id;
+    stats.p99 = quantile(0.99);
+    stats.median = quantile(0.5);
+    return stats;
+}
+
+void target_samples::merge(const target_samples& other) {
+    cases += other.cases;
+    for (int k = 0; k < verdict_kind_count; ++k) verdicts[k] += other.verdicts[k];
+    near_ulp.merge(other.near_ulp);
+    far_ulp.merge(other.far_ulp);
+    hit_ulp.merge(other.hit_ulp);
+    near_bits.merge(other.near_bits);
+}
+
+std::string family_key(const corpus_case& c) { return c.family.empty() ? "-" : c.family; }
+
+audit_accumulator::audit_accumulator(std::vector<audit_target> t) : targets(std::move(t)), overall(targets.size()) {}
+
+void audit_accumulator::add(const audited_case& c, std::size_t index) {
+    ++cases;
+    const std::string family = family_key(*c.source);
+    ++cases_by_family[family];
+    if (!c.exact_double.valid()) ++invalid[1];
+    if (c.exact_float && !c.exact_float->valid()) ++invalid[0];
+    if (!c.exact_double.valid() || (c.exact_float && !c.exact_float->valid())) {
+        invalid_case entry{c.source->id, c.source->source,
+                           c.exact_float ? c.exact_float->invalid : invalid_reason::none, c.exact_double.invalid,
+                           index};
+        // Kept sorted by index; cases usually arrive in order, so this appends.
+        const auto at = std::upper_bound(invalid_list.begin(), invalid_list.end(), index,
+                                         [](std::size_t i, const invalid_case& e) { return i < e.index; });
+        invalid_list.insert(at, std::move(entry));
+    }
+
+    auto& family_samples = by_family[family];
+    family_samples.resize(targets.size());
+    for (std::size_t t = 0; t < targets.size(); ++t) {
         const case_score& score = c.outcomes[t].score;
-        for (samples* s : {&overall_[t], &family_samples[t]}) {
+        for (target_samples* s : {&overall[t], &family_samples[t]}) {
             ++s->cases;
             ++s->verdicts[static_cast<int>(score.verdict)];
             if (score.verdict != verdict_kind::agree) continue;
-            if (score.near_ulp) s->near_ulp.emplace_back(*score.near_ulp, index);
-            if (score.far_ulp) s->far_ulp.emplace_back(*score.far_ulp, index);
-            if (score.near_bits) s->near_bits.emplace_back(*score.near_bits, index);
+            const std::string& id = c.source->id;
+            if (score.near_ulp) s->near_ulp.add(*score.near_ulp, index, id);
+            if (score.far_ulp) s->far_ulp.add(*score.far_ulp, index, id);
+            if (score.near_bits) s->near_bits.add(*score.near_bits, index, id);
             if (score.hit_point_ulp) {
                 const auto& e = *score.hit_point_ulp;
-                s->hit_ulp.emplace_back(std::max({e[0], e[1], e[2]}), index);
+                s->hit_ulp.add(std::max({e[0], e[1], e[2]}), index, id);
             }
         }
     }
 }
 
-// Nearest-rank quantiles; ties in the maximum go to the earliest case.
-error_statistics statistics_of(std::vector<std::pair<double, std::size_t>> sample,
-                               const std::vector<std::string>& ids) {
-    error_statistics stats;
-    stats.count = sample.size();
-    if (sample.empty()) return stats;
-    std::sort(sample.begin(), sample.end(), [](const auto& a, const auto& b) {
-        return a.first != b.first ? a.first < b.first : a.second > b.second;
-    });
-    const auto rank = [&](double q) {
-        const auto k = static_cast<std::size_t>(std::ceil(q * static_cast<double>(sample.size())));
-        return sample[std::clamp<std::size_t>(k, 1, sample.size()) - 1].first;
-    };
-    stats.max = sample.back().first;
-    stats.max_case = ids[sample.back().second];
-    stats.p99 = rank(0.99);
-    stats.median = rank(0.5);
-    return stats;
+void audit_accumulator::merge(const audit_accumulator& other) {
+    cases += other.cases;
+    for (const auto& [family, n] : other.cases_by_family) cases_by_family[family] += n;
+    for (int p = 0; p < 2; ++p) invalid[p] += other.invalid[p];
+    std::vector<invalid_case> list;
+    list.reserve(invalid_list.size() + other.invalid_list.size());
+    std::merge(invalid_list.begin(), invalid_list.end(), other.invalid_list.begin(), other.invalid_list.end(),
+               std::back_inserter(list), [](const invalid_case& a, const invalid_case& b) { return a.index < b.index; });
+    invalid_list = std::move(list);
+    overall.resize(targets.size());
+    for (std::size_t t = 0; t < other.overall.size(); ++t) overall[t].merge(other.overall[t]);
+    for (const auto& [family, per_target] : other.by_family) {
+        auto& mine = by_family[family];
+        mine.resize(targets.size());
+        for (std::size_t t = 0; t < per_target.size(); ++t) mine[t].merge(per_target[t]);
+    }
 }
 
-target_tally audit_accumulator::summarise(const samples& s) const {
+namespace {
+
+target_tally summarise(const target_samples& s) {
     target_tally tally;
     tally.cases = s.cases;
     tally.verdicts = s.verdicts;
-    tally.near_root_ulp = statistics_of(s.near_ulp, case_ids_);
-    tally.far_root_ulp = statistics_of(s.far_ulp, case_ids_);
-    tally.hit_point_ulp = statistics_of(s.hit_ulp, case_ids_);
-    tally.near_root_bits = statistics_of(s.near_bits, case_ids_);
+    tally.near_root_ulp = s.near_ulp.statistics();
+    tally.far_root_ulp = s.far_ulp.statistics();
+    tally.hit_point_ulp = s.hit_ulp.statistics();
+    tally.near_root_bits = s.near_bits.statistics();
     return tally;
 }
 
+}  // namespace
+
 audit_totals audit_accumulator::finish() const {
     audit_totals totals;
-    totals.targets = targets_;
-    totals.cases = case_ids_.size();
-    totals.cases_by_family = cases_by_family_;
-    totals.invalid_cases = invalid_;
-    totals.invalid_list = invalid_list_;
-    for (const samples& s : overall_) totals.overall.push_back(summarise(s));
-    for (const auto& [family, per_target] : by_family_) {
+    totals.targets = targets;
+    totals.cases = cases;
+    totals.cases_by_family = cases_by_family;
+    totals.invalid_cases = invalid;
+    totals.invalid_list = invalid_list;
+    for (const target_samples& s : overall) totals.overall.push_back(summarise(s));
+    for (const auto& [family, per_target] : by_family) {
         auto& out = totals.by_family[family];
-        for (const samples& s : per_target) out.push_back(summarise(s));
+        for (const target_samples& s : per_target) out.push_back(summarise(s));
     }
     return totals;
 }
 
+unsigned audit_threads(const std::vector<audit_target>& targets, unsigned requested) {
+    const bool shareable = std::all_of(targets.begin(), targets.end(),
+                                       [](const audit_target& t) { return t.subject.thread_safe; });
+    return shareable ? std::max(1u, requested) : 1u;
+}
+
+audit_accumulator audit_stream(const case_source& next, const std::vector<audit_target>& targets, unsigned threads,
+                               const audit_hooks& hooks) {
+    threads = audit_threads(targets, threads);
+    std::vector<audit_accumulator> accumulators(threads, audit_accumulator(targets));
+    std::vector<corpus_case> cases;
+    std::vector<std::size_t> indices;
+    std::vector<audited_case> audited;
+    std::size_t done = 0;
+    while (true) {
+        cases.clear();
+        indices.clear();
+        if (!next(cases, indices)) break;
+        if (cases.empty()) continue;
+        audited.resize(cases.size());
+        // Workers take small runs of cases from a shared counter: which worker
+        // audits a case changes nothing, since accumulators merge exactly.
+        constexpr std::size_t grain = 8;
+        std::atomic<std::size_t> claimed{0};
+        const auto work = [&](unsigned worker) {
+            for (std::size_t begin; (begin = claimed.fetch_add(grain)) < cases.size();)
+                for (std::size_t i = begin; i < std::min(begin + grain, cases.size()); ++i) {
+                    audited[i] = audit_case(cases[i], targets);
+                    accumulators[worker].add(audited[i], indices[i]);
+                    if (hooks.parallel) hooks.parallel(audited[i], indices[i], i, worker);
+                }
+        };
+        {
+            std::vector<std::jthread> helpers;
+            for (unsigned w = 1; w < threads && w * grain < cases.size(); ++w) helpers.emplace_back(work, w);
+            work(0);
+        }  // joined
+        if (hooks.ordered)
+            for (std::size_t i = 0; i < cases.size(); ++i) hooks.ordered(audited[i], indices[i], i);
+        done += cases.size();
+        if (hooks.progress) hooks.progress(done);
+    }
+    for (unsigned w = 1; w < threads; ++w) accumulators[0].merge(accumulators[w]);
+    return std::move(accumulators[0]);
+}
+
 audit_totals run_audit(std::span<const corpus_case> cases, const std::vector<audit_target>& targets,
                        const std::function<void(const audited_case&)>& on_case,
-                       const std::function<void(std::size_t, std::size_t)>& on_progress) {
-    audit_accumulator accumulator(targets);
-    for (std::size_t i = 0; i < cases.size(); ++i) {
-        const audited_case audited = audit_case(cases[i], targets);
-        accumulator.add(audited);
-        if (on_case) on_case(audited);
-        if (on_progress && (i % 256 == 0 || i + 1 == cases.size())) on_progress(i + 1, cases.size());
-    }
-    return accumulator.finish();
+                       const std::function<void(std::size_t, std::size_t)>& on_progress, unsigned threads) {
+    constexpr std::size_t chunk = 4096;
+    std::size_t position = 0;
+    const case_source next = [&](std::vector<corpus_case>& out, std::vector<std::size_t>& indices) {
+        if (position >= cases.size()) return false;
+        const std::size_t end = std::min(cases.size(), position + chunk);
+        out.assign(cases.begin() + static_cast<std::ptrdiff_t>(position), cases.begin() + static_cast<std::ptrdiff_t>(end));
+        for (std::size_t i = position; i < end; ++i) indices.push_back(i);
+        position = end;
+        return true;
+    };
+    audit_hooks hooks;
+    // on_case sees the caller's own corpus_case objects, so that it may keep pointers to them.
+    if (on_case)
+        hooks.ordered = [&](const audited_case& c, std::size_t index, std::size_t) {
+            audited_case own = c;
+            own.source = &cases[index];
+            on_case(own);
+        };
+    if (on_progress) hooks.progress = [&](std::size_t done) { on_progress(done, cases.size()); };
+    return audit_stream(next, targets, threads, hooks).finish();
 }
 
 }  // namespace rayverify

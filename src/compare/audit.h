@@ -3,6 +3,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <functional>
 #include <map>
 #include <optional>
@@ -45,17 +46,53 @@ struct audited_case {
 
 audited_case audit_case(const corpus_case& c, std::span<const audit_target> targets);
 
-// Order statistics of a sample of errors, with the case that attains the maximum.
+// The figures of a set of errors: count, exact maximum and the case attaining
+// it, and the p99 and median as upper bounds (see error_summary).
 struct error_statistics {
     std::size_t count = 0;
     double max = 0, p99 = 0, median = 0;
     std::string max_case;  // id of the case with the largest error
 };
 
-// Order statistics of (error, case index) pairs, nearest rank; `ids` names
-// the cases by index.
-error_statistics statistics_of(std::vector<std::pair<double, std::size_t>> sample,
-                               const std::vector<std::string>& ids);
+// A bounded, mergeable summary of non-negative errors (ULPs, bits, excess):
+// the count, the exact maximum with the case attaining it (ties go to the
+// smallest global case index), and a histogram over logarithmic buckets.
+// A bucket holds the doubles sharing their exponent and top `resolution_bits`
+// significand bits, so its upper edge exceeds every value in it by less than
+// a factor 1 + 2^-resolution_bits; 0, +inf and NaN have buckets of their own.
+// Quantiles are nearest-rank, reported as the upper edge of the bucket holding
+// that rank, or as the maximum when it lies in the maximum's bucket: an upper
+// bound of the exact nearest-rank value, within that factor, and exact when 0.
+// Memory does not grow with the count (at most ~2^(11 + resolution_bits)
+// buckets, in practice a few hundred), and merging summaries of disjoint sets
+// of cases, in any order, gives exactly the summary of their union.
+struct error_summary {
+    static constexpr int resolution_bits = 7;
+
+    std::size_t count = 0;
+    double max = 0;
+    std::size_t max_index = 0;  // global index of the case attaining max
+    std::string max_id;
+    std::map<std::uint64_t, std::size_t> buckets;  // bucket key → number of errors in it
+
+    void add(double error, std::size_t index, const std::string& id);
+    void merge(const error_summary& other);
+    error_statistics statistics() const;
+    // Nearest-rank q-quantile (0 < q ≤ 1) as the upper bound described above.
+    double quantile(double q) const;
+
+    static std::uint64_t bucket_of(double error);
+    static double upper_edge(std::uint64_t bucket);
+};
+
+// Tallies of one target over some cases (mergeable): verdict counts and the
+// errors over the cases whose verdict is agree.
+struct target_samples {
+    std::size_t cases = 0;
+    std::array<std::size_t, verdict_kind_count> verdicts{};
+    error_summary near_ulp, far_ulp, hit_ulp, near_bits;
+    void merge(const target_samples& other);
+};
 
 // Everything tallied for one target over a set of cases.
 struct target_tally {
@@ -72,6 +109,7 @@ struct invalid_case {
     std::string source;  // "file:line"
     invalid_reason at_float = invalid_reason::none;   // none when valid there or not run in float
     invalid_reason at_double = invalid_reason::none;
+    std::size_t index = 0;  // global case index (the list is kept in this order)
 };
 
 struct audit_totals {
@@ -84,34 +122,61 @@ struct audit_totals {
     std::vector<invalid_case> invalid_list;                       // every invalid case, in corpus order
 };
 
-// Accumulates audited cases, then computes the statistics.
-class audit_accumulator {
-public:
-    explicit audit_accumulator(std::vector<audit_target> targets);
-    void add(const audited_case& c);
+// Accumulates audited cases in memory that does not grow with their number
+// (except the list of invalid cases), then computes the statistics. Cases may
+// be added in any order, by several accumulators (one per thread, one per
+// shard) that are merged afterwards: the totals depend only on the set of
+// (case, global index) added. The state is public so that a shard can save it.
+struct audit_accumulator {
+    explicit audit_accumulator(std::vector<audit_target> targets = {});
+    void add(const audited_case& c, std::size_t index);
+    void merge(const audit_accumulator& other);
     audit_totals finish() const;
 
-private:
-    struct samples {
-        std::array<std::size_t, verdict_kind_count> verdicts{};
-        std::size_t cases = 0;
-        std::vector<std::pair<double, std::size_t>> near_ulp, far_ulp, hit_ulp, near_bits;  // (error, case index)
-    };
-    std::vector<audit_target> targets_;
-    std::vector<std::string> case_ids_;
-    std::map<std::string, std::size_t> cases_by_family_;
-    std::array<std::size_t, 2> invalid_{};
-    std::vector<invalid_case> invalid_list_;
-    std::vector<samples> overall_;
-    std::map<std::string, std::vector<samples>> by_family_;
-
-    target_tally summarise(const samples& s) const;
+    std::vector<audit_target> targets;
+    std::size_t cases = 0;
+    std::map<std::string, std::size_t> cases_by_family;
+    std::array<std::size_t, 2> invalid{};
+    std::vector<invalid_case> invalid_list;  // sorted by index
+    std::vector<target_samples> overall;
+    std::map<std::string, std::vector<target_samples>> by_family;
 };
 
-// Run the whole audit. `on_case` sees every audited case in corpus order (for
-// per-case output); `on_progress(done, total)` is called now and then.
+// The family name a case is tallied under ("-" when unknown).
+std::string family_key(const corpus_case& c);
+
+// The streaming audit. `next` fills the next chunk of cases (bounded, e.g. a
+// few thousand) with their global indices in the whole input and returns
+// false when there are none left. Each chunk is audited on `threads` threads
+// (1: the calling thread only), each with its own accumulator, merged at the
+// end; a target whose variant is not thread_safe makes the whole audit run on
+// the calling thread. The result is the same, bit for bit, whatever `threads`.
+using case_source = std::function<bool(std::vector<corpus_case>& cases, std::vector<std::size_t>& indices)>;
+
+struct audit_hooks {
+    // Called on a worker thread, concurrently for different cases: per-case
+    // work such as stability or rendering. `slot` is the case's position in
+    // its chunk, `worker` < the thread count in use.
+    std::function<void(const audited_case&, std::size_t index, std::size_t slot, unsigned worker)> parallel;
+    // Called on the calling thread for each case of a chunk, in input order,
+    // after the chunk's parallel work.
+    std::function<void(const audited_case&, std::size_t index, std::size_t slot)> ordered;
+    // Called on the calling thread after each chunk with the cases audited so far.
+    std::function<void(std::size_t done)> progress;
+};
+
+// The thread count actually used for `targets` when `requested` are asked for.
+unsigned audit_threads(const std::vector<audit_target>& targets, unsigned requested);
+
+audit_accumulator audit_stream(const case_source& next, const std::vector<audit_target>& targets, unsigned threads,
+                               const audit_hooks& hooks = {});
+
+// Run the whole audit over cases in memory (global index = position). `on_case`
+// sees every audited case in corpus order (for per-case output);
+// `on_progress(done, total)` is called now and then.
 audit_totals run_audit(std::span<const corpus_case> cases, const std::vector<audit_target>& targets,
                        const std::function<void(const audited_case&)>& on_case = {},
-                       const std::function<void(std::size_t, std::size_t)>& on_progress = {});
+                       const std::function<void(std::size_t, std::size_t)>& on_progress = {},
+                       unsigned threads = 1);
 
 }  // namespace rayverify

@@ -344,10 +344,10 @@ std::vector<const corpus_case*> gate_examples::cases_for(const figure_key& key, 
 }
 
 gate_run run_gate(std::span<const corpus_case> cases, const std::vector<audit_target>& targets,
-                  const baseline& base, std::size_t examples_per_figure) {
+                  const baseline& base, std::size_t examples_per_figure, unsigned threads) {
     gate_run run;
     run.examples = gate_examples(examples_per_figure);
-    run.totals = run_audit(cases, targets, [&](const audited_case& c) { run.examples.add(c, targets); });
+    run.totals = run_audit(cases, targets, [&](const audited_case& c) { run.examples.add(c, targets); }, {}, threads);
     run.current = figures_of(run.totals);
     run.result = compare_to_baseline(base, run.current);
     return run;

@@ -144,6 +144,6 @@ struct gate_run {
     gate_examples examples{0};
 };
 gate_run run_gate(std::span<const corpus_case> cases, const std::vector<audit_target>& targets,
-                  const baseline& base, std::size_t examples_per_figure);
+                  const baseline& base, std::size_t examples_per_figure, unsigned threads = 1);
 
 }  // namespace rayverify

@@ -221,20 +221,36 @@ case_stability assess_case(const audited_case& c, std::span<const audit_target> 
     return result;
 }
 
-stability_accumulator::stability_accumulator(std::vector<audit_target> targets)
-    : targets_(std::move(targets)), overall_(targets_.size()) {}
+void stability_samples::merge(const stability_samples& other) {
+    for (int b = 0; b < condition_bucket_count; ++b) {
+        bucket_tally& mine = buckets[b];
+        const bucket_tally& theirs = other.buckets[b];
+        mine.cases += theirs.cases;
+        mine.misclassified += theirs.misclassified;
+        mine.disagreements += theirs.disagreements;
+        mine.conditioning_limited += theirs.conditioning_limited;
+        mine.algorithmic += theirs.algorithmic;
+        near_ulp[b].merge(other.near_ulp[b]);
+    }
+    excess.merge(other.excess);
+    above_line += other.above_line;
+    well_conditioned += other.well_conditioned;
+    well_conditioned_above += other.well_conditioned_above;
+}
 
-void stability_accumulator::add(const audited_case& c, const case_stability& s) {
-    const std::size_t index = case_ids_.size();
-    case_ids_.push_back(c.source->id);
-    auto& family_samples = by_family_[c.source->family.empty() ? "-" : c.source->family];
-    family_samples.resize(targets_.size());
-    for (std::size_t t = 0; t < targets_.size(); ++t) {
+stability_accumulator::stability_accumulator(std::vector<audit_target> t)
+    : targets(std::move(t)), overall(targets.size()) {}
+
+void stability_accumulator::add(const audited_case& c, const case_stability& s, std::size_t index) {
+    auto& family_samples = by_family[family_key(*c.source)];
+    family_samples.resize(targets.size());
+    const std::string& id = c.source->id;
+    for (std::size_t t = 0; t < targets.size(); ++t) {
         const case_score& score = c.outcomes[t].score;
         if (score.verdict == verdict_kind::invalid || score.verdict == verdict_kind::contract_violation) continue;
-        const stability_measures& m = s.at(targets_[t].prec);
+        const stability_measures& m = s.at(targets[t].prec);
         const int bucket = condition_bucket(m);
-        for (samples* out : {&overall_[t], &family_samples[t]}) {
+        for (stability_samples* out : {&overall[t], &family_samples[t]}) {
             bucket_tally& b = out->buckets[bucket];
             ++b.cases;
             if (is_misclassification(score.verdict)) ++b.misclassified;
@@ -242,10 +258,10 @@ void stability_accumulator::add(const audited_case& c, const case_stability& s) 
             if (s.causes[t] == disagreement_cause::conditioning_limited) ++b.conditioning_limited;
             if (s.causes[t] == disagreement_cause::algorithmic) ++b.algorithmic;
             if (score.verdict != verdict_kind::agree || !score.near_ulp) continue;
-            out->near_ulp[bucket].emplace_back(*score.near_ulp, index);
+            out->near_ulp[bucket].add(*score.near_ulp, index, id);
             if (!m.near_condition || std::isinf(*m.near_condition)) continue;
             const double excess = *score.near_ulp / std::max(*m.near_condition, 1.0);
-            out->excess.emplace_back(excess, index);
+            out->excess.add(excess, index, id);
             const bool above = !(excess <= stability_factor);
             out->above_line += above;
             if (*m.near_condition < 1e3) {
@@ -256,34 +272,48 @@ void stability_accumulator::add(const audited_case& c, const case_stability& s) 
     }
 }
 
-stability_tally stability_accumulator::summarise(const samples& s) const {
+void stability_accumulator::merge(const stability_accumulator& other) {
+    overall.resize(targets.size());
+    for (std::size_t t = 0; t < other.overall.size(); ++t) overall[t].merge(other.overall[t]);
+    for (const auto& [family, per_target] : other.by_family) {
+        auto& mine = by_family[family];
+        mine.resize(targets.size());
+        for (std::size_t t = 0; t < per_target.size(); ++t) mine[t].merge(per_target[t]);
+    }
+}
+
+namespace {
+
+stability_tally summarise(const stability_samples& s) {
     stability_tally tally;
-    std::vector<std::pair<double, std::size_t>> all_ulp;
+    error_summary all_ulp;
     for (int b = 0; b < condition_bucket_count; ++b) {
         tally.buckets[b] = s.buckets[b];
-        tally.buckets[b].near_root_ulp = statistics_of(s.near_ulp[b], case_ids_);
-        all_ulp.insert(all_ulp.end(), s.near_ulp[b].begin(), s.near_ulp[b].end());
+        tally.buckets[b].near_root_ulp = s.near_ulp[b].statistics();
+        all_ulp.merge(s.near_ulp[b]);
         tally.all.cases += s.buckets[b].cases;
         tally.all.misclassified += s.buckets[b].misclassified;
         tally.all.disagreements += s.buckets[b].disagreements;
         tally.all.conditioning_limited += s.buckets[b].conditioning_limited;
         tally.all.algorithmic += s.buckets[b].algorithmic;
     }
-    tally.all.near_root_ulp = statistics_of(std::move(all_ulp), case_ids_);
-    tally.judged = s.excess.size();
+    tally.all.near_root_ulp = all_ulp.statistics();
+    tally.judged = s.excess.count;
     tally.above_line = s.above_line;
     tally.well_conditioned = s.well_conditioned;
     tally.well_conditioned_above = s.well_conditioned_above;
-    tally.excess = statistics_of(s.excess, case_ids_);
+    tally.excess = s.excess.statistics();
     return tally;
 }
 
+}  // namespace
+
 stability_totals stability_accumulator::finish() const {
     stability_totals totals;
-    for (const samples& s : overall_) totals.overall.push_back(summarise(s));
-    for (const auto& [family, per_target] : by_family_) {
+    for (const stability_samples& s : overall) totals.overall.push_back(summarise(s));
+    for (const auto& [family, per_target] : by_family) {
         auto& out = totals.by_family[family];
-        for (const samples& s : per_target) out.push_back(summarise(s));
+        for (const stability_samples& s : per_target) out.push_back(summarise(s));
     }
     return totals;
 }

@@ -136,25 +136,27 @@ struct stability_totals {
     std::map<std::string, std::vector<stability_tally>> by_family;    // family → aligned with targets
 };
 
-class stability_accumulator {
-public:
-    explicit stability_accumulator(std::vector<audit_target> targets);
-    void add(const audited_case& c, const case_stability& s);
+// Per target over some cases (mergeable, bounded): the bucket counts (their
+// near_root_ulp left empty), the agreeing cases' errors per bucket, and the
+// excess over the reference line.
+struct stability_samples {
+    std::array<bucket_tally, condition_bucket_count> buckets{};
+    std::array<error_summary, condition_bucket_count> near_ulp;
+    error_summary excess;
+    std::size_t above_line = 0, well_conditioned = 0, well_conditioned_above = 0;
+    void merge(const stability_samples& other);
+};
+
+// Like audit_accumulator: any order, one per thread or shard, merged exactly.
+struct stability_accumulator {
+    explicit stability_accumulator(std::vector<audit_target> targets = {});
+    void add(const audited_case& c, const case_stability& s, std::size_t index);
+    void merge(const stability_accumulator& other);
     stability_totals finish() const;
 
-private:
-    struct samples {
-        std::array<bucket_tally, condition_bucket_count> buckets{};
-        std::array<std::vector<std::pair<double, std::size_t>>, condition_bucket_count> near_ulp;
-        std::vector<std::pair<double, std::size_t>> excess;
-        std::size_t above_line = 0, well_conditioned = 0, well_conditioned_above = 0;
-    };
-    std::vector<audit_target> targets_;
-    std::vector<std::string> case_ids_;
-    std::vector<samples> overall_;
-    std::map<std::string, std::vector<samples>> by_family_;
-
-    stability_tally summarise(const samples& s) const;
+    std::vector<audit_target> targets;
+    std::vector<stability_samples> overall;
+    std::map<std::string, std::vector<stability_samples>> by_family;
 };
 
 }  // namespace rayverify

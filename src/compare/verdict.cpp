@@ -53,14 +53,15 @@ bool is_disagreement(verdict_kind k) {
     return k != verdict_kind::agree && k != verdict_kind::contract_violation && k != verdict_kind::invalid;
 }
 
+namespace {
+
+// Widen a variant's answer and evaluate the hit point it implies.
 template <class T>
-variant_output evaluate(const std::function<root_pair<T>(const ray_sphere<T>&)>& run, const contract& promises,
-                        const ray_sphere<T>& input) {
-    const root_pair<T> r = run(input);
+variant_output widen(const root_pair<T>& r, const contract& promises, const ray_sphere<T>& input) {
     variant_output out;
     out.roots = {r.count, static_cast<double>(r.t0), static_cast<double>(r.t1)};
-    if (r.count <= 0) return out;
-    if (promises.query == query_kind::nearest_on_ray) {
+    if (r.count <= 0 || promises.query == query_kind::any_hit_in_interval) return out;
+    if (promises.query == query_kind::nearest_on_ray || promises.query == query_kind::nearest_in_interval) {
         out.front_root = 0;
     } else if (r.t0 > 0) {
         out.front_root = 0;
@@ -74,10 +75,50 @@ variant_output evaluate(const std::function<root_pair<T>(const ray_sphere<T>&)>&
     return out;
 }
 
+}  // namespace
+
+template <class T>
+variant_output evaluate(const std::function<root_pair<T>(const ray_sphere<T>&)>& run, const contract& promises,
+                        const ray_sphere<T>& input) {
+    variant_output out = widen(run(input), promises, input);
+    if (takes_interval(promises.query)) out.interval = ray_interval<double>{};
+    return out;
+}
+
 template variant_output evaluate<float>(const std::function<root_pair<float>(const ray_sphere<float>&)>&,
                                         const contract&, const ray_sphere<float>&);
 template variant_output evaluate<double>(const std::function<root_pair<double>(const ray_sphere<double>&)>&,
                                          const contract&, const ray_sphere<double>&);
+
+template <class T>
+variant_output evaluate(const variant& v, const ray_sphere<T>& input, ray_interval<T> interval) {
+    variant_output out = widen(run_in(v, input, interval), v.promises, input);
+    if (takes_interval(v.promises.query)) out.interval = ray_interval<double>{interval.tmin, interval.tmax};
+    return out;
+}
+
+template variant_output evaluate<float>(const variant&, const ray_sphere<float>&, ray_interval<float>);
+template variant_output evaluate<double>(const variant&, const ray_sphere<double>&, ray_interval<double>);
+
+bool exact_root_in(const exact_solution& exact, root_index i, ray_interval<double> interval) {
+    // t* > tmin and t* < tmax, where compare_root(i, x) = sign(x − t*).
+    const auto above = [&](double bound) {
+        if (std::isinf(bound)) return bound < 0;
+        return exact.compare_root(i, bound) < 0;
+    };
+    const auto below = [&](double bound) {
+        if (std::isinf(bound)) return bound > 0;
+        return exact.compare_root(i, bound) > 0;
+    };
+    return above(interval.tmin) && below(interval.tmax);
+}
+
+std::optional<root_index> exact_nearest_in(const exact_solution& exact, ray_interval<double> interval) {
+    if (!exact.valid() || exact.cls == line_class::miss) return std::nullopt;
+    for (root_index i : {root_index::near_root, root_index::far_root})
+        if (exact_root_in(exact, i, interval)) return i;
+    return std::nullopt;
+}
 
 std::optional<std::string> contract_breach(const contract& promises, const ray_sphere<double>& input,
                                            precision prec) {
@@ -227,10 +268,70 @@ case_score judge_nearest_on_ray(const contract& promises, const variant_output& 
     return s;
 }
 
+// any_hit_in_interval: only whether some root lies in the interval.
+case_score judge_any_hit(const variant_output& out, const exact_solution& exact, ray_interval<double> interval) {
+    case_score s;
+    const auto& r = out.roots;
+    if (r.count < 0 || r.count > 1) return disagreement(s, verdict_kind::malformed_output, fmt::format("hit count {}", r.count));
+    const bool exact_hit = exact_nearest_in(exact, interval).has_value();
+    const auto both = [&] {
+        return fmt::format("exact: {} root in ({}, {}); variant: {}", exact_hit ? "a" : "no", interval.tmin,
+                           interval.tmax, r.count ? "hit" : "miss");
+    };
+    if (!exact_hit) return r.count > 0 ? disagreement(s, verdict_kind::false_hit, both()) : s;
+    if (r.count == 0)
+        return disagreement(s, exact.cls == line_class::tangent ? verdict_kind::tangent_missed : verdict_kind::false_miss,
+                            both());
+    return s;
+}
+
+// nearest_in_interval: the nearest root in the interval, one value.
+case_score judge_nearest_in_interval(const variant_output& out, const exact_solution& exact,
+                                     ray_interval<double> interval) {
+    case_score s;
+    const auto& r = out.roots;
+    const auto fail = [&](verdict_kind k, std::string why) { return disagreement(s, k, std::move(why)); };
+    const std::optional<root_index> wanted = exact_nearest_in(exact, interval);
+    const auto both = [&] {
+        return fmt::format("{} in ({}, {}); {}", describe_exact(exact), interval.tmin, interval.tmax,
+                           describe_output(out, query_kind::nearest_on_ray));
+    };
+    if (r.count < 0 || r.count > 1) return fail(verdict_kind::malformed_output, fmt::format("hit count {}", r.count));
+    if (!wanted) return r.count > 0 ? fail(verdict_kind::false_hit, both()) : s;
+    if (r.count == 0)
+        return fail(exact.cls == line_class::tangent ? verdict_kind::tangent_missed : verdict_kind::false_miss, both());
+
+    const expected_root want = expect(exact, *wanted);
+    const double t = r.t0;
+    measure(exact, want, t, s.near_ulp, s.near_bits);
+    if (!std::isfinite(t)) return fail(verdict_kind::non_finite, both());
+    if (!interval.contains(t))
+        return fail(verdict_kind::malformed_output, fmt::format("root {} outside the interval ({}, {})", t,
+                                                                interval.tmin, interval.tmax));
+    if (exact.cls == line_class::two_hit && exact.near_root.rounded != exact.far_root.rounded) {
+        const double other = *wanted == root_index::near_root ? exact.far_root.rounded : exact.near_root.rounded;
+        if (std::fabs(t - other) < std::fabs(t - want.rounded)) return fail(verdict_kind::wrong_root, both());
+    }
+    return s;
+}
+
 }  // namespace
 
 case_score score_case(const contract& promises, const variant_output& output, const exact_solution& exact,
                       const ray_sphere<double>& input) {
+    if (takes_interval(promises.query)) {
+        const ray_interval<double> interval = output.interval.value_or(ray_interval<double>{});
+        if (promises.query == query_kind::any_hit_in_interval) return judge_any_hit(output, exact, interval);
+        case_score s = judge_nearest_in_interval(output, exact, interval);
+        if (s.verdict != verdict_kind::agree || !output.hit_point) return s;
+        // Hit point error for the nearest root in the interval.
+        const root_index wanted = *exact_nearest_in(exact, interval);
+        std::array<double, 3> errors{};
+        for (int axis = 0; axis < 3; ++axis)
+            errors[axis] = exact.hit_point_ulp_error(wanted, axis, (*output.hit_point)[axis]);
+        s.hit_point_ulp = errors;
+        return s;
+    }
     case_score s = promises.query == query_kind::line_roots ? judge_line_roots(output, exact)
                                                             : judge_nearest_on_ray(promises, output, exact);
     if (s.verdict != verdict_kind::agree || !output.hit_point || !output.front_root) return s;

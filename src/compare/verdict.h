@@ -10,6 +10,7 @@
 
 #include "core/intersection.h"
 #include "core/ray_sphere_case.h"
+#include "intersectors/registry.h"
 #include "oracle/oracle.h"
 
 namespace rayverify {
@@ -45,12 +46,26 @@ struct variant_output {
     root_pair<double> roots;
     std::optional<int> front_root;            // index (0 or 1) of the nearest root in front
     std::optional<vec3<double>> hit_point;    // o + t·d for that root, in the variant's precision
+    // The interval the variant was asked, for kinds that take one
+    // (takes_interval); a variant_output without it is judged on (0, +inf).
+    std::optional<ray_interval<double>> interval;
 };
 
 // Run a variant's function in precision T on the case and widen its answer.
 template <class T>
 variant_output evaluate(const std::function<root_pair<T>(const ray_sphere<T>&)>& run, const contract& promises,
                         const ray_sphere<T>& input);
+
+// Run a variant in precision T on the case, asking kinds that take an
+// interval for `interval` (the others ignore it), and widen its answer.
+template <class T>
+variant_output evaluate(const variant& v, const ray_sphere<T>& input, ray_interval<T> interval);
+
+// Does exact root i lie in the open interval (tmin, tmax)? Decided exactly
+// (infinite bounds by sign). Requires exact.cls != miss.
+bool exact_root_in(const exact_solution& exact, root_index i, ray_interval<double> interval);
+// The nearest exact root in the open interval; nullopt for none (or a miss).
+std::optional<root_index> exact_nearest_in(const exact_solution& exact, ray_interval<double> interval);
 
 // Does the case satisfy the variant's assumptions at this precision?
 // A unit direction means |d·d − 1| ≤ 8ε (what normalising in that precision yields).

@@ -284,7 +284,8 @@ void check_unique_ids(const std::vector<corpus_case>& cases) {
         fmt::format("duplicate id '{}', first defined at {}", second->id, first->source));
 }
 
-// The files a path names: itself, or a directory's *.txt and *.csv sorted by name.
+}  // namespace
+
 std::vector<fs::path> corpus_files(const fs::path& path) {
     std::error_code ec;
     if (!fs::is_directory(path, ec)) return {path};
@@ -300,8 +301,6 @@ std::vector<fs::path> corpus_files(const fs::path& path) {
     std::ranges::sort(files);
     return files;
 }
-
-}  // namespace
 
 double parse_exact_double(std::string_view token, const std::string& file, std::size_t line,
                           const std::string& field) {

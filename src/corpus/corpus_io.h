@@ -67,6 +67,10 @@ std::vector<corpus_case> read_corpus_file(const std::filesystem::path& path);
 // `file` with that contents (`csv`: the CSV format, else the text format).
 std::vector<corpus_case> parse_corpus(const std::string& file, std::string_view contents, bool csv);
 
+// The files a path names: itself, or a directory's *.txt and *.csv sorted by
+// name (non-recursive). Throws input_error when a directory cannot be listed.
+std::vector<std::filesystem::path> corpus_files(const std::filesystem::path& path);
+
 // Read files and directories (a directory contributes its *.txt and *.csv
 // files, non-recursive, sorted by name), in the order given. Duplicate ids
 // across everything read, or no case at all, are errors.

@@ -7,6 +7,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <type_traits>
 
 #include "core/intersection.h"
 #include "core/ray_sphere_case.h"
@@ -20,13 +21,33 @@ struct variant {
     contract promises;
     // Empty when the variant does not run in that precision. A std::function
     // so that a variant can carry state (a plugin's loaded symbol, a mutant).
+    // For a kind that takes an interval (takes_interval(promises.query)) these
+    // answer for the default interval (0, +inf), and run_*_in take the ray's.
     std::function<root_pair<float>(const ray_sphere<float>&)> run_float;
     std::function<root_pair<double>(const ray_sphere<double>&)> run_double;
+    // False when the functions must never run concurrently (a plugin: its ABI
+    // promises calls from one thread); an audit with such a variant runs on one thread.
+    bool thread_safe = true;
+    // Set only for kinds that take an interval: the same intersector, asked
+    // for (tmin, tmax).
+    std::function<root_pair<float>(const ray_sphere<float>&, float, float)> run_float_in{};
+    std::function<root_pair<double>(const ray_sphere<double>&, double, double)> run_double_in{};
 
     bool runs_in(precision p) const {
         return p == precision::binary32 ? static_cast<bool>(run_float) : static_cast<bool>(run_double);
     }
 };
+
+// Run a variant in precision T on (tmin, tmax): through run_*_in when its kind
+// takes an interval, else its plain function (whose answer does not depend on
+// an interval; compare/query.h filters its roots into one).
+template <class T>
+root_pair<T> run_in(const variant& v, const ray_sphere<T>& s, ray_interval<T> interval) {
+    if constexpr (std::is_same_v<T, float>)
+        return v.run_float_in ? v.run_float_in(s, interval.tmin, interval.tmax) : v.run_float(s);
+    else
+        return v.run_double_in ? v.run_double_in(s, interval.tmin, interval.tmax) : v.run_double(s);
+}
 
 // All built-in variants, in a fixed order (the order of reports).
 std::span<const variant> builtin_variants();

@@ -232,6 +232,38 @@ double ulp_error(const quadratic_irrational& x, double value) {
         const long bound_exponent = 4 - static_cast<long>(precision) + e - ulp_exponent;
         const bool separated =
             sign_x == 0 || (mpfr_get_exp(difference.get()) - 1 > bound_exponent + 60);
+        // Once separated, also require the bracket difference ∓ (2^(bound + 1)
+        // + 2^(1 − P)·difference) (the approximation's error, then the
+        // subtraction's rounding) to round to one double: the result is then
+        // RN of the exact ratio, the value the filter's enclosures certify.
+        // An exact tie never settles; the cap then returns RN of the estimate.
+        if (separated && sign_x != 0 && precision <= (1 << 17)) {
+            big_float lo(precision), hi(precision), slack(2), rounding(precision);
+            mpfr_set_ui_2exp(slack.get(), 1, bound_exponent + 1, MPFR_RNDN);
+            mpfr_mul_2si(rounding.get(), difference.get(), 1 - static_cast<long>(precision), MPFR_RNDN);
+            mpfr_sub(lo.get(), difference.get(), rounding.get(), MPFR_RNDD);
+            mpfr_sub(lo.get(), lo.get(), slack.get(), MPFR_RNDD);
+            mpfr_add(hi.get(), difference.get(), rounding.get(), MPFR_RNDU);
+            mpfr_add(hi.get(), hi.get(), slack.get(), MPFR_RNDU);
+            const double low = mpfr_get_d(lo.get(), MPFR_RNDN), high = mpfr_get_d(hi.get(), MPFR_RNDN);
+            if (low != high) {
+                // A rounding boundary B lies in the bracket. If the ratio is
+                // exactly B (x = value ∓ B·ulp, decided exactly), it is a tie:
+                // round B to even. Otherwise a finer bracket will clear it.
+                const double next = std::nextafter(low, std::numeric_limits<double>::infinity());
+                if (std::isfinite(next) && next == high) {
+                    const exact boundary = midpoint(low, next) * power_of_two(ulp_exponent);
+                    const exact candidate =
+                        x.compare(exact(value)) < 0 ? exact(value) - boundary : exact(value) + boundary;
+                    if (x.compare(candidate) == 0) {
+                        big_float tie(2);
+                        set_exactly(tie, midpoint(low, next));
+                        return mpfr_get_d(tie.get(), MPFR_RNDN);
+                    }
+                }
+                continue;
+            }
+        }
         if (separated || precision > (1 << 17)) {
             // An error below the double range is still not 0, which would claim value == x.
             const double error = mpfr_get_d(difference.get(), MPFR_RNDN);
@@ -244,6 +276,7 @@ double ulp_error(const quadratic_irrational& x, double value) {
 
 struct exact_solution::exact_state {
     exact origin[3], direction[3];
+    exact discriminant;  // Δ′
     quadratic_irrational near_root, far_root;
 
     const quadratic_irrational& root(root_index i) const {
@@ -258,6 +291,30 @@ struct exact_solution::exact_state {
 
 namespace {
 
+// The exact quadratic a t² + 2b′t + C = 0 with f = o − c, Δ′ = b′² − aC.
+std::shared_ptr<exact_solution::exact_state> build_exact_state(const ray_sphere<double>& g) {
+    auto state = std::make_shared<exact_solution::exact_state>();
+    const double o[3] = {g.origin.x, g.origin.y, g.origin.z};
+    const double d[3] = {g.direction.x, g.direction.y, g.direction.z};
+    const double c[3] = {g.centre.x, g.centre.y, g.centre.z};
+    exact a(0.0), b_prime(0.0), f_squared(0.0);
+    for (int axis = 0; axis < 3; ++axis) {
+        state->origin[axis] = exact(o[axis]);
+        state->direction[axis] = exact(d[axis]);
+        const exact f = state->origin[axis] - exact(c[axis]);
+        a = a + state->direction[axis] * state->direction[axis];
+        b_prime = b_prime + state->direction[axis] * f;
+        f_squared = f_squared + f * f;
+    }
+    const exact r(g.radius);
+    const exact C = f_squared - r * r;
+    state->discriminant = b_prime * b_prime - a * C;
+    // Roots (−b′ ∓ √Δ′)/a.
+    state->near_root = {-b_prime, exact(-1.0), state->discriminant, a};
+    state->far_root = {-b_prime, exact(1.0), state->discriminant, a};
+    return state;
+}
+
 template <class T>
 double round_in(const quadratic_irrational& x) {
     return static_cast<double>(round_to_nearest<T>(x));
@@ -271,101 +328,546 @@ double ulp_error_in(precision p, const quadratic_irrational& x, double value) {
     return p == precision::binary32 ? ulp_error<float>(x, value) : ulp_error<double>(x, value);
 }
 
+invalid_reason check_case(const ray_sphere<double>& g, std::optional<double> tmin, std::optional<double> tmax) {
+    invalid_reason reason = validity<double>(g);
+    if (reason == invalid_reason::none && (tmin || tmax)) {
+        const double lo = tmin.value_or(-std::numeric_limits<double>::infinity());
+        const double hi = tmax.value_or(std::numeric_limits<double>::infinity());
+        if (std::isnan(lo) || std::isnan(hi) || lo > hi) reason = invalid_reason::bad_interval;
+    }
+    return reason;
+}
+
+// An infinite bound admits every root on its side (or none beyond it).
+bool infinite_bound_admits(std::optional<double> bound, bool lower) {
+    if (!bound) return true;
+    return lower ? *bound < 0 : *bound > 0;
+}
+
+// ===========================================================================
+// The nearest root with t > 0, from the roots' exact signs.
+std::optional<root_index> nearest_root_in_front(int near_sign, int far_sign) {
+    if (near_sign > 0) return root_index::near_root;
+    if (far_sign > 0) return root_index::far_root;
+    return std::nullopt;
+}
+
+// The filter: double-word ("double-double") arithmetic with rigorous error
+// bounds.
+//
+// Notation: u = 2^−53. A double-word x = xh + xl is a pair of doubles read as
+// their exact sum. A `bounded` value is a double-word v with a bound err such
+// that the exact quantity X it stands for satisfies |X − (vh + vl)| ≤ err.
+//
+// Error-free transformations (exact in the absence of overflow, and of
+// underflow for two_prod; Knuth, Dekker, and with an FMA, Ogita–Rump–Oishi):
+// two_sum(a, b) = (s, e) with s = RN(a + b), s + e = a + b; fast_two_sum the
+// same when |a| ≥ |b|; two_prod(a, b) = (p, e) with p = RN(ab), p + e = ab.
+//
+// Double-word operations and their proven relative error bounds (Joldes,
+// Muller, Popescu, "Tight and rigorous error bounds for basic building blocks
+// of double-word arithmetic", ACM TOMS 44(2), 2017): AccurateDWPlusDW
+// (Alg. 6) ≤ 3u²/(1 − 4u); DWTimesDW3 (Alg. 12) ≤ 4u² [Muller & Rideau,
+// 2022, confirm it]; DWTimesFP3 (Alg. 9) ≤ 2u². The bound we use for every
+// one of them is 16u²·|result high word| = 2^−102·|zh|, at least four times
+// the proven one (|exact| ≤ |zh|(1 + 2u)(1 + 4u²), so the factor 4 covers
+// reading the bound off the computed result). Division and square root use no
+// cited bound: their error is bounded a posteriori from a residual computed
+// with the operations above.
+//
+// Propagation: |XY − xy| ≤ |x|·ey + |y|·ex + ex·ey and |(X + Y) − (x + y)| ≤
+// ex + ey. Every error bound is itself computed in double, from non-negative
+// terms (at most 7 roundings, each a factor ≤ 1 + u), then passed through
+// widen(): × (1 + 2^−45) > (1 + u)^8, plus 2^−600 for any term that
+// underflowed.
+//
+// Range. The filter runs only when every input is 0 or has magnitude in
+// [2^−80, 2^80] (otherwise the exact route runs). Every input is then an
+// integer multiple of 2^−132, so every exact polynomial quantity of degree k
+// (a, b′, C: 2; Δ′: 4) is 0 or at least 2^−132k in magnitude, and all of them
+// stay below 2^330: every product the filter forms is far from the underflow
+// threshold (the smallest nonzero root is above 2^−440, a hit-point term
+// above 2^−520, their low words above 2^−630), and nothing overflows. The
+// relative bounds above, which assume no underflow, therefore hold.
+// ===========================================================================
+
+struct dword {
+    double h = 0, l = 0;
+};
+
+inline dword two_sum(double a, double b) {
+    const double s = a + b;
+    const double bb = s - a;
+    return {s, (a - (s - bb)) + (b - bb)};
+}
+
+inline dword fast_two_sum(double a, double b) {
+    const double s = a + b;
+    return {s, b - (s - a)};
+}
+
+inline dword two_prod(double a, double b) {
+    const double p = a * b;
+    return {p, std::fma(a, b, -p)};
+}
+
+// AccurateDWPlusDW.
+inline dword dw_add(dword x, dword y) {
+    const dword s = two_sum(x.h, y.h);
+    const dword t = two_sum(x.l, y.l);
+    const dword v = fast_two_sum(s.h, s.l + t.h);
+    return fast_two_sum(v.h, t.l + v.l);
+}
+
+// DWTimesDW3.
+inline dword dw_mul(dword x, dword y) {
+    const dword c = two_prod(x.h, y.h);
+    const double tl1 = std::fma(x.h, y.l, x.l * y.l);
+    const double cl2 = std::fma(x.l, y.h, tl1);
+    return fast_two_sum(c.h, c.l + cl2);
+}
+
+// DWTimesFP3.
+inline dword dw_mul(dword x, double y) {
+    const dword c = two_prod(x.h, y);
+    return fast_two_sum(c.h, std::fma(x.l, y, c.l));
+}
+
+constexpr double op_error = 0x1p-102;  // 16u², per double-word operation, relative to |zh|
+
+// The floor 2^−600 bounds whatever a bound's terms lost to underflow (< 2^−1022
+// each); it is far above the subnormal range, so that multiplying a bound by a
+// value of ordinary size never produces a subnormal (which costs a microcode
+// assist per operation on x86), and far below any ordinary value's error.
+inline double widen(double bound) { return bound * (1 + 0x1p-45) + 0x1p-600; }
+
+struct bounded {
+    dword v;
+    double err = 0;
+};
+
+inline bounded exactly(double x) { return {{x, 0}, 0}; }
+inline bounded exactly(dword x) { return {x, 0}; }
+inline bounded operator-(bounded x) { return {{-x.v.h, -x.v.l}, x.err}; }
+
+inline bounded operator+(bounded x, bounded y) {
+    const dword z = dw_add(x.v, y.v);
+    return {z, widen(x.err + y.err + op_error * std::fabs(z.h))};
+}
+inline bounded operator-(bounded x, bounded y) { return x + (-y); }
+
+inline bounded operator*(bounded x, bounded y) {
+    const dword z = dw_mul(x.v, y.v);
+    // |x| ≤ |xh|(1 + u): the factor is inside widen's margin.
+    return {z, widen(std::fabs(x.v.h) * y.err + std::fabs(y.v.h) * x.err + x.err * y.err +
+                     op_error * std::fabs(z.h))};
+}
+
+inline bounded operator*(bounded x, double y) {
+    const dword z = dw_mul(x.v, y);
+    return {z, widen(std::fabs(y) * x.err + op_error * std::fabs(z.h))};
+}
+
+// Upper bound of |xh + xl| + err.
+inline double magnitude_bound(const bounded& x) {
+    return widen(std::fabs(x.v.h) + std::fabs(x.v.l) + x.err);
+}
+
+// Is every real within err of xh + xl strictly greater than mh + ml?
+// With (s, e) = two_sum(xh, −mh) the exact difference is s + e + xl − ml;
+// T = RN(s + RN(RN(e + xl) − ml)) is within 2.01u·(|T| + |e| + |xl| + |ml|)
+// of it, so T > 2err + 2^−48·(…) proves difference > err (the slack also
+// absorbs the roundings of the test itself).
+inline bool exceeds(double xh, double xl, double err, double mh, double ml = 0) {
+    const dword s = two_sum(xh, -mh);
+    const double t = s.h + ((s.l + xl) - ml);
+    const double margin = 2 * err + 0x1p-48 * (std::fabs(t) + std::fabs(s.l) + std::fabs(xl) + std::fabs(ml));
+    return t > margin + 0x1p-1000;
+}
+
+using enclosure = exact_solution::enclosure;
+
+inline bool known(const enclosure& x) { return x.err < std::numeric_limits<double>::infinity(); }
+
+// sign(x − m) when the enclosure decides it, else 0.
+inline int side_of(const enclosure& x, double m) {
+    if (!known(x)) return 0;
+    if (exceeds(x.hi, x.lo, x.err, m)) return +1;
+    if (exceeds(-x.hi, -x.lo, x.err, -m)) return -1;
+    return 0;
+}
+
+// RN(x) in T when the whole enclosure lies strictly inside one rounding
+// interval (ties and anything at a boundary are left to the exact route).
+// The candidate y is the rounding of xh + xl; its rounding interval runs
+// between the midpoints with its neighbours, or to ±(max + ulp(max)/2) at the
+// overflow threshold. For float the midpoints are doubles; for double they are
+// y ∓ gap/2, exact double-words (y subnormal is excluded: its half gap is not a
+// double). `sign` is the known sign of x, for a result that rounds to zero.
+// The next representable value up (down) from a finite y, as nextafter
+// toward ±inf (±max steps to ±inf), without a library call.
+template <class T>
+T step_up(T y) {
+    using bits = std::conditional_t<sizeof(T) == 4, std::uint32_t, std::uint64_t>;
+    if (y == 0) return std::numeric_limits<T>::denorm_min();
+    const bits b = std::bit_cast<bits>(y);
+    return std::bit_cast<T>(y > 0 ? b + 1 : b - 1);
+}
+template <class T>
+T step_down(T y) {
+    return -step_up<T>(-y);
+}
+
+template <class T>
+std::optional<double> round_enclosure(const enclosure& x, int sign) {
+    if (!known(x) || sign == 0) return std::nullopt;
+    const double approx = x.hi + x.lo;
+    const T y = static_cast<T>(approx);
+    if (!std::isfinite(y)) return std::nullopt;
+    const T below = step_down(y), above = step_up(y);
+    // Gap to the neighbour; at ±max the neighbour beyond is the threshold's twin.
+    const double gap_below = std::isinf(below) ? double(above) - double(y) : double(y) - double(below);
+    const double gap_above = std::isinf(above) ? double(y) - double(below) : double(above) - double(y);
+    bool inside = false;
+    if constexpr (std::is_same_v<T, float>) {
+        inside = exceeds(x.hi, x.lo, x.err, double(y) - 0.5 * gap_below) &&
+                 exceeds(-x.hi, -x.lo, x.err, -(double(y) + 0.5 * gap_above));
+    } else {
+        if (std::fabs(y) < 0x1p-1000) return std::nullopt;
+        inside = exceeds(x.hi, x.lo, x.err, y, -0.5 * gap_below) && exceeds(-x.hi, -x.lo, x.err, -y, -0.5 * gap_above);
+    }
+    if (!inside) return std::nullopt;
+    if (y == 0) return sign < 0 ? -0.0 : 0.0;
+    return static_cast<double>(y);
+}
+
+// |value − x| / ulp(x) correctly rounded, from an enclosure of x, when the
+// enclosure settles x's sign, its binade, value ≠ x and the rounding of the
+// ratio (the same contract as ulp_error: here every digit is right).
+template <class T>
+std::optional<double> ulp_error_from(const enclosure& x, double value) {
+    if (!known(x)) return std::nullopt;
+    if (!std::isfinite(value)) return std::numeric_limits<double>::infinity();
+    const int sign = side_of(x, 0.0);
+    const int position = side_of(x, value);  // sign(x − value)
+    if (sign == 0 || position == 0) return std::nullopt;
+    // Binade: 2^e ≤ |x| < 2^(e+1), checked on the whole enclosure.
+    const double approx = x.hi + x.lo;
+    const int e = std::ilogb(approx);
+    const double lower = std::ldexp(1.0, e), upper = std::ldexp(1.0, e + 1);
+    const bool in_binade = sign > 0 ? exceeds(x.hi, x.lo, x.err, lower) && exceeds(-x.hi, -x.lo, x.err, -upper)
+                                    : exceeds(-x.hi, -x.lo, x.err, lower) && exceeds(x.hi, x.lo, x.err, -upper);
+    if (!in_binade) return std::nullopt;  // includes |x| = 2^e exactly: the exact route decides
+    const int ulp_exponent = std::max(e, format<T>::emin) - format<T>::p + 1;
+    // The difference |value − x| as a bounded double-word, scaled to ulps.
+    bounded difference = exactly(value) - bounded{{x.hi, x.lo}, x.err};
+    if (position > 0) difference = -difference;
+    if (difference.v.h == 0) return std::nullopt;
+    const int scaled_exponent = std::ilogb(difference.v.h) - ulp_exponent;
+    if (scaled_exponent < -900 || scaled_exponent > 1000) return std::nullopt;
+    const enclosure ratio{std::ldexp(difference.v.h, -ulp_exponent), std::ldexp(difference.v.l, -ulp_exponent),
+                          std::max(std::ldexp(difference.err, -ulp_exponent), 0x1p-1000)};
+    return round_enclosure<double>(ratio, +1);
+}
+
+std::optional<double> ulp_error_from(precision p, const enclosure& x, double value) {
+    return p == precision::binary32 ? ulp_error_from<float>(x, value) : ulp_error_from<double>(x, value);
+}
+
+// Filter range: 0 or 2^−80 ≤ |x| ≤ 2^80 (see the range note above).
+inline bool in_filter_range(double x) {
+    const double m = std::fabs(x);
+    return m == 0 || (m >= 0x1p-80 && m <= 0x1p80);
+}
+
+// √x for x with xh > 2·err (so X > 0). The approximation s (one Newton step
+// from √xh) need not be accurate for the bound to hold: with R ≥ |x − s²|
+// computed rigorously, |√x − s| = |x − s²|/(√x + s) ≤ R/s, and for the exact
+// X, |√X − √x| = |X − x|/(√X + √x) ≤ err/√x with √x ≥ s − R/s.
+std::optional<bounded> square_root(const bounded& x) {
+    const double s0 = std::sqrt(x.v.h);
+    const dword square = two_prod(s0, s0);
+    const dword s = fast_two_sum(s0, (((x.v.h - square.h) - square.l) + x.v.l) / (2 * s0));
+    const bounded residual = exactly(x.v) - exactly(s) * exactly(s);
+    const double R = magnitude_bound(residual);
+    const double sh = s.h;
+    if (!(sh > 0) || !(R < sh * sh * 0x1p-40)) return std::nullopt;
+    const double root_lower = sh * (1 - 0x1p-39);  // ≤ s − R/s ≤ √x
+    return bounded{s, widen(R / root_lower + x.err / root_lower)};
+}
+
+// x / y for |yh| > 4·y.err. With q ≈ x/y (two Newton-free steps) and
+// R ≥ |x − q·y| computed rigorously, |x/y − q| ≤ R/|y|; for the exact X, Y:
+// |X/Y − x/y| ≤ (ex + |x/y|·ey)/(|y| − ey).
+std::optional<bounded> quotient(const bounded& x, const bounded& y) {
+    const double yh = y.v.h;
+    if (!(std::fabs(yh) > 4 * y.err)) return std::nullopt;
+    const double q0 = x.v.h / yh;
+    const bounded first = exactly(x.v) - exactly(y.v) * q0;
+    const dword q = fast_two_sum(q0, first.v.h / yh);
+    const bounded residual = exactly(x.v) - exactly(y.v) * exactly(q);
+    const double R = magnitude_bound(residual);
+    const double y_lower = std::fabs(yh) * (1 - 0x1p-50);  // ≤ |y|
+    const double rounding = R / y_lower;
+    const double ratio = std::fabs(q.h) * (1 + 0x1p-50) + rounding;  // ≥ |x/y|
+    const double denominator = (y_lower - y.err) * (1 - 0x1p-50);   // ≤ |y| − ey
+    return bounded{q, widen(rounding + (x.err + ratio * y.err) / denominator)};
+}
+
+// What the filter computed for one case.
+struct filtered_quadratic {
+    int discriminant_sign = 0;  // 0: undecided, the exact route must classify
+    enclosure roots[2];         // near, far; unknown when the root step failed
+};
+
+filtered_quadratic filter_quadratic(const ray_sphere<double>& g) {
+    filtered_quadratic out;
+    const double o[3] = {g.origin.x, g.origin.y, g.origin.z};
+    const double d[3] = {g.direction.x, g.direction.y, g.direction.z};
+    const double c[3] = {g.centre.x, g.centre.y, g.centre.z};
+    for (int axis = 0; axis < 3; ++axis)
+        if (!in_filter_range(o[axis]) || !in_filter_range(d[axis]) || !in_filter_range(c[axis])) return out;
+    if (!in_filter_range(g.radius)) return out;
+
+    // f = o − c exactly, as double-words (two_sum).
+    bounded f[3];
+    for (int axis = 0; axis < 3; ++axis) f[axis] = exactly(two_sum(o[axis], -c[axis]));
+
+    // a = d·d, b′ = d·f, C = f·f − r², and Δ′ = a·r² − |d × f|² (Lagrange's
+    // identity (d·d)(f·f) − (d·f)² = |d × f|² turns b′² − aC into a form
+    // without the cancellation b′² − aC suffers for far spheres).
+    const bounded r2 = exactly(two_prod(g.radius, g.radius));
+    const bounded a = exactly(two_prod(d[0], d[0])) + exactly(two_prod(d[1], d[1])) + exactly(two_prod(d[2], d[2]));
+    const bounded b_prime = f[0] * d[0] + f[1] * d[1] + f[2] * d[2];
+    const bounded C = f[0] * f[0] + f[1] * f[1] + f[2] * f[2] - r2;
+    const bounded cross[3] = {f[2] * d[1] - f[1] * d[2], f[0] * d[2] - f[2] * d[0], f[1] * d[0] - f[0] * d[1]};
+    const bounded discriminant = a * r2 - (cross[0] * cross[0] + cross[1] * cross[1] + cross[2] * cross[2]);
+
+    // Class: sign of Δ′ when |Δ′h| > 2·err (|Δ′h + Δ′l| ≥ |Δ′h|(1 − u) > err).
+    if (std::fabs(discriminant.v.h) > 2 * discriminant.err) out.discriminant_sign = discriminant.v.h > 0 ? 1 : -1;
+    if (out.discriminant_sign <= 0) return out;
+
+    // Roots without cancellation: q = −(b′ + σ√Δ′), σ the sign of b′'s
+    // estimate (either choice is rigorous, this one keeps |q| ≥ √Δ′); the
+    // roots are q/a and C/q. σ = +1: q/a is the near root; σ = −1: the far.
+    const std::optional<bounded> root = square_root(discriminant);
+    if (!root) return out;
+    const bool positive_b = b_prime.v.h >= 0;
+    const bounded q = positive_b ? -(b_prime + *root) : *root - b_prime;
+    const std::optional<bounded> t_q = quotient(q, a), t_c = quotient(C, q);
+    if (!t_q || !t_c) return out;
+    const bounded& near = positive_b ? *t_q : *t_c;
+    const bounded& far = positive_b ? *t_c : *t_q;
+    out.roots[0] = {near.v.h, near.v.l, near.err};
+    out.roots[1] = {far.v.h, far.v.l, far.err};
+    return out;
+}
+
+// Coordinate `axis` of o + t·d from an enclosure of t: o exactly when d's
+// coordinate is 0, else o + t·d in double-words.
+enclosure hit_coordinate_enclosure(const ray_sphere<double>& g, const enclosure& t, int axis) {
+    const double o = g.origin[axis], d = g.direction[axis];
+    if (d == 0) return {o, 0, 0};
+    if (!known(t)) return {};
+    const bounded h = bounded{{t.hi, t.lo}, t.err} * d + exactly(o);
+    return {h.v.h, h.v.l, h.err};
+}
+
+// RN of a hit coordinate when its enclosure settles it.
+std::optional<double> round_hit_coordinate(precision prec, const ray_sphere<double>& g, const enclosure& t, int axis) {
+    const enclosure h = hit_coordinate_enclosure(g, t, axis);
+    // d's coordinate 0: the coordinate is o's, rounded (a −0 becomes +0, as RN(0) = +0).
+    if (known(h) && h.err == 0 && h.lo == 0)
+        return (prec == precision::binary32 ? double(static_cast<float>(h.hi)) : h.hi) + 0.0;
+    return prec == precision::binary32 ? round_enclosure<float>(h, side_of(h, 0.0))
+                                       : round_enclosure<double>(h, side_of(h, 0.0));
+}
+
+// Everything the filter settles for one case; what it leaves unknown (a sign
+// 0 with a root not provably nonzero, an empty optional) the exact state
+// answers.
+struct filtered_case {
+    int discriminant_sign = 0;  // 0: undecided, the exact route must run
+    enclosure roots[2];
+    int sign[2] = {0, 0};
+    std::optional<double> rounded[2];
+    std::optional<double> hit[3];  // the front root's, when both signs are known
+};
+
+// Flattened into one function and cloned for FMA hardware (std::fma inlines
+// to one instruction there; elsewhere it is a library call). Both clones
+// compute the same bits: every operation is correctly rounded.
+[[gnu::flatten]] __attribute__((target_clones("fma", "default"))) filtered_case
+filter_case(const ray_sphere<double>& g, precision prec) {
+    filtered_case out;
+    const filtered_quadratic q = filter_quadratic(g);
+    out.discriminant_sign = q.discriminant_sign;
+    if (q.discriminant_sign <= 0) return out;
+    for (int i = 0; i < 2; ++i) {
+        out.roots[i] = q.roots[i];
+        out.sign[i] = side_of(q.roots[i], 0.0);
+        if (out.sign[i] != 0)
+            out.rounded[i] = prec == precision::binary32 ? round_enclosure<float>(q.roots[i], out.sign[i])
+                                                         : round_enclosure<double>(q.roots[i], out.sign[i]);
+    }
+    if (out.sign[0] == 0 || out.sign[1] == 0) return out;
+    const int front = out.sign[0] > 0 ? 0 : out.sign[1] > 0 ? 1 : -1;
+    if (front >= 0)
+        for (int axis = 0; axis < 3; ++axis) out.hit[axis] = round_hit_coordinate(prec, g, q.roots[front], axis);
+    return out;
+}
+
 }  // namespace
 
+// The filter route and the lazy exact route, with access to the solution.
+struct exact_solution::internal {
+    static const enclosure& root_enclosure(const exact_solution& s, root_index i) {
+        return s.roots_[i == root_index::near_root ? 0 : 1];
+    }
+
+    static enclosure hit_enclosure(const exact_solution& s, root_index i, int axis) {
+        return hit_coordinate_enclosure(s.geometry_, root_enclosure(s, i), axis);
+    }
+
+    static exact_solution reference(const ray_sphere<double>& g, precision prec, std::optional<double> tmin,
+                                    std::optional<double> tmax) {
+        exact_solution solution;
+        solution.prec = prec;
+        solution.geometry_ = g;
+        solution.invalid = check_case(g, tmin, tmax);
+        if (!solution.valid()) return solution;
+        solution.stage = oracle_stage::exact;
+
+        std::shared_ptr<exact_state> state = build_exact_state(g);
+        const int sign_discriminant = sign_of(state->discriminant);
+        solution.cls = sign_discriminant < 0   ? line_class::miss
+                       : sign_discriminant == 0 ? line_class::tangent
+                                                : line_class::two_hit;
+        if (solution.cls == line_class::miss) {
+            if (tmin || tmax) solution.hits_interval = false;
+            return solution;
+        }
+        for (root_index i : {root_index::near_root, root_index::far_root}) {
+            exact_root& out = i == root_index::near_root ? solution.near_root : solution.far_root;
+            out.sign = state->root(i).sign();
+            out.rounded = round_in(prec, state->root(i));
+        }
+        solution.nearest_in_front = nearest_root_in_front(solution.near_root.sign, solution.far_root.sign);
+
+        if (tmin || tmax) {
+            bool inside = false;
+            for (const quadratic_irrational* t : {&state->near_root, &state->far_root}) {
+                const bool at_least = !tmin || std::isinf(*tmin) ? infinite_bound_admits(tmin, true)
+                                                                  : t->compare(exact(*tmin)) >= 0;
+                const bool at_most = !tmax || std::isinf(*tmax) ? infinite_bound_admits(tmax, false)
+                                                                 : t->compare(exact(*tmax)) <= 0;
+                inside = inside || (at_least && at_most);
+            }
+            solution.hits_interval = inside;
+        }
+
+        solution.exact_ = std::move(state);
+        if (solution.nearest_in_front) {
+            const root_index front = *solution.nearest_in_front;
+            const auto coordinate = [&](int axis) {
+                return round_in(prec, solution.exact_->hit_coordinate(front, axis));
+            };
+            solution.hit_point = {coordinate(0), coordinate(1), coordinate(2)};
+        }
+        return solution;
+    }
+
+    static exact_solution filtered(const ray_sphere<double>& g, precision prec, std::optional<double> tmin,
+                                   std::optional<double> tmax) {
+        exact_solution solution;
+        solution.prec = prec;
+        solution.invalid = check_case(g, tmin, tmax);
+        if (!solution.valid()) return solution;
+        const filtered_case filter = filter_case(g, prec);
+        if (filter.discriminant_sign == 0) return reference(g, prec, tmin, tmax);
+
+        solution.geometry_ = g;
+        solution.roots_[0] = filter.roots[0];
+        solution.roots_[1] = filter.roots[1];
+        if (filter.discriminant_sign < 0) {
+            solution.cls = line_class::miss;
+            if (tmin || tmax) solution.hits_interval = false;
+            solution.stage = oracle_stage::filter;
+            return solution;
+        }
+        solution.cls = line_class::two_hit;
+
+        // Signs and correctly rounded roots: from the filter, else exactly.
+        for (root_index i : {root_index::near_root, root_index::far_root}) {
+            const int k = i == root_index::near_root ? 0 : 1;
+            exact_root& out = k == 0 ? solution.near_root : solution.far_root;
+            out.sign = filter.sign[k] != 0 ? filter.sign[k] : solution.state().root(i).sign();
+            out.rounded = filter.rounded[k] ? *filter.rounded[k] : round_in(prec, solution.state().root(i));
+        }
+        solution.nearest_in_front = nearest_root_in_front(solution.near_root.sign, solution.far_root.sign);
+
+        if (tmin || tmax) {
+            bool inside = false;
+            for (root_index i : {root_index::near_root, root_index::far_root}) {
+                // compare_root is sign(value − t*): t* ≥ tmin ⇔ compare_root(tmin) ≤ 0.
+                const bool at_least = !tmin || std::isinf(*tmin) ? infinite_bound_admits(tmin, true)
+                                                                  : solution.compare_root(i, *tmin) <= 0;
+                const bool at_most = !tmax || std::isinf(*tmax) ? infinite_bound_admits(tmax, false)
+                                                                 : solution.compare_root(i, *tmax) >= 0;
+                inside = inside || (at_least && at_most);
+            }
+            solution.hits_interval = inside;
+        }
+
+        if (solution.nearest_in_front) {
+            const root_index front = *solution.nearest_in_front;
+            const auto coordinate = [&](int axis) {
+                return filter.hit[axis] ? *filter.hit[axis] : solution.rounded_hit_coordinate(front, axis);
+            };
+            solution.hit_point = {coordinate(0), coordinate(1), coordinate(2)};
+        }
+        // Exact arithmetic ran iff the exact state was needed.
+        solution.stage = solution.exact_ ? oracle_stage::exact : oracle_stage::filter;
+        return solution;
+    }
+};
+
+const exact_solution::exact_state& exact_solution::state() const {
+    if (!exact_) exact_ = build_exact_state(geometry_);
+    return *exact_;
+}
+
 int exact_solution::compare_root(root_index i, double value) const {
-    return -exact_->root(i).compare(exact(value));
+    const int side = side_of(internal::root_enclosure(*this, i), value);  // sign(t* − value)
+    if (side != 0) return -side;
+    return -state().root(i).compare(exact(value));
 }
 
 double exact_solution::root_ulp_error(root_index i, double value) const {
-    return ulp_error_in(prec, exact_->root(i), value);
+    if (const std::optional<double> e = ulp_error_from(prec, internal::root_enclosure(*this, i), value)) return *e;
+    return ulp_error_in(prec, state().root(i), value);
 }
 
 double exact_solution::hit_point_ulp_error(root_index i, int axis, double value) const {
-    return ulp_error_in(prec, exact_->hit_coordinate(i, axis), value);
+    if (const std::optional<double> e = ulp_error_from(prec, internal::hit_enclosure(*this, i, axis), value))
+        return *e;
+    return ulp_error_in(prec, state().hit_coordinate(i, axis), value);
 }
 
 double exact_solution::rounded_hit_coordinate(root_index i, int axis) const {
-    return round_in(prec, exact_->hit_coordinate(i, axis));
+    if (const std::optional<double> r = round_hit_coordinate(prec, geometry_, internal::root_enclosure(*this, i), axis))
+        return *r;
+    return round_in(prec, state().hit_coordinate(i, axis));
 }
 
 exact_solution solve_exact(const ray_sphere<double>& g, precision prec, std::optional<double> tmin,
                            std::optional<double> tmax) {
-    exact_solution solution;
-    solution.prec = prec;
-    solution.invalid = validity<double>(g);
-    if (solution.valid() && (tmin || tmax)) {
-        const double lo = tmin.value_or(-std::numeric_limits<double>::infinity());
-        const double hi = tmax.value_or(std::numeric_limits<double>::infinity());
-        if (std::isnan(lo) || std::isnan(hi) || lo > hi) solution.invalid = invalid_reason::bad_interval;
-    }
-    if (!solution.valid()) return solution;
+    return exact_solution::internal::filtered(g, prec, tmin, tmax);
+}
 
-    auto state = std::make_shared<exact_solution::exact_state>();
-    const double o[3] = {g.origin.x, g.origin.y, g.origin.z};
-    const double d[3] = {g.direction.x, g.direction.y, g.direction.z};
-    const double c[3] = {g.centre.x, g.centre.y, g.centre.z};
-
-    // Exact quadratic a t² + 2b′t + C = 0 with f = o − c.
-    exact a(0.0), b_prime(0.0), f_squared(0.0);
-    for (int axis = 0; axis < 3; ++axis) {
-        state->origin[axis] = exact(o[axis]);
-        state->direction[axis] = exact(d[axis]);
-        const exact f = state->origin[axis] - exact(c[axis]);
-        a = a + state->direction[axis] * state->direction[axis];
-        b_prime = b_prime + state->direction[axis] * f;
-        f_squared = f_squared + f * f;
-    }
-    const exact r(g.radius);
-    const exact C = f_squared - r * r;
-    const exact discriminant = b_prime * b_prime - a * C;  // Δ′ = Δ/4
-
-    const int sign_discriminant = sign_of(discriminant);
-    solution.cls = sign_discriminant < 0   ? line_class::miss
-                   : sign_discriminant == 0 ? line_class::tangent
-                                            : line_class::two_hit;
-    if (solution.cls == line_class::miss) {
-        if (tmin || tmax) solution.hits_interval = false;
-        return solution;
-    }
-
-    // Roots (−b′ ∓ √Δ′)/a.
-    state->near_root = {-b_prime, exact(-1.0), discriminant, a};
-    state->far_root = {-b_prime, exact(1.0), discriminant, a};
-    for (root_index i : {root_index::near_root, root_index::far_root}) {
-        exact_root& out = i == root_index::near_root ? solution.near_root : solution.far_root;
-        out.sign = state->root(i).sign();
-        out.rounded = round_in(prec, state->root(i));
-    }
-    if (solution.near_root.sign > 0)
-        solution.nearest_in_front = root_index::near_root;
-    else if (solution.far_root.sign > 0)
-        solution.nearest_in_front = root_index::far_root;
-
-    if (tmin || tmax) {
-        bool inside = false;
-        // An infinite bound admits every root on its side (or none beyond it).
-        const auto at_least = [](const quadratic_irrational& t, std::optional<double> bound) {
-            if (!bound || std::isinf(*bound)) return !bound || *bound < 0;
-            return t.compare(exact(*bound)) >= 0;
-        };
-        const auto at_most = [](const quadratic_irrational& t, std::optional<double> bound) {
-            if (!bound || std::isinf(*bound)) return !bound || *bound > 0;
-            return t.compare(exact(*bound)) <= 0;
-        };
-        for (const quadratic_irrational* t : {&state->near_root, &state->far_root})
-            inside = inside || (at_least(*t, tmin) && at_most(*t, tmax));
-        solution.hits_interval = inside;
-    }
-
-    solution.exact_ = std::move(state);
-    if (solution.nearest_in_front) {
-        const root_index front = *solution.nearest_in_front;
-        solution.hit_point = {solution.rounded_hit_coordinate(front, 0),
-                              solution.rounded_hit_coordinate(front, 1),
-                              solution.rounded_hit_coordinate(front, 2)};
-    }
-    return solution;
+exact_solution solve_exact_reference(const ray_sphere<double>& g, precision prec, std::optional<double> tmin,
+                                     std::optional<double> tmax) {
+    return exact_solution::internal::reference(g, prec, tmin, tmax);
 }
 
 }  // namespace rayverify

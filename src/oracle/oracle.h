@@ -11,6 +11,7 @@
 // lives behind `exact_solution`'s private handle, in oracle.cpp.
 #pragma once
 
+#include <limits>
 #include <memory>
 #include <optional>
 
@@ -74,18 +75,45 @@ public:
     double rounded_hit_coordinate(root_index i, int axis) const;
 
     struct exact_state;  // CGAL/GMP representation, defined in oracle.cpp
+    struct internal;     // the filter and the exact route, defined in oracle.cpp
+
+    // An enclosure of an exact value: |x − (hi + lo)| ≤ err; err = +inf when
+    // the filter could not bound x (the exact state then answers).
+    struct enclosure {
+        double hi = 0, lo = 0;
+        double err = std::numeric_limits<double>::infinity();
+    };
 
 private:
-    friend exact_solution solve_exact(const ray_sphere<double>&, precision,
-                                      std::optional<double>, std::optional<double>);
-    std::shared_ptr<const exact_state> exact_;
+    // The queries above answer from the roots' enclosures when those settle
+    // the answer, and otherwise from the exact state, which is built on first
+    // use and kept. That lazy build mutates the solution without a lock: a
+    // solution (and its copies, which share a built state) must be used by
+    // one thread at a time, as the audit does.
+    const exact_state& state() const;
+
+    ray_sphere<double> geometry_{};
+    enclosure roots_[2];  // near, far
+    mutable std::shared_ptr<const exact_state> exact_;
 };
 
 // Solve one case exactly. `geometry` must hold exactly the values the variant
 // receives (for a float variant: the inputs already rounded to float). Never
 // throws for bad geometry: an invalid case comes back with `invalid` set.
+//
+// The filtered oracle: a double-double evaluation with rigorous error bounds
+// settles what it can (`stage == filter`); exact arithmetic runs only for what
+// it cannot (`stage == exact`). No heap allocation when the filter settles
+// everything. Its answers are those of solve_exact_reference, bit for bit.
 exact_solution solve_exact(const ray_sphere<double>& geometry, precision prec,
                            std::optional<double> tmin = std::nullopt,
                            std::optional<double> tmax = std::nullopt);
+
+// The reference route: exact CGAL::Gmpzf coefficients for everything, MPFR
+// proposals verified by exact comparison, no filter (`stage == exact`). Same
+// contract as solve_exact; the tests require both to agree.
+exact_solution solve_exact_reference(const ray_sphere<double>& geometry, precision prec,
+                                     std::optional<double> tmin = std::nullopt,
+                                     std::optional<double> tmax = std::nullopt);
 
 }  // namespace rayverify

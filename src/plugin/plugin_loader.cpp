@@ -33,7 +33,20 @@ std::string text_or(const char* text, std::string fallback) { return text ? std:
 // The interval the contract is judged on, passed to the plugin as tmin/tmax.
 template <class T>
 T interval_start(const contract& promises) {
-    return promises.query == query_kind::nearest_on_ray ? T(0) : -std::numeric_limits<T>::infinity();
+    return promises.query == query_kind::line_roots ? -std::numeric_limits<T>::infinity() : T(0);
+}
+
+// For the kinds that take an interval: the plugin asked for (tmin, tmax).
+template <class T, class Fn>
+std::function<root_pair<T>(const ray_sphere<T>&, T, T)> wrap_in(Fn intersect, std::shared_ptr<void> handle) {
+    return [intersect, handle = std::move(handle)](const ray_sphere<T>& s, T tmin, T tmax) {
+        const T o[3] = {s.origin.x, s.origin.y, s.origin.z};
+        const T d[3] = {s.direction.x, s.direction.y, s.direction.z};
+        const T c[3] = {s.centre.x, s.centre.y, s.centre.z};
+        T roots[2] = {std::numeric_limits<T>::quiet_NaN(), std::numeric_limits<T>::quiet_NaN()};
+        const int count = intersect(o, d, c, s.radius, tmin, tmax, roots);
+        return root_pair<T>{count, roots[0], roots[1]};
+    };
 }
 
 template <class T, class Fn>
@@ -87,21 +100,29 @@ variant load_plugin(const std::filesystem::path& library) {
     if (name.empty()) fail(library, "the plugin's name is empty");
     if (name.find_first_of(" \t\r\n/#") != std::string::npos)
         fail(library, fmt::format("the plugin's name '{}' must be one token without '/' or '#'", name));
-    if (info->query != RAYVERIFY_LINE_ROOTS && info->query != RAYVERIFY_NEAREST_ON_RAY)
-        fail(library, fmt::format("unknown query kind {} (RAYVERIFY_LINE_ROOTS or RAYVERIFY_NEAREST_ON_RAY)",
+    if (info->query < RAYVERIFY_LINE_ROOTS || info->query > RAYVERIFY_NEAREST_IN_INTERVAL)
+        fail(library, fmt::format("unknown query kind {} (RAYVERIFY_LINE_ROOTS, RAYVERIFY_NEAREST_ON_RAY, "
+                                  "RAYVERIFY_ANY_HIT_IN_INTERVAL or RAYVERIFY_NEAREST_IN_INTERVAL)",
                                   info->query));
 
     variant v;
     v.name = name;
     v.citation = text_or(info->citation, "plugin " + library.filename().string());
     v.formula = text_or(info->formula, "(not stated)");
-    v.promises.query = info->query == RAYVERIFY_LINE_ROOTS ? query_kind::line_roots : query_kind::nearest_on_ray;
+    constexpr query_kind kinds[] = {query_kind::line_roots, query_kind::nearest_on_ray,
+                                    query_kind::any_hit_in_interval, query_kind::nearest_in_interval};
+    v.promises.query = kinds[info->query];
     v.promises.assumes_unit_direction = info->assumes_unit_direction != 0;
     v.promises.reports_tangent = info->reports_tangent != 0;
     v.promises.clamps_to_zero = info->clamps_to_zero != 0;
     v.promises.tangent_rule = interned(text_or(info->tangent_rule, v.promises.reports_tangent ? "(not stated)" : "never"));
     v.run_double = wrap<double>(run_double, handle, v.promises);
     if (run_float) v.run_float = wrap<float>(run_float, handle, v.promises);
+    if (takes_interval(v.promises.query)) {
+        v.run_double_in = wrap_in<double>(run_double, handle);
+        if (run_float) v.run_float_in = wrap_in<float>(run_float, handle);
+    }
+    v.thread_safe = false;  // rayverify_plugin.h: "Called from one thread"
     return v;
 }
 

@@ -26,6 +26,9 @@
 #define RAYVERIFY_LINE_ROOTS 0     /* both roots of the line o + t·d, any sign, t0 <= t1;
                                       count 0 miss, 1 tangent reported, 2 two roots */
 #define RAYVERIFY_NEAREST_ON_RAY 1 /* the nearest hit with t >= 0 in roots[0]; count 0 or 1 */
+#define RAYVERIFY_ANY_HIT_IN_INTERVAL 2 /* count 1 when some root lies in the open interval
+                                           (tmin, tmax), else 0; roots unused */
+#define RAYVERIFY_NEAREST_IN_INTERVAL 3 /* the nearest root in (tmin, tmax) in roots[0]; count 0 or 1 */
 
 #if defined(_WIN32)
 #define RAYVERIFY_PLUGIN_EXPORT __declspec(dllexport)
@@ -52,10 +55,13 @@ typedef struct rayverify_plugin_info {
 } rayverify_plugin_info;
 
 /* Intersect the ray o + t·d with the sphere |p − c| = r. Write the roots to
- * roots[0] <= roots[1] (for a tangent, both; for NEAREST_ON_RAY, roots[0])
- * and return the hit count. rayverify passes the interval its contract is
- * judged on: tmin = -INFINITY, tmax = +INFINITY for LINE_ROOTS and tmin = 0
- * for NEAREST_ON_RAY; a plugin may ignore them. Called from one thread. */
+ * roots[0] <= roots[1] (for a tangent, both; for NEAREST_ON_RAY and
+ * NEAREST_IN_INTERVAL, roots[0]) and return the hit count. rayverify passes
+ * the interval its contract is judged on: tmin = -INFINITY, tmax = +INFINITY
+ * for LINE_ROOTS and tmin = 0 for NEAREST_ON_RAY (a plugin may ignore them);
+ * for the two *_IN_INTERVAL kinds, the case's or the ray's own interval,
+ * (0, +INFINITY) when it has none, which the plugin must honour. Called from
+ * one thread. */
 typedef int (*rayverify_intersect_double_fn)(const double origin[3], const double direction[3],
                                              const double centre[3], double radius, double tmin,
                                              double tmax, double roots[2]);

@@ -32,6 +32,14 @@ namespace {
 constexpr const char* verdict_column[verdict_kind_count] = {
     "agree", "f_miss", "f_hit", "t_split", "t_miss", "f_tan", "w_root", "w_side", "nonfin", "malf", "contract", "invalid"};
 
+}  // namespace
+
+const char* const quantile_scope =
+    "upper bounds: the nearest-rank value's log bucket upper edge (at most a factor 1 + 2^-7 above it) "
+    "or the maximum when smaller; exact when 0";
+
+namespace {
+
 std::string compact(double x) {
     if (std::isinf(x)) return "inf";
     if (x == 0) return "0";
@@ -46,6 +54,7 @@ json statistics_json(const error_statistics& s, const char* scope) {
     out["median"] = json_number(s.median);
     out["max_case"] = s.max_case;
     out["max_is"] = scope;
+    out["p99_median_are"] = quantile_scope;
     return out;
 }
 
@@ -63,7 +72,7 @@ json tally_json(const target_tally& t, const char* scope) {
 }
 
 json contract_json(const contract& c) {
-    return {{"query", c.query == query_kind::line_roots ? "line_roots" : "nearest_on_ray"},
+    return {{"query", query_kind_name(c.query)},
             {"assumes_unit_direction", c.assumes_unit_direction},
             {"reports_tangent", c.reports_tangent},
             {"tangent_rule", std::string(c.tangent_rule)},
@@ -124,7 +133,7 @@ std::string render_summary_table(const audit_totals& totals) {
             out += fmt::format(" {:>9} {:>9} {:>9}\n", compact(s.max), compact(s.p99), compact(s.median));
     }
     out += fmt::format("{} cases; invalid: {} at float, {} at double. ULP columns: nearest root, agreeing cases, "
-                       "maxima over this finite corpus.\n",
+                       "maxima over this finite corpus; p99 and median are upper bounds within 0.8%.\n",
                        totals.cases, totals.invalid_cases[0], totals.invalid_cases[1]);
     // Invalid cases are never scored, so they are named: the first few here, all in report.json.
     constexpr std::size_t listed = 5;
@@ -150,6 +159,7 @@ json audit_report_json(const audit_totals& totals, const run_context& context) {
                         {"cases", totals.cases},
                         {"cases_by_family", totals.cases_by_family},
                         {"invalid_cases", {{"float", totals.invalid_cases[0]}, {"double", totals.invalid_cases[1]}}}};
+    if (!context.generated.empty()) report["corpus"]["generated"] = context.generated;
     json invalid_list = json::array();
     for (const invalid_case& c : totals.invalid_list) {
         json entry = {{"id", c.id}, {"source", c.source}};
@@ -163,7 +173,11 @@ json audit_report_json(const audit_totals& totals, const run_context& context) {
                 "p = 53, emin = -1022 (double); ulp(0) = smallest subnormal"},
         {"ulp_error", "|t - t*| / ulp(t*), t* the exact root of the inputs the variant received"},
         {"bits", "log2(1 + number of representable values between t and RN(t*))"},
-        {"error_statistics", "over the cases whose verdict is agree; p99 and median are nearest-rank"}};
+        {"error_statistics",
+         "over the cases whose verdict is agree; count and max are exact (max_case: the first case attaining it); "
+         "p99 and median are nearest-rank, reported as upper bounds from a histogram of log buckets of relative "
+         "width 2^-7 (the bucket's upper edge, or the max when it is smaller; 0 exactly when 0), so that the "
+         "figures of any split of the cases merge exactly"}};
     json meanings = json::object();
     for (int k = 0; k < verdict_kind_count; ++k) {
         const auto kind = static_cast<verdict_kind>(k);

@@ -15,6 +15,7 @@ namespace rayverify {
 struct run_context {
     std::string command_line;
     std::vector<std::string> corpus_paths;
+    std::vector<std::string> generated;  // --generate specs, "FAMILY:COUNT:SEED"
 };
 
 // Build facts (compiler, flags, build type, version) as JSON.
@@ -30,6 +31,9 @@ nlohmann::ordered_json audit_report_json(const audit_totals& totals, const run_c
 std::string per_case_json_line(const audited_case& audited, const std::vector<audit_target>& targets);
 // The same object before it is serialised (callers may add fields).
 nlohmann::ordered_json per_case_json(const audited_case& audited, const std::vector<audit_target>& targets);
+
+// What the p99 and median of every error statistic are (written beside them).
+extern const char* const quantile_scope;
 
 // A finite double as a JSON number, ±inf and NaN as strings ("inf", "-inf", "nan").
 nlohmann::ordered_json json_number(double x);

@@ -1,6 +1,10 @@
 #include "report/stability_report.h"
 
+#include <fmt/format.h>
+
+#include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <map>
 
 #include "report/audit_report.h"
@@ -29,6 +33,7 @@ json bucket_json(const bucket_tally& b) {
         ulp["median"] = json_number(b.near_root_ulp.median);
         ulp["max_case"] = b.near_root_ulp.max_case;
         ulp["max_is"] = scope;
+        ulp["p99_median_are"] = quantile_scope;
     }
     out["near_root_ulp"] = ulp;
     return out;
@@ -53,6 +58,7 @@ json tally_json(const stability_tally& t) {
         line["median_excess"] = json_number(t.excess.median);
         line["max_excess_case"] = t.excess.max_case;
         line["max_is"] = scope;
+        line["p99_median_are"] = quantile_scope;
     }
     json out = bucket_json(t.all);
     out["reference_line"] = line;
@@ -122,38 +128,83 @@ void add_stability_fields(json& line, const case_stability& s, const std::vector
 }
 
 case_points::case_points(std::vector<audit_target> targets, std::vector<std::string> labels)
-    : targets_(std::move(targets)),
-      labels_(std::move(labels)),
-      verdict_(targets_.size(), json::array()),
-      near_ulp_(targets_.size(), json::array()) {}
+    : targets_(std::move(targets)), labels_(std::move(labels)) {}
 
-void case_points::add(const audited_case& c, const case_stability& s) {
-    family_.push_back(c.source->family);
+// FNV-1a, then the splitmix64 finaliser so that ids differing in their last
+// characters spread over the whole range.
+std::uint64_t case_points::id_hash(const std::string& id) {
+    std::uint64_t h = 0xcbf29ce484222325ULL;
+    for (unsigned char ch : id) h = (h ^ ch) * 0x100000001b3ULL;
+    h = (h ^ (h >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    h = (h ^ (h >> 27)) * 0x94d049bb133111ebULL;
+    return h ^ (h >> 31);
+}
+
+void case_points::insert(const std::string& family, const sample_key& key, row r) {
+    auto& kept = sample_[family];
+    if (kept.size() >= per_family && !(key < kept.rbegin()->first)) return;
+    kept.emplace(key, std::move(r));
+    if (kept.size() > per_family) kept.erase(std::prev(kept.end()));
+}
+
+void case_points::add(const audited_case& c, const case_stability& s, std::size_t index) {
+    const sample_key key{id_hash(c.source->id), index};
+    const auto found = sample_.find(c.source->family);
+    if (found != sample_.end() && found->second.size() >= per_family && !(key < found->second.rbegin()->first))
+        return;
     const auto kappa = [](const std::optional<stability_measures>& m) -> json {
         if (!m || !m->valid || !m->near_condition) return nullptr;
         return json_number(*m->near_condition);
     };
-    kappa_float_.push_back(kappa(s.at_float));
-    kappa_double_.push_back(kappa(s.at_double));
-    ratio_.push_back(s.at_double && s.at_double->valid ? json_number(s.at_double->distance_ratio) : json(nullptr));
+    row r;
+    r.index = index;
+    r.family = c.source->family;
+    r.kappa_float = kappa(s.at_float);
+    r.kappa_double = kappa(s.at_double);
+    r.ratio = s.at_double && s.at_double->valid ? json_number(s.at_double->distance_ratio) : json(nullptr);
     for (std::size_t t = 0; t < targets_.size(); ++t) {
         const case_score& score = c.outcomes[t].score;
-        verdict_[t].push_back(std::string(verdict_name(score.verdict)));
-        near_ulp_[t].push_back(score.verdict == verdict_kind::agree ? optional_number(score.near_ulp) : json(nullptr));
+        r.verdict.push_back(std::string(verdict_name(score.verdict)));
+        r.near_ulp.push_back(score.verdict == verdict_kind::agree ? optional_number(score.near_ulp) : json(nullptr));
     }
+    insert(c.source->family, key, std::move(r));
+}
+
+void case_points::merge(const case_points& other) {
+    for (const auto& [family, kept] : other.sample_)
+        for (const auto& [key, r] : kept) insert(family, key, r);
 }
 
 json case_points::to_json() const {
+    std::vector<const row*> rows;
+    for (const auto& [family, kept] : sample_)
+        for (const auto& [key, r] : kept) rows.push_back(&r);
+    std::sort(rows.begin(), rows.end(), [](const row* a, const row* b) { return a->index < b->index; });
+    json family = json::array(), ratio = json::array(), kappa_float = json::array(), kappa_double = json::array();
+    std::vector<json> verdict(targets_.size(), json::array()), near_ulp(targets_.size(), json::array());
+    for (const row* r : rows) {
+        family.push_back(r->family);
+        ratio.push_back(r->ratio);
+        kappa_float.push_back(r->kappa_float);
+        kappa_double.push_back(r->kappa_double);
+        for (std::size_t t = 0; t < targets_.size(); ++t) {
+            verdict[t].push_back(r->verdict[t]);
+            near_ulp[t].push_back(r->near_ulp[t]);
+        }
+    }
     json targets = json::object();
     for (std::size_t t = 0; t < targets_.size(); ++t)
         targets[labels_[t]] = {{"variant", targets_[t].subject.name},
                                {"precision_of_inputs", precision_name(targets_[t].prec)},
-                               {"verdict", verdict_[t]},
-                               {"near_ulp", near_ulp_[t]}};
-    return {{"cases", family_.size()},
-            {"family", family_},
-            {"distance_ratio", ratio_},
-            {"condition", {{"float", kappa_float_}, {"double", kappa_double_}}},
+                               {"verdict", verdict[t]},
+                               {"near_ulp", near_ulp[t]}};
+    return {{"cases", rows.size()},
+            {"sample", fmt::format("per family, the {} cases with the smallest hash of their id (every case of a "
+                                   "smaller family), in input order",
+                                   per_family)},
+            {"family", family},
+            {"distance_ratio", ratio},
+            {"condition", {{"float", kappa_float}, {"double", kappa_double}}},
             {"targets", targets}};
 }
 

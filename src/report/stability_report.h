@@ -4,7 +4,10 @@
 #pragma once
 
 #include <nlohmann/json.hpp>
+#include <cstdint>
+#include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "bench/timing.h"
@@ -27,19 +30,34 @@ void add_stability_fields(nlohmann::ordered_json& line, const case_stability& s,
 
 // Column-oriented per-case values for the plots: family, distance ratio,
 // κ at float and double, and per target label the verdict and near-root ulps.
+// A bounded, deterministic sample: per family, the `per_family` cases with the
+// smallest hash of their id (ties: smallest global index), listed in input
+// order; every case when a family has no more. Mergeable like the
+// accumulators (one per thread or shard), and the state is public for shards.
 class case_points {
 public:
+    static constexpr std::size_t per_family = 1024;
+
+    struct row {
+        std::size_t index = 0;
+        nlohmann::ordered_json family, ratio, kappa_float, kappa_double;
+        std::vector<nlohmann::ordered_json> verdict, near_ulp;  // aligned with the targets
+    };
+    using sample_key = std::pair<std::uint64_t, std::size_t>;  // (hash of id, global index)
+
     case_points(std::vector<audit_target> targets, std::vector<std::string> labels);
-    void add(const audited_case& c, const case_stability& s);
+    void add(const audited_case& c, const case_stability& s, std::size_t index);
+    void insert(const std::string& family, const sample_key& key, row r);
+    void merge(const case_points& other);
     nlohmann::ordered_json to_json() const;
+
+    static std::uint64_t id_hash(const std::string& id);
+    const std::map<std::string, std::map<sample_key, row>>& sample() const { return sample_; }
 
 private:
     std::vector<audit_target> targets_;
     std::vector<std::string> labels_;
-    nlohmann::ordered_json family_ = nlohmann::ordered_json::array(), ratio_ = nlohmann::ordered_json::array(),
-                           kappa_float_ = nlohmann::ordered_json::array(),
-                           kappa_double_ = nlohmann::ordered_json::array();
-    std::vector<nlohmann::ordered_json> verdict_, near_ulp_;
+    std::map<std::string, std::map<sample_key, row>> sample_;  // family → kept rows
 };
 
 // report["timing"]: every row, the reference and each row's ratio to the

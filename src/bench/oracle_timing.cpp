@@ -1,0 +1,153 @@
+#include "bench/oracle_timing.h"
+
+#include <benchmark/benchmark.h>
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <functional>
+#include <map>
+
+#include "bench/collecting_reporter.h"
+#include "bench/timing.h"
+#include "intersectors/naive.h"
+#include "oracle/oracle.h"
+
+namespace rayverify::bench {
+namespace {
+
+
+// Median CPU ns per case of `body`, which runs one pass over `cases` cases.
+double median_ns(const std::string& name, std::size_t cases, const std::function<void()>& body,
+                 const oracle_timing_options& options) {
+    collecting_reporter reporter;
+    benchmark::RegisterBenchmark(name.c_str(),
+                                 [&body](benchmark::State& state) {
+                                     for (auto _ : state) body();
+                                 })
+        ->Repetitions(options.repetitions)
+        ->MinTime(options.min_time_s)
+        ->ReportAggregatesOnly(false);
+    benchmark::RunSpecifiedBenchmarks(&reporter);
+    benchmark::ClearRegisteredBenchmarks();
+    std::vector<double> ns;
+    for (const auto& run : reporter.repetitions)
+        ns.push_back(run.cpu_accumulated_time / static_cast<double>(run.iterations) * 1e9 /
+                     static_cast<double>(std::max<std::size_t>(cases, 1)));
+    return median_of(ns);
+}
+
+// The naive intersector inlined into the loop, as timing.cpp times it.
+[[gnu::flatten]] void naive_pass(const std::vector<ray_sphere<double>>& inputs) {
+    for (const ray_sphere<double>& s : inputs) {
+        auto result = intersectors::naive(s);
+        benchmark::DoNotOptimize(result);
+    }
+}
+
+struct prepared {
+    std::vector<corpus_case> cases;  // valid in double
+    std::vector<ray_sphere<double>> inputs;
+};
+
+oracle_timing_row time_family(const std::string& family, const prepared& p, const oracle_timing_options& options,
+                              std::size_t& done, std::size_t total, void (*on_progress)(std::size_t, std::size_t)) {
+    oracle_timing_row row;
+    row.family = family;
+    row.cases = p.cases.size();
+    const auto tick = [&] {
+        if (on_progress) on_progress(++done, total);
+    };
+    row.naive_ns = median_ns("naive/" + family, row.cases, [&p] { naive_pass(p.inputs); }, options);
+    tick();
+    const auto oracle_pass = [&p](exact_solution (*solve)(const ray_sphere<double>&, precision, std::optional<double>,
+                                                          std::optional<double>)) {
+        return [&p, solve] {
+            for (const corpus_case& c : p.cases) {
+                exact_solution e = solve(c.geometry, precision::binary64, c.tmin, c.tmax);
+                benchmark::DoNotOptimize(e);
+            }
+        };
+    };
+    row.fast_ns = median_ns("solve_exact/" + family, row.cases, oracle_pass(&solve_exact), options);
+    tick();
+    row.reference_ns =
+        median_ns("solve_exact_reference/" + family, row.cases, oracle_pass(&solve_exact_reference), options);
+    tick();
+
+    // Fallback rates, double inputs and float inputs (as the audit solves them).
+    std::size_t exact_double = 0, valid_float = 0, exact_float = 0;
+    for (const corpus_case& c : p.cases) {
+        exact_double += solve_exact(c.geometry, precision::binary64, c.tmin, c.tmax).stage == oracle_stage::exact;
+        if (validity<float>(c.geometry) != invalid_reason::none) continue;
+        const auto narrow = [](std::optional<double> t) -> std::optional<double> {
+            if (!t) return t;
+            return double(float(*t));
+        };
+        const exact_solution f = solve_exact(rounded_to<double>(rounded_to<float>(c.geometry)), precision::binary32,
+                                             narrow(c.tmin), narrow(c.tmax));
+        if (!f.valid()) continue;
+        ++valid_float;
+        exact_float += f.stage == oracle_stage::exact;
+    }
+    row.fallback_double = row.cases ? double(exact_double) / double(row.cases) : 0;
+    row.fallback_float = valid_float ? double(exact_float) / double(valid_float) : 0;
+    return row;
+}
+
+}  // namespace
+
+oracle_timing time_oracle(const std::vector<corpus_case>& cases, const oracle_timing_options& options,
+                          void (*on_progress)(std::size_t, std::size_t)) {
+    std::map<std::string, prepared> by_family;
+    prepared all;
+    for (const corpus_case& c : cases) {
+        if (validity<double>(c.geometry) != invalid_reason::none) continue;
+        for (prepared* p : {&by_family[c.family.empty() ? "-" : c.family], &all}) {
+            p->cases.push_back(c);
+            p->inputs.push_back(c.geometry);
+        }
+    }
+    oracle_timing out;
+    out.repetitions = options.repetitions;
+    std::size_t done = 0;
+    const std::size_t total = 3 * (by_family.size() + 1);
+    for (const auto& [family, p] : by_family)
+        out.families.push_back(time_family(family, p, options, done, total, on_progress));
+    out.all = time_family("all", all, options, done, total, on_progress);
+    return out;
+}
+
+std::string format_oracle_timing(const oracle_timing& t) {
+    std::string out = fmt::format("{:<20} {:>6} {:>9} {:>10} {:>13} {:>12} {:>10} {:>10} {:>9}\n", "family", "cases",
+                                  "naive_ns", "oracle_ns", "reference_ns", "oracle/naive", "ref/oracle", "fallback64",
+                                  "fallback32");
+    const auto line = [&out](const oracle_timing_row& r) {
+        out += fmt::format("{:<20} {:>6} {:>9.2f} {:>10.1f} {:>13.1f} {:>11.1f}x {:>9.1f}x {:>9.2f}% {:>8.2f}%\n",
+                           r.family, r.cases, r.naive_ns, r.fast_ns, r.reference_ns, r.fast_over_naive(),
+                           r.reference_over_fast(), 100 * r.fallback_double, 100 * r.fallback_float);
+    };
+    for (const oracle_timing_row& r : t.families) line(r);
+    line(t.all);
+    out += fmt::format("ns per case, CPU time, median of {} repetitions; oracle = solve_exact (filtered), reference = "
+                       "solve_exact_reference, both on the double inputs with the case's interval; fallback = share of "
+                       "solutions that needed exact arithmetic (double inputs, float inputs).\n",
+                       t.repetitions);
+    const auto find = [&t](const std::string& family) -> const oracle_timing_row* {
+        for (const oracle_timing_row& r : t.families)
+            if (r.family == family) return &r;
+        return nullptr;
+    };
+    out += "targets (issue 7), this run:\n";
+    const auto target = [&out](const std::string& what, double value, double limit, bool at_most) {
+        const bool met = at_most ? value <= limit : value >= limit;
+        out += fmt::format("  {:<44} {:>8.1f}x  target {}{:g}x  {}\n", what, value, at_most ? "<= " : ">= ", limit,
+                           met ? "met" : "MISSED");
+    };
+    for (const auto& [family, limit] : {std::pair{"uniform", 10.0}, {"far_sphere", 10.0}, {"near_tangent", 100.0}})
+        if (const oracle_timing_row* r = find(family))
+            target(fmt::format("oracle / naive double, {}", family), r->fast_over_naive(), limit, true);
+    target("reference / oracle, whole corpus", t.all.reference_over_fast(), 50.0, false);
+    return out;
+}
+
+}  // namespace rayverify::bench

@@ -1,0 +1,50 @@
+// Run time of the exact oracle: the fast (filtered) oracle against the naive
+// double intersector and against the reference oracle, measured in one run
+// with Google Benchmark, and the filter's fallback rate per family (the share
+// of solutions that needed exact arithmetic: a measure of how stiff a family
+// is). Measuring only; format_oracle_timing renders the figures as text.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "core/ray_sphere_case.h"
+
+namespace rayverify::bench {
+
+struct oracle_timing_options {
+    int repetitions = 5;
+    double min_time_s = 0.05;  // per repetition
+};
+
+// One family (or "all": the whole corpus given), double precision unless noted.
+struct oracle_timing_row {
+    std::string family;
+    std::size_t cases = 0;
+    double naive_ns = 0;      // naive intersector, double, per case
+    double fast_ns = 0;       // solve_exact (double inputs, the case's interval)
+    double reference_ns = 0;  // solve_exact_reference, same inputs
+    // Share of valid solutions with stage == exact, double and float inputs.
+    double fallback_double = 0, fallback_float = 0;
+    double fast_over_naive() const { return naive_ns > 0 ? fast_ns / naive_ns : 0; }
+    double reference_over_fast() const { return fast_ns > 0 ? reference_ns / fast_ns : 0; }
+};
+
+struct oracle_timing {
+    std::vector<oracle_timing_row> families;  // every family in the corpus, by name
+    oracle_timing_row all;                    // the whole corpus
+    int repetitions = 0;
+};
+
+// Times every family of `cases` and the whole set (medians of CPU time over
+// the repetitions). `on_progress(done, total)` after each benchmark.
+oracle_timing time_oracle(const std::vector<corpus_case>& cases, const oracle_timing_options& options,
+                          void (*on_progress)(std::size_t, std::size_t) = nullptr);
+
+// The figures as a table, with the targets (fast ≤ 10× naive on
+// uniform and far_sphere, ≤ 100× on near_tangent; reference ≥ 50× fast on the
+// whole corpus) and whether this run met them.
+std::string format_oracle_timing(const oracle_timing& t);
+
+}  // namespace rayverify::bench

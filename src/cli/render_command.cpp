@@ -1,0 +1,128 @@
+// `rayverify render --scene FILE --variant NAME -o DIR`: the exact render, the
+// variant's render and a difference image per ray kind, as PNG, with a
+// legend.md that names every colour and counts the pixels of each.
+#include <fmt/format.h>
+
+#include <filesystem>
+
+#include "cli/commands.h"
+#include "core/input_error.h"
+#include "report/atomic_file.h"
+#include "report/png_image.h"
+#include "scene/scene.h"
+#include "scene/scene_audit.h"
+#include "scene/scene_render.h"
+
+namespace rayverify::cli {
+namespace {
+
+struct render_options {
+    std::string scene_file;
+    std::string variant_name;
+    std::vector<std::string> plugins;
+    std::string out_dir;
+};
+
+std::string hex(rgb c) { return fmt::format("#{:02x}{:02x}{:02x}", c.r, c.g, c.b); }
+
+std::string legend_text(const scene& s, const audit_target& target, const scene_pictures& p,
+                        const std::vector<std::string>& files) {
+    std::string out = fmt::format("# {} rendered exactly and by {}\n\n", s.name, target.label());
+    if (!s.comment.empty()) out += s.comment + "\n\n";
+    out += fmt::format("Scene file: `{}`; {} × {} pixels, {}.\n\n", s.file.string(), s.camera.width, s.camera.height,
+                       precision_name(s.prec));
+    out += "| file | what it shows |\n|---|---|\n";
+    for (const std::string& f : files) {
+        std::string what;
+        if (f == "exact.png")
+            what = "each pixel's exact nearest hit (oracle), shaded by its normal, colour = (n + 1)/2, darker where "
+                   "exact shadow rays are blocked; black: no hit";
+        else if (f == "variant.png")
+            what = "the same from " + target.label() + "'s answers (normal at o + t·d for its t and sphere)";
+        else
+            what = "per pixel, the verdict of its " + f.substr(11, f.size() - 15) + " ray(s) under " + target.label() +
+                   " (colours below)";
+        out += fmt::format("| `{}` | {} |\n", f, what);
+    }
+    out += fmt::format("\nColours of the difference images (agreeing hits shade from agree_hit_exact to agree_hit_max "
+                       "by log2(1 + ulp) / log2(1 + {:g}) of the nearest root's ULP error):\n\n",
+                       p.ramp_full_scale);
+    out += "| colour | name | meaning |\n|---|---|---|\n";
+    for (const palette_entry& e : scene_palette())
+        out += fmt::format("| `{}` | {} | {} |\n", hex(e.colour), e.name, e.meaning);
+    out += "\nPixels by verdict:\n\n| ray kind |";
+    for (int v = 0; v < ray_verdict_count; ++v) out += fmt::format(" {} |", ray_verdict_name(static_cast<ray_verdict>(v)));
+    out += "\n|---|";
+    for (int v = 0; v < ray_verdict_count; ++v) out += "---|";
+    out += "\n";
+    for (ray_kind kind : {ray_kind::primary, ray_kind::shadow, ray_kind::secondary}) {
+        const std::size_t k = static_cast<std::size_t>(kind);
+        if (!p.difference[k]) continue;
+        out += fmt::format("| {} |", ray_kind_name(kind));
+        for (int v = 0; v < ray_verdict_count; ++v) out += fmt::format(" {} |", p.pixels_by_verdict[k][static_cast<std::size_t>(v)]);
+        out += "\n";
+    }
+    return out;
+}
+
+int run(const render_options& options) {
+    const scene s = read_scene(options.scene_file);
+    if (options.variant_name.empty() == options.plugins.empty())
+        throw input_error("", 0, "--variant", "name exactly one variant: --variant NAME or one --plugin LIBRARY");
+    std::vector<std::string> names;
+    if (!options.variant_name.empty()) names.push_back(options.variant_name);
+    const std::vector<audit_target> targets = scene_audit_targets(s, names, options.plugins);
+    if (targets.size() != 1)
+        throw input_error("", 0, "--variant", "name exactly one variant (built-in, or the one --plugin) to render");
+    const audit_target& target = targets.front();
+    if (auto why = not_applicable_reason(s, target))
+        throw input_error(options.scene_file, 0, "--variant", target.label() + " is not applicable: " + *why);
+
+    const std::vector<scene_ray> rays = generate_rays(s);
+    scene_picture_builder builder(s, 0);
+    const scene_audit_result result =
+        audit_scene(s, rays, targets, [&](const judged_ray& r) { builder.add(r); });
+    const scene_pictures pictures = builder.finish();
+
+    // Every image is encoded and written atomically; the legend last.
+    const std::filesystem::path dir(options.out_dir);
+    std::error_code error;
+    std::filesystem::create_directories(dir, error);
+    if (error) throw input_error(options.out_dir, 0, "-o", "cannot create directory: " + error.message());
+    std::vector<std::pair<std::string, const rgb_image*>> images = {{"exact.png", &pictures.exact},
+                                                                    {"variant.png", &pictures.variant}};
+    for (ray_kind kind : {ray_kind::primary, ray_kind::shadow, ray_kind::secondary})
+        if (const auto& d = pictures.difference[static_cast<std::size_t>(kind)])
+            images.emplace_back(fmt::format("difference_{}.png", ray_kind_name(kind)), &*d);
+    std::vector<std::string> files;
+    for (const auto& [name, image] : images) {
+        write_png(dir / name, image->width, image->height, image->pixels);
+        files.push_back(name);
+    }
+    atomic_file legend(dir / "legend.md");
+    legend.stream() << legend_text(s, target, pictures, files);
+    legend.commit();
+
+    fmt::print("render: {} by {} → {}\n", s.name, target.label(), dir.string());
+    for (const std::string& f : files) fmt::print("  {}\n", (dir / f).string());
+    fmt::print("  {}\n", (dir / "legend.md").string());
+    const std::size_t disagreements = result.targets.front().disagreements();
+    fmt::print("{} of {} rays disagree with the exact answer\n", disagreements, rays.size());
+    return disagreements > 0 ? exit_findings : exit_ok;
+}
+
+}  // namespace
+
+command add_render_command(CLI::App& app) {
+    auto options = std::make_shared<render_options>();
+    auto* sub = app.add_subcommand("render", "Render a scene exactly and with one variant, as PNG images, with a "
+                                             "difference image per ray kind colouring each disagreement. Exit 1 "
+                                             "when the variant disagrees on some ray.");
+    sub->add_option("--scene", options->scene_file, "Scene file (corpus/scenes/README.md)")->required();
+    sub->add_option("--variant", options->variant_name, "The variant to render (its scene precision is the scene's)");
+    sub->add_option("--plugin", options->plugins, "Shared library implementing rayverify_plugin.h, rendered instead");
+    sub->add_option("-o,--output", options->out_dir, "Directory for the PNG images and legend.md")->required();
+    return {sub, [options] { return run(*options); }};
+}
+
+}  // namespace rayverify::cli

@@ -1,0 +1,90 @@
+// The cases of an audit as a stream: corpus files read one at a time, or
+// generated cases made one by one, each with its global index in the whole
+// input, so that memory does not grow with the number of cases. A shard K/N
+// keeps the cases whose index i has i mod N = K − 1: the N shards of any input
+// together hold every case exactly once, whatever the input is.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <unordered_map>
+#include <vector>
+
+#include "core/ray_sphere_case.h"
+
+namespace rayverify {
+
+struct shard_spec {
+    std::size_t index = 1;  // K, 1 ≤ K ≤ N
+    std::size_t count = 1;  // N
+    bool owns(std::size_t case_index) const { return case_index % count == index - 1; }
+    // How many of the indices 0 … total − 1 this shard owns.
+    std::size_t size_of(std::size_t total) const { return total / count + (total % count >= index ? 1 : 0); }
+    std::string text() const;  // "K/N"
+};
+
+// "K/N" with 1 ≤ K ≤ N; throws input_error (field "--shard") otherwise.
+shard_spec parse_shard(std::string_view text);
+
+// Cases of one generator family (corpus/generators.h), made on the fly.
+struct generate_spec {
+    std::string family;
+    std::size_t count = 0;
+    std::uint64_t seed = 1;
+    std::string text() const;  // "FAMILY:COUNT:SEED"
+};
+
+// "FAMILY:COUNT[:SEED]" (seed 1 when absent, as `corpus generate`); throws
+// input_error (field "--generate") for a malformed spec or an unknown family.
+generate_spec parse_generate_spec(std::string_view text);
+
+class case_stream {
+public:
+    static constexpr std::size_t default_chunk = 4096;
+
+    // Corpus files and directories, in the order given (as read_corpus reads
+    // them: the same errors, including duplicate ids across files and an
+    // empty corpus, the latter raised when the stream ends).
+    case_stream(std::vector<std::filesystem::path> paths, shard_spec shard, std::size_t chunk = default_chunk);
+    // Generated families one after the other. Two specs with the same family
+    // and seed would repeat ids: an input_error.
+    case_stream(std::vector<generate_spec> specs, shard_spec shard, std::size_t chunk = default_chunk);
+
+    // Fills up to `chunk` cases of this shard with their global indices;
+    // false when the input is exhausted.
+    bool next(std::vector<corpus_case>& cases, std::vector<std::size_t>& indices);
+
+    // Cases of the whole input (every shard's) passed so far; once next()
+    // returned false, the input's size.
+    std::size_t total() const { return total_; }
+    // 16 hex digits identifying the whole input passed so far: a hash of every
+    // case (id, family, inputs, interval) for files; of the specs and each
+    // family's generator version for generated cases.
+    std::string fingerprint() const;
+
+private:
+    bool next_from_files(std::vector<corpus_case>& cases, std::vector<std::size_t>& indices);
+    bool next_generated(std::vector<corpus_case>& cases, std::vector<std::size_t>& indices);
+    void mix(const void* bytes, std::size_t n);
+
+    shard_spec shard_;
+    std::size_t chunk_;
+    std::size_t total_ = 0;
+    std::uint64_t hash_ = 0xcbf29ce484222325ULL;
+    // Files.
+    std::vector<std::filesystem::path> paths_;
+    std::vector<std::filesystem::path> files_;
+    std::size_t next_file_ = 0;
+    std::vector<corpus_case> current_;
+    std::size_t position_ = 0;
+    std::unordered_map<std::string, std::string> first_source_;  // id → where it was first defined
+    // Generated.
+    std::vector<generate_spec> specs_;
+    std::size_t spec_ = 0, spec_position_ = 0;  // next index within specs_[spec_] to consider
+    bool generated_ = false;
+};
+
+}  // namespace rayverify

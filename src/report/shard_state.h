@@ -1,0 +1,49 @@
+// The state of an audit run: its accumulators (compare/audit, compare/stability)
+// and plot sample (case_points), which is everything its reports are rendered
+// from. A shard (`rayverify audit --shard K/N`) saves it as JSON beside its
+// report; `rayverify merge` reads the shards' states back, merges them and
+// renders exactly the report one run over the whole input would have written.
+// Every double is stored as a hex float, so nothing is rounded on the way.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "compare/audit.h"
+#include "compare/stability.h"
+#include "report/audit_report.h"
+#include "report/stability_report.h"
+
+namespace rayverify {
+
+inline constexpr const char* shard_state_format = "rayverify-shard-state 1";
+inline constexpr const char* shard_state_file = "shard.json";
+
+// Everything an audit accumulates (one per thread, one per shard).
+struct audit_state {
+    explicit audit_state(const std::vector<audit_target>& targets);
+    void merge(const audit_state& other);
+
+    audit_accumulator audit;
+    stability_accumulator stability;
+    case_points points;
+};
+
+// The labels the plots and per-case lines use for the targets.
+std::vector<std::string> target_labels(const std::vector<audit_target>& targets);
+
+// The whole report.json of an audit: audit_report_json, then "stability" and "case_points".
+nlohmann::ordered_json audit_report_document(const audit_state& state, const run_context& context);
+
+// Targets as JSON (name, precision, citation, formula, contract) and back
+// (variants that describe, never run: merge renders, it does not audit).
+nlohmann::ordered_json targets_json(const std::vector<audit_target>& targets);
+std::vector<audit_target> targets_from_json(const nlohmann::ordered_json& j);
+
+// The accumulated state as JSON and back. `from_json` throws
+// nlohmann::json::exception on a malformed document (the caller names the file).
+nlohmann::ordered_json state_json(const audit_state& state);
+audit_state state_from_json(const nlohmann::ordered_json& j, const std::vector<audit_target>& targets);
+
+}  // namespace rayverify

@@ -1,0 +1,609 @@
+#include "scene/scene.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <numbers>
+#include <random>
+#include <set>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "core/input_error.h"
+#include "corpus/corpus_io.h"
+#include "oracle/oracle.h"
+
+namespace rayverify {
+namespace {
+
+using json = nlohmann::json;
+
+// ---------------------------------------------------------------------------
+// Where each field is. nlohmann-json reports positions only for syntax
+// errors, so after it has accepted the text this walks the (now known valid)
+// JSON once and records the line on which each value starts, keyed by the
+// field path printed in messages ("spheres[2].radius").
+class field_lines {
+public:
+    explicit field_lines(const std::string& text) : text_(text) {
+        for (std::size_t i = 0; i < text_.size(); ++i)
+            if (text_[i] == '\n') newlines_.push_back(i);
+        std::size_t i = 0;
+        scan_value(i, "");
+    }
+
+    // The line of `path`, or of its nearest enclosing field that has one.
+    std::size_t line_of(std::string path) const {
+        while (true) {
+            if (auto it = lines_.find(path); it != lines_.end()) return it->second;
+            if (path.empty()) return 0;
+            const std::size_t cut = path.find_last_of(".[");
+            path = cut == std::string::npos ? std::string() : path.substr(0, cut);
+        }
+    }
+
+private:
+    std::size_t line_at(std::size_t byte) const {
+        return static_cast<std::size_t>(std::upper_bound(newlines_.begin(), newlines_.end(), byte) -
+                                        newlines_.begin()) +
+               1;
+    }
+    void skip_space(std::size_t& i) const {
+        while (i < text_.size() && std::isspace(static_cast<unsigned char>(text_[i]))) ++i;
+    }
+    std::string scan_string(std::size_t& i) const {  // at the opening quote
+        std::string s;
+        for (++i; i < text_.size() && text_[i] != '"'; ++i) {
+            if (text_[i] == '\\') ++i;
+            if (i < text_.size()) s += text_[i];
+        }
+        ++i;
+        return s;
+    }
+    void scan_value(std::size_t& i, const std::string& path) {
+        skip_space(i);
+        if (i >= text_.size()) return;
+        lines_.emplace(path, line_at(i));
+        const char open = text_[i];
+        if (open == '{' || open == '[') {
+            ++i;
+            for (std::size_t index = 0;; ++index) {
+                skip_space(i);
+                if (i >= text_.size() || text_[i] == '}' || text_[i] == ']') break;
+                std::string child;
+                if (open == '{') {
+                    const std::string key = scan_string(i);
+                    child = path.empty() ? key : path + "." + key;
+                    skip_space(i);
+                    ++i;  // ':'
+                } else {
+                    child = path + "[" + std::to_string(index) + "]";
+                }
+                scan_value(i, child);
+                skip_space(i);
+                if (i < text_.size() && text_[i] == ',') ++i;
+            }
+            ++i;
+        } else if (open == '"') {
+            scan_string(i);
+        } else {
+            while (i < text_.size() && text_[i] != ',' && text_[i] != '}' && text_[i] != ']' &&
+                   !std::isspace(static_cast<unsigned char>(text_[i])))
+                ++i;
+        }
+    }
+
+    const std::string& text_;
+    std::vector<std::size_t> newlines_;
+    std::map<std::string, std::size_t> lines_;
+};
+
+// Reads typed fields, throwing input_error(file, line, path, problem).
+class reader {
+public:
+    reader(std::string file, const field_lines& lines) : file_(std::move(file)), lines_(lines) {}
+
+    [[noreturn]] void fail(const std::string& path, const std::string& problem) const {
+        throw input_error(file_, lines_.line_of(path), path, problem);
+    }
+
+    static std::string child(const std::string& path, const std::string& key) {
+        return path.empty() ? key : path + "." + key;
+    }
+
+    // The object at `path`, with no key outside `allowed`.
+    const json& object(const json& j, const std::string& path, std::initializer_list<const char*> allowed) const {
+        if (!j.is_object()) fail(path, "must be an object");
+        for (const auto& [key, value] : j.items()) {
+            const bool known = std::any_of(allowed.begin(), allowed.end(), [&](const char* a) { return key == a; });
+            if (!known) {
+                std::string list;
+                for (const char* a : allowed) list += std::string(list.empty() ? "" : ", ") + a;
+                fail(child(path, key), "unknown field (expected one of: " + list + ")");
+            }
+        }
+        return j;
+    }
+
+    // A finite number: a JSON number, or a string holding a decimal or C99 hex
+    // float read exactly (for values a decimal literal cannot give exactly).
+    double number(const json& j, const std::string& path) const {
+        double v = 0;
+        if (j.is_number()) {
+            v = j.get<double>();
+        } else if (j.is_string()) {
+            v = parse_exact_double(j.get<std::string>(), file_, lines_.line_of(path), path);
+        } else {
+            fail(path, "must be a finite number");
+        }
+        if (!std::isfinite(v)) fail(path, "must be a finite number");
+        return v;
+    }
+
+    double number_at_least(const json& j, const std::string& path, double low, const char* what) const {
+        const double v = number(j, path);
+        if (!(v >= low)) fail(path, fmt::format("must be a finite number {} (got {})", what, v));
+        return v;
+    }
+
+    vec3<double> vector(const json& j, const std::string& path) const {
+        if (!j.is_array() || j.size() != 3) fail(path, "must be an array of 3 finite numbers [x, y, z]");
+        return {number(j[0], path + "[0]"), number(j[1], path + "[1]"), number(j[2], path + "[2]")};
+    }
+
+    std::string string(const json& j, const std::string& path) const {
+        if (!j.is_string()) fail(path, "must be a string");
+        return j.get<std::string>();
+    }
+
+    bool boolean(const json& j, const std::string& path) const {
+        if (!j.is_boolean()) fail(path, "must be true or false");
+        return j.get<bool>();
+    }
+
+    long long integer(const json& j, const std::string& path, long long low, long long high) const {
+        if (!j.is_number_integer() || j.get<long long>() < low || j.get<long long>() > high)
+            fail(path, fmt::format("must be an integer from {} to {}", low, high));
+        return j.get<long long>();
+    }
+
+    template <class E>
+    E choice(const json& j, const std::string& path, std::initializer_list<std::pair<const char*, E>> options) const {
+        std::string list;
+        for (const auto& [name, value] : options) list += std::string(list.empty() ? "" : ", ") + "\"" + name + "\"";
+        if (!j.is_string()) fail(path, "must be one of " + list);
+        for (const auto& [name, value] : options)
+            if (j.get<std::string>() == name) return value;
+        fail(path, "must be one of " + list + " (got \"" + j.get<std::string>() + "\")");
+    }
+
+    const json* optional(const json& j, const char* key) const {
+        auto it = j.find(key);
+        return it == j.end() ? nullptr : &*it;
+    }
+
+    const json& required(const json& j, const std::string& path, const char* key) const {
+        auto it = j.find(key);
+        if (it == j.end()) fail(child(path, key), "is required");
+        return *it;
+    }
+
+private:
+    std::string file_;
+    const field_lines& lines_;
+};
+
+ray_query read_query(const reader& in, const json& j, const std::string& path) {
+    return in.choice<ray_query>(j, path,
+                                {{"any_hit", ray_query::any_hit},
+                                 {"nearest_hit", ray_query::nearest_hit},
+                                 {"both_roots", ray_query::both_roots},
+                                 {"hit_point_normal", ray_query::hit_point_normal}});
+}
+
+spawn_settings read_spawn(const reader& in, const json& j, const std::string& path) {
+    spawn_settings s;
+    if (const json* o = in.optional(j, "offset")) {
+        const std::string p = path + ".offset";
+        in.object(*o, p, {"rule", "absolute", "relative"});
+        s.rule = in.choice<offset_rule>(in.required(*o, p, "rule"), p + ".rule",
+                                        {{"none", offset_rule::none},
+                                         {"along_normal", offset_rule::along_normal},
+                                         {"along_ray", offset_rule::along_ray}});
+        if (const json* v = in.optional(*o, "absolute"))
+            s.absolute = in.number_at_least(*v, p + ".absolute", 0, "≥ 0");
+        if (const json* v = in.optional(*o, "relative"))
+            s.relative = in.number_at_least(*v, p + ".relative", 0, "≥ 0");
+    }
+    if (const json* v = in.optional(j, "tmin")) s.tmin = in.number_at_least(*v, path + ".tmin", 0, "≥ 0");
+    return s;
+}
+
+vec3<double> cross(vec3<double> a, vec3<double> b) {
+    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+
+vec3<double> normalised(vec3<double> v) {
+    const double n = std::sqrt(length_squared(v));
+    return {v.x / n, v.y / n, v.z / n};
+}
+
+// A vector rounded to the scene's precision (exact in double either way).
+vec3<double> in_precision(vec3<double> v, precision p) {
+    return p == precision::binary32 ? vec3_cast<double>(vec3_cast<float>(v)) : v;
+}
+
+double in_precision(double v, precision p) {
+    return p == precision::binary32 ? static_cast<double>(static_cast<float>(v)) : v;
+}
+
+// d/|d| computed in precision T, as a renderer working in T normalises.
+template <class T>
+vec3<double> normalised_in(vec3<double> v) {
+    const vec3<T> w = vec3_cast<T>(v);
+    const T n = std::sqrt(length_squared(w));
+    return vec3_cast<double>(vec3<T>{w.x / n, w.y / n, w.z / n});
+}
+
+// A new ray's direction as the renderer casts it: normalised in the scene's
+// precision when the scene says so, else rounded to it.
+vec3<double> cast_direction(const scene& s, vec3<double> d) {
+    if (!s.normalise_directions) return in_precision(d, s.prec);
+    return s.prec == precision::binary32 ? normalised_in<float>(d) : normalised_in<double>(d);
+}
+
+// Is the exact root i of `solution` inside the open interval (tmin, tmax)?
+bool root_inside(const exact_solution& solution, root_index i, double tmin, double tmax) {
+    if (solution.compare_root(i, tmin) >= 0) return false;  // tmin ≥ t*
+    return std::isinf(tmax) || solution.compare_root(i, tmax) > 0;
+}
+
+struct exact_nearest {
+    int sphere = -1;
+    root_index root = root_index::near_root;
+    double t = 0;  // the root rounded to the scene's precision
+    exact_solution solution;
+};
+
+// The exact nearest hit of a ray over all its spheres. Roots of different
+// spheres are ordered by their correctly rounded values (ties: lower index).
+std::optional<exact_nearest> exact_nearest_hit(const scene& s, const scene_ray& r) {
+    std::optional<exact_nearest> best;
+    for (int k : r.spheres) {
+        const corpus_case c = case_for(s, r, k);
+        exact_solution e = solve_exact(c.geometry, s.prec);
+        if (!e.valid() || e.cls == line_class::miss) continue;
+        for (root_index i : {root_index::near_root, root_index::far_root}) {
+            if (!root_inside(e, i, r.tmin, r.tmax)) continue;
+            const double t = e.root(i).rounded;
+            if (!best || t < best->t) best = exact_nearest{k, i, t, e};
+            break;  // the near root comes first
+        }
+    }
+    return best;
+}
+
+// The hit point of the exact nearest hit, correctly rounded to the scene's
+// precision, and the outward unit normal there (computed in double).
+struct spawn_point {
+    vec3<double> point;
+    vec3<double> normal;
+};
+
+spawn_point spawn_at(const scene& s, const exact_nearest& hit) {
+    spawn_point p;
+    p.point = {hit.solution.rounded_hit_coordinate(hit.root, 0), hit.solution.rounded_hit_coordinate(hit.root, 1),
+               hit.solution.rounded_hit_coordinate(hit.root, 2)};
+    const scene_sphere& sphere = s.spheres[static_cast<std::size_t>(hit.sphere)];
+    p.normal = normalised(p.point - sphere.centre);
+    return p;
+}
+
+// The origin of a ray leaving P in direction d under the scene's rule, rounded
+// to the scene's precision. Along the normal, the origin moves to the side the
+// ray leaves to (outside for a reflection, inside for a transmission).
+vec3<double> spawn_origin(const scene& s, const spawn_settings& rule, const spawn_point& p, vec3<double> d) {
+    const double offset = rule.absolute + rule.relative * std::sqrt(length_squared(p.point));
+    vec3<double> o = p.point;
+    if (rule.rule == offset_rule::along_normal) {
+        const double side = dot(d, p.normal) < 0 ? -1.0 : 1.0;
+        o = o + (side * offset) * p.normal;
+    } else if (rule.rule == offset_rule::along_ray) {
+        o = o + offset * normalised(d);
+    }
+    return in_precision(o, s.prec);
+}
+
+std::vector<int> all_spheres(const scene& s) {
+    std::vector<int> v(s.spheres.size());
+    for (std::size_t i = 0; i < v.size(); ++i) v[i] = static_cast<int>(i);
+    return v;
+}
+
+}  // namespace
+
+const char* ray_kind_name(ray_kind k) {
+    switch (k) {
+        case ray_kind::primary: return "primary";
+        case ray_kind::shadow: return "shadow";
+        case ray_kind::secondary: return "secondary";
+    }
+    return "?";
+}
+
+std::string scene_ray::id() const {
+    std::string s = fmt::format("px{},{}/{}", x, y, ray_kind_name(kind));
+    if (kind == ray_kind::shadow) s += std::to_string(light);
+    return s;
+}
+
+scene parse_scene(const std::string& text, const std::filesystem::path& file) {
+    const std::string name = file.string();
+    json root;
+    try {
+        root = json::parse(text);
+    } catch (const json::parse_error& e) {
+        const std::size_t byte = e.byte == 0 ? 0 : std::min<std::size_t>(e.byte - 1, text.size());
+        const std::size_t line = 1 + static_cast<std::size_t>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(byte), '\n'));
+        std::string what = e.what();
+        if (auto at = what.find("syntax error"); at != std::string::npos) what = what.substr(at);
+        throw input_error(name, line, "", "not valid JSON: " + what);
+    }
+    const field_lines lines(text);
+    const reader in(name, lines);
+
+    scene s;
+    s.file = file;
+    s.name = file.stem().string();
+    in.object(root, "", {"comment", "precision", "normalise_directions", "spheres", "camera", "lights", "rays",
+                         "pixels"});
+    if (const json* v = in.optional(root, "comment")) s.comment = in.string(*v, "comment");
+    s.prec = in.choice<precision>(in.required(root, "", "precision"), "precision",
+                                  {{"float", precision::binary32}, {"double", precision::binary64}});
+    if (const json* v = in.optional(root, "normalise_directions"))
+        s.normalise_directions = in.boolean(*v, "normalise_directions");
+
+    // Spheres.
+    const json& spheres = in.required(root, "", "spheres");
+    if (!spheres.is_array() || spheres.empty()) in.fail("spheres", "must be a non-empty array of spheres");
+    std::set<std::string> names;
+    for (std::size_t i = 0; i < spheres.size(); ++i) {
+        const std::string p = fmt::format("spheres[{}]", i);
+        in.object(spheres[i], p, {"name", "centre", "radius", "comment"});
+        scene_sphere sphere;
+        sphere.name = fmt::format("sphere{}", i);
+        if (const json* v = in.optional(spheres[i], "name")) sphere.name = in.string(*v, p + ".name");
+        if (sphere.name.empty() || sphere.name.find_first_of(" \t/") != std::string::npos)
+            in.fail(p + ".name", "must be a non-empty name without spaces or '/'");
+        if (!names.insert(sphere.name).second) in.fail(p + ".name", "names another sphere too: \"" + sphere.name + "\"");
+        sphere.centre = in.vector(in.required(spheres[i], p, "centre"), p + ".centre");
+        sphere.radius = in.number_at_least(in.required(spheres[i], p, "radius"), p + ".radius", 0, "≥ 0");
+        const vec3<double> c = in_precision(sphere.centre, s.prec);
+        if (!std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z))
+            in.fail(p + ".centre", "overflows the scene's precision");
+        if (!std::isfinite(in_precision(sphere.radius, s.prec))) in.fail(p + ".radius", "overflows the scene's precision");
+        s.spheres.push_back(sphere);
+    }
+
+    // Camera.
+    const json& camera = in.required(root, "", "camera");
+    in.object(camera, "camera", {"projection", "position", "look_at", "up", "fov_degrees", "view_height", "resolution"});
+    scene_camera& cam = s.camera;
+    cam.kind = in.choice<projection>(in.required(camera, "camera", "projection"), "camera.projection",
+                                     {{"perspective", projection::perspective},
+                                      {"orthographic", projection::orthographic}});
+    cam.position = in.vector(in.required(camera, "camera", "position"), "camera.position");
+    cam.look_at = in.vector(in.required(camera, "camera", "look_at"), "camera.look_at");
+    if (const json* v = in.optional(camera, "up")) cam.up = in.vector(*v, "camera.up");
+    if (length_squared(cam.look_at - cam.position) == 0) in.fail("camera.look_at", "must differ from camera.position");
+    if (length_squared(cross(cam.up, cam.position - cam.look_at)) == 0)
+        in.fail("camera.up", "must not be parallel to the view direction");
+    if (cam.kind == projection::perspective) {
+        if (camera.contains("view_height")) in.fail("camera.view_height", "applies to an orthographic camera only");
+        const double fov = in.number(in.required(camera, "camera", "fov_degrees"), "camera.fov_degrees");
+        if (!(fov > 0 && fov < 180)) in.fail("camera.fov_degrees", fmt::format("must lie in (0, 180) degrees (got {})", fov));
+        cam.fov_degrees = fov;
+    } else {
+        if (camera.contains("fov_degrees")) in.fail("camera.fov_degrees", "applies to a perspective camera only");
+        const double h = in.number(in.required(camera, "camera", "view_height"), "camera.view_height");
+        if (!(h > 0)) in.fail("camera.view_height", fmt::format("must be a finite number > 0 (got {})", h));
+        cam.view_height = h;
+    }
+    const json& resolution = in.required(camera, "camera", "resolution");
+    if (!resolution.is_array() || resolution.size() != 2)
+        in.fail("camera.resolution", "must be [width, height] in pixels");
+    cam.width = static_cast<int>(in.integer(resolution[0], "camera.resolution[0]", 1, 4096));
+    cam.height = static_cast<int>(in.integer(resolution[1], "camera.resolution[1]", 1, 4096));
+
+    // Lights.
+    if (const json* lights = in.optional(root, "lights")) {
+        if (!lights->is_array()) in.fail("lights", "must be an array of lights");
+        for (std::size_t i = 0; i < lights->size(); ++i) {
+            const std::string p = fmt::format("lights[{}]", i);
+            in.object((*lights)[i], p, {"name", "position"});
+            scene_light light;
+            light.name = fmt::format("light{}", i);
+            if (const json* v = in.optional((*lights)[i], "name")) light.name = in.string(*v, p + ".name");
+            light.position = in.vector(in.required((*lights)[i], p, "position"), p + ".position");
+            s.lights.push_back(light);
+        }
+    }
+
+    // Ray kinds and their queries.
+    if (const json* rays = in.optional(root, "rays")) {
+        in.object(*rays, "rays", {"primary", "shadow", "secondary"});
+        if (const json* p = in.optional(*rays, "primary")) {
+            in.object(*p, "rays.primary", {"query", "tmin"});
+            if (const json* v = in.optional(*p, "query")) s.primary.query = read_query(in, *v, "rays.primary.query");
+            if (s.primary.query == ray_query::any_hit)
+                in.fail("rays.primary.query", "any_hit is for shadow rays: a camera ray needs the hit it sees");
+            if (const json* v = in.optional(*p, "tmin"))
+                s.primary_tmin = in.number_at_least(*v, "rays.primary.tmin", 0, "≥ 0");
+        }
+        if (const json* p = in.optional(*rays, "shadow")) {
+            in.object(*p, "rays.shadow", {"query", "offset", "tmin"});
+            s.shadow.enabled = true;
+            if (const json* v = in.optional(*p, "query")) s.shadow.query = read_query(in, *v, "rays.shadow.query");
+            s.shadow_spawn = read_spawn(in, *p, "rays.shadow");
+            if (s.lights.empty()) in.fail("rays.shadow", "shadow rays need at least one entry in \"lights\"");
+        }
+        if (const json* p = in.optional(*rays, "secondary")) {
+            in.object(*p, "rays.secondary", {"query", "offset", "tmin", "direction"});
+            s.secondary.enabled = true;
+            if (const json* v = in.optional(*p, "query")) s.secondary.query = read_query(in, *v, "rays.secondary.query");
+            if (const json* v = in.optional(*p, "direction"))
+                s.secondary_kind = in.choice<secondary_direction>(
+                    *v, "rays.secondary.direction",
+                    {{"reflect", secondary_direction::reflect}, {"transmit", secondary_direction::transmit}});
+            s.secondary_spawn = read_spawn(in, *p, "rays.secondary");
+        }
+    }
+
+    // Pixels.
+    if (const json* pixels = in.optional(root, "pixels")) {
+        if (pixels->is_string()) {
+            if (pixels->get<std::string>() != "all") in.fail("pixels", "must be \"all\" or {\"count\": N, \"seed\": S}");
+        } else {
+            in.object(*pixels, "pixels", {"count", "seed"});
+            s.sample.all = false;
+            const long long total = static_cast<long long>(cam.width) * cam.height;
+            s.sample.count = static_cast<std::size_t>(
+                in.integer(in.required(*pixels, "pixels", "count"), "pixels.count", 1, total));
+            s.sample.seed = static_cast<std::uint64_t>(
+                in.integer(in.required(*pixels, "pixels", "seed"), "pixels.seed", 0, std::numeric_limits<long long>::max()));
+        }
+    }
+    return s;
+}
+
+scene read_scene(const std::filesystem::path& file) {
+    std::ifstream in(file, std::ios::binary);
+    if (!in) throw input_error(file.string(), 0, "", "cannot open the scene file");
+    std::stringstream text;
+    text << in.rdbuf();
+    return parse_scene(text.str(), file);
+}
+
+std::vector<std::pair<int, int>> sampled_pixels(const scene& s) {
+    const std::size_t total = static_cast<std::size_t>(s.camera.width) * static_cast<std::size_t>(s.camera.height);
+    std::vector<std::size_t> order(total);
+    for (std::size_t i = 0; i < total; ++i) order[i] = i;
+    std::size_t count = total;
+    if (!s.sample.all) {
+        // Partial Fisher–Yates: the first `count` entries are a uniform sample.
+        count = std::min(s.sample.count, total);
+        std::mt19937_64 random(s.sample.seed);
+        for (std::size_t i = 0; i < count; ++i) {
+            std::uniform_int_distribution<std::size_t> pick(i, total - 1);
+            std::swap(order[i], order[pick(random)]);
+        }
+        order.resize(count);
+        std::sort(order.begin(), order.end());
+    }
+    std::vector<std::pair<int, int>> pixels;
+    pixels.reserve(count);
+    for (std::size_t i : order)
+        pixels.emplace_back(static_cast<int>(i % static_cast<std::size_t>(s.camera.width)),
+                            static_cast<int>(i / static_cast<std::size_t>(s.camera.width)));
+    return pixels;
+}
+
+scene_ray primary_ray(const scene& s, int x, int y) {
+    const scene_camera& cam = s.camera;
+    // Camera frame: w points backwards, u right, v up.
+    const vec3<double> w = normalised(cam.position - cam.look_at);
+    const vec3<double> u = normalised(cross(cam.up, w));
+    const vec3<double> v = cross(w, u);
+    const double half_height = cam.kind == projection::perspective
+                                   ? std::tan(cam.fov_degrees * std::numbers::pi / 360.0)
+                                   : cam.view_height / 2;
+    const double half_width = half_height * cam.width / cam.height;
+    // Pixel centre on the image plane, in [−1, 1] times the half extents.
+    const double sx = ((x + 0.5) / cam.width * 2 - 1) * half_width;
+    const double sy = (1 - (y + 0.5) / cam.height * 2) * half_height;
+
+    scene_ray r;
+    r.x = x;
+    r.y = y;
+    r.kind = ray_kind::primary;
+    r.query = s.primary.query;
+    r.tmin = in_precision(s.primary_tmin, s.prec);
+    r.spheres = all_spheres(s);
+    if (cam.kind == projection::perspective) {
+        r.origin = in_precision(cam.position, s.prec);
+        r.direction = cast_direction(s, sx * u + sy * v - w);
+    } else {
+        r.origin = in_precision(cam.position + sx * u + sy * v, s.prec);
+        r.direction = cast_direction(s, -1.0 * w);
+    }
+    return r;
+}
+
+std::vector<scene_ray> generate_rays(const scene& s) {
+    std::vector<scene_ray> rays;
+    for (const auto& [x, y] : sampled_pixels(s)) {
+        scene_ray primary = primary_ray(s, x, y);
+        rays.push_back(primary);
+        if (!s.shadow.enabled && !s.secondary.enabled) continue;
+        const std::optional<exact_nearest> hit = exact_nearest_hit(s, primary);
+        if (!hit) continue;
+        const spawn_point p = spawn_at(s, *hit);
+
+        if (s.shadow.enabled) {
+            for (std::size_t l = 0; l < s.lights.size(); ++l) {
+                scene_ray r;
+                r.x = x;
+                r.y = y;
+                r.kind = ray_kind::shadow;
+                r.query = s.shadow.query;
+                r.light = static_cast<int>(l);
+                r.from_sphere = hit->sphere;
+                r.spheres = all_spheres(s);
+                const vec3<double> light = in_precision(s.lights[l].position, s.prec);
+                r.origin = spawn_origin(s, s.shadow_spawn, p, light - p.point);
+                const vec3<double> to_light = light - r.origin;
+                r.direction = cast_direction(s, to_light);
+                // Unnormalised: the light is at t = 1; normalised: at its distance.
+                r.tmax = s.normalise_directions ? in_precision(std::sqrt(length_squared(to_light)), s.prec) : 1.0;
+                r.tmin = in_precision(s.shadow_spawn.tmin, s.prec);
+                if (!(r.tmin < r.tmax)) continue;  // the light sits on the spawn point
+                rays.push_back(std::move(r));
+            }
+        }
+        if (s.secondary.enabled) {
+            scene_ray r;
+            r.x = x;
+            r.y = y;
+            r.kind = ray_kind::secondary;
+            r.query = s.secondary.query;
+            r.from_sphere = hit->sphere;
+            r.spheres = all_spheres(s);
+            const vec3<double> d = primary.direction;
+            const vec3<double> new_d = s.secondary_kind == secondary_direction::reflect
+                                           ? d - (2 * dot(d, p.normal)) * p.normal
+                                           : d;
+            r.origin = spawn_origin(s, s.secondary_spawn, p, new_d);
+            r.direction = cast_direction(s, new_d);
+            r.tmin = in_precision(s.secondary_spawn.tmin, s.prec);
+            rays.push_back(std::move(r));
+        }
+    }
+    return rays;
+}
+
+corpus_case case_for(const scene& s, const scene_ray& r, int sphere) {
+    const scene_sphere& sp = s.spheres.at(static_cast<std::size_t>(sphere));
+    corpus_case c;
+    c.id = r.id() + "/" + sp.name;
+    c.family = std::string("scene:") + ray_kind_name(r.kind);
+    c.geometry = {r.origin, r.direction, in_precision(sp.centre, s.prec), in_precision(sp.radius, s.prec)};
+    c.tmin = r.tmin;
+    if (!std::isinf(r.tmax)) c.tmax = r.tmax;
+    c.source = s.file.string();
+    return c;
+}
+
+}  // namespace rayverify

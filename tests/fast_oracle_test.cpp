@@ -1,0 +1,391 @@
+// The fast (filtered) oracle against the reference route: identical answers,
+// bit for bit, on every shipped corpus file and on random cases, adversarial
+// ones included (near-tangent, far spheres, huge and tiny exponents, origins
+// on the surface, exactly representable roots, rounding ties). Every random
+// test prints its seed; a failure prints the case as hex floats.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <filesystem>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "corpus/corpus_io.h"
+#include "oracle/oracle.h"
+
+namespace rayverify {
+namespace {
+
+namespace fs = std::filesystem;
+constexpr double inf = std::numeric_limits<double>::infinity();
+
+bool same_bits(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
+
+std::string hex(double x) {
+    char buffer[64];
+    std::snprintf(buffer, sizeof buffer, "%a", x);
+    return buffer;
+}
+
+std::string describe(const ray_sphere<double>& g, std::optional<double> tmin, std::optional<double> tmax) {
+    std::ostringstream out;
+    out << "o " << hex(g.origin.x) << " " << hex(g.origin.y) << " " << hex(g.origin.z) << "  d " << hex(g.direction.x)
+        << " " << hex(g.direction.y) << " " << hex(g.direction.z) << "  c " << hex(g.centre.x) << " "
+        << hex(g.centre.y) << " " << hex(g.centre.z) << "  r " << hex(g.radius);
+    if (tmin || tmax) out << "  [" << (tmin ? hex(*tmin) : "-") << ", " << (tmax ? hex(*tmax) : "-") << "]";
+    return out.str();
+}
+
+ray_sphere<double> float_inputs(const ray_sphere<double>& g) { return rounded_to<double>(rounded_to<float>(g)); }
+
+// What a comparison checked, for the tallies the tests print and assert on.
+struct comparison_tally {
+    std::size_t cases = 0, filter_stage = 0, ulp_queries = 0;
+};
+
+// Values to probe the ULP and comparison queries with, around an exact value
+// whose rounding is `rounded` in precision p: the rounding itself, its
+// neighbours, a few ulps away, far away, zero, a non-finite value.
+std::vector<double> probes(double rounded, precision p, std::mt19937_64& rng) {
+    std::vector<double> out = {rounded, 0.0, inf, rounded * 3 + 1};
+    const auto step = [p](double x, double toward) {
+        return p == precision::binary32 ? double(std::nextafter(float(x), float(toward))) : std::nextafter(x, toward);
+    };
+    double up = rounded, down = rounded;
+    const int steps = 1 + static_cast<int>(rng() % 5);
+    for (int k = 0; k < steps; ++k) {
+        up = step(up, inf);
+        down = step(down, -inf);
+        if (k == 0 || k == steps - 1) {
+            out.push_back(up);
+            out.push_back(down);
+        }
+    }
+    // A double between the precision's neighbours (float: a value a float variant cannot return).
+    out.push_back(std::nextafter(rounded, inf));
+    return out;
+}
+
+// Fast and reference solutions of one case agree on every field and query.
+testing::AssertionResult identical(const ray_sphere<double>& g, precision p, std::optional<double> tmin,
+                                   std::optional<double> tmax, bool with_queries, std::mt19937_64& rng,
+                                   comparison_tally& tally) {
+    const exact_solution fast = solve_exact(g, p, tmin, tmax);
+    const exact_solution ref = solve_exact_reference(g, p, tmin, tmax);
+    ++tally.cases;
+    if (fast.valid() && fast.stage == oracle_stage::filter) ++tally.filter_stage;
+    std::ostringstream why;
+    const auto check = [&](bool ok, const std::string& what) {
+        if (!ok) why << "\n  " << what;
+    };
+    check(fast.invalid == ref.invalid, "invalid differs");
+    check(fast.prec == ref.prec, "precision differs");
+    if (ref.valid() && fast.valid()) {
+        check(fast.cls == ref.cls, std::string("class: fast ") + line_class_name(fast.cls) + ", reference " +
+                                       line_class_name(ref.cls));
+        check(ref.stage == oracle_stage::exact, "reference stage is not exact");
+        check(fast.hits_interval == ref.hits_interval, "hits_interval differs");
+        if (ref.cls != line_class::miss) {
+            for (root_index i : {root_index::near_root, root_index::far_root}) {
+                const std::string name = i == root_index::near_root ? "near" : "far";
+                check(fast.root(i).sign == ref.root(i).sign, name + " sign differs");
+                check(same_bits(fast.root(i).rounded, ref.root(i).rounded),
+                      name + " rounded: fast " + hex(fast.root(i).rounded) + ", reference " + hex(ref.root(i).rounded));
+            }
+            check(fast.nearest_in_front == ref.nearest_in_front, "nearest_in_front differs");
+            for (int axis = 0; axis < 3; ++axis)
+                check(same_bits(fast.hit_point[axis], ref.hit_point[axis]),
+                      "hit_point[" + std::to_string(axis) + "]: fast " + hex(fast.hit_point[axis]) + ", reference " +
+                          hex(ref.hit_point[axis]));
+            if (with_queries) {
+                for (root_index i : {root_index::near_root, root_index::far_root}) {
+                    const std::string name = i == root_index::near_root ? "near" : "far";
+                    for (double v : probes(ref.root(i).rounded, p, rng)) {
+                        ++tally.ulp_queries;
+                        if (std::isfinite(v))
+                            check(fast.compare_root(i, v) == ref.compare_root(i, v),
+                                  name + " compare_root(" + hex(v) + ") differs");
+                        const double a = fast.root_ulp_error(i, v), b = ref.root_ulp_error(i, v);
+                        check(same_bits(a, b), name + " root_ulp_error(" + hex(v) + "): fast " + hex(a) +
+                                                   ", reference " + hex(b));
+                    }
+                    for (int axis = 0; axis < 3; ++axis) {
+                        const double fr = fast.rounded_hit_coordinate(i, axis);
+                        const double rr = ref.rounded_hit_coordinate(i, axis);
+                        check(same_bits(fr, rr), name + " rounded_hit_coordinate differs: fast " + hex(fr) +
+                                                     ", reference " + hex(rr));
+                        for (double v : {rr, std::nextafter(rr, inf), std::nextafter(rr, -inf), rr * 2 + 1}) {
+                            ++tally.ulp_queries;
+                            const double a = fast.hit_point_ulp_error(i, axis, v);
+                            const double b = ref.hit_point_ulp_error(i, axis, v);
+                            check(same_bits(a, b), name + " hit_point_ulp_error(" + hex(v) + "): fast " + hex(a) +
+                                                       ", reference " + hex(b));
+                        }
+                    }
+                }
+            }
+        }
+    }
+    if (why.str().empty()) return testing::AssertionSuccess();
+    return testing::AssertionFailure() << precision_name(p) << " " << describe(g, tmin, tmax) << why.str();
+}
+
+// Both precisions of a case (float when its inputs are representable there).
+void compare_case(const ray_sphere<double>& g, std::optional<double> tmin, std::optional<double> tmax,
+                  bool with_queries, std::mt19937_64& rng, comparison_tally& tally) {
+    EXPECT_TRUE(identical(g, precision::binary64, tmin, tmax, with_queries, rng, tally));
+    if (validity<float>(g) != invalid_reason::none) return;
+    const auto narrow = [](std::optional<double> t) -> std::optional<double> {
+        if (!t) return t;
+        return double(float(*t));
+    };
+    EXPECT_TRUE(identical(float_inputs(g), precision::binary32, narrow(tmin), narrow(tmax), with_queries, rng, tally));
+}
+
+// ---------------------------------------------------------------------------
+// Every shipped corpus file, both precisions, with every query.
+
+TEST(FastOracleCorpus, IdenticalToReferenceOnEveryShippedFile) {
+    const fs::path root = fs::path(RAYVERIFY_SOURCE_DIR) / "corpus";
+    std::vector<fs::path> files = corpus_files(root);
+    for (const fs::path& f : corpus_files(root / "edge")) files.push_back(f);
+    ASSERT_GE(files.size(), 20u);
+    std::mt19937_64 rng(7);
+    comparison_tally tally;
+    for (const fs::path& file : files) {
+        for (const corpus_case& c : read_corpus_file(file)) {
+            SCOPED_TRACE(c.source);
+            compare_case(c.geometry, c.tmin, c.tmax, true, rng, tally);
+        }
+    }
+    std::printf("corpus: %zu solutions compared (%zu settled by the filter), %zu ULP queries\n", tally.cases,
+                tally.filter_stage, tally.ulp_queries);
+    EXPECT_GT(tally.cases, 10000u);
+}
+
+// ---------------------------------------------------------------------------
+// Random regimes.
+
+double uniform(std::mt19937_64& rng, double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng); }
+
+vec3<double> unit_vector(std::mt19937_64& rng) {
+    std::normal_distribution<double> n;
+    for (;;) {
+        const vec3<double> v{n(rng), n(rng), n(rng)};
+        const double length = std::sqrt(v.x * v.x + v.y * v.y + v.z * v.z);
+        if (length > 1e-3) return (1 / length) * v;
+    }
+}
+
+vec3<double> uniform_point(std::mt19937_64& rng, double half) {
+    return {uniform(rng, -half, half), uniform(rng, -half, half), uniform(rng, -half, half)};
+}
+
+// Uniform: o, c in [−10, 10]³, r in [0.1, 5], d of any length aimed near the sphere.
+ray_sphere<double> uniform_case(std::mt19937_64& rng) {
+    const vec3<double> o = uniform_point(rng, 10), c = uniform_point(rng, 10);
+    const double r = uniform(rng, 0.1, 5);
+    const vec3<double> target = c + (2 * r * uniform(rng, 0, 1)) * unit_vector(rng);
+    const double length = std::ldexp(uniform(rng, 0.5, 1), static_cast<int>(rng() % 9) - 4);
+    return {o, length * (target - o), c, r};
+}
+
+// Near-tangent: a ray through a point at distance r(1 + ε) from c along a
+// direction perpendicular to the offset, ε = ±2^−k, k in [8, 60].
+ray_sphere<double> near_tangent_case(std::mt19937_64& rng) {
+    const vec3<double> c = uniform_point(rng, 10);
+    const double r = uniform(rng, 0.1, 5);
+    const vec3<double> n = unit_vector(rng);
+    vec3<double> d = unit_vector(rng);
+    const double along = d.x * n.x + d.y * n.y + d.z * n.z;
+    d = d - along * n;  // ⊥ n
+    const double eps = std::ldexp((rng() & 1) ? 1.0 : -1.0, -static_cast<int>(8 + rng() % 53));
+    const vec3<double> touch = c + (r * (1 + eps)) * n;
+    const vec3<double> o = touch - uniform(rng, 1, 20) * d;
+    return {o, d, c, r};
+}
+
+// Far sphere: c at distance 10^k (k in [2, 20]) from o, r = distance · 10^−j.
+ray_sphere<double> far_case(std::mt19937_64& rng) {
+    const vec3<double> o = uniform_point(rng, 10);
+    const double distance = std::pow(10.0, uniform(rng, 2, 20));
+    const vec3<double> c = o + distance * unit_vector(rng);
+    const double r = distance * std::pow(10.0, -uniform(rng, 0, 12));
+    const vec3<double> target = c + (r * uniform(rng, 0, 1.5)) * unit_vector(rng);
+    return {o, target - o, c, r};
+}
+
+// Exponents: a uniform case with positions scaled by 2^s and d by 2^s′,
+// s, s′ spread across and beyond the filter's range [2^−80, 2^80] (and into
+// float's overflow range).
+ray_sphere<double> exponent_case(std::mt19937_64& rng) {
+    ray_sphere<double> g = uniform_case(rng);
+    const int s = static_cast<int>(rng() % 2) == 0 ? static_cast<int>(rng() % 201) - 100
+                                                   : static_cast<int>(rng() % 1901) - 950;
+    const int sd = static_cast<int>(rng() % 181) - 90;
+    const auto scale = [](vec3<double> v, int k) {
+        return vec3<double>{std::ldexp(v.x, k), std::ldexp(v.y, k), std::ldexp(v.z, k)};
+    };
+    g.origin = scale(g.origin, s);
+    g.centre = scale(g.centre, s);
+    g.radius = std::ldexp(g.radius, s);
+    g.direction = scale(g.direction, sd);
+    return g;
+}
+
+// Origin on the surface exactly: o = c + r·(3/5, 4/5, 0) permuted and
+// signed, with r a multiple of 5 so every coordinate is exact (C = 0: a root is 0).
+ray_sphere<double> surface_case(std::mt19937_64& rng) {
+    const double unit = std::ldexp(1.0, static_cast<int>(rng() % 41) - 20);
+    const double r = 5 * unit * static_cast<double>(1 + rng() % 1000);
+    const vec3<double> c{std::round(uniform(rng, -1e3, 1e3)) * unit, std::round(uniform(rng, -1e3, 1e3)) * unit,
+                         std::round(uniform(rng, -1e3, 1e3)) * unit};
+    double offset[3] = {(rng() & 1 ? 3 : -3) * r / 5, (rng() & 1 ? 4 : -4) * r / 5, 0};
+    std::shuffle(offset, offset + 3, rng);
+    const vec3<double> o{c.x + offset[0], c.y + offset[1], c.z + offset[2]};
+    const vec3<double> d = uniform_point(rng, 2);
+    return {o, d, c, r};
+}
+
+// Small integers: exact roots, tangents, ties, zero components, all frequent.
+ray_sphere<double> integer_case(std::mt19937_64& rng) {
+    const auto small = [&rng] { return static_cast<double>(static_cast<int>(rng() % 9) - 4); };
+    ray_sphere<double> g{{small(), small(), small()}, {small(), small(), small()}, {small(), small(), small()},
+                         std::fabs(small())};
+    if (g.direction.x == 0 && g.direction.y == 0 && g.direction.z == 0) g.direction.z = 1;
+    return g;
+}
+
+// A root exactly on a rounding midpoint: o = 0, d = ẑ·2^k, c = (0, 0, 2·2^j),
+// r = (2 − m)·2^j with m = y + ulp(y)/2, y in [1, 1.5) with p bits: roots m
+// and 4 − m (in units of 2^(j − k)), the near one a tie in the precision with
+// p bits (every input is a float when p = 24).
+ray_sphere<double> tie_case(std::mt19937_64& rng, int p) {
+    const double y = 1 + std::ldexp(static_cast<double>(rng() % (std::uint64_t{1} << (p - 2))), 1 - p);
+    const double r = (2 - y) - std::ldexp(1.0, -p);  // 2 − m, exact (in [0.5, 1), bits down to 2^−p)
+    const int j = static_cast<int>(rng() % 21) - 10, k = static_cast<int>(rng() % 21) - 10;
+    return {{0, 0, 0}, {0, 0, std::ldexp(1.0, k)}, {0, 0, std::ldexp(2.0, j)}, std::ldexp(r, j)};
+}
+
+struct regime {
+    const char* name;
+    ray_sphere<double> (*make)(std::mt19937_64&);
+};
+
+const regime regimes[] = {
+    {"uniform", uniform_case},
+    {"near_tangent", near_tangent_case},
+    {"far", far_case},
+    {"exponents", exponent_case},
+    {"surface", surface_case},
+    {"integers", integer_case},
+    {"tie_binary64", [](std::mt19937_64& rng) { return tie_case(rng, 53); }},
+    {"tie_binary32", [](std::mt19937_64& rng) { return tie_case(rng, 24); }},
+};
+
+// An interval for some cases: around a random point, or one-sided, or infinite.
+void random_interval(std::mt19937_64& rng, std::optional<double>& tmin, std::optional<double>& tmax) {
+    tmin.reset();
+    tmax.reset();
+    switch (rng() % 6) {
+        case 0: tmin = 0.0; break;
+        case 1: tmin = uniform(rng, -5, 5), tmax = *tmin + uniform(rng, 0, 20); break;
+        case 2: tmax = uniform(rng, -5, 30); break;
+        case 3: tmin = -inf, tmax = inf; break;
+        default: break;
+    }
+}
+
+// `count` cases of each regime from `seed`; every `query_every`-th case also
+// compares every ULP and comparison query.
+comparison_tally sweep(std::uint64_t seed, int count, int query_every) {
+    comparison_tally tally;
+    for (const regime& r : regimes) {
+        for (int i = 0; i < count; ++i) {
+            const std::uint64_t case_seed = seed + static_cast<std::uint64_t>(i);
+            std::mt19937_64 rng(case_seed ^ std::hash<std::string>{}(r.name));
+            SCOPED_TRACE(testing::Message() << "regime " << r.name << ", seed " << case_seed);
+            const ray_sphere<double> g = r.make(rng);
+            std::optional<double> tmin, tmax;
+            random_interval(rng, tmin, tmax);
+            compare_case(g, tmin, tmax, i % query_every == 0, rng, tally);
+            if (testing::Test::HasFailure()) return tally;  // one failure is enough to read
+        }
+    }
+    return tally;
+}
+
+TEST(FastOracleRandom, IdenticalToReference) {
+    const std::uint64_t seed = 20261122;
+    std::printf("seed %llu\n", static_cast<unsigned long long>(seed));
+    const comparison_tally tally = sweep(seed, 6000, 8);
+    std::printf("random: %zu solutions compared (%zu settled by the filter), %zu ULP queries\n", tally.cases,
+                tally.filter_stage, tally.ulp_queries);
+}
+
+TEST(LongSweepFastOracle, IdenticalToReferenceOnMillions) {
+    const std::uint64_t seed = std::random_device{}();
+    std::printf("seed %llu\n", static_cast<unsigned long long>(seed));
+    const comparison_tally tally = sweep(seed, 150000, 16);
+    std::printf("random: %zu solutions compared (%zu settled by the filter), %zu ULP queries\n", tally.cases,
+                tally.filter_stage, tally.ulp_queries);
+}
+
+// ---------------------------------------------------------------------------
+// The stage is honest: the filter settles ordinary cases, exact arithmetic
+// runs where the filter cannot decide.
+
+TEST(FastOracleStage, FilterSettlesUniformCases) {
+    std::mt19937_64 rng(11);
+    int filter = 0;
+    const int n = 2000;
+    for (int i = 0; i < n; ++i) filter += solve_exact(uniform_case(rng), precision::binary64).stage == oracle_stage::filter;
+    EXPECT_GE(filter, n * 99 / 100) << filter << " of " << n;
+}
+
+TEST(FastOracleStage, ExactWhereTheFilterCannotDecide) {
+    // Tangent: Δ′ = 0 exactly, no floating bound can prove a sign.
+    const exact_solution tangent = solve_exact({{1, 0, -5}, {0, 0, 1}, {0, 0, 0}, 1}, precision::binary64);
+    EXPECT_EQ(tangent.cls, line_class::tangent);
+    EXPECT_EQ(tangent.stage, oracle_stage::exact);
+    // Origin on the surface: a root is exactly 0, its sign needs exact arithmetic.
+    const exact_solution surface = solve_exact({{0, 0, -1}, {0, 0, 1}, {0, 0, 0}, 1}, precision::binary64);
+    EXPECT_EQ(surface.near_root.sign, 0);
+    EXPECT_EQ(surface.stage, oracle_stage::exact);
+    // Outside the filter's range (2^−80 ≤ |x| ≤ 2^80).
+    const exact_solution huge = solve_exact({{0, 0, -0x1p900}, {0, 0, 1}, {0, 0, 0}, 0x1p899}, precision::binary64);
+    EXPECT_EQ(huge.cls, line_class::two_hit);
+    EXPECT_EQ(huge.stage, oracle_stage::exact);
+    // A root on a rounding midpoint: the enclosure straddles it.
+    std::mt19937_64 rng(3);
+    const exact_solution tie = solve_exact(tie_case(rng, 53), precision::binary64);
+    EXPECT_EQ(tie.stage, oracle_stage::exact);
+    // An ordinary hit: the filter.
+    const exact_solution plain = solve_exact({{0.25, 0.125, -5}, {0, 0, 1}, {0, 0, 0}, 1}, precision::binary64);
+    EXPECT_EQ(plain.stage, oracle_stage::filter);
+    EXPECT_EQ(plain.cls, line_class::two_hit);
+}
+
+// The lazily built exact state answers queries the enclosure cannot: the
+// root itself (value == t*) and copies made before the first query.
+TEST(FastOracleLazyState, CopiesAnswerAlike) {
+    const exact_solution s = solve_exact({{0, 0, -5}, {0, 0, 3}, {0.5, 0, 0}, 1}, precision::binary64);
+    ASSERT_EQ(s.stage, oracle_stage::filter);
+    const exact_solution copy = s;
+    const exact_solution ref = solve_exact_reference({{0, 0, -5}, {0, 0, 3}, {0.5, 0, 0}, 1}, precision::binary64);
+    for (root_index i : {root_index::near_root, root_index::far_root}) {
+        const double v = ref.root(i).rounded;
+        EXPECT_TRUE(same_bits(s.root_ulp_error(i, v), ref.root_ulp_error(i, v)));
+        EXPECT_TRUE(same_bits(copy.root_ulp_error(i, v), ref.root_ulp_error(i, v)));
+        EXPECT_EQ(copy.compare_root(i, v), ref.compare_root(i, v));
+    }
+}
+
+}  // namespace
+}  // namespace rayverify

@@ -1,0 +1,427 @@
+// Scenes: parsing errors name file, line and field; rays worked out by hand;
+// the oracle's interval queries on hand-worked cases; the scene audit's
+// open-interval composition; audit --scene and render end to end.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <string>
+
+#include "core/input_error.h"
+#include "intersectors/registry.h"
+#include "oracle/oracle.h"
+#include "scene/scene.h"
+#include "scene/scene_audit.h"
+#include "support/process.h"
+
+namespace rayverify {
+namespace {
+
+namespace fs = std::filesystem;
+using test_support::read_text;
+using test_support::run_cli;
+
+// A small valid scene, one field a line so that errors have distinct lines.
+const std::string small_scene = R"({
+  "comment": "test scene",
+  "precision": "float",
+  "normalise_directions": true,
+  "camera": {
+    "projection": "orthographic",
+    "position": [0, 0, 0],
+    "look_at": [0, 0, -1],
+    "view_height": 9,
+    "resolution": [64, 48]
+  },
+  "spheres": [
+    {"name": "near", "centre": [-1.5, 0, -100], "radius": 1},
+    {"name": "far", "centre": [1.5, 0, -4100], "radius": 1}
+  ],
+  "lights": [{"name": "lamp", "position": [0, 50, 0]}],
+  "rays": {
+    "primary": {"query": "nearest_hit"},
+    "shadow": {"query": "any_hit", "offset": {"rule": "along_normal", "absolute": 0.01}}
+  }
+}
+)";
+
+std::string replaced(std::string text, const std::string& from, const std::string& to) {
+    const std::size_t at = text.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    if (at != std::string::npos) text.replace(at, from.size(), to);
+    return text;
+}
+
+fs::path temp_dir(const std::string& name) {
+    const fs::path dir = fs::temp_directory_path() / ("rayverify_scene_test_" + name);
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    return dir;
+}
+
+fs::path write_file(const fs::path& path, const std::string& text) {
+    std::ofstream(path, std::ios::binary) << text;
+    return path;
+}
+
+TEST(SceneParse, SmallSceneReadsEveryField) {
+    const scene s = parse_scene(small_scene, "small.json");
+    EXPECT_EQ(s.name, "small");
+    EXPECT_EQ(s.prec, precision::binary32);
+    EXPECT_TRUE(s.normalise_directions);
+    ASSERT_EQ(s.spheres.size(), 2u);
+    EXPECT_EQ(s.spheres[1].name, "far");
+    EXPECT_EQ(s.spheres[1].centre.z, -4100);
+    EXPECT_EQ(s.camera.kind, projection::orthographic);
+    EXPECT_EQ(s.camera.width, 64);
+    EXPECT_EQ(s.camera.height, 48);
+    EXPECT_TRUE(s.shadow.enabled);
+    EXPECT_EQ(s.shadow.query, ray_query::any_hit);
+    EXPECT_EQ(s.shadow_spawn.rule, offset_rule::along_normal);
+    EXPECT_EQ(s.shadow_spawn.absolute, 0.01);
+    EXPECT_FALSE(s.secondary.enabled);
+    EXPECT_TRUE(s.sample.all);
+}
+
+struct bad_field {
+    std::string from, to;   // the edit that breaks the scene
+    std::string field;      // the field path the error must name
+    std::size_t line;       // and its line
+    std::string problem;    // a fragment of the message
+};
+
+TEST(SceneParse, EachBadFieldNamesFileLineAndField) {
+    const bad_field cases[] = {
+        {"\"radius\": 1},\n    {\"name\": \"far\"", "\"radius\": -1},\n    {\"name\": \"far\"", "spheres[0].radius", 13,
+         "must be a finite number ≥ 0"},
+        {"[1.5, 0, -4100], \"radius\": 1", "[1.5, 0, -4100], \"radius\": \"big\"", "spheres[1].radius", 14,
+         "expected a number, got 'big'"},
+        {"[1.5, 0, -4100]", "[1.5, 0]", "spheres[1].centre", 14, "array of 3 finite numbers"},
+        {"\"float\"", "\"half\"", "precision", 3, "must be one of \"float\", \"double\""},
+        {"\"view_height\": 9", "\"view_height\": 0", "camera.view_height", 9, "> 0"},
+        {"[64, 48]", "[64, 0]", "camera.resolution[1]", 10, "integer from 1 to 4096"},
+        {"\"orthographic\"", "\"fisheye\"", "camera.projection", 6, "must be one of"},
+        {"\"look_at\": [0, 0, -1]", "\"look_at\": [0, 0, 0]", "camera.look_at", 8, "must differ"},
+        {"\"query\": \"any_hit\"", "\"query\": \"all_hits\"", "rays.shadow.query", 19, "must be one of"},
+        {"\"along_normal\"", "\"sideways\"", "rays.shadow.offset.rule", 19, "must be one of"},
+        {"\"absolute\": 0.01", "\"absolute\": -0.01", "rays.shadow.offset.absolute", 19, "≥ 0"},
+        {"\"normalise_directions\": true", "\"normalise_directions\": 1", "normalise_directions", 4, "true or false"},
+        {"\"comment\": \"test scene\"", "\"coment\": \"test scene\"", "coment", 2, "unknown field"},
+        {"{\"name\": \"far\"", "{\"name\": \"near\"", "spheres[1].name", 14, "names another sphere"},
+        {"\"primary\": {\"query\": \"nearest_hit\"}", "\"primary\": {\"query\": \"any_hit\"}", "rays.primary.query", 18,
+         "any_hit is for shadow rays"},
+        {"  \"lights\": [{\"name\": \"lamp\", \"position\": [0, 50, 0]}],\n", "", "rays.shadow", 18,
+         "need at least one entry in \"lights\""},
+    };
+    for (const bad_field& c : cases) {
+        const std::string text = replaced(small_scene, c.from, c.to);
+        try {
+            parse_scene(text, "bad.json");
+            ADD_FAILURE() << "accepted: " << c.to;
+        } catch (const input_error& e) {
+            EXPECT_EQ(e.file(), "bad.json");
+            EXPECT_EQ(e.field(), c.field) << e.what();
+            EXPECT_EQ(e.line(), c.line) << e.what();
+            EXPECT_NE(std::string(e.what()).find(c.problem), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find("bad.json:" + std::to_string(c.line)), std::string::npos) << e.what();
+        }
+    }
+}
+
+TEST(SceneParse, SyntaxErrorGivesTheLine) {
+    const std::string text = replaced(small_scene, "\"view_height\": 9,", "\"view_height\": 9,,");
+    try {
+        parse_scene(text, "broken.json");
+        FAIL() << "accepted broken JSON";
+    } catch (const input_error& e) {
+        EXPECT_EQ(e.line(), 9u) << e.what();
+        EXPECT_NE(std::string(e.what()).find("not valid JSON"), std::string::npos) << e.what();
+    }
+}
+
+TEST(SceneParse, MissingFileIsAnInputError) {
+    EXPECT_THROW(read_scene("/nonexistent/scene.json"), input_error);
+}
+
+// Hand-worked camera rays.
+TEST(SceneRays, OrthographicCameraRaysByHand) {
+    // view_height 4 over 2 × 2 pixels: pixel centres at ±1 on both axes.
+    std::string text = replaced(small_scene, "\"view_height\": 9", "\"view_height\": 4");
+    text = replaced(text, "[64, 48]", "[2, 2]");
+    const scene s = parse_scene(text, "ortho.json");
+    const scene_ray r00 = primary_ray(s, 0, 0);
+    EXPECT_EQ(r00.origin, (vec3<double>{-1, 1, 0}));
+    EXPECT_EQ(r00.direction, (vec3<double>{0, 0, -1}));
+    EXPECT_EQ(primary_ray(s, 1, 1).origin, (vec3<double>{1, -1, 0}));
+    EXPECT_EQ(r00.tmin, 0);
+    EXPECT_TRUE(std::isinf(r00.tmax));
+    EXPECT_EQ(r00.spheres, (std::vector<int>{0, 1}));
+}
+
+TEST(SceneRays, PerspectiveCameraRaysByHand) {
+    // fov 90°: the image plane at distance 1 spans ±tan 45° = ±h; 2 × 2 pixels
+    // have centres at ±h/2. Directions not normalised, in double.
+    std::string text = replaced(small_scene, "\"orthographic\"", "\"perspective\"");
+    text = replaced(text, "\"view_height\": 9", "\"fov_degrees\": 90");
+    text = replaced(text, "[64, 48]", "[2, 2]");
+    text = replaced(text, "\"float\"", "\"double\"");
+    text = replaced(text, "\"normalise_directions\": true", "\"normalise_directions\": false");
+    const scene s = parse_scene(text, "persp.json");
+    const double h = std::tan(std::numbers::pi / 4);
+    const scene_ray r = primary_ray(s, 0, 0);
+    EXPECT_EQ(r.origin, (vec3<double>{0, 0, 0}));
+    EXPECT_EQ(r.direction, (vec3<double>{-0.5 * h, 0.5 * h, -1}));
+    EXPECT_EQ(primary_ray(s, 1, 0).direction, (vec3<double>{0.5 * h, 0.5 * h, -1}));
+    EXPECT_EQ(primary_ray(s, 1, 1).direction, (vec3<double>{0.5 * h, -0.5 * h, -1}));
+
+    // Normalised in float: d/|d| computed in float, exactly as a float renderer does.
+    const scene f = parse_scene(replaced(replaced(text, "\"double\"", "\"float\""), "\"normalise_directions\": false",
+                                         "\"normalise_directions\": true"),
+                                "persp_float.json");
+    const vec3<float> d{static_cast<float>(-0.5 * h), static_cast<float>(0.5 * h), -1.0f};
+    const float n = std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
+    EXPECT_EQ(primary_ray(f, 0, 0).direction, (vec3<double>{d.x / n, d.y / n, d.z / n}));
+}
+
+TEST(SceneRays, ShadowAndSecondaryRaysFromTheExactHitPoint) {
+    // One pixel, ray (0,0,0) + t(0,0,−1) meets the sphere c = (0,0,−5), r = 1 at
+    // t = 4: P = (0,0,−4), n = (0,0,1). The light at (0,0,10): the shadow ray
+    // starts at P + 0.5·n = (0,0,−3.5) with d = L − o = (0,0,13.5), tmax = 1.
+    // The reflection of (0,0,−1) about n is (0,0,1), from P + 0.25·n.
+    const std::string text = R"({
+      "precision": "double",
+      "camera": {"projection": "orthographic", "position": [0, 0, 0], "look_at": [0, 0, -1],
+                 "view_height": 2, "resolution": [1, 1]},
+      "spheres": [{"centre": [0, 0, -5], "radius": 1}],
+      "lights": [{"position": [0, 0, 10]}],
+      "rays": {"shadow": {"offset": {"rule": "along_normal", "absolute": 0.5}},
+               "secondary": {"direction": "reflect", "offset": {"rule": "along_ray", "absolute": 0.25},
+                             "tmin": 0.125}}
+    })";
+    const scene s = parse_scene(text, "one_pixel.json");
+    const std::vector<scene_ray> rays = generate_rays(s);
+    ASSERT_EQ(rays.size(), 3u);
+    EXPECT_EQ(rays[0].kind, ray_kind::primary);
+    EXPECT_EQ(rays[1].kind, ray_kind::shadow);
+    EXPECT_EQ(rays[1].query, ray_query::any_hit);
+    EXPECT_EQ(rays[1].origin, (vec3<double>{0, 0, -3.5}));
+    EXPECT_EQ(rays[1].direction, (vec3<double>{0, 0, 13.5}));
+    EXPECT_EQ(rays[1].tmax, 1);
+    EXPECT_EQ(rays[1].from_sphere, 0);
+    EXPECT_EQ(rays[1].id(), "px0,0/shadow0");
+    EXPECT_EQ(rays[2].kind, ray_kind::secondary);
+    EXPECT_EQ(rays[2].origin, (vec3<double>{0, 0, -3.75}));
+    EXPECT_EQ(rays[2].direction, (vec3<double>{0, 0, 1}));
+    EXPECT_EQ(rays[2].tmin, 0.125);
+
+    const corpus_case c = case_for(s, rays[1], 0);
+    EXPECT_EQ(c.id, "px0,0/shadow0/sphere0");
+    EXPECT_EQ(c.geometry.centre, (vec3<double>{0, 0, -5}));
+    EXPECT_EQ(c.tmax, 1.0);
+
+    // Exactly, neither ray meets the sphere again; the primary hit is at t = 4.
+    const auto targets = scene_targets(s, builtin_variants());
+    const scene_audit_result result = audit_scene(s, rays, targets, [](const judged_ray& j) {
+        if (j.ray->kind == ray_kind::primary) {
+            EXPECT_TRUE(j.exact.hit);
+            EXPECT_EQ(j.exact.t, 4);
+            EXPECT_EQ(j.exact.normal, (vec3<double>{0, 0, 1}));
+        } else {
+            EXPECT_FALSE(j.exact.hit) << j.ray->id();
+        }
+    });
+    EXPECT_EQ(result.pixels, 1u);
+    EXPECT_EQ(result.pairs, 3u);
+}
+
+TEST(SceneRays, SampledPixelsAreDistinctDeterministicAndInRasterOrder) {
+    const std::string text = replaced(small_scene, "  \"rays\": {", "  \"pixels\": {\"count\": 50, \"seed\": 7},\n  \"rays\": {");
+    const scene s = parse_scene(text, "sampled.json");
+    const auto a = sampled_pixels(s);
+    ASSERT_EQ(a.size(), 50u);
+    EXPECT_EQ(a, sampled_pixels(s));
+    for (std::size_t i = 1; i < a.size(); ++i)
+        EXPECT_LT(a[i - 1].second * 64 + a[i - 1].first, a[i].second * 64 + a[i].first) << "seed 7, index " << i;
+    scene other = s;
+    other.sample.seed = 8;
+    EXPECT_NE(a, sampled_pixels(other));
+}
+
+// The oracle's interval query [tmin, tmax] (closed) on hand-worked cases.
+TEST(OracleInterval, BoundsJustInsideOutsideAndAtTheRoots) {
+    // o = 0, d = (1,0,0), c = (5,0,0), r = 1: roots exactly 4 and 6.
+    const ray_sphere<double> g{{0, 0, 0}, {1, 0, 0}, {5, 0, 0}, 1};
+    const auto hits = [&](std::optional<double> lo, std::optional<double> hi) {
+        const exact_solution e = solve_exact(g, precision::binary64, lo, hi);
+        EXPECT_TRUE(e.hits_interval.has_value());
+        return e.hits_interval.value_or(false);
+    };
+    EXPECT_FALSE(hits(4.5, 5.5));                        // between the roots
+    EXPECT_TRUE(hits(3.9, 4.1));                         // around the near root
+    EXPECT_TRUE(hits(4, 4));                             // a root exactly at both bounds
+    EXPECT_TRUE(hits(6, 10));                            // the far root exactly at tmin
+    EXPECT_FALSE(hits(std::nextafter(6.0, 7.0), 10));    // tmin one ulp past the far root
+    EXPECT_FALSE(hits(0, std::nextafter(4.0, 0.0)));     // tmax one ulp short of the near root
+    EXPECT_TRUE(hits(0, 4));                             // tmax exactly at the near root
+    EXPECT_FALSE(hits(6.5, std::nullopt));               // [6.5, +inf)
+    EXPECT_TRUE(hits(std::nullopt, 4));                  // (−inf, 4]
+    EXPECT_FALSE(hits(std::nullopt, 3));
+
+    // Irrational roots 5 ∓ √0.75 (c = (5, 0.5, 0)): RN(root) is within half an
+    // ulp, so the bounds one ulp either side of it decide exactly.
+    const ray_sphere<double> h{{0, 0, 0}, {1, 0, 0}, {5, 0.5, 0}, 1};
+    const double near = 5 - std::sqrt(0.75);
+    const exact_solution e = solve_exact(h, precision::binary64);
+    ASSERT_EQ(e.near_root.rounded, near);
+    const int side = e.compare_root(root_index::near_root, near);  // sign(RN − t*)
+    ASSERT_NE(side, 0);
+    const double below = side > 0 ? std::nextafter(near, 0.0) : near;  // largest double < t*
+    const double above = side > 0 ? near : std::nextafter(near, 10.0);  // smallest double > t*
+    EXPECT_TRUE(*solve_exact(h, precision::binary64, below, above).hits_interval);
+    EXPECT_FALSE(*solve_exact(h, precision::binary64, 0.0, below).hits_interval);
+    EXPECT_FALSE(*solve_exact(h, precision::binary64, above, 5.0).hits_interval);
+}
+
+// A scene ray takes roots in the open interval (tmin, tmax): a root exactly
+// at a bound is no hit, one ulp inside is.
+TEST(SceneAudit, RayIntervalIsOpenAtBothBounds) {
+    const scene s = parse_scene(R"({
+      "precision": "double",
+      "camera": {"projection": "orthographic", "position": [0, 0, 0], "look_at": [1, 0, 0],
+                 "view_height": 2, "resolution": [1, 1]},
+      "spheres": [{"centre": [5, 0, 0], "radius": 1}]
+    })", "interval.json");
+    scene_ray r = primary_ray(s, 0, 0);
+    ASSERT_EQ(r.direction, (vec3<double>{1, 0, 0}));
+    const auto exact_hit = [&](double tmin, double tmax) {
+        r.tmin = tmin;
+        r.tmax = tmax;
+        bool hit = false;
+        audit_scene(s, std::span<const scene_ray>(&r, 1), {}, [&](const judged_ray& j) { hit = j.exact.hit; });
+        return hit;
+    };
+    EXPECT_FALSE(exact_hit(0, 4));
+    EXPECT_TRUE(exact_hit(0, std::nextafter(4.0, 5.0)));
+    EXPECT_FALSE(exact_hit(6, 10));
+    EXPECT_TRUE(exact_hit(std::nextafter(6.0, 5.0), 10));
+    EXPECT_FALSE(exact_hit(4, 6));
+    EXPECT_TRUE(exact_hit(std::nextafter(4.0, 3.0), 6));
+}
+
+TEST(SceneAudit, UnitDirectionVariantsAreNotApplicableToUnnormalisedRays) {
+    const scene s = parse_scene(replaced(small_scene, "\"normalise_directions\": true", "\"normalise_directions\": false"),
+                                "unnormalised.json");
+    bool saw_unit = false;
+    for (const audit_target& t : scene_targets(s, builtin_variants())) {
+        const auto why = not_applicable_reason(s, t);
+        if (t.subject.promises.assumes_unit_direction) {
+            saw_unit = true;
+            ASSERT_TRUE(why) << t.label();
+            EXPECT_NE(why->find("unit"), std::string::npos) << *why;
+        }
+    }
+    EXPECT_TRUE(saw_unit);
+}
+
+// Four spheres at 100 and 4100 in float: the naive formula misjudges the far
+// sphere's pixels, Hearn–Baker agrees everywhere.
+TEST(SceneAudit, FarSphereBreaksNaiveFloatNotHearnBaker) {
+    const scene s = parse_scene(small_scene, "small.json");
+    const std::vector<scene_ray> rays = generate_rays(s);
+    const scene_audit_result r = audit_scene(
+        s, rays, {{*find_builtin_variant("naive"), precision::binary32}, {*find_builtin_variant("hearn_baker"), precision::binary32}});
+    EXPECT_EQ(r.pixels, 64u * 48u);
+    EXPECT_GT(r.targets[0].by_kind[0].disagreements(), 0u);
+    EXPECT_EQ(r.targets[1].by_kind[0].disagreements(), 0u);
+    EXPECT_GT(r.exact[1].rays, 0u);  // shadow rays from each exact hit
+    EXPECT_EQ(r.exact[1].rays, r.exact[0].hits);
+}
+
+bool is_png_of_size(const fs::path& p, unsigned w, unsigned h) {
+    const std::string bytes = read_text(p);
+    if (bytes.size() < 24 || bytes.compare(0, 8, "\x89PNG\r\n\x1a\n") != 0) return false;
+    const auto be32 = [&](std::size_t at) {
+        return (static_cast<unsigned>(static_cast<unsigned char>(bytes[at])) << 24) |
+               (static_cast<unsigned>(static_cast<unsigned char>(bytes[at + 1])) << 16) |
+               (static_cast<unsigned>(static_cast<unsigned char>(bytes[at + 2])) << 8) |
+               static_cast<unsigned>(static_cast<unsigned char>(bytes[at + 3]));
+    };
+    return be32(16) == w && be32(20) == h;
+}
+
+TEST(SceneCli, AuditSceneReportsOnlyWhatEachQueryNeeds) {
+    const fs::path dir = temp_dir("audit");
+    const fs::path file = write_file(dir / "small.json", small_scene);
+    const auto r = run_cli("audit --scene " + file.string() + " --variant naive --variant hearn_baker --report " +
+                           (dir / "out").string());
+    EXPECT_EQ(r.exit_code, 1) << r.output;
+    EXPECT_NE(r.output.find("primary rays — query nearest_hit"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("shadow rays — query any_hit"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("nearest ulp"), std::string::npos);
+    EXPECT_EQ(r.output.find("far-root ulp"), std::string::npos) << "nearest_hit needs no far root";
+    // The shadow table has verdict columns only.
+    const std::string shadow = r.output.substr(r.output.find("shadow rays"));
+    EXPECT_EQ(shadow.substr(0, shadow.find("build:")).find("ulp"), std::string::npos) << shadow;
+    EXPECT_TRUE(fs::exists(dir / "out" / "scene_report.json"));
+    EXPECT_NE(read_text(dir / "out" / "scene_report.json").find("\"any_hit\""), std::string::npos);
+
+    const auto clean = run_cli("audit --scene " + file.string() + " --variant hearn_baker");
+    EXPECT_EQ(clean.exit_code, 0) << clean.output;
+}
+
+TEST(SceneCli, BadSceneExitsTwoNamingTheFieldAndWritesNothing) {
+    const fs::path dir = temp_dir("bad");
+    const fs::path file = write_file(dir / "bad.json", replaced(small_scene, "\"radius\": 1},\n    {\"name\": \"far\"",
+                                                               "\"radius\": -2},\n    {\"name\": \"far\""));
+    const auto audit = run_cli("audit --scene " + file.string() + " --report " + (dir / "report").string());
+    EXPECT_EQ(audit.exit_code, 2) << audit.output;
+    EXPECT_NE(audit.output.find(file.string() + ":13: field 'spheres[0].radius': must be a finite number ≥ 0"),
+              std::string::npos)
+        << audit.output;
+    EXPECT_FALSE(fs::exists(dir / "report" / "scene_report.json"));
+    const auto render = run_cli("render --scene " + file.string() + " --variant naive -o " + (dir / "img").string());
+    EXPECT_EQ(render.exit_code, 2) << render.output;
+    EXPECT_FALSE(fs::exists(dir / "img"));
+}
+
+TEST(SceneCli, RenderWritesExactVariantAndDifferencePngsWithLegend) {
+    const fs::path dir = temp_dir("render");
+    const fs::path file = write_file(dir / "small.json", small_scene);
+    const auto r = run_cli("render --scene " + file.string() + " --variant naive -o " + (dir / "img").string());
+    EXPECT_EQ(r.exit_code, 1) << r.output;
+    for (const char* name : {"exact.png", "variant.png", "difference_primary.png", "difference_shadow.png"})
+        EXPECT_TRUE(is_png_of_size(dir / "img" / name, 64, 48)) << name;
+    EXPECT_FALSE(fs::exists(dir / "img" / "difference_secondary.png"));
+    const std::string legend = read_text(dir / "img" / "legend.md");
+    EXPECT_NE(legend.find("false_hit"), std::string::npos);
+    EXPECT_NE(legend.find("naive/float"), std::string::npos);
+    for (const auto& entry : fs::directory_iterator(dir / "img"))
+        EXPECT_NE(entry.path().extension(), ".tmp") << entry.path();
+
+    // A unit-direction variant on unnormalised rays is refused, with the reason.
+    const fs::path raw = write_file(dir / "raw.json", replaced(small_scene, "\"normalise_directions\": true",
+                                                               "\"normalise_directions\": false"));
+    std::string unit;
+    for (const variant& v : builtin_variants())
+        if (v.promises.assumes_unit_direction) unit = v.name;
+    ASSERT_FALSE(unit.empty());
+    const auto refused = run_cli("render --scene " + raw.string() + " --variant " + unit + " -o " + (dir / "u").string());
+    EXPECT_EQ(refused.exit_code, 2) << refused.output;
+    EXPECT_NE(refused.output.find("not applicable"), std::string::npos) << refused.output;
+}
+
+TEST(SceneCorpus, EveryShippedSceneParses) {
+    int count = 0;
+    for (const auto& entry : fs::directory_iterator(fs::path(RAYVERIFY_CORPUS_DIR) / "scenes")) {
+        if (entry.path().extension() != ".json") continue;
+        const scene s = read_scene(entry.path());
+        EXPECT_FALSE(s.comment.empty()) << entry.path();
+        ++count;
+    }
+    EXPECT_GE(count, 5);
+}
+
+}  // namespace
+}  // namespace rayverify

@@ -1,0 +1,178 @@
+// The streaming engine's pieces: error summaries (bounded, mergeable, quantiles
+// as stated upper bounds), and shards run in parallel by xargs -P and merged
+// into exactly the report of one run.
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <random>
+
+#include "compare/audit.h"
+#include "support/process.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using rayverify::error_summary;
+using namespace rayverify::test_support;
+
+double exact_nearest_rank(std::vector<double> v, double q) {
+    std::sort(v.begin(), v.end());
+    const auto k = static_cast<std::size_t>(std::ceil(q * static_cast<double>(v.size())));
+    return v[std::clamp<std::size_t>(k, 1, v.size()) - 1];
+}
+
+TEST(ErrorSummary, QuantilesAreUpperBoundsWithinTheStatedResolution) {
+    const std::uint64_t seed = std::random_device{}();
+    SCOPED_TRACE(fmt::format("seed {}", seed));
+    std::mt19937_64 random(seed);
+    for (int round = 0; round < 50; ++round) {
+        error_summary s;
+        std::vector<double> values;
+        const std::size_t n = 1 + random() % 2000;
+        for (std::size_t i = 0; i < n; ++i) {
+            // Zeros, sub-ulp errors and huge ones, as audits see them.
+            const double v = random() % 7 == 0 ? 0.0 : std::ldexp(static_cast<double>(random() % 1000000) / 1e6 + 0.5,
+                                                                  static_cast<int>(random() % 120) - 60);
+            values.push_back(v);
+            s.add(v, i, fmt::format("case-{}", i));
+        }
+        for (double q : {0.5, 0.99, 1.0}) {
+            const double exact = exact_nearest_rank(values, q), bound = s.quantile(q);
+            EXPECT_GE(bound, exact) << "round " << round << " q " << q;
+            EXPECT_LE(bound, exact * (1 + std::ldexp(1.0, -error_summary::resolution_bits))) << "round " << round;
+            if (exact == 0) EXPECT_EQ(bound, 0);
+        }
+        EXPECT_EQ(s.max, *std::max_element(values.begin(), values.end()));
+        EXPECT_EQ(s.quantile(1.0), s.max);
+    }
+}
+
+TEST(ErrorSummary, MergingAnySplitGivesTheWholeAndTiesGoToTheFirstCase) {
+    const std::uint64_t seed = std::random_device{}();
+    SCOPED_TRACE(fmt::format("seed {}", seed));
+    std::mt19937_64 random(seed);
+    error_summary whole, parts[3];
+    for (std::size_t i = 0; i < 3000; ++i) {
+        const double v = static_cast<double>(random() % 50) * 0.25;  // many ties, including at the maximum
+        whole.add(v, i, fmt::format("c{}", i));
+        parts[random() % 3].add(v, i, fmt::format("c{}", i));
+    }
+    error_summary merged;
+    for (int k : {2, 0, 1}) merged.merge(parts[k]);
+    EXPECT_EQ(merged.count, whole.count);
+    EXPECT_EQ(merged.buckets, whole.buckets);
+    EXPECT_EQ(merged.max, whole.max);
+    EXPECT_EQ(merged.max_id, whole.max_id);
+    // The first case attaining the maximum, replayed from the seed.
+    std::mt19937_64 again(seed);
+    std::size_t first_at_max = 0;
+    double best = -1;
+    for (std::size_t i = 0; i < 3000; ++i) {
+        const double v = static_cast<double>(again() % 50) * 0.25;
+        again();
+        if (v > best) {
+            best = v;
+            first_at_max = i;
+        }
+    }
+    EXPECT_EQ(whole.max_index, first_at_max);
+}
+
+TEST(ErrorSummary, InfinityAndZeroAreExact) {
+    error_summary s;
+    for (std::size_t i = 0; i < 10; ++i) s.add(0, i, "z");
+    EXPECT_EQ(s.quantile(0.5), 0);
+    for (std::size_t i = 10; i < 30; ++i) s.add(std::numeric_limits<double>::infinity(), i, "inf");
+    EXPECT_EQ(s.quantile(0.99), std::numeric_limits<double>::infinity());
+    EXPECT_EQ(s.max_index, 10u);
+}
+
+class ShardMerge : public testing::Test {
+protected:
+    void SetUp() override {
+        dir_ = fs::temp_directory_path() / fmt::format("rayverify_shards_{}_{}", getpid(), std::random_device{}());
+        fs::create_directories(dir_);
+    }
+    void TearDown() override { fs::remove_all(dir_); }
+    command_result in_dir(const std::string& command) {
+        return run_shell(fmt::format("cd '{}' && {}", dir_.string(), command));
+    }
+    fs::path dir_;
+};
+
+// Shards through xargs -P, merged, equal the single run byte for byte: every
+// report file, the per-case lines and the summary on stdout.
+TEST_F(ShardMerge, ShardsRunByXargsMergeIntoTheSingleRunByteForByte) {
+    const std::string input = fmt::format("--corpus '{}/near_tangent.txt' --corpus '{}/edge/behind.txt'",
+                                          RAYVERIFY_CORPUS_DIR, RAYVERIFY_CORPUS_DIR);
+    const command_result single =
+        in_dir(fmt::format("'{}' audit {} --threads 2 --report single --per-case single/cases.jsonl", RAYVERIFY_CLI,
+                           input));
+    ASSERT_NE(single.exit_code, 2) << single.output;
+    const command_result shards = in_dir(fmt::format(
+        "seq 1 5 | xargs -P 3 -I K '{}' audit {} --threads 1 --shard K/5 --report shard-K "
+        "--per-case shard-K/cases.jsonl >/dev/null; echo done",
+        RAYVERIFY_CLI, input));
+    ASSERT_NE(shards.output.find("done"), std::string::npos) << shards.output;
+    const command_result merged = in_dir(fmt::format(
+        "'{}' merge -o merged --per-case merged/cases.jsonl shard-4 shard-2 shard-1 shard-5 shard-3", RAYVERIFY_CLI));
+    EXPECT_EQ(merged.exit_code, single.exit_code) << merged.output;
+    for (const char* file : {"report.json", "report.md", "summary.txt", "cases.jsonl"}) {
+        const std::string a = read_text(dir_ / "single" / file), b = read_text(dir_ / "merged" / file);
+        EXPECT_FALSE(a.empty()) << file;
+        EXPECT_TRUE(a == b) << file << " differs (" << a.size() << " vs " << b.size() << " bytes)";
+    }
+    // stdout differs only in the report path it names.
+    const auto without_path = [](std::string out, const std::string& dir) {
+        return out.replace(out.find(dir + "/report.json"), dir.size(), "DIR");
+    };
+    EXPECT_EQ(without_path(single.output, "single"), without_path(merged.output, "merged"));
+}
+
+TEST_F(ShardMerge, GeneratedCasesShardAndMergeWithoutACorpusFile) {
+    const std::string input = "--generate near_tangent:300:7 --generate uniform:150";
+    ASSERT_NE(in_dir(fmt::format("'{}' audit {} --report single", RAYVERIFY_CLI, input)).exit_code, 2);
+    for (int k = 1; k <= 4; ++k)
+        ASSERT_NE(in_dir(fmt::format("'{}' audit {} --shard {}/4 --report s{}", RAYVERIFY_CLI, input, k, k)).exit_code, 2);
+    ASSERT_NE(in_dir(fmt::format("'{}' merge -o merged s1 s2 s3 s4", RAYVERIFY_CLI)).exit_code, 2);
+    EXPECT_TRUE(read_text(dir_ / "single/report.json") == read_text(dir_ / "merged/report.json"));
+    EXPECT_NE(read_text(dir_ / "single/report.json").find("\"near_tangent:300:7\""), std::string::npos);
+}
+
+TEST_F(ShardMerge, MergeRefusesShardsThatDoNotBelongTogether) {
+    const auto shard = [&](const std::string& input, const std::string& spec, const std::string& dir) {
+        ASSERT_NE(in_dir(fmt::format("'{}' audit {} --shard {} --report {}", RAYVERIFY_CLI, input, spec, dir)).exit_code,
+                  2);
+    };
+    shard("--generate uniform:40", "1/3", "a1");
+    shard("--generate uniform:40", "2/3", "a2");
+    shard("--generate uniform:40", "3/3", "a3");
+    shard("--generate uniform:41", "3/3", "b3");
+    shard("--generate uniform:40 --variant naive", "3/3", "c3");
+    const auto refused = [&](const std::string& shards, const std::string& message) {
+        const command_result r = in_dir(fmt::format("'{}' merge -o out {}", RAYVERIFY_CLI, shards));
+        EXPECT_EQ(r.exit_code, 2) << shards << ": " << r.output;
+        EXPECT_NE(r.output.find(message), std::string::npos) << shards << ": " << r.output;
+        EXPECT_FALSE(fs::exists(dir_ / "out" / "report.json")) << shards;
+    };
+    refused("a1 a2", "missing shard(s) 3/3");
+    refused("a1 a2 a3 a3", "shard 3/3 given twice");
+    refused("a1 a2 b3", "field 'input': differs");
+    refused("a1 a2 c3", "differs from");
+    refused("a1 a2 nowhere", "not the report directory");
+    EXPECT_EQ(in_dir(fmt::format("'{}' merge -o out a3 a1 a2", RAYVERIFY_CLI)).exit_code, 0);
+}
+
+TEST_F(ShardMerge, ThePlotSampleIsBoundedPerFamily) {
+    ASSERT_NE(in_dir(fmt::format("'{}' audit --generate uniform:1100 --variant naive --report r", RAYVERIFY_CLI))
+                  .exit_code,
+              2);
+    const std::string report = read_text(dir_ / "r/report.json");
+    EXPECT_NE(report.find("\"cases\": 1024,\n    \"sample\""), std::string::npos);
+}
+
+}  // namespace

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <exception>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -27,11 +28,12 @@ inline bool finite_vec(const vec3<double>& v) {
 }
 
 // The bytes are a scene file. The reader either throws an input_error that
-// names this file and a line that exists, or returns a scene whose every
-// number is usable: finite coordinates, non-negative radii, a positive
-// resolution. For a small scene every generated ray has a finite origin, a
-// non-zero finite direction and tmin <= tmax, and every (ray, sphere) pair is
-// a case the oracle can score in the scene's precision.
+// names this file and a line that exists (and nothing else), or returns a
+// scene whose every number is usable: finite coordinates, non-negative radii,
+// a positive resolution, uniquely named spheres and lights. For a small scene
+// every generated ray has a finite origin, a finite direction and a finite
+// tmin <= tmax, and every (ray, sphere) pair is a case the oracle can score
+// in the scene's precision.
 inline std::optional<std::string> check_scene_reader_input(const std::uint8_t* data, std::size_t size) {
     const std::string text(reinterpret_cast<const char*>(data), size);
     const std::string file = "fuzz.json";
@@ -44,6 +46,8 @@ inline std::optional<std::string> check_scene_reader_input(const std::uint8_t* d
         if (e.line() > lines) return "error names a line past the end: " + std::string(e.what());
         if (!std::string_view(e.what()).starts_with(file)) return "message does not start with the file";
         return std::nullopt;
+    } catch (const std::exception& e) {
+        return "threw something other than input_error: " + std::string(e.what());
     }
     std::unordered_set<std::string> names;
     for (const scene_sphere& sphere : s.spheres) {
@@ -55,8 +59,11 @@ inline std::optional<std::string> check_scene_reader_input(const std::uint8_t* d
     if (s.camera.width <= 0 || s.camera.height <= 0) return "camera accepted with an empty resolution";
     if (!finite_vec(s.camera.position) || !finite_vec(s.camera.look_at) || !finite_vec(s.camera.up))
         return "camera accepted with a non-finite vector";
-    for (const scene_light& light : s.lights)
+    std::unordered_set<std::string> light_names;
+    for (const scene_light& light : s.lights) {
         if (!finite_vec(light.position)) return "light " + light.name + " accepted with a non-finite position";
+        if (!light_names.insert(light.name).second) return "duplicate light name accepted: " + light.name;
+    }
 
     const std::size_t pixels = s.sample.all ? static_cast<std::size_t>(s.camera.width) *
                                                   static_cast<std::size_t>(s.camera.height)
@@ -66,7 +73,8 @@ inline std::optional<std::string> check_scene_reader_input(const std::uint8_t* d
     for (const scene_ray& ray : generate_rays(s)) {
         if (!ids.insert(ray.id()).second) return "two rays share the id " + ray.id();
         if (!finite_vec(ray.origin) || !finite_vec(ray.direction)) return "ray " + ray.id() + " is not finite";
-        if (!(ray.tmin <= ray.tmax)) return "ray " + ray.id() + " has tmin > tmax";
+        if (!std::isfinite(ray.tmin) || !(ray.tmin <= ray.tmax))
+            return "ray " + ray.id() + " has an infinite tmin or tmin > tmax";
         for (int sphere : ray.spheres) {
             if (sphere < 0 || static_cast<std::size_t>(sphere) >= s.spheres.size())
                 return "ray " + ray.id() + " names a sphere that does not exist";

@@ -69,8 +69,9 @@ TEST(Bench, TimingRowsAreCompleteAndConsumeResults) {
     options.min_time_s = 0.001;
     options.warmup_s = 0;
     const std::vector<timing_row> rows = time_variants(by_family, options);
-    // 2 variants × 3 precisions × 4 families, then the oracle per family.
-    ASSERT_EQ(rows.size(), 2u * 3u * 4u + 4u);
+    // 2 variants × 3 precisions × 4 families, then the filtered oracle and
+    // the reference route per family.
+    ASSERT_EQ(rows.size(), 2u * 3u * 4u + 2u * 4u);
     std::set<std::string> labels;
     for (const timing_row& r : rows) {
         labels.insert(r.label() + "@" + r.family);
@@ -79,13 +80,16 @@ TEST(Bench, TimingRowsAreCompleteAndConsumeResults) {
         EXPECT_LE(r.min, r.median);
         EXPECT_GE(r.max, r.median);
         EXPECT_GT(r.cases, 0u);
-        if (r.variant != "exact_oracle" && r.family == "uniform") {
+        if (r.precision != "exact" && r.family == "uniform") {
             EXPECT_GT(r.checksum, 0) << r.label();
         }
     }
     EXPECT_EQ(labels.size(), rows.size());
-    EXPECT_EQ(rows.back().variant, "exact_oracle");
-    EXPECT_THROW(time_variants(by_family, {.variants = {"no_such_variant"}}), std::exception);
+    EXPECT_EQ(rows[rows.size() - 5].variant, "exact_oracle");
+    EXPECT_EQ(rows.back().variant, "exact_reference");
+    timing_options unknown;
+    unknown.variants = {"no_such_variant"};
+    EXPECT_THROW(time_variants(by_family, unknown), std::exception);
 }
 
 TEST(Bench, MedianAndSweep) {

@@ -1,5 +1,5 @@
 // Replays every fuzz seed and every saved fuzz finding through the checks
-// the libFuzzer targets run (fuzz/fuzz_checks.h), so that each input that
+// the libFuzzer targets run (fuzz/*_checks.h), so that each input that
 // once broke an invariant stays a test here, under g++ and the sanitizers.
 // A crash input from tools/fuzz.sh goes to fuzz/regressions/<target>/.
 #include <gtest/gtest.h>
@@ -10,7 +10,9 @@
 #include <string>
 #include <vector>
 
+#include "../fuzz/baseline_fuzz_checks.h"
 #include "../fuzz/fuzz_checks.h"
+#include "../fuzz/scene_fuzz_checks.h"
 
 namespace {
 
@@ -49,5 +51,13 @@ TEST(FuzzRegression, CorpusReaderSeedsAndFindings) {
 }
 
 TEST(FuzzRegression, OracleSeedsAndFindings) { replay("oracle", rayverify::fuzz::check_oracle_input); }
+
+TEST(FuzzRegression, SceneReaderSeedsAndFindings) {
+    replay("scene_reader", rayverify::fuzz::check_scene_reader_input);
+}
+
+TEST(FuzzRegression, BaselineReaderSeedsAndFindings) {
+    replay("baseline_reader", rayverify::fuzz::check_baseline_reader_input);
+}
 
 }  // namespace

@@ -19,6 +19,7 @@
 #include <random>
 #include <set>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -93,6 +94,31 @@ std::set<std::string> listing(const fs::path& dir) {
 
 const std::string good = "good - 0 0 -5 0 0 1 0 0 0 1\n";  // a unit sphere hit at t = 4 and 6
 const std::string csv_header = "id,ox,oy,oz,dx,dy,dz,cx,cy,cz,r\n";
+
+// A scene of 2×2 pixels looking at one sphere; bad scenes are edits of it,
+// so that each row's message names a line of this text.
+const std::string good_scene = R"({
+  "precision": "double",
+  "camera": {"projection": "perspective", "position": [0, 0, 5], "look_at": [0, 0, 0],
+             "fov_degrees": 45, "resolution": [2, 2]},
+  "spheres": [
+    {"name": "ball", "centre": [0, 0, 0], "radius": 1}
+  ]
+}
+)";
+
+// `text` with the first `from` replaced by `to` (which must be there).
+std::string edited(std::string text, const std::string& from, const std::string& to) {
+    const std::size_t at = text.find(from);
+    if (at == std::string::npos) throw std::logic_error("not in the text: " + from);
+    return text.replace(at, from.size(), to);
+}
+
+std::string scene_with(const std::string& from, const std::string& to) { return edited(good_scene, from, to); }
+
+// A baseline good.txt's one case passes (naive/double finds it exact).
+const std::string baseline_head = "rayverify-baseline 1\n";
+const std::string good_baseline = baseline_head + "naive/double all cases 1\n";
 
 // One row of the README table: a bad input, the command given it, and what
 // the answer must say. The answer itself is whatever the tool prints.
@@ -241,12 +267,145 @@ std::vector<bad_input> bad_inputs() {
          "out: cannot rename 'out.tmp' into place", [](const fs::path& dir) { fs::create_directory(dir / "out"); }},
         {"`corpus generate -o` in a missing directory", "rayverify corpus generate --family uniform -o no/c.txt",
          {}, 2, "no/c.txt: cannot create"},
+        // Scene files (corpus/scenes/README.md).
+        {"scene: truncated JSON (cut after `\"radius\":`)", "rayverify audit --scene cut.json",
+         one("cut.json", good_scene.substr(0, good_scene.find("\"radius\": 1") + 10)), 2,
+         "cut.json:6: not valid JSON"},
+        {"scene: text in a number field (`\"radius\": \"one\"`)", "rayverify audit --scene word.json",
+         one("word.json", scene_with("\"radius\": 1", "\"radius\": \"one\"")), 2,
+         "word.json:6: field 'spheres[0].radius'"},
+        {"scene: a number field holding `true`", "rayverify audit --scene bool.json",
+         one("bool.json", scene_with("\"fov_degrees\": 45", "\"fov_degrees\": true")), 2,
+         "bool.json:4: field 'camera.fov_degrees': must be a finite number"},
+        {"scene: negative radius", "rayverify audit --scene neg.json",
+         one("neg.json", scene_with("\"radius\": 1", "\"radius\": -1")), 2,
+         "neg.json:6: field 'spheres[0].radius': must be a finite number ≥ 0 (got -1)"},
+        {"scene: a required field missing (no `radius`)", "rayverify audit --scene norad.json",
+         one("norad.json", scene_with(", \"radius\": 1", "")), 2,
+         "norad.json:6: field 'spheres[0].radius': is required"},
+        {"scene: `NaN` (not JSON)", "rayverify audit --scene nan.json",
+         one("nan.json", scene_with("\"radius\": 1", "\"radius\": NaN")), 2, "nan.json:6: not valid JSON"},
+        {"scene: `\"nan\"` and `\"inf\"` as number strings", "rayverify audit --scene nanstr.json",
+         one("nanstr.json", scene_with("\"radius\": 1", "\"radius\": \"nan\"")), 2,
+         "nanstr.json:6: field 'spheres[0].radius': must be a finite number"},
+        {"scene: a number beyond the double range (`1e999`; found by fuzzing)", "rayverify audit --scene e999.json",
+         one("e999.json", scene_with("\"radius\": 1", "\"radius\": 1e999")), 2,
+         "e999.json:6: not valid JSON: number overflow"},
+        {"scene: a float scene with a value beyond float (`1e300`)", "rayverify audit --scene float.json",
+         one("float.json", edited(scene_with("\"double\"", "\"float\""), "[0, 0, 0], \"radius\"",
+                                  "[0, 0, 1e300], \"radius\"")),
+         2, "float.json:6: field 'spheres[0].centre': overflows the scene's precision"},
+        {"scene: a camera too far out for its rays to stay finite (`1e308`)", "rayverify audit --scene far.json",
+         one("far.json", scene_with("\"position\": [0, 0, 5]", "\"position\": [0, 0, 1e308]")), 2,
+         "far.json:3: field 'camera.position': the camera reaches 1e+308 from the origin"},
+        {"scene: an orthographic view too wide for its rays to stay finite", "rayverify audit --scene wide.json",
+         one("wide.json", edited(scene_with("\"perspective\"", "\"orthographic\""), "\"fov_degrees\": 45",
+                                 "\"view_height\": 1e308")),
+         2, "wide.json:4: field 'camera.view_height': the ray of pixel (0, 0) starts at a point that reaches"},
+        {"scene: `up` parallel to the view direction", "rayverify audit --scene up.json",
+         one("up.json", scene_with("\"look_at\": [0, 0, 0],", "\"look_at\": [0, 0, 0], \"up\": [0, 0, 1e-300],")), 2,
+         "up.json:3: field 'camera.up': must not be parallel to the view direction"},
+        {"scene: zero resolution", "rayverify audit --scene res.json",
+         one("res.json", scene_with("[2, 2]", "[0, 2]")), 2,
+         "res.json:4: field 'camera.resolution[0]': must be an integer from 1 to 4096"},
+        {"scene: unknown ray kind (`\"tertiary\"`)", "rayverify audit --scene kind.json",
+         one("kind.json", scene_with("\"precision\"", "\"rays\": {\"tertiary\": {}},\n  \"precision\"")), 2,
+         "kind.json:2: field 'rays.tertiary': unknown field"},
+        {"scene: unknown query name (`\"first_hit\"`)", "rayverify audit --scene query.json",
+         one("query.json",
+             scene_with("\"precision\"", "\"rays\": {\"primary\": {\"query\": \"first_hit\"}},\n  \"precision\"")),
+         2, "query.json:2: field 'rays.primary.query': must be one of"},
+        {"scene: a misspelt field (`\"centre\"` as `\"center\"`)", "rayverify audit --scene center.json",
+         one("center.json", scene_with("\"centre\"", "\"center\"")), 2,
+         "center.json:6: field 'spheres[0].center': unknown field"},
+        {"scene: a key given twice in one object", "rayverify audit --scene twice.json",
+         one("twice.json", scene_with("\"radius\": 1", "\"radius\": 1, \"radius\": 2")), 2,
+         "twice.json:6: field 'spheres[0].radius': given twice in one object"},
+        {"scene: two spheres with one name", "rayverify audit --scene names.json",
+         one("names.json", scene_with("\"radius\": 1}",
+                                      "\"radius\": 1},\n    {\"name\": \"ball\", "
+                                      "\"centre\": [0, 0, -4], \"radius\": 1}")),
+         2, "names.json:7: field 'spheres[1].name': names another sphere too"},
+        {"scene: shadow rays without lights", "rayverify audit --scene dark.json",
+         one("dark.json", scene_with("\"precision\"", "\"rays\": {\"shadow\": {}},\n  \"precision\"")), 2,
+         "dark.json:2: field 'rays.shadow': shadow rays need at least one entry in \"lights\""},
+        {"scene: a JSON array instead of an object", "rayverify audit --scene array.json",
+         one("array.json", "[1, 2]\n"), 2, "array.json:1: a scene is a JSON object"},
+        {"scene: JSON nested 100000 levels deep", "rayverify audit --scene deep.json",
+         one("deep.json", std::string(100000, '[') + std::string(100000, ']')), 2,
+         "deep.json:1: not a scene: JSON nested more than 64 levels deep"},
+        {"scene: empty file", "rayverify audit --scene empty.json", one("empty.json", ""), 2,
+         "empty.json: empty file"},
+        {"scene: binary garbage (an ELF header)", "rayverify audit --scene elf.json",
+         one("elf.json", bytes("\x7f" "ELF\x02\x01\x01\0\0\0\n", 11)), 2, "elf.json:1: not valid JSON"},
+        {"scene: a file over the 16 MiB limit (sparse)", "rayverify audit --scene large.json", {}, 2,
+         "large.json: is 16777217 bytes, over the 16 MiB limit",
+         [](const fs::path& dir) {
+             std::ofstream(dir / "large.json") << good_scene;
+             fs::resize_file(dir / "large.json", (std::uintmax_t{16} << 20) + 1);
+         }},
+        {"scene: missing file", "rayverify audit --scene nowhere.json", {}, 2, "nowhere.json: no such file"},
+        {"scene: unreadable file (mode 000, as a user)", "rayverify audit --scene locked.json",
+         one("locked.json", good_scene), 2, "locked.json: cannot open: Permission denied",
+         [](const fs::path& dir) { fs::permissions(dir / "locked.json", fs::perms::none); }, true},
+        {"scene: a device", "rayverify audit --scene /dev/zero", {}, 2, "/dev/zero: is not a regular file"},
+        {"scene: a directory", "rayverify audit --scene dir", {}, 2, "dir: is a directory",
+         [](const fs::path& dir) { fs::create_directory(dir / "dir"); }},
+        // Gate baselines (src/compare/gate.h).
+        {"baseline: a line of 3 fields", "rayverify gate --baseline short.txt --corpus good.txt",
+         {{"short.txt", baseline_head + "naive/double all cases\n"}, {"good.txt", good}}, 2,
+         "short.txt:2: field 'entry': expected 'TARGET FAMILY FIGURE VALUE', got 3 fields"},
+        {"baseline: unknown figure name", "rayverify gate --baseline figure.txt --corpus good.txt",
+         {{"figure.txt", good_baseline + "naive/double all false_mis 0\n"}, {"good.txt", good}}, 2,
+         "figure.txt:3: field 'figure': unknown figure 'false_mis'"},
+        {"baseline: text where a number goes", "rayverify gate --baseline word.txt --corpus good.txt",
+         {{"word.txt", baseline_head + "naive/double all cases one\n"}, {"good.txt", good}}, 2,
+         "word.txt:2: field 'value': 'one' is not a number"},
+        {"baseline: `nan` as a value", "rayverify gate --baseline nan.txt --corpus good.txt",
+         {{"nan.txt", good_baseline + "naive/double all near_ulp_max nan\n"}, {"good.txt", good}}, 2,
+         "nan.txt:3: field 'value': 'nan' is not a number"},
+        {"baseline: a negative count", "rayverify gate --baseline neg.txt --corpus good.txt",
+         {{"neg.txt", good_baseline + "naive/double all false_miss -1\n"}, {"good.txt", good}}, 2,
+         "neg.txt:3: field 'value': '-1' is not a number ≥ 0"},
+        {"baseline: a value beyond the double range (`1e999`)", "rayverify gate --baseline huge.txt --corpus good.txt",
+         {{"huge.txt", good_baseline + "naive/double all near_ulp_max 1e999\n"}, {"good.txt", good}}, 2,
+         "huge.txt:3: field 'value': '1e999' is not a number"},
+        {"baseline: a duplicate line", "rayverify gate --baseline dup.txt --corpus good.txt",
+         {{"dup.txt", good_baseline + "naive/double all cases 1\n"}, {"good.txt", good}}, 2,
+         "dup.txt:3: field 'entry': duplicate entry for naive/double all cases"},
+        {"baseline: a target without its precision", "rayverify gate --baseline target.txt --corpus good.txt",
+         {{"target.txt", baseline_head + "naive all cases 1\n"}, {"good.txt", good}}, 2,
+         "target.txt:2: field 'target': 'naive' is not a target like naive/float"},
+        {"baseline: unknown policy key", "rayverify gate --baseline policy.txt --corpus good.txt",
+         {{"policy.txt", baseline_head + "policy default slack 2\n"}, {"good.txt", good}}, 2,
+         "policy.txt:2: field 'policy': unknown policy key 'slack'"},
+        {"baseline: `ulp_slack` below 1", "rayverify gate --baseline slack.txt --corpus good.txt",
+         {{"slack.txt", baseline_head + "policy default ulp_slack 0.5\n"}, {"good.txt", good}}, 2,
+         "slack.txt:2: field 'value': ulp_slack is a factor ≥ 1"},
+        {"baseline: a later format version", "rayverify gate --baseline v2.txt --corpus good.txt",
+         {{"v2.txt", "rayverify-baseline 2\n"}, {"good.txt", good}}, 2,
+         "v2.txt:1: field 'format': baseline format version '2'"},
+        {"baseline: a corpus given as the baseline", "rayverify gate --baseline good.txt --corpus good.txt",
+         one("good.txt", good), 2, "good.txt:1: field 'format': the first entry must be 'rayverify-baseline 1'"},
+        {"baseline: empty file", "rayverify gate --baseline empty.txt --corpus good.txt",
+         {{"empty.txt", ""}, {"good.txt", good}}, 2, "empty.txt: field 'format': empty baseline"},
+        {"baseline: binary garbage (an ELF header)", "rayverify gate --baseline elf.txt --corpus good.txt",
+         {{"elf.txt", bytes("\x7f" "ELF\x02\x01\x01\0\0\0\n", 11)}, {"good.txt", good}}, 2,
+         "elf.txt:1: field 'format'"},
+        {"baseline: missing file", "rayverify gate --baseline nowhere.txt --corpus good.txt", one("good.txt", good), 2,
+         "nowhere.txt: field '--baseline': no such baseline"},
+        {"baseline: unreadable file (mode 000, as a user)", "rayverify gate --baseline locked.txt --corpus good.txt",
+         {{"locked.txt", good_baseline}, {"good.txt", good}}, 2, "locked.txt: field '--baseline': cannot open",
+         [](const fs::path& dir) { fs::permissions(dir / "locked.txt", fs::perms::none); }, true},
+        {"baseline: a directory", "rayverify gate --baseline dir --corpus good.txt", one("good.txt", good), 2,
+         "dir: ", [](const fs::path& dir) { fs::create_directory(dir / "dir"); }},
     };
 }
 
 struct row_outcome {
     run_result result;
     std::set<std::string> before, after;  // the row's directory around the run
+    std::vector<std::string> contents_after;  // of row.files, in order
 };
 
 row_outcome run_row(const bad_input& row, const std::string& extra_arguments = "") {
@@ -258,6 +417,7 @@ row_outcome run_row(const bad_input& row, const std::string& extra_arguments = "
     const std::string arguments = row.command.substr(std::string("rayverify ").size()) + extra_arguments;
     o.result = run_in(dir.path, arguments, row.unprivileged);
     o.after = listing(dir.path);
+    for (const auto& [name, contents] : row.files) o.contents_after.push_back(read_text(dir.path / name));
     return o;
 }
 
@@ -272,13 +432,18 @@ std::string shortened(std::string s) {
     return s.size() <= width ? s : s.substr(0, width) + " …";
 }
 
+// A markdown code span around `s`; one that holds a backtick needs a longer fence.
+std::string code_span(const std::string& s) {
+    return s.find('`') == std::string::npos ? "`" + s + "`" : "`` " + s + " ``";
+}
+
 // The README table, rendered from the outcomes.
 std::string render_table(const std::vector<bad_input>& rows, const std::vector<row_outcome>& outcomes) {
     std::string table = "| bad input | command | exit | what rayverify answers |\n|---|---|---|---|\n";
     for (std::size_t i = 0; i < rows.size(); ++i)
-        table += fmt::format("| {} | `{}` | {} | `{}` |\n", escape_cell(rows[i].what), escape_cell(rows[i].command),
-                             outcomes[i].result.exit_code,
-                             escape_cell(shortened(outcomes[i].result.answer("invalid cases"))));
+        table += fmt::format("| {} | {} | {} | {} |\n", escape_cell(rows[i].what),
+                             code_span(escape_cell(rows[i].command)), outcomes[i].result.exit_code,
+                             code_span(escape_cell(shortened(outcomes[i].result.answer("invalid cases")))));
     return table;
 }
 
@@ -309,6 +474,27 @@ TEST(BadInput, AuditWithOutputsWritesNothingOnAnyBadCorpus) {
         const row_outcome o = run_row(row, " --report rep --per-case cases.jsonl");
         EXPECT_EQ(o.result.exit_code, 2) << o.result.err;
         EXPECT_EQ(o.after, o.before) << "partial output left behind";
+    }
+}
+
+TEST(BadInput, SceneAuditAndGateWithOutputsWriteNothingOnBadInput) {
+    for (const bad_input& row : bad_inputs()) {
+        if (row.exit_code != 2) continue;
+        std::vector<std::string> outputs;
+        if (row.command.starts_with("rayverify audit --scene"))
+            outputs = {" --report rep"};
+        else if (row.command.starts_with("rayverify gate"))
+            outputs = {" --junit junit.xml", " --update"};
+        for (const std::string& extra : outputs) {
+            // --update of a missing baseline creates it: that is what it is for.
+            if (extra == " --update" && row.command.find("--baseline nowhere") != std::string::npos) continue;
+            SCOPED_TRACE(row.command + extra);
+            const row_outcome o = run_row(row, extra);
+            EXPECT_EQ(o.result.exit_code, 2) << o.result.err;
+            EXPECT_EQ(o.after, o.before) << "partial output left behind";
+            for (std::size_t i = 0; i < row.files.size() && !row.unprivileged; ++i)  // mode 000: unreadable
+                EXPECT_EQ(o.contents_after[i], row.files[i].second) << row.files[i].first << " was rewritten";
+        }
     }
 }
 

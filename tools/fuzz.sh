@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Build the libFuzzer targets (fuzz/, clang, ASan+UBSan) in build-fuzz/ and
 # run each for a bounded time, starting from the seed corpora in fuzz/seeds/.
-# Usage: tools/fuzz.sh [SECONDS_PER_TARGET]   (default 60)
+# Usage: tools/fuzz.sh [SECONDS_PER_TARGET [TARGET...]]   (default 60, every target)
+# FUZZ_BUILD_DIR=DIR builds in DIR instead of build-fuzz/ (so that two people
+# fuzzing in one tree do not share a build).
 # A crash or a broken invariant stops the script with a non-zero status and
 # leaves the input in build-fuzz/artifacts/<target>/: fix the bug and copy the
 # input to fuzz/regressions/<target>/, where tests/fuzz_regression_test.cpp
@@ -9,23 +11,28 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-60}
+all_targets=(corpus_reader oracle scene_reader baseline_reader)
+targets=("${@:2}")
+[ ${#targets[@]} -eq 0 ] && targets=("${all_targets[@]}")
+build=${FUZZ_BUILD_DIR:-build-fuzz}
 
 tools/setup.sh --fuzz
-cmake -S fuzz -B build-fuzz -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
-cmake --build build-fuzz -j "$(nproc)" --target fuzz_corpus_reader fuzz_oracle
+cmake -S fuzz -B "$build" -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
+cmake --build "$build" -j "$(nproc)" --target "${targets[@]/#/fuzz_}"
 
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
-for target in corpus_reader oracle; do
-  corpus=build-fuzz/corpus/$target        # grows across runs; the seeds stay untouched
-  artifacts=build-fuzz/artifacts/$target/
+for target in "${targets[@]}"; do
+  corpus=$build/corpus/$target        # grows across runs; the seeds stay untouched
+  artifacts=$build/artifacts/$target/
   mkdir -p "$corpus" "$artifacts"
+  inputs=("$corpus" "fuzz/seeds/$target")
+  [ -d "fuzz/regressions/$target" ] && inputs+=("fuzz/regressions/$target")  # git keeps no empty folder
   options=(-max_total_time="$seconds" -timeout=20 -rss_limit_mb=2048 -print_final_stats=1
            -artifact_prefix="$artifacts")
   [ -f "fuzz/$target.dict" ] && options+=(-dict="fuzz/$target.dict")
   echo "fuzz: $target for ${seconds}s" >&2
-  log=build-fuzz/$target.log
-  if ! "build-fuzz/fuzz_$target" "${options[@]}" "$corpus" "fuzz/seeds/$target" "fuzz/regressions/$target" \
-       >"$log" 2>&1; then
+  log=$build/$target.log
+  if ! "$build/fuzz_$target" "${options[@]}" "${inputs[@]}" >"$log" 2>&1; then
     tail -n 60 "$log" >&2
     echo "fuzz: $target failed; the input is in $artifacts, the log in $log" >&2
     exit 1

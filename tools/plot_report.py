@@ -20,11 +20,23 @@ import matplotlib.pyplot as plt  # noqa: E402
 VARIANT_COLOURS = {
     "naive": "#1f77b4", "half_b": "#aec7e8", "seed003_reduced": "#ff7f0e", "seed004_early_out": "#ffbb78",
     "geometric": "#2ca02c", "stable_roots": "#9467bd", "hearn_baker": "#d62728", "fma_discriminant": "#8c564b",
+    "hearn_baker_unit": "#e377c2", "hearn_baker_nearest": "#ff9896", "hearn_baker_unit_nearest": "#f7b6d2",
+    "hearn_baker_any_hit": "#17becf", "hearn_baker_unit_any_hit": "#9edae5",
     "exact_oracle": "#000000",
 }
+# Variants not named above (plugins, new variants): colours from a second palette, in order of appearance.
+EXTRA_COLOURS = ["#bcbd22", "#7f7f7f", "#393b79", "#637939", "#8c6d31", "#843c39", "#7b4173", "#3182bd"]
+
+
+def colour(variant):
+    if variant not in VARIANT_COLOURS:
+        extra = [v for v in VARIANT_COLOURS if v not in COLOURED_AT_START]
+        VARIANT_COLOURS[variant] = EXTRA_COLOURS[len(extra) % len(EXTRA_COLOURS)]
+    return VARIANT_COLOURS[variant]
 PRECISION_MARKERS = {"float": "o", "double": "s", "long double": "D", "exact": "*"}
 MISCLASS = ("false_miss", "false_hit", "tangent_split", "tangent_missed", "false_tangent")
 FLOOR = 1e-3  # where zero errors are drawn on log axes
+COLOURED_AT_START = frozenset(VARIANT_COLOURS)
 
 
 def save(fig, directory, name):
@@ -74,6 +86,7 @@ def plot_accuracy_vs_time(report, directory):
     timing = {(r["variant"], r["precision"]): r["ns_per_test"] for r in report["timing"]["overall"]}
     entries = [(v, p, e) for v, p, e in accuracy_entries(report) if (v, p) in timing]
     oracle = timing.get(("exact_oracle", "exact"))
+    reference = timing.get(("exact_reference", "exact"))
     metrics = [("max ulp error (nearest root)", lambda e: number(e["near_root_ulp"].get("max"))),
                ("p99 ulp error (nearest root)", lambda e: number(e["near_root_ulp"].get("p99"))),
                ("misclassification rate", misclassification_rate)]
@@ -89,12 +102,16 @@ def plot_accuracy_vs_time(report, directory):
             y = top if (y is None or not math.isfinite(y) or y >= top) else max(y, FLOOR)
             x = timing[(variant, precision)]
             points.append((x, y))
-            ax.scatter(x, y, color=VARIANT_COLOURS.get(variant, "grey"), marker=PRECISION_MARKERS[precision],
+            ax.scatter(x, y, color=colour(variant), marker=PRECISION_MARKERS[precision],
                        s=60, edgecolors="black", linewidths=0.5, zorder=3)
-        if oracle:
-            points.append((oracle, FLOOR))
-            ax.scatter(oracle, FLOOR, color="black", marker="*", s=200, zorder=3)
-            ax.annotate("exact oracle", (oracle, FLOOR), textcoords="offset points", xytext=(-10, 10), ha="right")
+        # The exact answers cost time and have no error: drawn on the floor line.
+        for x, label, marker, offset in [(oracle, "exact oracle (filtered)", "*", (-10, 10)),
+                                         (reference, "exact reference (no filter)", "P", (-10, -16))]:
+            if not x:
+                continue
+            points.append((x, FLOOR))
+            ax.scatter(x, FLOOR, color="black", marker=marker, s=160, zorder=3)
+            ax.annotate(label, (x, FLOOR), textcoords="offset points", xytext=offset, ha="right", fontsize=8)
         front = pareto(points)
         ax.plot([points[i][0] for i in front], [points[i][1] for i in front], "k--", lw=1, zorder=2,
                 label="Pareto front")
@@ -109,8 +126,8 @@ def plot_accuracy_vs_time(report, directory):
         ax.set_title(title)
         ax.grid(True, which="major", alpha=0.3)
         ax.legend(loc="upper right", fontsize=8)
-    variant_handles = [plt.Line2D([], [], color=c, marker="o", ls="", label=v) for v, c in VARIANT_COLOURS.items()
-                       if v != "exact_oracle"]
+    shown = list(dict.fromkeys(v for v, _, _ in entries))  # the report's variants, in its order
+    variant_handles = [plt.Line2D([], [], color=colour(v), marker="o", ls="", label=v) for v in shown]
     precision_handles = [plt.Line2D([], [], color="grey", marker=m, ls="", label=p) for p, m in PRECISION_MARKERS.items()]
     fig.legend(handles=variant_handles + precision_handles, loc="lower center", ncol=6, fontsize=9,
                bbox_to_anchor=(0.5, -0.12))
@@ -140,7 +157,7 @@ def plot_error_vs_condition(report, directory):
                 continue
             xs.append(min(max(k, 1.0), 5e17))
             ys.append(min(max(u, FLOOR), 5e17))
-        ax.scatter(xs, ys, s=4, alpha=0.4, color=VARIANT_COLOURS.get(t["variant"], "grey"))
+        ax.scatter(xs, ys, s=4, alpha=0.4, color=colour(t["variant"]))
         line = [1, 1e18]
         ax.plot(line, line, "k-", lw=1, label="κ·u (in ulps: κ)")
         ax.plot(line, [16 * x for x in line], "k:", lw=1, label="16·κ·u")
@@ -191,7 +208,7 @@ def plot_far_sphere(report, directory):
                 worst.append(max([max(e, FLOOR) for e in errors if math.isfinite(e)] or [math.nan]))
                 rate.append(wrong / len(idx))
             # naive is drawn dashed on top: stable_roots and fma_discriminant share its C and often its line.
-            style = dict(color=VARIANT_COLOURS[variant], label=variant, ms=3,
+            style = dict(color=colour(variant), label=variant, ms=3,
                          ls="--" if variant == "naive" else "-", lw=2.2 if variant == "naive" else 1.2,
                          zorder=4 if variant == "naive" else 3, marker="o")
             axes[0][column].plot(centres, worst, **style)
@@ -225,7 +242,7 @@ def plot_histograms(report, directory):
     for ax, (label, t) in zip(axes.flat, targets):
         values = [number(u) for u in t["near_ulp"] if u is not None]
         values = [min(max(v, 1.5e-3), 9e19) if math.isfinite(v) else 9e19 for v in values]
-        ax.hist(values, bins=[1e-3] + edges[1:], color=VARIANT_COLOURS.get(t["variant"], "grey"))
+        ax.hist(values, bins=[1e-3] + edges[1:], color=colour(t["variant"]))
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.axvline(0.5, color="black", lw=0.8, ls=":")

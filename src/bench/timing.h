@@ -24,20 +24,19 @@ struct timing_options {
     std::vector<std::string> variants;  // empty: all built-in variants (unless builtins is false)
     bool builtins = true;               // false: time only the plugins
     // Variants without an inlined kernel (plugins): timed in float and double
-    // through their function (a call through a pointer per test), labelled
-    // "NAME (called through a function pointer)".
+    // through their function, a call through a pointer per test.
     std::vector<variant> plugins;
     int repetitions = 9;
     double min_time_s = 0.01;     // per repetition
     double warmup_s = 0.02;       // before the first repetition
-    bool include_oracle = true;   // also time solve_exact (double inputs)
+    bool include_oracle = true;   // also time solve_exact and solve_exact_reference (double inputs)
 };
 
 // Precisions timed: the two the audit judges plus long double.
 inline constexpr const char* timed_precisions[] = {"float", "double", "long double"};
 
 struct timing_row {
-    std::string variant;    // a registry name, or "exact_oracle"
+    std::string variant;    // a registry or plugin name, "exact_oracle" or "exact_reference"
     std::string precision;  // "float", "double", "long double"; "exact" for the oracle
     std::string family;
     std::size_t cases = 0;  // cases in one pass (valid at that precision)

@@ -22,6 +22,7 @@ struct audit_options {
     std::vector<std::string> generate;
     std::vector<std::string> variants;
     std::vector<std::string> plugins;
+    plugin_isolation isolation;
     std::vector<std::string> precisions;
     std::string report_dir;
     std::string per_case_file;
@@ -63,7 +64,7 @@ int run(const audit_options& options, const std::string& command_line) {
             throw input_error("", 0, "--scene",
                               "a scene makes its own rays: no --corpus, --generate, --shard, --per-case or --plots");
         return run_scene_audit({options.scene, options.variants, options.plugins, options.precisions,
-                                options.report_dir, command_line});
+                                options.isolation, options.report_dir, command_line});
     }
     if (!options.corpus.empty() && !options.generate.empty())
         throw input_error("", 0, "--generate", "give either --corpus or --generate, not both");
@@ -73,9 +74,10 @@ int run(const audit_options& options, const std::string& command_line) {
     std::vector<std::filesystem::path> paths(options.corpus.begin(), options.corpus.end());
     std::vector<generate_spec> specs;
     for (const std::string& text : options.generate) specs.push_back(parse_generate_spec(text));
-    if (paths.empty() && specs.empty()) paths.emplace_back(RAYVERIFY_DEFAULT_CORPUS);
+    if (paths.empty() && specs.empty()) paths.emplace_back(default_corpus());
     case_stream stream = specs.empty() ? case_stream(paths, shard) : case_stream(specs, shard);
-    const std::vector<audit_target> targets = select_targets(options.variants, options.plugins, options.precisions);
+    const std::vector<audit_target> targets =
+        select_targets(options.variants, options.plugins, options.precisions, options.isolation);
     if (targets.empty()) throw input_error("", 0, "--precision", "no variant runs in the chosen precision");
     const unsigned requested = options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency());
     const unsigned threads = audit_threads(targets, requested);
@@ -123,7 +125,7 @@ int run(const audit_options& options, const std::string& command_line) {
         states[0].points.merge(states[w].points);
     }
 
-    run_context context{recorded_command(command_line), {}};
+    run_context context{recorded_command(command_line), {}, {}};
     for (const auto& p : paths) context.corpus_paths.push_back(p.string());
     for (const generate_spec& s : specs) context.generated.push_back(s.text());
     std::optional<nlohmann::ordered_json> report;
@@ -160,11 +162,13 @@ int run(const audit_options& options, const std::string& command_line) {
 }  // namespace
 
 std::string recorded_command(const std::string& command_line) {
-    // Options that choose where the outputs go or how the work is spread
-    // change no figure: they are left out, so that any thread count, any
-    // sharding and any output directory record the same command.
-    static const std::vector<std::string> with_value = {"--threads", "--shard", "--report", "--per-case"};
-    static const std::vector<std::string> flags = {"--plots"};
+    // Options that choose where the outputs go or how the work is spread or
+    // run change no figure: they are left out, so that any thread count, any
+    // sharding, any output directory and a plugin isolated or not record the
+    // same command.
+    static const std::vector<std::string> with_value = {"--threads", "--shard", "--report", "--per-case",
+                                                        "--plugin-timeout"};
+    static const std::vector<std::string> flags = {"--plots", "--isolate"};
     std::vector<std::string> words;
     for (std::size_t at = 0; at <= command_line.size();) {
         const std::size_t end = std::min(command_line.find(' ', at), command_line.size());
@@ -246,6 +250,7 @@ command add_audit_command(CLI::App& app, const std::string& command_line) {
     sub->add_option("--variant", options->variants, "Variant to audit (repeatable; default: all)");
     sub->add_option("--plugin", options->plugins,
                     "Shared library implementing rayverify_plugin.h, audited as a variant (repeatable)");
+    add_isolation_options(sub, options->isolation);
     sub->add_option("--precision", options->precisions, "float or double (repeatable; default: both)")
         ->check(CLI::IsMember({"float", "double"}));
     sub->add_option("--report", options->report_dir,

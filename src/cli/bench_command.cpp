@@ -10,6 +10,7 @@
 
 #include "bench/far_sphere_sweep.h"
 #include "bench/long_double.h"
+#include "bench/oracle_timing.h"
 #include "bench/timing.h"
 #include "cli/commands.h"
 #include "compare/stability.h"
@@ -29,7 +30,10 @@ constexpr const char* reference_label = "naive/double";
 struct bench_options {
     std::vector<std::string> corpus;
     std::vector<std::string> variants;
+    std::vector<std::string> plugins;
+    plugin_isolation isolation;
     std::vector<std::string> families;
+    bool oracle = false;
     std::string report_dir;
     int repetitions = 9;
     double min_time = 0.01;
@@ -70,6 +74,22 @@ accuracy_run audit_with_stability(const std::vector<corpus_case>& cases, const s
     return run;
 }
 
+void progress(std::size_t done, std::size_t total);
+
+// bench --oracle: the exact oracles' cost per case against the naive double
+// intersector, per family, with the filter's fallback rates and issue 7's targets.
+int run_oracle_timing(const std::vector<corpus_case>& cases, const bench_options& options) {
+    bench::oracle_timing_options timing;
+    timing.repetitions = options.repetitions;
+    timing.min_time_s = std::max(options.min_time, 0.05);
+    const bench::oracle_timing t = bench::time_oracle(cases, timing, progress);
+    fmt::print("{}", bench::format_oracle_timing(t));
+    fmt::print("build: {} {} [{}]; CPU: {}\n", build_json()["compiler"].get<std::string>(),
+               build_json()["flags"].get<std::string>(), build_json()["build_type"].get<std::string>(),
+               bench::cpu_model());
+    return exit_ok;
+}
+
 void progress(std::size_t done, std::size_t total) {
     if (!isatty(STDERR_FILENO)) return;
     fmt::print(stderr, "\rbench: {}/{} timings", done, total);
@@ -78,7 +98,7 @@ void progress(std::size_t done, std::size_t total) {
 
 int run(const bench_options& options, const std::string& command_line) {
     std::vector<std::filesystem::path> paths(options.corpus.begin(), options.corpus.end());
-    if (paths.empty()) paths.emplace_back(RAYVERIFY_DEFAULT_CORPUS);
+    if (paths.empty()) paths.emplace_back(default_corpus());
     std::vector<corpus_case> cases;
     for (corpus_case& c : read_corpus(paths))
         if (options.families.empty() ||
@@ -86,9 +106,15 @@ int run(const bench_options& options, const std::string& command_line) {
             cases.push_back(std::move(c));
     if (cases.empty()) throw input_error("", 0, "--family", "no case of the chosen families in the corpus");
     if (options.repetitions < 1) throw input_error("", 0, "--repetitions", "must be at least 1");
+    if (options.oracle) return run_oracle_timing(cases, options);
 
-    // Accuracy: float and double as audited, then long double on double inputs.
+    // Accuracy: float and double as audited, then long double on double
+    // inputs. Plugins are audited and timed beside every built-in variant
+    // (or the --variant ones), so the plot places them among the known forms.
     std::vector<audit_target> targets = select_targets(options.variants, {});
+    const std::vector<audit_target> plugin_targets =
+        options.plugins.empty() ? std::vector<audit_target>{} : select_targets({}, options.plugins, {}, options.isolation);
+    targets.insert(targets.end(), plugin_targets.begin(), plugin_targets.end());
     std::vector<std::string> labels;
     for (const audit_target& t : targets) labels.push_back(t.label());
     const std::size_t audited = targets.size();
@@ -109,6 +135,9 @@ int run(const bench_options& options, const std::string& command_line) {
     for (const corpus_case& c : cases) by_family[c.family.empty() ? "-" : c.family].push_back(c);
     bench::timing_options timing;
     timing.variants = options.variants;
+    for (const audit_target& t : plugin_targets)
+        if (timing.plugins.empty() || timing.plugins.back().name != t.subject.name)
+            timing.plugins.push_back(t.subject);
     timing.repetitions = options.repetitions;
     timing.min_time_s = options.min_time;
     const std::vector<bench::timing_row> rows = bench::time_variants(by_family, timing, progress);
@@ -129,7 +158,7 @@ int run(const bench_options& options, const std::string& command_line) {
     if (options.report_dir.empty()) return exit_ok;
 
     // The report: the audit's sections for float and double, then ours.
-    run_context context{command_line, {}};
+    run_context context{command_line, {}, {}};
     for (const auto& p : paths) context.corpus_paths.push_back(p.string());
     json report = audit_report_json(slice(accuracy.totals, 0, audited), context);
     report["tool"] = "rayverify bench";
@@ -174,6 +203,13 @@ command add_bench_command(CLI::App& app, const std::string& command_line) {
                                             "exact oracle's cost; --report writes report.json, report.md and plots.");
     sub->add_option("--corpus", options->corpus, "Corpus file or directory; repeatable. Default: the shipped corpus");
     sub->add_option("--variant", options->variants, "Variant to time (repeatable; default: all built-in)");
+    sub->add_option("--plugin", options->plugins,
+                    "Shared library implementing rayverify_plugin.h, audited and timed beside the built-in variants "
+                    "(called through a function pointer; repeatable)");
+    add_isolation_options(sub, options->isolation);
+    sub->add_flag("--oracle", options->oracle,
+                  "Time the exact oracles instead: the filtered oracle and the reference route against the naive "
+                  "double intersector per family, with the filter's fallback rates");
     sub->add_option("--family", options->families, "Only cases of this family (repeatable; default: all)");
     sub->add_option("--report", options->report_dir, "Directory for report.json, report.md and the PNG plots");
     sub->add_option("--repetitions", options->repetitions, "Timed repetitions per benchmark (default 9)");

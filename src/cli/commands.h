@@ -13,6 +13,7 @@
 #include <optional>
 
 #include "compare/audit.h"
+#include "plugin/plugin_loader.h"
 #include "report/atomic_file.h"
 #include "scene/scene.h"
 
@@ -44,13 +45,20 @@ command add_recommend_command(CLI::App& app);  // issue 6: cli/recommend_command
 struct scene_audit_request {
     std::string scene_file;
     std::vector<std::string> variants, plugins, precisions;
+    plugin_isolation isolation;
     std::string report_dir;    // scene_report.json goes there when not empty
     std::string command_line;
 };
 int run_scene_audit(const scene_audit_request& request);
 // The chosen variants (all by default), each in the scene's precision.
 std::vector<audit_target> scene_audit_targets(const scene& s, const std::vector<std::string>& variant_names,
-                                              const std::vector<std::string>& plugin_paths);
+                                              const std::vector<std::string>& plugin_paths,
+                                              const plugin_isolation& isolation = {});
+
+// The corpus a command reads when given none: the installed copy
+// (<prefix>/share/rayverify/corpus) when this executable is the installed
+// one, else the corpus/ of the source tree this build was configured from.
+std::string default_corpus();
 
 // Shared by the commands: the targets named by --variant and --precision
 // (all of them when empty). Throws input_error for an unknown name.
@@ -58,16 +66,20 @@ std::vector<audit_target> select_targets(const std::vector<std::string>& variant
                                          const std::vector<std::string>& precisions);
 
 // The same with --plugin libraries (plugin/plugin_loader.h) after the named
-// variants. With plugins and no --variant, only the plugins are chosen. Two
-// targets with one name are an input error.
+// variants, loaded as `isolation` says. With plugins and no --variant, only
+// the plugins are chosen. Two targets with one name are an input error.
 std::vector<audit_target> select_targets(const std::vector<std::string>& variant_names,
                                          const std::vector<std::string>& plugin_paths,
-                                         const std::vector<std::string>& precisions);
+                                         const std::vector<std::string>& precisions,
+                                         const plugin_isolation& isolation = {});
+
+// --isolate and --plugin-timeout, on every command that takes --plugin.
+void add_isolation_options(CLI::App* sub, plugin_isolation& isolation);
 
 // Shared by audit and merge (cli/audit_command.cpp).
 // The command line as reports record it: without --threads, --shard,
-// --report, --per-case and --plots, which change where outputs go or how the
-// work is spread, never a figure.
+// --report, --per-case, --plots, --isolate and --plugin-timeout, which change
+// where outputs go or how the work is spread or run, never a figure.
 std::string recorded_command(const std::string& command_line);
 
 // An audit's output files, opened (as temporaries) before the work.

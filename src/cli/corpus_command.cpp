@@ -35,7 +35,7 @@ int generate(const generate_options& options) {
 
 struct regen_options {
     bool check = false;
-    std::string corpus_dir = RAYVERIFY_DEFAULT_CORPUS;
+    std::string corpus_dir = default_corpus();
 };
 
 std::optional<std::string> read_bytes(const fs::path& path) {

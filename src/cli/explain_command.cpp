@@ -16,6 +16,7 @@ struct explain_options {
     std::vector<std::string> corpus;
     std::vector<std::string> variants;
     std::vector<std::string> plugins;
+    plugin_isolation isolation;
     std::vector<std::string> precisions;
 };
 
@@ -55,7 +56,7 @@ corpus_case case_from_arguments(const std::vector<std::string>& values) {
 
 corpus_case case_from_corpus(const explain_options& options) {
     std::vector<std::filesystem::path> paths(options.corpus.begin(), options.corpus.end());
-    if (paths.empty()) paths.emplace_back(RAYVERIFY_DEFAULT_CORPUS);
+    if (paths.empty()) paths.emplace_back(default_corpus());
     for (corpus_case& c : read_corpus(paths))
         if (c.id == options.case_id) return c;
     throw input_error("", 0, "--case", fmt::format("no case with id '{}' in the corpus", options.case_id));
@@ -93,7 +94,8 @@ int run(const explain_options& options) {
     if (options.case_id.empty() && options.values.empty())
         throw input_error("", 0, "case", "give the case as 10 numbers, a corpus line, or --case ID");
     const corpus_case c = options.case_id.empty() ? case_from_arguments(options.values) : case_from_corpus(options);
-    const std::vector<audit_target> targets = select_targets(options.variants, options.plugins, options.precisions);
+    const std::vector<audit_target> targets =
+        select_targets(options.variants, options.plugins, options.precisions, options.isolation);
     const audited_case audited = audit_case(c, targets);
 
     const auto& g = c.geometry;
@@ -140,6 +142,7 @@ command add_explain_command(CLI::App& app) {
     sub->add_option("--corpus", options->corpus, "Corpus to look --case up in (default: the shipped corpus)");
     sub->add_option("--variant", options->variants, "Variant to show (repeatable; default: all)");
     sub->add_option("--plugin", options->plugins, "Shared library implementing rayverify_plugin.h (repeatable)");
+    add_isolation_options(sub, options->isolation);
     sub->add_option("--precision", options->precisions, "float or double (repeatable; default: both)")
         ->check(CLI::IsMember({"float", "double"}));
     // Negative numbers are values here, not options.

@@ -19,6 +19,7 @@ struct gate_options {
     std::vector<std::string> corpus;
     std::vector<std::string> variants;
     std::vector<std::string> plugins;
+    plugin_isolation isolation;
     std::vector<std::string> precisions;
     std::string junit;
     bool update = false;
@@ -46,9 +47,10 @@ int run(const gate_options& options) {
         exists ? parse_baseline(options.baseline, read_text_file(baseline_path, "--baseline")) : new_baseline();
 
     std::vector<std::filesystem::path> paths(options.corpus.begin(), options.corpus.end());
-    if (paths.empty()) paths.emplace_back(RAYVERIFY_DEFAULT_CORPUS);
+    if (paths.empty()) paths.emplace_back(default_corpus());
     const std::vector<corpus_case> cases = read_corpus(paths);
-    const std::vector<audit_target> targets = select_targets(options.variants, options.plugins, options.precisions);
+    const std::vector<audit_target> targets =
+        select_targets(options.variants, options.plugins, options.precisions, options.isolation);
     if (targets.empty()) throw input_error("", 0, "--precision", "no variant runs in the chosen precision");
 
     const unsigned threads = options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency());
@@ -80,6 +82,7 @@ command add_gate_command(CLI::App& app) {
                     "Corpus file (.txt or .csv) or directory of them; repeatable. Default: the shipped corpus");
     sub->add_option("--variant", options->variants, "Built-in variant to gate (repeatable; default: all)");
     sub->add_option("--plugin", options->plugins, "Shared library implementing rayverify_plugin.h (repeatable)");
+    add_isolation_options(sub, options->isolation);
     sub->add_option("--precision", options->precisions, "float or double (repeatable; default: both)")
         ->check(CLI::IsMember({"float", "double"}));
     sub->add_option("--junit", options->junit, "Also write JUnit XML (a test case per variant and family)");

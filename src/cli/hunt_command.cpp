@@ -12,6 +12,7 @@ namespace {
 struct hunt_command_options {
     std::string variant;
     std::string plugin;  // a plugin library hunted instead of a built-in variant
+    plugin_isolation isolation;
     std::string precision = "double";
     std::string family = "uniform";
     double budget = 10;
@@ -31,7 +32,7 @@ int run(const hunt_command_options& o, const std::string& command_line) {
         throw input_error("", 0, "--variant", "name exactly one target: --variant NAME or --plugin LIBRARY");
     const std::vector<std::string> names = o.variant.empty() ? std::vector<std::string>{} : std::vector{o.variant};
     const std::vector<std::string> plugins = o.plugin.empty() ? std::vector<std::string>{} : std::vector{o.plugin};
-    const std::vector<audit_target> targets = select_targets(names, plugins, {o.precision});
+    const std::vector<audit_target> targets = select_targets(names, plugins, {o.precision}, o.isolation);
     if (targets.empty())
         throw input_error("", 0, "--precision",
                           fmt::format("{} does not run in {}", o.variant.empty() ? o.plugin : o.variant, o.precision));
@@ -123,6 +124,7 @@ command add_hunt_command(CLI::App& app, const std::string& command_line) {
     sub->add_option("--variant", o->variant, "Variant to hunt");
     sub->add_option("--plugin", o->plugin,
                     "Hunt a plugin (rayverify_plugin.h) instead: its functions are called through a function pointer");
+    add_isolation_options(sub, o->isolation);
     sub->add_option("--precision", o->precision, "float or double")
         ->check(CLI::IsMember({"float", "double"}))
         ->capture_default_str();

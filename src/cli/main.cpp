@@ -7,6 +7,24 @@
 
 #include "cli/commands.h"
 #include "core/input_error.h"
+#include "corpus/corpus_io.h"
+#include "plugin/plugin_loader.h"
+
+namespace {
+
+// The case a plugin failed on as a line to paste into a corpus; an id that
+// could not be read back as one token is replaced.
+std::string corpus_line_of(rayverify::corpus_case c) {
+    try {
+        return rayverify::format_case_line(c);
+    } catch (const rayverify::input_error&) {
+        c.id = "plugin-failure";
+        c.family.clear();
+        return rayverify::format_case_line(c);
+    }
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
     using namespace rayverify;
@@ -31,6 +49,10 @@ int main(int argc, char** argv) {
     try {
         for (const cli::command& command : commands)
             if (command.parser->parsed()) return command.run();
+        return cli::exit_input_error;
+    } catch (const plugin_failure& e) {
+        fmt::print(stderr, "rayverify: error: {}\n  the case, as a corpus line:\n  {}\n", e.what(),
+                   corpus_line_of(e.failing_case()));
         return cli::exit_input_error;
     } catch (const input_error& e) {
         fmt::print(stderr, "rayverify: error: {}\n", e.what());

@@ -20,6 +20,7 @@ struct recommend_options {
     std::string scene_file;
     std::string budget = "max-ulp=4,max-wrong=0";
     std::vector<std::string> variants, plugins;
+    plugin_isolation isolation;
     int repetitions = 9;
     double min_time = 0.01;
 };
@@ -75,7 +76,7 @@ int run(const recommend_options& options) {
     }
     if (options.variants.empty() && options.plugins.empty())
         variants.assign(builtin_variants().begin(), builtin_variants().end());
-    for (const std::string& path : options.plugins) variants.push_back(load_plugin(path));
+    for (const std::string& path : options.plugins) variants.push_back(load_plugin(path, options.isolation));
 
     const std::vector<scene_ray> rays = generate_rays(s);
     bench::timing_options timing;
@@ -110,6 +111,8 @@ command add_recommend_command(CLI::App& app) {
         ->capture_default_str();
     sub->add_option("--variant", options->variants, "Only these built-in variants (default: all)");
     sub->add_option("--plugin", options->plugins, "Also a plugin (rayverify_plugin.h), timed through its function");
+    // Isolated, a plugin's time includes the round trip to its process.
+    add_isolation_options(sub, options->isolation);
     sub->add_option("--repetitions", options->repetitions, "Timing repetitions per variant")->capture_default_str();
     sub->add_option("--min-time", options->min_time, "Seconds per repetition")->capture_default_str();
     return {sub, [options] { return run(*options); }};

@@ -20,6 +20,7 @@ struct render_options {
     std::string scene_file;
     std::string variant_name;
     std::vector<std::string> plugins;
+    plugin_isolation isolation;
     std::string out_dir;
 };
 
@@ -71,7 +72,7 @@ int run(const render_options& options) {
         throw input_error("", 0, "--variant", "name exactly one variant: --variant NAME or one --plugin LIBRARY");
     std::vector<std::string> names;
     if (!options.variant_name.empty()) names.push_back(options.variant_name);
-    const std::vector<audit_target> targets = scene_audit_targets(s, names, options.plugins);
+    const std::vector<audit_target> targets = scene_audit_targets(s, names, options.plugins, options.isolation);
     if (targets.size() != 1)
         throw input_error("", 0, "--variant", "name exactly one variant (built-in, or the one --plugin) to render");
     const audit_target& target = targets.front();
@@ -121,6 +122,7 @@ command add_render_command(CLI::App& app) {
     sub->add_option("--scene", options->scene_file, "Scene file (corpus/scenes/README.md)")->required();
     sub->add_option("--variant", options->variant_name, "The variant to render (its scene precision is the scene's)");
     sub->add_option("--plugin", options->plugins, "Shared library implementing rayverify_plugin.h, rendered instead");
+    add_isolation_options(sub, options->isolation);
     sub->add_option("-o,--output", options->out_dir, "Directory for the PNG images and legend.md")->required();
     return {sub, [options] { return run(*options); }};
 }

@@ -133,9 +133,10 @@ nlohmann::ordered_json scene_report_json(const scene& s, const scene_audit_resul
 // One target per chosen variant, in the scene's precision; a variant that
 // does not run in it is kept so the report can say why it is not applicable.
 std::vector<audit_target> scene_audit_targets(const scene& s, const std::vector<std::string>& variant_names,
-                                              const std::vector<std::string>& plugin_paths) {
+                                              const std::vector<std::string>& plugin_paths,
+                                              const plugin_isolation& isolation) {
     std::vector<audit_target> targets;
-    for (const audit_target& t : select_targets(variant_names, plugin_paths, {})) {
+    for (const audit_target& t : select_targets(variant_names, plugin_paths, {}, isolation)) {
         const bool seen = std::any_of(targets.begin(), targets.end(),
                                       [&](const audit_target& u) { return u.subject.name == t.subject.name; });
         if (!seen) targets.push_back({t.subject, s.prec});
@@ -147,7 +148,7 @@ int run_scene_audit(const scene_audit_request& request) {
     if (!request.precisions.empty())
         throw input_error("", 0, "--precision", "a scene fixes its precision (its \"precision\" field); drop --precision");
     const scene s = read_scene(request.scene_file);
-    const std::vector<audit_target> targets = scene_audit_targets(s, request.variants, request.plugins);
+    const std::vector<audit_target> targets = scene_audit_targets(s, request.variants, request.plugins, request.isolation);
 
     std::optional<atomic_file> report;
     if (!request.report_dir.empty()) {

@@ -13,7 +13,8 @@ std::vector<audit_target> select_targets(const std::vector<std::string>& variant
 
 std::vector<audit_target> select_targets(const std::vector<std::string>& variant_names,
                                          const std::vector<std::string>& plugin_paths,
-                                         const std::vector<std::string>& precisions) {
+                                         const std::vector<std::string>& precisions,
+                                         const plugin_isolation& isolation) {
     std::vector<variant> chosen;
     if (variant_names.empty() && plugin_paths.empty()) {
         const auto all = builtin_variants();
@@ -29,7 +30,7 @@ std::vector<audit_target> select_targets(const std::vector<std::string>& variant
         chosen.push_back(*v);
     }
     const std::size_t first_plugin = chosen.size();
-    for (const std::string& path : plugin_paths) chosen.push_back(load_plugin(path));
+    for (const std::string& path : plugin_paths) chosen.push_back(load_plugin(path, isolation));
     for (std::size_t i = first_plugin; i < chosen.size(); ++i)
         for (std::size_t j = 0; j < i; ++j)
             if (chosen[i].name == chosen[j].name)
@@ -44,6 +45,20 @@ std::vector<audit_target> select_targets(const std::vector<std::string>& variant
         if (wanted) targets.push_back(std::move(t));
     }
     return targets;
+}
+
+void add_isolation_options(CLI::App* sub, plugin_isolation& isolation) {
+    CLI::Option* isolate =
+        sub->add_flag("--isolate", isolation.child_process,
+                      "Run each plugin in a child process of its own: a plugin that crashes, exits or hangs stops "
+                      "the run with an error naming the case and giving it as a corpus line (exit 2), and no output "
+                      "is written");
+    sub->add_option("--plugin-timeout", isolation.timeout_seconds,
+                    "With --isolate: seconds a plugin may take over one call (or over loading) before it is killed "
+                    "and the case named")
+        ->check(CLI::Range(0.001, 86400.0))
+        ->needs(isolate)
+        ->capture_default_str();
 }
 
 }  // namespace rayverify::cli

@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "compare/query.h"
+#include "core/case_in_progress.h"
 
 namespace rayverify {
 
@@ -65,6 +66,7 @@ exact_solution solve_at(const corpus_case& c, precision p) {
 }  // namespace
 
 audited_case audit_case(const corpus_case& c, std::span<const audit_target> targets) {
+    const case_in_progress announced(c);  // named by a plugin that crashes or hangs on it
     audited_case result;
     result.source = &c;
     result.exact_double = solve_at(c, precision::binary64);

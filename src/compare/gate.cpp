@@ -28,6 +28,22 @@ constexpr std::string_view format_line = "rayverify-baseline 1";
 
 std::string variant_of(const std::string& target) { return target.substr(0, target.find('/')); }
 
+// Text of the file repeated in a message: bytes that are not printable ASCII
+// shown as \xNN, so that binary garbage gives a one-line message.
+std::string printable(std::string_view text) {
+    std::string out;
+    for (const char c : text) {
+        const auto byte = static_cast<unsigned char>(c);
+        if (byte < 0x20 || byte >= 0x7f)
+            out += fmt::format("\\x{:02X}", byte);
+        else
+            out += c;
+    }
+    return out;
+}
+
+std::string quoted(std::string_view token) { return "'" + printable(token) + "'"; }
+
 std::string number_text(double x) {
     if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
     return fmt::format("{}", x);  // shortest round trip
@@ -98,7 +114,9 @@ baseline parse_baseline(const std::string& file, std::string_view text) {
         std::string line(text.substr(0, end));
         text.remove_prefix(end == std::string_view::npos ? text.size() : end + 1);
         ++line_number;
-        if (!line.empty() && line.back() == '\r') line.pop_back();
+        // Every '\r' at the end, not just a CRLF's: a comment kept with one would
+        // be written back as a line that reads as another comment.
+        while (!line.empty() && line.back() == '\r') line.pop_back();
         const std::size_t first = line.find_first_not_of(" \t");
         if (first == std::string::npos) continue;
         if (line[first] == '#') {
@@ -123,11 +141,15 @@ baseline parse_baseline(const std::string& file, std::string_view text) {
             double value = 0;
             const auto [ptr, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
             if (ec != std::errc() || ptr != token.data() + token.size() || std::isnan(value) || value < 0)
-                throw error(field, fmt::format("'{}' is not a number ≥ 0 (decimal or inf)", token));
+                throw error(field, fmt::format("{} is not a number ≥ 0 (decimal or inf)", quoted(token)));
             return value;
         };
         if (!seen_format) {
-            if (line.substr(first) != format_line)
+            // Compared word by word: trailing blanks and a `#` comment are allowed as on any line.
+            if (words.size() == 2 && words[0] == "rayverify-baseline" && words[1] != "1")
+                throw error("format", fmt::format("baseline format version {}; this rayverify reads version 1",
+                                                  quoted(words[1])));
+            if (words != std::vector<std::string>{"rayverify-baseline", "1"})
                 throw error("format", fmt::format("the first entry must be '{}' (is this a rayverify gate baseline?)",
                                                   format_line));
             seen_format = true;
@@ -137,7 +159,8 @@ baseline parse_baseline(const std::string& file, std::string_view text) {
         if (words[0] == "policy") {
             if (words.size() != 4) throw error("policy", "expected 'policy SCOPE ulp_slack|count_slack VALUE'");
             if (words[2] != "ulp_slack" && words[2] != "count_slack")
-                throw error("policy", fmt::format("unknown policy key '{}' (ulp_slack or count_slack)", words[2]));
+                throw error("policy",
+                            fmt::format("unknown policy key {} (ulp_slack or count_slack)", quoted(words[2])));
             const double value = number(words[3], "value");
             if (words[2] == "ulp_slack" && !(value >= 1 && std::isfinite(value)))
                 throw error("value", "ulp_slack is a factor ≥ 1");
@@ -147,13 +170,13 @@ baseline parse_baseline(const std::string& file, std::string_view text) {
         if (words.size() != 4) throw error("entry", fmt::format("expected 'TARGET FAMILY FIGURE VALUE', got {} fields",
                                                                 words.size()));
         if (words[0].find('/') == std::string::npos)
-            throw error("target", fmt::format("'{}' is not a target like naive/float", words[0]));
+            throw error("target", fmt::format("{} is not a target like naive/float", quoted(words[0])));
         if (figure_index(words[2]) == figure_list.size())
-            throw error("figure", fmt::format("unknown figure '{}'", words[2]));
+            throw error("figure", fmt::format("unknown figure {}", quoted(words[2])));
         const double value = number(words[3], "value");
         figure_key key{words[0], words[1], words[2]};
         if (!b.figures.emplace(key, value).second)
-            throw error("entry", fmt::format("duplicate entry for {}", key.text()));
+            throw error("entry", fmt::format("duplicate entry for {}", printable(key.text())));
         if (!pending.empty()) b.comments[key] = std::exchange(pending, {});
     }
     if (!seen_format) throw input_error(file, 0, "format", fmt::format("empty baseline: no '{}' line", format_line));

@@ -8,6 +8,8 @@
 #include <limits>
 #include <type_traits>
 
+#include "core/case_in_progress.h"
+
 namespace rayverify {
 
 const char* hunt_objective_name(hunt_objective o) { return o == hunt_objective::ulp ? "ulp" : "misclass"; }
@@ -193,6 +195,7 @@ public:
         best_.reset();
         while (!exhausted()) {
             const std::uint64_t index = result_.starts++;
+            start_index_ = index;
             ray_sphere<double> current = rounded_in(target_.prec, start_(index));
             hunt_evaluation current_eval = judge(current);
             fitness current_fit = fitness_of(options_.objective, current_eval, current);
@@ -235,7 +238,19 @@ private:
 
     hunt_evaluation judge(const ray_sphere<double>& g) {
         ++result_.evaluations;
-        return target_.prec == precision::binary32 ? evaluate_in<float>(target_, g) : evaluate_in<double>(target_, g);
+        return announced_and_judged(g, "evaluation", result_.evaluations, start_index_);
+    }
+
+    // A plugin that crashes or hangs names the case it was given
+    // (core/case_in_progress.h): the evaluation, and the start case it came from.
+    hunt_evaluation announced_and_judged(const ray_sphere<double>& g, const char* stage, std::uint64_t n,
+                                         std::uint64_t start) const {
+        corpus_case c;
+        c.id = std::string("hunt-") + stage + "-" + std::to_string(n);
+        c.geometry = g;
+        c.source = "hunt, searching from start case " + std::to_string(start);
+        const case_in_progress announced(c);
+        return evaluate_for_hunt(target_, g);
     }
 
     void note(const ray_sphere<double>& g, const hunt_evaluation& e, const fitness& f, std::uint64_t index) {
@@ -291,8 +306,7 @@ private:
             if (budget == 0) return false;
             --budget;
             ++result_.shrink_evaluations;
-            const hunt_evaluation e = target_.prec == precision::binary32 ? evaluate_in<float>(target_, g)
-                                                                          : evaluate_in<double>(target_, g);
+            const hunt_evaluation e = announced_and_judged(g, "shrink", result_.shrink_evaluations, f.start_index);
             if (!same_failure(options_.objective, f.found_eval, e)) return false;
             if (significant_bits(g) > f.shrunk_bits) return false;
             f.shrunk = g;
@@ -357,6 +371,7 @@ private:
     std::chrono::steady_clock::time_point began_;
     hunt_result result_;
     std::optional<hunt_find> best_;
+    std::uint64_t start_index_ = 0;  // the start case the search is on
 };
 
 }  // namespace

@@ -1,129 +1,203 @@
 #include "plugin/plugin_loader.h"
 
-#include <dlfcn.h>
-#include <fmt/format.h>
+#include <signal.h>
+#include <unistd.h>
 
-#include <cmath>
-#include <deque>
+#include <atomic>
+#include <cerrno>
+#include <cstring>
+#include <iterator>
 #include <limits>
 #include <memory>
 #include <mutex>
+#include <string_view>
 
-#include "core/input_error.h"
-#include "plugin/rayverify_plugin.h"
+#include "core/case_in_progress.h"
+#include "plugin/plugin_host.h"
+#include "plugin/plugin_library.h"
 
 namespace rayverify {
 namespace {
 
-[[noreturn]] void fail(const std::filesystem::path& library, const std::string& problem) {
-    throw input_error(library.string(), 0, "--plugin", problem);
+using namespace plugin_internal;
+
+// ---- In process: a crash names the plugin and the case before rayverify dies ----
+
+constexpr int crash_signals[] = {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT};
+struct sigaction previous_actions[std::size(crash_signals)];
+
+// The name of the plugin being called on this thread, nullptr between calls.
+thread_local std::atomic<const std::string*> plugin_in_call{nullptr};
+
+void write_text(std::string_view text) {
+    while (!text.empty()) {
+        const ssize_t n = ::write(STDERR_FILENO, text.data(), text.size());
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) return;
+        text.remove_prefix(static_cast<std::size_t>(n));
+    }
 }
 
-// contract::tangent_rule is a string_view; a plugin's text is copied here so
-// that it outlives any unloading of the library.
-std::string_view interned(std::string text) {
-    static std::mutex mutex;
-    static std::deque<std::string> strings;
-    const std::lock_guard lock(mutex);
-    return strings.emplace_back(std::move(text));
+std::string_view signal_name(int signal) {
+    switch (signal) {
+        case SIGSEGV: return "SIGSEGV";
+        case SIGBUS: return "SIGBUS";
+        case SIGFPE: return "SIGFPE";
+        case SIGILL: return "SIGILL";
+        default: return "SIGABRT";
+    }
 }
 
-std::string text_or(const char* text, std::string fallback) { return text ? std::string(text) : fallback; }
-
-// The interval the contract is judged on, passed to the plugin as tmin/tmax.
-template <class T>
-T interval_start(const contract& promises) {
-    return promises.query == query_kind::line_roots ? -std::numeric_limits<T>::infinity() : T(0);
+// Only async-signal-safe calls: write(2) of text that exists already (the
+// plugin's name, the announced case's id and source), sigaction, raise.
+void crash_handler(int signal, siginfo_t*, void*) {
+    const int saved_errno = errno;
+    if (const std::string* name = plugin_in_call.load(std::memory_order_relaxed)) {
+        write_text("rayverify: plugin ");
+        write_text(*name);
+        write_text(" crashed (");
+        write_text(signal_name(signal));
+        if (const corpus_case* c = case_in_progress::current()) {
+            write_text(") on case ");
+            write_text(c->id);
+            write_text(" (");
+            write_text(c->source);
+            write_text(")");
+        } else {
+            write_text(") outside any audited case");
+        }
+        write_text("; rerun with --isolate\n");
+    }
+    // Back to what was there before (the default, or a sanitizer's handler),
+    // which takes the signal as soon as this handler returns.
+    for (std::size_t i = 0; i < std::size(crash_signals); ++i)
+        if (crash_signals[i] == signal) ::sigaction(signal, &previous_actions[i], nullptr);
+    ::raise(signal);
+    errno = saved_errno;
 }
 
-// For the kinds that take an interval: the plugin asked for (tmin, tmax).
+void install_crash_handler() {
+    static std::once_flag once;
+    std::call_once(once, [] {
+        // A stack of its own, so that a plugin that overflows its stack is reported too.
+        stack_t current{};
+        if (::sigaltstack(nullptr, &current) == 0 && (current.ss_flags & SS_DISABLE)) {
+            static char alternate[1 << 16];
+            stack_t ours{};
+            ours.ss_sp = alternate;
+            ours.ss_size = sizeof alternate;
+            ::sigaltstack(&ours, nullptr);
+        }
+        struct sigaction action {};
+        action.sa_sigaction = crash_handler;
+        action.sa_flags = SA_SIGINFO | SA_ONSTACK;
+        sigemptyset(&action.sa_mask);
+        for (std::size_t i = 0; i < std::size(crash_signals); ++i)
+            ::sigaction(crash_signals[i], &action, &previous_actions[i]);
+    });
+}
+
+struct in_process_plugin {
+    opened_library library;
+    std::string name;  // read by crash_handler
+};
+
+// Marks the call for crash_handler.
+class in_call {
+public:
+    explicit in_call(const std::string& name) : previous_(plugin_in_call.load(std::memory_order_relaxed)) {
+        plugin_in_call.store(&name, std::memory_order_relaxed);
+        std::atomic_signal_fence(std::memory_order_seq_cst);
+    }
+    ~in_call() {
+        std::atomic_signal_fence(std::memory_order_seq_cst);
+        plugin_in_call.store(previous_, std::memory_order_relaxed);
+    }
+    in_call(const in_call&) = delete;
+    in_call& operator=(const in_call&) = delete;
+
+private:
+    const std::string* previous_;
+};
+
 template <class T, class Fn>
-std::function<root_pair<T>(const ray_sphere<T>&, T, T)> wrap_in(Fn intersect, std::shared_ptr<void> handle) {
-    return [intersect, handle = std::move(handle)](const ray_sphere<T>& s, T tmin, T tmax) {
-        const T o[3] = {s.origin.x, s.origin.y, s.origin.z};
-        const T d[3] = {s.direction.x, s.direction.y, s.direction.z};
-        const T c[3] = {s.centre.x, s.centre.y, s.centre.z};
-        T roots[2] = {std::numeric_limits<T>::quiet_NaN(), std::numeric_limits<T>::quiet_NaN()};
-        const int count = intersect(o, d, c, s.radius, tmin, tmax, roots);
-        return root_pair<T>{count, roots[0], roots[1]};
-    };
+root_pair<T> call_in_process(const in_process_plugin& plugin, Fn intersect, const ray_sphere<T>& s, T tmin, T tmax) {
+    const T o[3] = {s.origin.x, s.origin.y, s.origin.z};
+    const T d[3] = {s.direction.x, s.direction.y, s.direction.z};
+    const T c[3] = {s.centre.x, s.centre.y, s.centre.z};
+    // NaN until written, so a plugin that reports a hit without writing its roots is judged non_finite.
+    T roots[2] = {std::numeric_limits<T>::quiet_NaN(), std::numeric_limits<T>::quiet_NaN()};
+    const in_call marked(plugin.name);
+    const int count = intersect(o, d, c, s.radius, tmin, tmax, roots);
+    return root_pair<T>{count, roots[0], roots[1]};
 }
 
-template <class T, class Fn>
-std::function<root_pair<T>(const ray_sphere<T>&)> wrap(Fn intersect, std::shared_ptr<void> handle,
-                                                       const contract& promises) {
-    const T tmin = interval_start<T>(promises);
-    return [intersect, handle = std::move(handle), tmin](const ray_sphere<T>& s) {
-        const T o[3] = {s.origin.x, s.origin.y, s.origin.z};
-        const T d[3] = {s.direction.x, s.direction.y, s.direction.z};
-        const T c[3] = {s.centre.x, s.centre.y, s.centre.z};
-        // NaN until written, so a plugin that reports a hit without writing its roots is judged non_finite.
-        T roots[2] = {std::numeric_limits<T>::quiet_NaN(), std::numeric_limits<T>::quiet_NaN()};
-        const int count = intersect(o, d, c, s.radius, tmin, std::numeric_limits<T>::infinity(), roots);
-        return root_pair<T>{count, roots[0], roots[1]};
+variant load_in_process(const std::filesystem::path& library) {
+    auto plugin = std::make_shared<in_process_plugin>();
+    try {
+        plugin->library = open_library(library);
+    } catch (const unusable_library& e) {
+        throw input_error(library.string(), 0, "--plugin", e.what());
+    }
+    plugin->name = plugin->library.description.name;
+    install_crash_handler();
+
+    variant v = described_variant(plugin->library.description);
+    const auto run_double = plugin->library.run_double;
+    const auto run_float = plugin->library.run_float;
+    const std::shared_ptr<const in_process_plugin> p = std::move(plugin);
+    // The plain functions pass the interval the contract is judged on.
+    const double tmin_d = interval_start<double>(v.promises.query);
+    const float tmin_f = interval_start<float>(v.promises.query);
+    constexpr double inf_d = std::numeric_limits<double>::infinity();
+    constexpr float inf_f = std::numeric_limits<float>::infinity();
+    v.run_double = [p, run_double, tmin_d](const ray_sphere<double>& s) {
+        return call_in_process(*p, run_double, s, tmin_d, inf_d);
     };
+    if (run_float)
+        v.run_float = [p, run_float, tmin_f](const ray_sphere<float>& s) {
+            return call_in_process(*p, run_float, s, tmin_f, inf_f);
+        };
+    if (takes_interval(v.promises.query)) {
+        v.run_double_in = [p, run_double](const ray_sphere<double>& s, double tmin, double tmax) {
+            return call_in_process(*p, run_double, s, tmin, tmax);
+        };
+        if (run_float)
+            v.run_float_in = [p, run_float](const ray_sphere<float>& s, float tmin, float tmax) {
+                return call_in_process(*p, run_float, s, tmin, tmax);
+            };
+    }
+    return v;
+}
+
+// ---- Isolated: the same functions, answered by the plugin's child process ----
+
+variant load_isolated(const std::filesystem::path& library, double timeout_seconds) {
+    const auto host = std::make_shared<plugin_host>(library, timeout_seconds);
+    variant v = described_variant(host->description());
+    const double tmin_d = interval_start<double>(v.promises.query);
+    const float tmin_f = interval_start<float>(v.promises.query);
+    constexpr double inf_d = std::numeric_limits<double>::infinity();
+    constexpr float inf_f = std::numeric_limits<float>::infinity();
+    v.run_double = [host, tmin_d](const ray_sphere<double>& s) { return host->call(s, tmin_d, inf_d, false); };
+    if (host->description().has_float)
+        v.run_float = [host, tmin_f](const ray_sphere<float>& s) { return host->call(s, tmin_f, inf_f, false); };
+    if (takes_interval(v.promises.query)) {
+        v.run_double_in = [host](const ray_sphere<double>& s, double tmin, double tmax) {
+            return host->call(s, tmin, tmax, true);
+        };
+        if (host->description().has_float)
+            v.run_float_in = [host](const ray_sphere<float>& s, float tmin, float tmax) {
+                return host->call(s, tmin, tmax, true);
+            };
+    }
+    return v;
 }
 
 }  // namespace
 
-variant load_plugin(const std::filesystem::path& library) {
-    std::error_code error;
-    if (!std::filesystem::is_regular_file(library, error)) fail(library, "no such file (expected a shared library)");
-    // An absolute path, so that dlopen never searches LD_LIBRARY_PATH for a bare name.
-    const std::filesystem::path absolute = std::filesystem::absolute(library, error);
-    dlerror();
-    void* raw = dlopen(absolute.c_str(), RTLD_NOW | RTLD_LOCAL);
-    if (!raw) fail(library, fmt::format("cannot load: {}", text_or(dlerror(), "dlopen failed")));
-    const std::shared_ptr<void> handle(raw, [](void* h) { dlclose(h); });
-
-    const auto symbol = [&](const char* name, bool required) -> void* {
-        dlerror();
-        void* address = dlsym(handle.get(), name);
-        if (!address && required)
-            fail(library, fmt::format("missing symbol {} (see rayverify_plugin.h; in C++ declare it extern \"C\")",
-                                      name));
-        return address;
-    };
-    const auto describe = reinterpret_cast<rayverify_describe_fn>(symbol("rayverify_plugin_describe", true));
-    const auto run_double =
-        reinterpret_cast<rayverify_intersect_double_fn>(symbol("rayverify_plugin_intersect_double", true));
-    const auto run_float =
-        reinterpret_cast<rayverify_intersect_float_fn>(symbol("rayverify_plugin_intersect_float", false));
-
-    const rayverify_plugin_info* info = describe();
-    if (!info) fail(library, "rayverify_plugin_describe() returned NULL");
-    if (info->abi_version != RAYVERIFY_PLUGIN_ABI_VERSION)
-        fail(library, fmt::format("plugin ABI version {}, this rayverify reads version {}; rebuild the plugin "
-                                  "against this rayverify_plugin.h",
-                                  info->abi_version, RAYVERIFY_PLUGIN_ABI_VERSION));
-    const std::string name = text_or(info->name, "");
-    if (name.empty()) fail(library, "the plugin's name is empty");
-    if (name.find_first_of(" \t\r\n/#") != std::string::npos)
-        fail(library, fmt::format("the plugin's name '{}' must be one token without '/' or '#'", name));
-    if (info->query < RAYVERIFY_LINE_ROOTS || info->query > RAYVERIFY_NEAREST_IN_INTERVAL)
-        fail(library, fmt::format("unknown query kind {} (RAYVERIFY_LINE_ROOTS, RAYVERIFY_NEAREST_ON_RAY, "
-                                  "RAYVERIFY_ANY_HIT_IN_INTERVAL or RAYVERIFY_NEAREST_IN_INTERVAL)",
-                                  info->query));
-
-    variant v;
-    v.name = name;
-    v.citation = text_or(info->citation, "plugin " + library.filename().string());
-    v.formula = text_or(info->formula, "(not stated)");
-    constexpr query_kind kinds[] = {query_kind::line_roots, query_kind::nearest_on_ray,
-                                    query_kind::any_hit_in_interval, query_kind::nearest_in_interval};
-    v.promises.query = kinds[info->query];
-    v.promises.assumes_unit_direction = info->assumes_unit_direction != 0;
-    v.promises.reports_tangent = info->reports_tangent != 0;
-    v.promises.clamps_to_zero = info->clamps_to_zero != 0;
-    v.promises.tangent_rule = interned(text_or(info->tangent_rule, v.promises.reports_tangent ? "(not stated)" : "never"));
-    v.run_double = wrap<double>(run_double, handle, v.promises);
-    if (run_float) v.run_float = wrap<float>(run_float, handle, v.promises);
-    if (takes_interval(v.promises.query)) {
-        v.run_double_in = wrap_in<double>(run_double, handle);
-        if (run_float) v.run_float_in = wrap_in<float>(run_float, handle);
-    }
-    v.thread_safe = false;  // rayverify_plugin.h: "Called from one thread"
-    return v;
+variant load_plugin(const std::filesystem::path& library, const plugin_isolation& isolation) {
+    return isolation.child_process ? load_isolated(library, isolation.timeout_seconds) : load_in_process(library);
 }
 
 }  // namespace rayverify

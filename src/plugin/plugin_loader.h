@@ -3,18 +3,55 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
 
+#include "core/input_error.h"
+#include "core/ray_sphere_case.h"
 #include "intersectors/registry.h"
 
 namespace rayverify {
 
+// Where a plugin runs. In this process (the default) a crash in it ends
+// rayverify, but a signal handler installed with the plugin first writes
+// which plugin crashed on which case. Isolated, the library is opened and called in
+// a child process of rayverify's own (fork, no exec; one per plugin, for all
+// its calls), over a socket; a crash, an exit or a call that takes longer
+// than the timeout makes the variant's run function throw plugin_failure.
+// The child is forked when the plugin is loaded: load it before starting
+// threads, as the CLI does.
+struct plugin_isolation {
+    bool child_process = false;
+    double timeout_seconds = 10;  // child_process: the longest wait for one answer, loading included
+};
+
 // dlopen the library and wrap its functions as a variant: run_double always,
 // run_float when the plugin exports rayverify_plugin_intersect_float. The
-// variant's functions keep the library loaded for as long as a copy of them
-// exists. Throws input_error naming the path (field "--plugin") when the file
-// is missing, is not a loadable library, lacks a required symbol, reports
-// another ABI version, or describes itself inconsistently (no name, a name
-// with whitespace, an unknown query kind).
-variant load_plugin(const std::filesystem::path& library);
+// variant's functions keep the library loaded (or its child process running)
+// for as long as a copy of them exists. Throws input_error naming the path
+// (field "--plugin") when the file is missing, is not a loadable library,
+// lacks a required symbol, reports another ABI version, or describes itself
+// inconsistently (no name, a name with whitespace, an unknown query kind);
+// isolated, also when the child process dies or hangs while loading it.
+variant load_plugin(const std::filesystem::path& library, const plugin_isolation& isolation = {});
+
+// An isolated plugin that was killed by a signal, exited, or gave no answer
+// within the timeout, on one call. Bad input, so an input_error naming the
+// library (exit 2), whose message says what happened and on which case: the
+// case announced on the calling thread (core/case_in_progress.h), else the
+// inputs the plugin was given. The case is kept whole so that the CLI can
+// print it as a corpus line. Once it has failed, the plugin's child process is
+// gone and every later call throws again.
+class plugin_failure : public input_error {
+public:
+    plugin_failure(const std::filesystem::path& library, const std::string& problem, corpus_case failing)
+        : input_error(library.string(), 0, "--plugin", problem), failing_(std::move(failing)) {}
+
+    // The announced case, or (id "plugin-failure", source "") the inputs as
+    // given to the plugin, widened to double, with their interval.
+    const corpus_case& failing_case() const { return failing_; }
+
+private:
+    corpus_case failing_;
+};
 
 }  // namespace rayverify

@@ -13,6 +13,9 @@
  * a count its contract does not allow, roots out of order or NaN roots are
  * verdicts (malformed_output, non_finite), not errors. A plugin that cannot be
  * loaded (missing file or symbol, another ABI version) is an input error.
+ * A plugin that crashes takes rayverify down, naming the case it was on; with
+ * --isolate it runs in a child process, and a crash, an exit() or a call
+ * longer than --plugin-timeout is an input error naming the case.
  *
  * ABI version 1. rayverify refuses a plugin whose describe() reports another
  * version; abi_version stays the first member of rayverify_plugin_info in

@@ -223,8 +223,13 @@ json timing_json(const std::vector<bench::timing_row>& rows, const bench::timing
                                "intersector template instantiated on its concrete function (no std::function), "
                                "each result passed to benchmark::DoNotOptimize"},
                       {"long_double", "x87 80-bit arithmetic on the double inputs, roots rounded to double"},
-                      {"exact_oracle", "solve_exact on the double inputs (class, signs, correctly rounded roots "
-                                       "and hit point)"}};
+                      {"exact_oracle", "solve_exact on the double inputs: the filtered oracle (class, signs, "
+                                       "correctly rounded roots and hit point; exact arithmetic only where the "
+                                       "double-double filter cannot decide)"},
+                      {"exact_reference", "solve_exact_reference on the double inputs: the same answers from exact "
+                                          "arithmetic alone, no filter"},
+                      {"plugins", "a --plugin is called through a function pointer per test (the built-in "
+                                  "variants are inlined)"}};
     out["reference"] = reference_label;
     json table = json::array();
     std::map<std::string, std::pair<double, std::size_t>> totals;  // label → (Σ ns·cases, Σ cases)

@@ -1,13 +1,15 @@
 #include "scene/scene.h"
 
 #include <algorithm>
+#include <array>
+#include <cerrno>
 #include <cmath>
 #include <fstream>
 #include <map>
 #include <numbers>
 #include <random>
 #include <set>
-#include <sstream>
+#include <system_error>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -21,17 +23,23 @@ namespace {
 
 using json = nlohmann::json;
 
+// A scene is a page of JSON; anything near this size is not one, and the
+// parsed tree takes several times the text's memory.
+constexpr std::uintmax_t max_scene_file_bytes = std::uintmax_t{16} << 20;
+
 // ---------------------------------------------------------------------------
 // Where each field is. nlohmann-json reports positions only for syntax
 // errors, so after it has accepted the text this walks the (now known valid)
 // JSON once and records the line on which each value starts, keyed by the
-// field path printed in messages ("spheres[2].radius").
+// field path printed in messages ("spheres[2].radius"). It also finds what
+// nlohmann-json accepts silently: a key given twice in one object (the last
+// one would win).
 class field_lines {
 public:
     explicit field_lines(const std::string& text) : text_(text) {
         for (std::size_t i = 0; i < text_.size(); ++i)
             if (text_[i] == '\n') newlines_.push_back(i);
-        std::size_t i = 0;
+        std::size_t i = text_.starts_with("\xEF\xBB\xBF") ? 3 : 0;  // nlohmann-json skips a byte order mark
         scan_value(i, "");
     }
 
@@ -45,6 +53,9 @@ public:
         }
     }
 
+    // The first key that repeats one before it in its object: its path and line.
+    const std::optional<std::pair<std::string, std::size_t>>& duplicate() const { return duplicate_; }
+
 private:
     std::size_t line_at(std::size_t byte) const {
         return static_cast<std::size_t>(std::upper_bound(newlines_.begin(), newlines_.end(), byte) -
@@ -55,13 +66,19 @@ private:
         while (i < text_.size() && std::isspace(static_cast<unsigned char>(text_[i]))) ++i;
     }
     std::string scan_string(std::size_t& i) const {  // at the opening quote
-        std::string s;
+        const std::size_t start = i;
+        bool escaped = false;
         for (++i; i < text_.size() && text_[i] != '"'; ++i) {
-            if (text_[i] == '\\') ++i;
-            if (i < text_.size()) s += text_[i];
+            if (text_[i] == '\\') {
+                escaped = true;
+                ++i;
+            }
         }
         ++i;
-        return s;
+        const std::string quoted = text_.substr(start, i - start);
+        // Escapes decoded as the parser decodes them ("radi\u0075s" is "radius").
+        if (escaped) return json::parse(quoted).get<std::string>();
+        return quoted.substr(1, quoted.size() - 2);
     }
     void scan_value(std::size_t& i, const std::string& path) {
         skip_space(i);
@@ -70,13 +87,16 @@ private:
         const char open = text_[i];
         if (open == '{' || open == '[') {
             ++i;
+            std::set<std::string> keys;
             for (std::size_t index = 0;; ++index) {
                 skip_space(i);
                 if (i >= text_.size() || text_[i] == '}' || text_[i] == ']') break;
                 std::string child;
                 if (open == '{') {
+                    const std::size_t line = line_at(i);
                     const std::string key = scan_string(i);
                     child = path.empty() ? key : path + "." + key;
+                    if (!keys.insert(key).second && !duplicate_) duplicate_.emplace(child, line);
                     skip_space(i);
                     ++i;  // ':'
                 } else {
@@ -99,7 +119,67 @@ private:
     const std::string& text_;
     std::vector<std::size_t> newlines_;
     std::map<std::string, std::size_t> lines_;
+    std::optional<std::pair<std::string, std::size_t>> duplicate_;
 };
+
+// nlohmann-json's own DOM builder, except that an error keeps the byte where
+// it happened: json::parse throws a number beyond the double range ("1e999")
+// as out_of_range, which carries no position.
+class located_dom_parser : public nlohmann::detail::json_sax_dom_parser<json> {
+public:
+    explicit located_dom_parser(json& result) : json_sax_dom_parser(result, false) {}
+
+    template <class Exception>
+    bool parse_error(std::size_t byte, const std::string& /*token*/, const Exception& e) {
+        std::string what = e.what();
+        // "[json.exception.parse_error.101] parse error at line 1, column 2: syntax error ...":
+        // the line is ours to print.
+        if (const auto at = what.find("syntax error"); at != std::string::npos) what = what.substr(at);
+        else if (const auto end = what.find("] "); end != std::string::npos) what = what.substr(end + 2);
+        error.emplace(byte, std::move(what));
+        return false;
+    }
+
+    std::optional<std::pair<std::size_t, std::string>> error;  // byte, message
+};
+
+// Messages quote what the file holds: control characters, and in a parse
+// error (where the bytes need not be UTF-8) every non-ASCII byte, are shown
+// as \xNN, so that a message is one line of text.
+std::string printable(const std::string& text, bool ascii_only) {
+    std::string out;
+    for (const char c : text) {
+        const auto byte = static_cast<unsigned char>(c);
+        if (byte < 0x20 || byte == 0x7f || (ascii_only && byte > 0x7f))
+            out += fmt::format("\\x{:02X}", byte);
+        else
+            out += c;
+    }
+    return out;
+}
+
+// The line of the first bracket nested deeper than `limit`, or 0. Checked
+// before parsing, since field_lines recurses once per level: a file of a
+// million '[' would overflow the stack. A scene nests four levels deep.
+std::size_t too_deep(const std::string& text, std::size_t limit) {
+    std::size_t depth = 0, line = 1;
+    bool in_string = false;
+    for (std::size_t i = 0; i < text.size(); ++i) {
+        const char c = text[i];
+        if (c == '\n') ++line;
+        if (in_string) {
+            if (c == '\\') ++i;
+            else if (c == '"') in_string = false;
+        } else if (c == '"') {
+            in_string = true;
+        } else if (c == '[' || c == '{') {
+            if (++depth > limit) return line;
+        } else if ((c == ']' || c == '}') && depth > 0) {
+            --depth;
+        }
+    }
+    return 0;
+}
 
 // Reads typed fields, throwing input_error(file, line, path, problem).
 class reader {
@@ -107,7 +187,7 @@ public:
     reader(std::string file, const field_lines& lines) : file_(std::move(file)), lines_(lines) {}
 
     [[noreturn]] void fail(const std::string& path, const std::string& problem) const {
-        throw input_error(file_, lines_.line_of(path), path, problem);
+        throw input_error(file_, lines_.line_of(path), printable(path, false), printable(problem, false));
     }
 
     static std::string child(const std::string& path, const std::string& key) {
@@ -116,8 +196,9 @@ public:
 
     // The object at `path`, with no key outside `allowed`.
     const json& object(const json& j, const std::string& path, std::initializer_list<const char*> allowed) const {
-        if (!j.is_object()) fail(path, "must be an object");
-        for (const auto& [key, value] : j.items()) {
+        if (!j.is_object()) fail(path, path.empty() ? "a scene is a JSON object {...}" : "must be an object");
+        for (const auto& item : j.items()) {
+            const std::string& key = item.key();  // not a structured binding: clang 14 cannot capture one
             const bool known = std::any_of(allowed.begin(), allowed.end(), [&](const char* a) { return key == a; });
             if (!known) {
                 std::string list;
@@ -226,7 +307,33 @@ vec3<double> cross(vec3<double> a, vec3<double> b) {
     return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
 
+bool is_zero(vec3<double> v) { return v.x == 0 && v.y == 0 && v.z == 0; }
+
+bool is_finite(vec3<double> v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+// v times the power of two that puts its largest component in [1, 2): exact,
+// and |v|² of the result neither overflows nor underflows. v finite, non-zero.
+vec3<double> scaled_to_unit(vec3<double> v) {
+    const int e = std::ilogb(std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)}));
+    return {std::scalbn(v.x, -e), std::scalbn(v.y, -e), std::scalbn(v.z, -e)};
+}
+
+// |v| and v/|v| take the plain formulas whenever |v|² is a normal double, so
+// every ordinary scene casts the same bits as ever; only where |v|² would
+// overflow (coordinates beyond 1e154) or underflow (below 1e-154) is v
+// scaled first, instead of giving inf, 0 or NaN. The zero vector has no
+// direction: normalised gives it back (a hit on a sphere of radius 0 has no
+// normal, so a spawned ray is neither offset along it nor reflected).
+double norm(vec3<double> v) {
+    const double n2 = length_squared(v);
+    if (std::isnormal(n2) || is_zero(v)) return std::sqrt(n2);
+    const int e = std::ilogb(std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)}));
+    return std::scalbn(std::sqrt(length_squared(scaled_to_unit(v))), e);
+}
+
 vec3<double> normalised(vec3<double> v) {
+    if (is_zero(v)) return v;
+    if (!std::isnormal(length_squared(v))) v = scaled_to_unit(v);
     const double n = std::sqrt(length_squared(v));
     return {v.x / n, v.y / n, v.z / n};
 }
@@ -254,6 +361,39 @@ vec3<double> cast_direction(const scene& s, vec3<double> d) {
     if (!s.normalise_directions) return in_precision(d, s.prec);
     return s.prec == precision::binary32 ? normalised_in<float>(d) : normalised_in<double>(d);
 }
+
+// The camera's frame: w points backwards, u right, v up; the image plane's
+// half extents. u is zero when up is parallel to the view direction.
+struct camera_frame {
+    vec3<double> u, v, w;
+    double half_width = 0, half_height = 0;
+};
+
+camera_frame frame_of(const scene_camera& cam) {
+    camera_frame f;
+    f.w = normalised(cam.position - cam.look_at);
+    vec3<double> side = cross(cam.up, f.w);
+    // Only up's direction matters: scaled (exactly) where up × w would overflow or underflow.
+    if ((!is_finite(side) || !std::isnormal(length_squared(side))) && !is_zero(cam.up))
+        side = cross(scaled_to_unit(cam.up), f.w);
+    f.u = normalised(side);
+    f.v = cross(f.w, f.u);
+    f.half_height = cam.kind == projection::perspective ? std::tan(cam.fov_degrees * std::numbers::pi / 360.0)
+                                                        : cam.view_height / 2;
+    f.half_width = f.half_height * cam.width / cam.height;
+    return f;
+}
+
+// How far from the origin a scene may reach: an eighth of its precision's
+// range, so that what the generator adds up (a hit point and its offset, a
+// light minus a spawned origin) stays finite.
+double scene_limit(precision p) {
+    return (p == precision::binary32 ? static_cast<double>(std::numeric_limits<float>::max())
+                                     : std::numeric_limits<double>::max()) /
+           8;
+}
+
+double reach_of(vec3<double> v) { return std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)}); }
 
 // Is the exact root i of `solution` inside the open interval (tmin, tmax)?
 bool root_inside(const exact_solution& solution, root_index i, double tmin, double tmax) {
@@ -306,7 +446,7 @@ spawn_point spawn_at(const scene& s, const exact_nearest& hit) {
 // to the scene's precision. Along the normal, the origin moves to the side the
 // ray leaves to (outside for a reflection, inside for a transmission).
 vec3<double> spawn_origin(const scene& s, const spawn_settings& rule, const spawn_point& p, vec3<double> d) {
-    const double offset = rule.absolute + rule.relative * std::sqrt(length_squared(p.point));
+    const double offset = rule.absolute + rule.relative * norm(p.point);
     vec3<double> o = p.point;
     if (rule.rule == offset_rule::along_normal) {
         const double side = dot(d, p.normal) < 0 ? -1.0 : 1.0;
@@ -342,18 +482,23 @@ std::string scene_ray::id() const {
 
 scene parse_scene(const std::string& text, const std::filesystem::path& file) {
     const std::string name = file.string();
+    if (text.find_first_not_of(" \t\r\n") == std::string::npos)
+        throw input_error(name, 0, "", "empty file: a scene is a JSON object (corpus/scenes/README.md)");
+    constexpr std::size_t max_depth = 64;
+    if (const std::size_t line = too_deep(text, max_depth))
+        throw input_error(name, line, "", fmt::format("not a scene: JSON nested more than {} levels deep", max_depth));
     json root;
-    try {
-        root = json::parse(text);
-    } catch (const json::parse_error& e) {
-        const std::size_t byte = e.byte == 0 ? 0 : std::min<std::size_t>(e.byte - 1, text.size());
+    located_dom_parser parser(root);
+    if (!json::sax_parse(text, &parser) || parser.error) {
+        const auto& [at, what] = parser.error.value_or(std::pair<std::size_t, std::string>{0, "unknown error"});
+        const std::size_t byte = at == 0 ? 0 : std::min<std::size_t>(at - 1, text.size());
         const std::size_t line = 1 + static_cast<std::size_t>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(byte), '\n'));
-        std::string what = e.what();
-        if (auto at = what.find("syntax error"); at != std::string::npos) what = what.substr(at);
-        throw input_error(name, line, "", "not valid JSON: " + what);
+        throw input_error(name, line, "", "not valid JSON: " + printable(what, true));
     }
     const field_lines lines(text);
     const reader in(name, lines);
+    if (const auto& twice = lines.duplicate())
+        throw input_error(name, twice->second, printable(twice->first, false), "given twice in one object");
 
     scene s;
     s.file = file;
@@ -365,6 +510,18 @@ scene parse_scene(const std::string& text, const std::filesystem::path& file) {
                                   {{"float", precision::binary32}, {"double", precision::binary64}});
     if (const json* v = in.optional(root, "normalise_directions"))
         s.normalise_directions = in.boolean(*v, "normalise_directions");
+    // Every point the generator computes (origins, hit points, lights) must be
+    // finite in the scene's precision: refused at the field that reaches too far.
+    const double limit = scene_limit(s.prec);
+    const auto within_limit = [&](double reach, const std::string& path, const std::string& what) {
+        if (!(reach <= limit))
+            in.fail(path, fmt::format("{} reaches {:g} from the origin; a {} scene must lie within ±{:g} (an eighth "
+                                      "of its range), so that every ray it casts stays finite",
+                                      what, reach, s.prec == precision::binary32 ? "float" : "double", limit));
+    };
+    const auto finite_in_precision = [&](double value, const std::string& path) {
+        if (!std::isfinite(in_precision(value, s.prec))) in.fail(path, "overflows the scene's precision");
+    };
 
     // Spheres.
     const json& spheres = in.required(root, "", "spheres");
@@ -385,6 +542,7 @@ scene parse_scene(const std::string& text, const std::filesystem::path& file) {
         if (!std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z))
             in.fail(p + ".centre", "overflows the scene's precision");
         if (!std::isfinite(in_precision(sphere.radius, s.prec))) in.fail(p + ".radius", "overflows the scene's precision");
+        within_limit(reach_of(sphere.centre) + sphere.radius, p, "the sphere (|centre| + radius)");
         s.spheres.push_back(sphere);
     }
 
@@ -398,9 +556,7 @@ scene parse_scene(const std::string& text, const std::filesystem::path& file) {
     cam.position = in.vector(in.required(camera, "camera", "position"), "camera.position");
     cam.look_at = in.vector(in.required(camera, "camera", "look_at"), "camera.look_at");
     if (const json* v = in.optional(camera, "up")) cam.up = in.vector(*v, "camera.up");
-    if (length_squared(cam.look_at - cam.position) == 0) in.fail("camera.look_at", "must differ from camera.position");
-    if (length_squared(cross(cam.up, cam.position - cam.look_at)) == 0)
-        in.fail("camera.up", "must not be parallel to the view direction");
+    if (cam.look_at == cam.position) in.fail("camera.look_at", "must differ from camera.position");
     if (cam.kind == projection::perspective) {
         if (camera.contains("view_height")) in.fail("camera.view_height", "applies to an orthographic camera only");
         const double fov = in.number(in.required(camera, "camera", "fov_degrees"), "camera.fov_degrees");
@@ -417,17 +573,35 @@ scene parse_scene(const std::string& text, const std::filesystem::path& file) {
         in.fail("camera.resolution", "must be [width, height] in pixels");
     cam.width = static_cast<int>(in.integer(resolution[0], "camera.resolution[0]", 1, 4096));
     cam.height = static_cast<int>(in.integer(resolution[1], "camera.resolution[1]", 1, 4096));
+    within_limit(reach_of(cam.position), "camera.position", "the camera");
+    within_limit(reach_of(cam.look_at), "camera.look_at", "the point looked at");
+    if (is_zero(frame_of(cam).u)) in.fail("camera.up", "must not be parallel to the view direction");
+    // Every other pixel's ray lies between the corners'.
+    for (const int x : {0, cam.width - 1})
+        for (const int y : {0, cam.height - 1}) {
+            const scene_ray corner = primary_ray(s, x, y);
+            const char* field = cam.kind == projection::orthographic ? "camera.view_height" : "camera";
+            within_limit(reach_of(corner.origin), field, fmt::format("the ray of pixel ({}, {}) starts at a point that", x, y));
+            if (!is_finite(corner.direction))
+                in.fail("camera", fmt::format("the ray of pixel ({}, {}) has a non-finite direction", x, y));
+        }
 
     // Lights.
     if (const json* lights = in.optional(root, "lights")) {
         if (!lights->is_array()) in.fail("lights", "must be an array of lights");
+        std::set<std::string> light_names;
         for (std::size_t i = 0; i < lights->size(); ++i) {
             const std::string p = fmt::format("lights[{}]", i);
             in.object((*lights)[i], p, {"name", "position"});
             scene_light light;
             light.name = fmt::format("light{}", i);
             if (const json* v = in.optional((*lights)[i], "name")) light.name = in.string(*v, p + ".name");
+            if (light.name.empty() || light.name.find_first_of(" \t/") != std::string::npos)
+                in.fail(p + ".name", "must be a non-empty name without spaces or '/'");
+            if (!light_names.insert(light.name).second)
+                in.fail(p + ".name", "names another light too: \"" + light.name + "\"");
             light.position = in.vector(in.required((*lights)[i], p, "position"), p + ".position");
+            within_limit(reach_of(light.position), p + ".position", "the light");
             s.lights.push_back(light);
         }
     }
@@ -462,6 +636,20 @@ scene parse_scene(const std::string& text, const std::filesystem::path& file) {
         }
     }
 
+    // Spawned origins: a hit point (within its sphere's reach) moved by the offset.
+    double sphere_reach = 0;
+    for (const scene_sphere& sphere : s.spheres)
+        sphere_reach = std::max(sphere_reach, reach_of(sphere.centre) + sphere.radius);
+    finite_in_precision(s.primary_tmin, "rays.primary.tmin");
+    const auto check_spawn = [&](const ray_kind_settings& kind, const spawn_settings& spawn, const std::string& path) {
+        if (!kind.enabled) return;
+        within_limit(sphere_reach + spawn.absolute + spawn.relative * 2 * sphere_reach, path + ".offset",
+                     "an origin spawned on a sphere and offset");
+        finite_in_precision(spawn.tmin, path + ".tmin");
+    };
+    check_spawn(s.shadow, s.shadow_spawn, "rays.shadow");
+    check_spawn(s.secondary, s.secondary_spawn, "rays.secondary");
+
     // Pixels.
     if (const json* pixels = in.optional(root, "pixels")) {
         if (pixels->is_string()) {
@@ -480,11 +668,36 @@ scene parse_scene(const std::string& text, const std::filesystem::path& file) {
 }
 
 scene read_scene(const std::filesystem::path& file) {
+    namespace fs = std::filesystem;
+    const std::string name = file.string();
+    // Checked before opening: an ifstream opens a directory and reads it as
+    // empty, which would be reported as broken JSON.
+    std::error_code ec;
+    const fs::file_status status = fs::status(file, ec);
+    if (status.type() == fs::file_type::not_found) throw input_error(name, 0, "", "no such file");
+    if (ec) throw input_error(name, 0, "", ec.message());
+    if (fs::is_directory(status)) throw input_error(name, 0, "", "is a directory, expected a scene file");
+    if (!fs::is_regular_file(status)) throw input_error(name, 0, "", "is not a regular file");
+    const auto too_large = [&](std::uintmax_t size) {
+        return input_error(name, 0, "",
+                           fmt::format("is {} bytes, over the {} MiB limit for a scene file", size,
+                                       max_scene_file_bytes >> 20));
+    };
+    const std::uintmax_t size = fs::file_size(file, ec);
+    if (!ec && size > max_scene_file_bytes) throw too_large(size);
+
     std::ifstream in(file, std::ios::binary);
-    if (!in) throw input_error(file.string(), 0, "", "cannot open the scene file");
-    std::stringstream text;
-    text << in.rdbuf();
-    return parse_scene(text.str(), file);
+    if (!in) throw input_error(name, 0, "", fmt::format("cannot open: {}", std::generic_category().message(errno)));
+    std::string text;
+    std::array<char, 1 << 16> chunk{};
+    // Capped while reading too: a file may grow meanwhile.
+    while (in.read(chunk.data(), chunk.size()) || in.gcount() > 0) {
+        const auto n = static_cast<std::size_t>(in.gcount());
+        if (text.size() + n > max_scene_file_bytes) throw too_large(text.size() + n);
+        text.append(chunk.data(), n);
+    }
+    if (in.bad()) throw input_error(name, 0, "", "cannot read");
+    return parse_scene(text, file);
 }
 
 std::vector<std::pair<int, int>> sampled_pixels(const scene& s) {
@@ -513,14 +726,7 @@ std::vector<std::pair<int, int>> sampled_pixels(const scene& s) {
 
 scene_ray primary_ray(const scene& s, int x, int y) {
     const scene_camera& cam = s.camera;
-    // Camera frame: w points backwards, u right, v up.
-    const vec3<double> w = normalised(cam.position - cam.look_at);
-    const vec3<double> u = normalised(cross(cam.up, w));
-    const vec3<double> v = cross(w, u);
-    const double half_height = cam.kind == projection::perspective
-                                   ? std::tan(cam.fov_degrees * std::numbers::pi / 360.0)
-                                   : cam.view_height / 2;
-    const double half_width = half_height * cam.width / cam.height;
+    const auto [u, v, w, half_width, half_height] = frame_of(cam);
     // Pixel centre on the image plane, in [−1, 1] times the half extents.
     const double sx = ((x + 0.5) / cam.width * 2 - 1) * half_width;
     const double sy = (1 - (y + 0.5) / cam.height * 2) * half_height;
@@ -567,7 +773,7 @@ std::vector<scene_ray> generate_rays(const scene& s) {
                 const vec3<double> to_light = light - r.origin;
                 r.direction = cast_direction(s, to_light);
                 // Unnormalised: the light is at t = 1; normalised: at its distance.
-                r.tmax = s.normalise_directions ? in_precision(std::sqrt(length_squared(to_light)), s.prec) : 1.0;
+                r.tmax = s.normalise_directions ? in_precision(norm(to_light), s.prec) : 1.0;
                 r.tmin = in_precision(s.shadow_spawn.tmin, s.prec);
                 if (!(r.tmin < r.tmax)) continue;  // the light sits on the spawn point
                 rays.push_back(std::move(r));

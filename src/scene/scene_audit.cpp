@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "compare/verdict.h"
+#include "core/case_in_progress.h"
 
 namespace rayverify {
 namespace {
@@ -19,6 +20,7 @@ bool root_inside(const exact_solution& e, root_index i, double tmin, double tmax
 // The variant's answer to query q on one (ray, sphere) pair, as a renderer
 // takes it (compare/query.h): its roots filtered into the ray's interval.
 query_answer answer_in(const audit_target& target, const corpus_case& c, ray_query q) {
+    const case_in_progress announced(c);  // named by a plugin that crashes or hangs on it
     const ray_interval<double> interval = interval_of(c, target.prec);
     if (target.prec == precision::binary32)
         return answer_query<float>(target.subject, rounded_to<float>(c.geometry),

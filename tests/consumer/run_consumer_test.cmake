@@ -37,6 +37,13 @@ run("build consumer" ${CMAKE_COMMAND} --build ${WORK_DIR}/build)
 run("run consumer" ${WORK_DIR}/build/consumer_test)
 message(STATUS "${last_output}")
 
+# The installed CLI reads the installed corpus when given none, not the
+# source tree it was built from.
+run("installed default corpus" ${prefix}/bin/rayverify corpus regen --check)
+if(NOT last_output MATCHES "${prefix}/share/rayverify/corpus/MANIFEST")
+  message(FATAL_ERROR "installed rayverify did not default to its installed corpus:\n${last_output}")
+endif()
+
 # The example plugin on its own, against the installed rayverify::plugin_api,
 # audited by the installed CLI.
 run("configure example plugin" ${CMAKE_COMMAND} -S ${CONSUMER_SOURCE_DIR}/../../examples/plugin_rtg

@@ -15,6 +15,7 @@
 
 #include "compare/gate.h"
 #include "core/input_error.h"
+#include "refusal_check.h"
 
 namespace rayverify::fuzz {
 
@@ -60,11 +61,7 @@ inline std::optional<std::string> check_baseline_reader_input(const std::uint8_t
     try {
         b = parse_baseline(file, text);
     } catch (const input_error& e) {
-        const auto lines = static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n')) + 1;
-        if (e.file() != file) return "error names file '" + e.file() + "': " + e.what();
-        if (e.line() > lines) return "error names a line past the end: " + std::string(e.what());
-        if (!std::string_view(e.what()).starts_with(file)) return "message does not start with the file";
-        return std::nullopt;
+        return check_refusal(e, text, file);
     } catch (const std::exception& e) {
         return "threw something other than input_error: " + std::string(e.what());
     }

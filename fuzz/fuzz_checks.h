@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "core/input_error.h"
+#include "refusal_check.h"
 #include "core/ray_sphere_case.h"
 #include "corpus/corpus_io.h"
 #include "oracle/mpfr_reference.h"
@@ -52,11 +53,7 @@ inline violation check_corpus_reader_input(const std::uint8_t* data, std::size_t
     try {
         cases = parse_corpus(file, contents, csv);
     } catch (const input_error& e) {
-        const auto lines = static_cast<std::size_t>(std::count(contents.begin(), contents.end(), '\n')) + 1;
-        if (e.file() != file) return "error names file '" + e.file() + "': " + e.what();
-        if (e.line() > lines) return "error names a line past the end: " + std::string(e.what());
-        if (!std::string_view(e.what()).starts_with(file)) return "message does not start with the file";
-        return std::nullopt;
+        return check_refusal(e, contents, file);
     }
     std::unordered_set<std::string> ids;
     for (const corpus_case& c : cases) {

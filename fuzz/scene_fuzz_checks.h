@@ -14,6 +14,7 @@
 #include <unordered_set>
 
 #include "core/input_error.h"
+#include "refusal_check.h"
 #include "core/ray_sphere_case.h"
 #include "scene/scene.h"
 
@@ -41,11 +42,7 @@ inline std::optional<std::string> check_scene_reader_input(const std::uint8_t* d
     try {
         s = parse_scene(text, file);
     } catch (const input_error& e) {
-        const auto lines = static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n')) + 1;
-        if (e.file() != file) return "error names file '" + e.file() + "': " + e.what();
-        if (e.line() > lines) return "error names a line past the end: " + std::string(e.what());
-        if (!std::string_view(e.what()).starts_with(file)) return "message does not start with the file";
-        return std::nullopt;
+        return check_refusal(e, text, file);
     } catch (const std::exception& e) {
         return "threw something other than input_error: " + std::string(e.what());
     }

@@ -28,6 +28,9 @@ struct gate_options {
 };
 
 std::string read_text_file(const std::filesystem::path& path, const std::string& field) {
+    std::error_code error;
+    if (std::filesystem::is_directory(path, error))
+        throw input_error(path.string(), 0, field, "is a directory, not a baseline file");
     std::ifstream in(path, std::ios::binary);
     if (!in) throw input_error(path.string(), 0, field, "cannot open for reading");
     std::ostringstream text;

@@ -150,12 +150,15 @@ int run_scene_audit(const scene_audit_request& request) {
     const scene s = read_scene(request.scene_file);
     const std::vector<audit_target> targets = scene_audit_targets(s, request.variants, request.plugins, request.isolation);
 
+    audit_outputs::created_directory created;  // removed again if the audit fails
     std::optional<atomic_file> report;
     if (!request.report_dir.empty()) {
         std::error_code error;
+        const bool existed = std::filesystem::exists(request.report_dir, error);
         std::filesystem::create_directories(request.report_dir, error);
         if (error)
             throw input_error(request.report_dir, 0, "--report", "cannot create directory: " + error.message());
+        if (!existed) created.path = request.report_dir;
         report.emplace(std::filesystem::path(request.report_dir) / "scene_report.json");
     }
 
@@ -175,6 +178,7 @@ int run_scene_audit(const scene_audit_request& request) {
     if (report) {
         report->stream() << scene_report_json(s, result, recorded_command(request.command_line)).dump(2) << '\n';
         report->commit();
+        created.keep = true;
         fmt::print("report: {}\n", (std::filesystem::path(request.report_dir) / "scene_report.json").string());
     }
     bool findings = false;

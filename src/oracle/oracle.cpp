@@ -696,8 +696,14 @@ struct filtered_case {
 
 // Flattened into one function and cloned for FMA hardware (std::fma inlines
 // to one instruction there; elsewhere it is a library call). Both clones
-// compute the same bits: every operation is correctly rounded.
-[[gnu::flatten]] __attribute__((target_clones("fma", "default"))) filtered_case
+// compute the same bits: every operation is correctly rounded. clang (the
+// fuzz build) rejects flatten beside target_clones, so it only clones.
+#if defined(__clang__)
+#define RAYVERIFY_FILTER_ATTRIBUTES __attribute__((target_clones("fma", "default")))
+#else
+#define RAYVERIFY_FILTER_ATTRIBUTES [[gnu::flatten]] __attribute__((target_clones("fma", "default")))
+#endif
+RAYVERIFY_FILTER_ATTRIBUTES filtered_case
 filter_case(const ray_sphere<double>& g, precision prec) {
     filtered_case out;
     const filtered_quadratic q = filter_quadratic(g);

@@ -99,7 +99,9 @@ TYPED_TEST(Specialised, UnitDirectionFormsMatchTheGeneralForm) {
         const root_pair<T> n = intersectors::hearn_baker_unit_nearest(s);
         const root_pair<T> m = intersectors::hearn_baker_nearest(s);
         EXPECT_EQ(n.count, m.count);
-        if (m.count) EXPECT_EQ(n.t0, m.t0);
+        if (m.count) {
+            EXPECT_EQ(n.t0, m.t0);
+        }
     }
 }
 

@@ -44,7 +44,9 @@ TEST(ErrorSummary, QuantilesAreUpperBoundsWithinTheStatedResolution) {
             const double exact = exact_nearest_rank(values, q), bound = s.quantile(q);
             EXPECT_GE(bound, exact) << "round " << round << " q " << q;
             EXPECT_LE(bound, exact * (1 + std::ldexp(1.0, -error_summary::resolution_bits))) << "round " << round;
-            if (exact == 0) EXPECT_EQ(bound, 0);
+            if (exact == 0) {
+                EXPECT_EQ(bound, 0);
+            }
         }
         EXPECT_EQ(s.max, *std::max_element(values.begin(), values.end()));
         EXPECT_EQ(s.quantile(1.0), s.max);

@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <atomic>
+#include <barrier>
 #include <bit>
 #include <cmath>
+#include <exception>
 #include <iterator>
 #include <thread>
 
@@ -274,35 +276,70 @@ audit_accumulator audit_stream(const case_source& next, const std::vector<audit_
     std::vector<corpus_case> cases;
     std::vector<std::size_t> indices;
     std::vector<audited_case> audited;
+    // Workers take small runs of the chunk's cases from a shared counter:
+    // which worker audits a case changes nothing, since accumulators merge
+    // exactly. Without an ordered hook each worker keeps its own audited case,
+    // so its buffers are allocated and freed by one thread (freeing another
+    // thread's allocations contends on malloc's arenas).
+    constexpr std::size_t grain = 8;
+    std::atomic<std::size_t> claimed{0};
+    const auto work = [&](unsigned worker) {
+        audited_case own;
+        for (std::size_t begin; (begin = claimed.fetch_add(grain)) < cases.size();)
+            for (std::size_t i = begin; i < std::min(begin + grain, cases.size()); ++i) {
+                audited_case& c = hooks.ordered ? audited[i] : own;
+                c = audit_case(cases[i], targets);
+                accumulators[worker].add(c, indices[i]);
+                if (hooks.parallel) hooks.parallel(c, indices[i], i, worker);
+            }
+    };
+
+    // The helper threads live for the whole stream and meet the calling
+    // thread at a barrier before and after each chunk; the calling thread
+    // reads the next chunk and runs the ordered hook between chunks. Only
+    // plugins may throw (they force one thread, so no helper waits then).
+    std::barrier chunk_sync(static_cast<std::ptrdiff_t>(threads));
+    bool finished = false;
+    std::vector<std::jthread> helpers;
+    for (unsigned w = 1; w < threads; ++w)
+        helpers.emplace_back([&, w] {
+            for (;;) {
+                chunk_sync.arrive_and_wait();  // a chunk is ready, or the stream ended
+                if (finished) return;
+                work(w);
+                chunk_sync.arrive_and_wait();  // the chunk is done
+            }
+        });
     std::size_t done = 0;
-    while (true) {
-        cases.clear();
-        indices.clear();
-        if (!next(cases, indices)) break;
-        if (cases.empty()) continue;
-        audited.resize(cases.size());
-        // Workers take small runs of cases from a shared counter: which worker
-        // audits a case changes nothing, since accumulators merge exactly.
-        constexpr std::size_t grain = 8;
-        std::atomic<std::size_t> claimed{0};
-        const auto work = [&](unsigned worker) {
-            for (std::size_t begin; (begin = claimed.fetch_add(grain)) < cases.size();)
-                for (std::size_t i = begin; i < std::min(begin + grain, cases.size()); ++i) {
-                    audited[i] = audit_case(cases[i], targets);
-                    accumulators[worker].add(audited[i], indices[i]);
-                    if (hooks.parallel) hooks.parallel(audited[i], indices[i], i, worker);
-                }
-        };
-        {
-            std::vector<std::jthread> helpers;
-            for (unsigned w = 1; w < threads && w * grain < cases.size(); ++w) helpers.emplace_back(work, w);
-            work(0);
-        }  // joined
-        if (hooks.ordered)
-            for (std::size_t i = 0; i < cases.size(); ++i) hooks.ordered(audited[i], indices[i], i);
-        done += cases.size();
-        if (hooks.progress) hooks.progress(done);
+    std::exception_ptr failure;
+    try {
+        while (true) {
+            cases.clear();
+            indices.clear();
+            if (!next(cases, indices)) break;
+            if (cases.empty()) continue;
+            audited.resize(hooks.ordered ? cases.size() : 0);
+            claimed = 0;
+            if (threads > 1) chunk_sync.arrive_and_wait();
+            try {
+                work(0);
+            } catch (...) {
+                failure = std::current_exception();
+            }
+            if (threads > 1) chunk_sync.arrive_and_wait();  // even after a failure: the helpers finish the chunk
+            if (failure) break;
+            if (hooks.ordered)
+                for (std::size_t i = 0; i < cases.size(); ++i) hooks.ordered(audited[i], indices[i], i);
+            done += cases.size();
+            if (hooks.progress) hooks.progress(done);
+        }
+    } catch (...) {  // from next() or a hook, between chunks: the helpers wait for a chunk
+        failure = std::current_exception();
     }
+    finished = true;
+    if (threads > 1) chunk_sync.arrive_and_wait();
+    helpers.clear();  // joined
+    if (failure) std::rethrow_exception(failure);
     for (unsigned w = 1; w < threads; ++w) accumulators[0].merge(accumulators[w]);
     return std::move(accumulators[0]);
 }

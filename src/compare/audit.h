@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include <boost/container/flat_map.hpp>
+
 #include "compare/verdict.h"
 #include "core/ray_sphere_case.h"
 #include "intersectors/registry.h"
@@ -73,7 +75,10 @@ struct error_summary {
     double max = 0;
     std::size_t max_index = 0;  // global index of the case attaining max
     std::string max_id;
-    std::map<std::uint64_t, std::size_t> buckets;  // bucket key → number of errors in it
+    // bucket key → number of errors in it, sorted by key. A flat map: add()
+    // runs for every error of every target, and a binary search over a few
+    // hundred contiguous keys beats a node-based tree's pointer chasing.
+    boost::container::flat_map<std::uint64_t, std::size_t> buckets;
 
     void add(double error, std::size_t index, const std::string& id);
     void merge(const error_summary& other);

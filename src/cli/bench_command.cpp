@@ -143,9 +143,9 @@ int run(const bench_options& options, const std::string& command_line) {
     const std::vector<bench::timing_row> rows = bench::time_variants(by_family, timing, progress);
     const json timing_section = timing_json(rows, timing, reference_label);
 
-    fmt::print("{:<18} {:<12} {:>12} {:>10}\n", "variant", "precision", "ns/test", "ratio");
+    fmt::print("{:<26} {:<12} {:>12} {:>10}\n", "variant", "precision", "ns/test", "ratio");
     for (const json& r : timing_section["overall"])
-        fmt::print("{:<18} {:<12} {:>12.2f} {:>10}\n", r["variant"].get<std::string>(),
+        fmt::print("{:<26} {:<12} {:>12.2f} {:>10}\n", r["variant"].get<std::string>(),
                    r["precision"].get<std::string>(), r["ns_per_test"].get<double>(),
                    r["ratio_to_reference"].is_null() ? std::string("-")
                                                      : fmt::format("{:.2f}", r["ratio_to_reference"].get<double>()));

@@ -28,15 +28,16 @@ VARIANT_COLOURS = {
 EXTRA_COLOURS = ["#bcbd22", "#7f7f7f", "#393b79", "#637939", "#8c6d31", "#843c39", "#7b4173", "#3182bd"]
 
 
+EXTRA_ASSIGNED = {}  # variant → colour from EXTRA_COLOURS, in order of first use
+
+
 def colour(variant):
-    if variant not in VARIANT_COLOURS:
-        extra = [v for v in VARIANT_COLOURS if v not in COLOURED_AT_START]
-        VARIANT_COLOURS[variant] = EXTRA_COLOURS[len(extra) % len(EXTRA_COLOURS)]
-    return VARIANT_COLOURS[variant]
+    if variant in VARIANT_COLOURS:
+        return VARIANT_COLOURS[variant]
+    return EXTRA_ASSIGNED.setdefault(variant, EXTRA_COLOURS[len(EXTRA_ASSIGNED) % len(EXTRA_COLOURS)])
 PRECISION_MARKERS = {"float": "o", "double": "s", "long double": "D", "exact": "*"}
 MISCLASS = ("false_miss", "false_hit", "tangent_split", "tangent_missed", "false_tangent")
 FLOOR = 1e-3  # where zero errors are drawn on log axes
-COLOURED_AT_START = frozenset(VARIANT_COLOURS)
 
 
 def save(fig, directory, name):

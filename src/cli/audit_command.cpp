@@ -189,6 +189,14 @@ std::string recorded_command(const std::string& command_line) {
     return out;
 }
 
+void audit_outputs::created_directory::create(const std::filesystem::path& dir) {
+    std::error_code error;
+    const bool existed = std::filesystem::exists(dir, error);
+    std::filesystem::create_directories(dir, error);
+    if (error) throw input_error(dir.string(), 0, "--report", "cannot create directory: " + error.message());
+    if (!existed) path = dir;
+}
+
 audit_outputs::created_directory::~created_directory() {
     if (path.empty() || keep) return;
     std::error_code ignored;
@@ -200,11 +208,7 @@ void audit_outputs::open_report(const std::filesystem::path& report_dir) {
     dir = report_dir;
     refuse_directory(report_dir / "report.json", "--report");
     refuse_directory(report_dir / "summary.txt", "--report");
-    std::error_code error;
-    const bool existed = std::filesystem::exists(report_dir, error);
-    std::filesystem::create_directories(report_dir, error);
-    if (error) throw input_error(report_dir.string(), 0, "--report", "cannot create directory: " + error.message());
-    if (!existed) created.path = report_dir;
+    created.create(report_dir);
     report_json.emplace(report_dir / "report.json");
     summary.emplace(report_dir / "summary.txt");
 }
@@ -221,8 +225,7 @@ int publish_audit(const audit_totals& totals, const std::optional<nlohmann::orde
     outputs.created.keep = true;
 
     fmt::print("{}", table);
-    fmt::print("build: {} {} [{}]\n", build_json()["compiler"].get<std::string>(),
-               build_json()["flags"].get<std::string>(), build_json()["build_type"].get<std::string>());
+    fmt::print("build: {}\n", build_summary());
     if (outputs.report_json) {
         // report.md and the plots render the committed report.json.
         const plot_outcome drawn = write_report_bundle(report_dir, *report, plots);

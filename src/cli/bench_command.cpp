@@ -74,7 +74,11 @@ accuracy_run audit_with_stability(const std::vector<corpus_case>& cases, const s
     return run;
 }
 
-void progress(std::size_t done, std::size_t total);
+void progress(std::size_t done, std::size_t total) {
+    if (!isatty(STDERR_FILENO)) return;
+    fmt::print(stderr, "\rbench: {}/{} timings", done, total);
+    if (done == total) fmt::print(stderr, "\n");
+}
 
 // bench --oracle: the exact oracles' cost per case against the naive double
 // intersector, per family, with the filter's fallback rates and issue 7's targets.
@@ -84,16 +88,8 @@ int run_oracle_timing(const std::vector<corpus_case>& cases, const bench_options
     timing.min_time_s = std::max(options.min_time, 0.05);
     const bench::oracle_timing t = bench::time_oracle(cases, timing, progress);
     fmt::print("{}", bench::format_oracle_timing(t));
-    fmt::print("build: {} {} [{}]; CPU: {}\n", build_json()["compiler"].get<std::string>(),
-               build_json()["flags"].get<std::string>(), build_json()["build_type"].get<std::string>(),
-               bench::cpu_model());
+    fmt::print("build: {}; CPU: {}\n", build_summary(), bench::cpu_model());
     return exit_ok;
-}
-
-void progress(std::size_t done, std::size_t total) {
-    if (!isatty(STDERR_FILENO)) return;
-    fmt::print(stderr, "\rbench: {}/{} timings", done, total);
-    if (done == total) fmt::print(stderr, "\n");
 }
 
 int run(const bench_options& options, const std::string& command_line) {
@@ -152,9 +148,7 @@ int run(const bench_options& options, const std::string& command_line) {
     fmt::print("{} cases; ns per ray–sphere test, CPU time, median of {} repetitions per family, case-weighted; "
                "ratio to {} in this run.\n",
                cases.size(), options.repetitions, reference_label);
-    fmt::print("build: {} {} [{}]; CPU: {}\n", build_json()["compiler"].get<std::string>(),
-               build_json()["flags"].get<std::string>(), build_json()["build_type"].get<std::string>(),
-               bench::cpu_model());
+    fmt::print("build: {}; CPU: {}\n", build_summary(), bench::cpu_model());
     if (options.report_dir.empty()) return exit_ok;
 
     // The report: the audit's sections for float and double, then ours.

@@ -90,6 +90,9 @@ struct audit_outputs {
     struct created_directory {
         std::filesystem::path path;  // empty: nothing was created
         bool keep = false;
+        // Creates `dir` (and its parents) for --report, remembering it when it
+        // did not exist. Throws input_error when it cannot be created.
+        void create(const std::filesystem::path& dir);
         created_directory() = default;
         created_directory(const created_directory&) = delete;
         created_directory& operator=(const created_directory&) = delete;

@@ -9,9 +9,9 @@
 #include "bench/recommend.h"
 #include "cli/commands.h"
 #include "compare/query.h"
-#include "core/build_info.h"
 #include "core/input_error.h"
 #include "plugin/plugin_loader.h"
+#include "report/audit_report.h"
 
 namespace rayverify::cli {
 namespace {
@@ -90,8 +90,7 @@ int run(const recommend_options& options) {
                "intersector inlined; errors: every ray judged by the exact oracle at the level of its query\n",
                options.repetitions);
     for (const bench::kind_recommendation& k : r.kinds) print_kind(k, budget);
-    fmt::print("\nbuild: {} {} [{}]; CPU: {}\n", build_info::compiler, build_info::flags, build_info::build_type,
-               bench::cpu_model());
+    fmt::print("\nbuild: {}; CPU: {}\n", build_summary(), bench::cpu_model());
     return r.all_met() ? exit_ok : exit_findings;
 }
 

@@ -153,12 +153,7 @@ int run_scene_audit(const scene_audit_request& request) {
     audit_outputs::created_directory created;  // removed again if the audit fails
     std::optional<atomic_file> report;
     if (!request.report_dir.empty()) {
-        std::error_code error;
-        const bool existed = std::filesystem::exists(request.report_dir, error);
-        std::filesystem::create_directories(request.report_dir, error);
-        if (error)
-            throw input_error(request.report_dir, 0, "--report", "cannot create directory: " + error.message());
-        if (!existed) created.path = request.report_dir;
+        created.create(request.report_dir);
         report.emplace(std::filesystem::path(request.report_dir) / "scene_report.json");
     }
 
@@ -173,8 +168,7 @@ int run_scene_audit(const scene_audit_request& request) {
                         result.pixels, counts[0], counts[1], counts[2], result.pairs);
     text += render_scene_tables(s, result);
     fmt::print("{}", text);
-    fmt::print("build: {} {} [{}]\n", build_json()["compiler"].get<std::string>(),
-               build_json()["flags"].get<std::string>(), build_json()["build_type"].get<std::string>());
+    fmt::print("build: {}\n", build_summary());
     if (report) {
         report->stream() << scene_report_json(s, result, recorded_command(request.command_line)).dump(2) << '\n';
         report->commit();

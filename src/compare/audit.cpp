@@ -224,13 +224,7 @@ void audit_accumulator::merge(const audit_accumulator& other) {
     std::merge(invalid_list.begin(), invalid_list.end(), other.invalid_list.begin(), other.invalid_list.end(),
                std::back_inserter(list), [](const invalid_case& a, const invalid_case& b) { return a.index < b.index; });
     invalid_list = std::move(list);
-    overall.resize(targets.size());
-    for (std::size_t t = 0; t < other.overall.size(); ++t) overall[t].merge(other.overall[t]);
-    for (const auto& [family, per_target] : other.by_family) {
-        auto& mine = by_family[family];
-        mine.resize(targets.size());
-        for (std::size_t t = 0; t < per_target.size(); ++t) mine[t].merge(per_target[t]);
-    }
+    merge_per_target(overall, by_family, other.overall, other.by_family, targets.size());
 }
 
 namespace {

@@ -90,6 +90,22 @@ struct error_summary {
     static double upper_edge(std::uint64_t bucket);
 };
 
+// Adds `other`'s per-target tallies (overall, and per family) to `mine`,
+// both aligned with the same `target_count` targets. Shared by the audit and
+// stability accumulators; Tally has merge(const Tally&).
+template <class Tally>
+void merge_per_target(std::vector<Tally>& overall, std::map<std::string, std::vector<Tally>>& by_family,
+                      const std::vector<Tally>& other_overall,
+                      const std::map<std::string, std::vector<Tally>>& other_by_family, std::size_t target_count) {
+    overall.resize(target_count);
+    for (std::size_t t = 0; t < other_overall.size(); ++t) overall[t].merge(other_overall[t]);
+    for (const auto& [family, per_target] : other_by_family) {
+        auto& mine = by_family[family];
+        mine.resize(target_count);
+        for (std::size_t t = 0; t < per_target.size(); ++t) mine[t].merge(per_target[t]);
+    }
+}
+
 // Tallies of one target over some cases (mergeable): verdict counts and the
 // errors over the cases whose verdict is agree.
 struct target_samples {

@@ -273,13 +273,7 @@ void stability_accumulator::add(const audited_case& c, const case_stability& s, 
 }
 
 void stability_accumulator::merge(const stability_accumulator& other) {
-    overall.resize(targets.size());
-    for (std::size_t t = 0; t < other.overall.size(); ++t) overall[t].merge(other.overall[t]);
-    for (const auto& [family, per_target] : other.by_family) {
-        auto& mine = by_family[family];
-        mine.resize(targets.size());
-        for (std::size_t t = 0; t < per_target.size(); ++t) mine[t].merge(per_target[t]);
-    }
+    merge_per_target(overall, by_family, other.overall, other.by_family, targets.size());
 }
 
 namespace {

@@ -11,6 +11,7 @@
 #include <memory>
 #include <mutex>
 #include <string_view>
+#include <type_traits>
 
 #include "core/case_in_progress.h"
 #include "plugin/plugin_host.h"
@@ -132,6 +133,29 @@ root_pair<T> call_in_process(const in_process_plugin& plugin, Fn intersect, cons
     return root_pair<T>{count, roots[0], roots[1]};
 }
 
+// Wires a plugin's entry points into `v`: `call(s, tmin, tmax, interval_asked)`
+// for ray_sphere<double> and, when the plugin has a float function,
+// ray_sphere<float>. The plain functions pass the interval the contract is
+// judged on; the interval kinds also get the ray's own interval.
+template <class Call>
+void bind_entry_points(variant& v, bool has_float, const Call& call) {
+    const double tmin_d = interval_start<double>(v.promises.query);
+    const float tmin_f = interval_start<float>(v.promises.query);
+    constexpr double inf_d = std::numeric_limits<double>::infinity();
+    constexpr float inf_f = std::numeric_limits<float>::infinity();
+    v.run_double = [call, tmin_d](const ray_sphere<double>& s) { return call(s, tmin_d, inf_d, false); };
+    if (has_float)
+        v.run_float = [call, tmin_f](const ray_sphere<float>& s) { return call(s, tmin_f, inf_f, false); };
+    if (!takes_interval(v.promises.query)) return;
+    v.run_double_in = [call](const ray_sphere<double>& s, double tmin, double tmax) {
+        return call(s, tmin, tmax, true);
+    };
+    if (has_float)
+        v.run_float_in = [call](const ray_sphere<float>& s, float tmin, float tmax) {
+            return call(s, tmin, tmax, true);
+        };
+}
+
 variant load_in_process(const std::filesystem::path& library) {
     auto plugin = std::make_shared<in_process_plugin>();
     try {
@@ -143,30 +167,14 @@ variant load_in_process(const std::filesystem::path& library) {
     install_crash_handler();
 
     variant v = described_variant(plugin->library.description);
-    const auto run_double = plugin->library.run_double;
-    const auto run_float = plugin->library.run_float;
+    const bool has_float = plugin->library.run_float != nullptr;
     const std::shared_ptr<const in_process_plugin> p = std::move(plugin);
-    // The plain functions pass the interval the contract is judged on.
-    const double tmin_d = interval_start<double>(v.promises.query);
-    const float tmin_f = interval_start<float>(v.promises.query);
-    constexpr double inf_d = std::numeric_limits<double>::infinity();
-    constexpr float inf_f = std::numeric_limits<float>::infinity();
-    v.run_double = [p, run_double, tmin_d](const ray_sphere<double>& s) {
-        return call_in_process(*p, run_double, s, tmin_d, inf_d);
-    };
-    if (run_float)
-        v.run_float = [p, run_float, tmin_f](const ray_sphere<float>& s) {
-            return call_in_process(*p, run_float, s, tmin_f, inf_f);
-        };
-    if (takes_interval(v.promises.query)) {
-        v.run_double_in = [p, run_double](const ray_sphere<double>& s, double tmin, double tmax) {
-            return call_in_process(*p, run_double, s, tmin, tmax);
-        };
-        if (run_float)
-            v.run_float_in = [p, run_float](const ray_sphere<float>& s, float tmin, float tmax) {
-                return call_in_process(*p, run_float, s, tmin, tmax);
-            };
-    }
+    bind_entry_points(v, has_float, [p](const auto& s, auto tmin, auto tmax, bool /*interval_asked*/) {
+        if constexpr (std::is_same_v<decltype(tmin), float>)
+            return call_in_process(*p, p->library.run_float, s, tmin, tmax);
+        else
+            return call_in_process(*p, p->library.run_double, s, tmin, tmax);
+    });
     return v;
 }
 
@@ -175,22 +183,10 @@ variant load_in_process(const std::filesystem::path& library) {
 variant load_isolated(const std::filesystem::path& library, double timeout_seconds) {
     const auto host = std::make_shared<plugin_host>(library, timeout_seconds);
     variant v = described_variant(host->description());
-    const double tmin_d = interval_start<double>(v.promises.query);
-    const float tmin_f = interval_start<float>(v.promises.query);
-    constexpr double inf_d = std::numeric_limits<double>::infinity();
-    constexpr float inf_f = std::numeric_limits<float>::infinity();
-    v.run_double = [host, tmin_d](const ray_sphere<double>& s) { return host->call(s, tmin_d, inf_d, false); };
-    if (host->description().has_float)
-        v.run_float = [host, tmin_f](const ray_sphere<float>& s) { return host->call(s, tmin_f, inf_f, false); };
-    if (takes_interval(v.promises.query)) {
-        v.run_double_in = [host](const ray_sphere<double>& s, double tmin, double tmax) {
-            return host->call(s, tmin, tmax, true);
-        };
-        if (host->description().has_float)
-            v.run_float_in = [host](const ray_sphere<float>& s, float tmin, float tmax) {
-                return host->call(s, tmin, tmax, true);
-            };
-    }
+    bind_entry_points(v, host->description().has_float,
+                      [host](const auto& s, auto tmin, auto tmax, bool interval_asked) {
+                          return host->call(s, tmin, tmax, interval_asked);
+                      });
     return v;
 }
 

@@ -26,6 +26,10 @@ json build_json() {
             {"flags", build_info::flags}};
 }
 
+std::string build_summary() {
+    return fmt::format("{} {} [{}]", build_info::compiler, build_info::flags, build_info::build_type);
+}
+
 namespace {
 
 // Table columns for the verdict kinds, in enum order.

@@ -20,6 +20,8 @@ struct run_context {
 
 // Build facts (compiler, flags, build type, version) as JSON.
 nlohmann::ordered_json build_json();
+// The same facts as one line of text: "COMPILER FLAGS [BUILD_TYPE]", as every command prints them.
+std::string build_summary();
 
 // The fixed-width table printed on stdout after an audit.
 std::string render_summary_table(const audit_totals& totals);

@@ -249,41 +249,6 @@ TEST(SceneRays, SampledPixelsAreDistinctDeterministicAndInRasterOrder) {
     EXPECT_NE(a, sampled_pixels(other));
 }
 
-// The oracle's interval query [tmin, tmax] (closed) on hand-worked cases.
-TEST(OracleInterval, BoundsJustInsideOutsideAndAtTheRoots) {
-    // o = 0, d = (1,0,0), c = (5,0,0), r = 1: roots exactly 4 and 6.
-    const ray_sphere<double> g{{0, 0, 0}, {1, 0, 0}, {5, 0, 0}, 1};
-    const auto hits = [&](std::optional<double> lo, std::optional<double> hi) {
-        const exact_solution e = solve_exact(g, precision::binary64, lo, hi);
-        EXPECT_TRUE(e.hits_interval.has_value());
-        return e.hits_interval.value_or(false);
-    };
-    EXPECT_FALSE(hits(4.5, 5.5));                        // between the roots
-    EXPECT_TRUE(hits(3.9, 4.1));                         // around the near root
-    EXPECT_TRUE(hits(4, 4));                             // a root exactly at both bounds
-    EXPECT_TRUE(hits(6, 10));                            // the far root exactly at tmin
-    EXPECT_FALSE(hits(std::nextafter(6.0, 7.0), 10));    // tmin one ulp past the far root
-    EXPECT_FALSE(hits(0, std::nextafter(4.0, 0.0)));     // tmax one ulp short of the near root
-    EXPECT_TRUE(hits(0, 4));                             // tmax exactly at the near root
-    EXPECT_FALSE(hits(6.5, std::nullopt));               // [6.5, +inf)
-    EXPECT_TRUE(hits(std::nullopt, 4));                  // (−inf, 4]
-    EXPECT_FALSE(hits(std::nullopt, 3));
-
-    // Irrational roots 5 ∓ √0.75 (c = (5, 0.5, 0)): RN(root) is within half an
-    // ulp, so the bounds one ulp either side of it decide exactly.
-    const ray_sphere<double> h{{0, 0, 0}, {1, 0, 0}, {5, 0.5, 0}, 1};
-    const double near = 5 - std::sqrt(0.75);
-    const exact_solution e = solve_exact(h, precision::binary64);
-    ASSERT_EQ(e.near_root.rounded, near);
-    const int side = e.compare_root(root_index::near_root, near);  // sign(RN − t*)
-    ASSERT_NE(side, 0);
-    const double below = side > 0 ? std::nextafter(near, 0.0) : near;  // largest double < t*
-    const double above = side > 0 ? near : std::nextafter(near, 10.0);  // smallest double > t*
-    EXPECT_TRUE(*solve_exact(h, precision::binary64, below, above).hits_interval);
-    EXPECT_FALSE(*solve_exact(h, precision::binary64, 0.0, below).hits_interval);
-    EXPECT_FALSE(*solve_exact(h, precision::binary64, above, 5.0).hits_interval);
-}
-
 // A scene ray takes roots in the open interval (tmin, tmax): a root exactly
 // at a bound is no hit, one ulp inside is.
 TEST(SceneAudit, RayIntervalIsOpenAtBothBounds) {

@@ -10,6 +10,7 @@
 #include "corpus/corpus_io.h"
 #include "report/atomic_file.h"
 #include "report/audit_report.h"
+#include "report/audit_summary.h"
 #include "report/markdown_report.h"
 #include "report/shard_state.h"
 #include "report/stability_report.h"
@@ -27,6 +28,7 @@ struct audit_options {
     std::string report_dir;
     std::string per_case_file;
     bool plots = false;
+    bool summary = false;  // one line per variant family instead of the full table
     unsigned threads = 0;  // 0: every hardware thread
     std::string shard;
     std::string scene;  // issue 6: audit a scene's rays instead (cli/scene_audit.cpp)
@@ -156,7 +158,7 @@ int run(const audit_options& options, const std::string& command_line) {
         }
     }
     if (state_file) state_file->commit();
-    return publish_audit(states[0].audit.finish(), report, report_dir, outputs, options.plots);
+    return publish_audit(states[0].audit.finish(), report, report_dir, outputs, options.plots, options.summary);
 }
 
 }  // namespace
@@ -168,7 +170,7 @@ std::string recorded_command(const std::string& command_line) {
     // same command.
     static const std::vector<std::string> with_value = {"--threads", "--shard", "--report", "--per-case",
                                                         "--plugin-timeout"};
-    static const std::vector<std::string> flags = {"--plots", "--isolate"};
+    static const std::vector<std::string> flags = {"--plots", "--isolate", "--summary"};
     std::vector<std::string> words;
     for (std::size_t at = 0; at <= command_line.size();) {
         const std::size_t end = std::min(command_line.find(' ', at), command_line.size());
@@ -214,7 +216,7 @@ void audit_outputs::open_report(const std::filesystem::path& report_dir) {
 }
 
 int publish_audit(const audit_totals& totals, const std::optional<nlohmann::ordered_json>& report,
-                  const std::filesystem::path& report_dir, audit_outputs& outputs, bool plots) {
+                  const std::filesystem::path& report_dir, audit_outputs& outputs, bool plots, bool summary) {
     const std::string table = render_summary_table(totals);
     if (outputs.report_json) {
         outputs.report_json->stream() << report->dump(2) << '\n';
@@ -224,7 +226,7 @@ int publish_audit(const audit_totals& totals, const std::optional<nlohmann::orde
         if (*output) (*output)->commit();
     outputs.created.keep = true;
 
-    fmt::print("{}", table);
+    fmt::print("{}", summary ? render_family_summary(totals) : table);
     fmt::print("build: {}\n", build_summary());
     if (outputs.report_json) {
         // report.md and the plots render the committed report.json.
@@ -260,6 +262,9 @@ command add_audit_command(CLI::App& app, const std::string& command_line) {
                     "Directory for report.json, summary.txt, report.md and the PNG plots");
     sub->add_flag("--plots", options->plots,
                   "With --report: also draw the PNG plots (tools/plot_report.py, matplotlib; takes seconds)");
+    sub->add_flag("--summary", options->summary,
+                  "Print one line per variant family (its best and worst member) instead of the full table; "
+                  "the report files are the same");
     sub->add_option("--per-case", options->per_case_file, "Write one JSON object per case to this file");
     sub->add_option("--threads", options->threads,
                     "Threads auditing cases (default: every hardware thread); the output is the same for any number")

@@ -78,7 +78,7 @@ void add_isolation_options(CLI::App* sub, plugin_isolation& isolation);
 
 // Shared by audit and merge (cli/audit_command.cpp).
 // The command line as reports record it: without --threads, --shard,
-// --report, --per-case, --plots, --isolate and --plugin-timeout, which change
+// --report, --per-case, --plots, --summary, --isolate and --plugin-timeout, which change
 // where outputs go or how the work is spread or run, never a figure.
 std::string recorded_command(const std::string& command_line);
 
@@ -105,9 +105,11 @@ struct audit_outputs {
 };
 
 // Commits the outputs (report.json and summary.txt when the report is open),
-// prints the summary table, renders report.md (and the plots), and returns
-// exit_findings when any target disagrees with the oracle on some case.
+// prints the summary table (or, with `summary`, one line per variant family),
+// renders report.md (and the plots), and returns exit_findings when any
+// target disagrees with the oracle on some case.
 int publish_audit(const audit_totals& totals, const std::optional<nlohmann::ordered_json>& report,
-                  const std::filesystem::path& report_dir, audit_outputs& outputs, bool plots);
+                  const std::filesystem::path& report_dir, audit_outputs& outputs, bool plots,
+                  bool summary = false);
 
 }  // namespace rayverify::cli

@@ -266,7 +266,7 @@ plot_outcome render_plots(const std::filesystem::path& dir) {
     for (const std::string& line : lines)
         if (line.rfind("wrote ", 0) == 0) outcome.files.push_back(line.substr(6));
     outcome.rendered = true;
-    outcome.message = fmt::format("{} plots drawn by {} with matplotlib", outcome.files.size(), script);
+    outcome.message = fmt::format("{} plots drawn with matplotlib (plot_report.py)", outcome.files.size());
     return outcome;
 }
 

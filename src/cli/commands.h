@@ -100,16 +100,30 @@ struct audit_outputs {
     };
     std::filesystem::path dir;
     created_directory created;  // declared first: removed after the temporaries inside it
-    std::optional<atomic_file> per_case, report_json, summary;
+    std::optional<atomic_file> per_case, report_json, summary, summary_md;
     void open_report(const std::filesystem::path& report_dir);  // nothing when empty
 };
 
-// Commits the outputs (report.json and summary.txt when the report is open),
-// prints the summary table (or, with `summary`, one line per variant family),
-// renders report.md (and the plots), and returns exit_findings when any
-// target disagrees with the oracle on some case.
+// An output path naming an existing directory fails before the work, not at
+// the rename after it (input_error naming `option`).
+void refuse_directory(const std::filesystem::path& path, const char* option);
+
+// How an audit's results are shown beside its report files (audit and merge;
+// cli/report_options.cpp).
+struct audit_presentation {
+    bool summary = false;    // --summary: one line per variant family instead of the full table
+    std::string summary_md;  // --summary-md FILE: the headline and compact table of report.md
+};
+void add_presentation_options(CLI::App* sub, audit_presentation& presentation);
+// Opens --summary-md's file (as a temporary) when one is named.
+void open_presentation(audit_outputs& outputs, const audit_presentation& presentation);
+
+// Commits the outputs (report.json and summary.txt when the report is open,
+// the Markdown summary when asked), prints the summary table (or one line per
+// variant family), renders report.md (and the plots), and returns
+// exit_findings when any target disagrees with the oracle on some case.
 int publish_audit(const audit_totals& totals, const std::optional<nlohmann::ordered_json>& report,
                   const std::filesystem::path& report_dir, audit_outputs& outputs, bool plots,
-                  bool summary = false);
+                  const audit_presentation& presentation = {});
 
 }  // namespace rayverify::cli

@@ -3,6 +3,7 @@
 // return, and every row it reports is complete.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <set>
 
 #include "bench/far_sphere_sweep.h"
@@ -32,7 +33,8 @@ TEST(Bench, KernelsAreTheRegistryInOrder) {
     std::vector<std::string> names;
     for_each_kernel([&](std::string_view name, auto) { names.emplace_back(name); });
     std::vector<std::string> registry;
-    for (const variant& v : builtin_variants()) registry.push_back(v.name);
+    for (const variant& v : builtin_variants())
+        if (v.build.empty()) registry.push_back(v.name);  // engine ports are timed through their functions
     EXPECT_EQ(names, registry);
 }
 
@@ -50,7 +52,9 @@ TEST(Bench, KernelsReturnWhatTheAuditedFunctionsReturn) {
 
 TEST(Bench, LongDoubleVariantsComputeInLongDouble) {
     const std::vector<variant> variants = long_double_variants();
-    ASSERT_EQ(variants.size(), builtin_variants().size());
+    const auto formulas = std::count_if(builtin_variants().begin(), builtin_variants().end(),
+                                        [](const variant& v) { return v.build.empty(); });
+    ASSERT_EQ(static_cast<std::ptrdiff_t>(variants.size()), formulas);
     // naive on a far sphere: long double keeps C = f·f − r² that double loses.
     const ray_sphere<double> far{{-1e9, 0, 0}, {1, 0, 0}, {0, 0.5, 0}, 1};
     const root_pair<double> wide = variants[0].run_double(far);

@@ -87,6 +87,31 @@ std::string optional_number(const std::optional<double>& x) {
     return x ? fmt::format("{:.3g}", *x) : std::string("-");
 }
 
+// What a variant gave beside t (contract::outputs) and how it measured.
+void print_outputs(const target_outcome& o) {
+    const variant_output& out = o.output;
+    const case_score& s = o.score;
+    if (out.t_bounds)
+        fmt::print("    t0 interval [{}, {}]{}\n", (*out.t_bounds)[0][0], (*out.t_bounds)[0][1],
+                   s.bound_ulp ? fmt::format(", {} ulps wide", *s.bound_ulp) : std::string());
+    if (out.hit_point) {
+        const vec3<double>& p = *out.hit_point;
+        fmt::print("    hit point ({}, {}, {})", p.x, p.y, p.z);
+        if (out.point_error)
+            fmt::print(" ± ({}, {}, {})", out.point_error->x, out.point_error->y, out.point_error->z);
+        if (s.hit_point_ulp)
+            fmt::print(", error ({:.3g}, {:.3g}, {:.3g}) ulp", (*s.hit_point_ulp)[0], (*s.hit_point_ulp)[1],
+                       (*s.hit_point_ulp)[2]);
+        fmt::print("\n");
+    }
+    if (out.normal)
+        fmt::print("    normal ({}, {}, {}){}\n", out.normal->x, out.normal->y, out.normal->z,
+                   s.normal_angle ? fmt::format(", {:.3g} rad from the exact normal", *s.normal_angle) : std::string());
+    if (s.scale_error_radius)
+        fmt::print("    |t − t*|·|d| = {:.3g} r = {:.3g} |o − c|\n", *s.scale_error_radius,
+                   s.scale_error_distance.value_or(0));
+}
+
 int run(const explain_options& options) {
     if (!options.case_id.empty() && !options.values.empty())
         throw input_error("", 0, "--case", "give either --case ID or the case's numbers, not both");
@@ -124,6 +149,8 @@ int run(const explain_options& options) {
                    shows_t1 ? fmt::format("{}", r.t1) : "-", optional_number(o.score.near_ulp),
                    optional_number(o.score.far_ulp));
         if (ran) fmt::print("    contract: {}\n", describe_contract(promises));
+        if (ran && !targets[i].subject.build.empty()) fmt::print("    build: {}\n", targets[i].subject.build);
+        if (ran) print_outputs(o);
         if (ran && promises.query != query_kind::line_roots)
             fmt::print("    asks for: {}\n", describe_expected(promises, audited.exact_for(targets[i].prec), o.range));
         if (!o.score.detail.empty()) fmt::print("    {}\n", o.score.detail);

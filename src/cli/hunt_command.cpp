@@ -22,10 +22,17 @@ struct hunt_command_options {
     std::uint64_t seed = 1;
     std::size_t finds = 3;
     bool no_shrink = false;
+    bool rounding_only = false;
     std::string output;
 };
 
-std::string error_text(double ulps) { return fmt::format("{:.3g} ulp", ulps); }
+std::string error_text(hunt_objective objective, double error) {
+    switch (objective) {
+        case hunt_objective::scale_radius: return fmt::format("|t − t*|·|d| = {:.3g} r", error);
+        case hunt_objective::scale_distance: return fmt::format("|t − t*|·|d| = {:.3g} |o − c|", error);
+        default: return fmt::format("{:.3g} ulp", error);
+    }
+}
 
 int run(const hunt_command_options& o, const std::string& command_line) {
     if (o.variant.empty() == o.plugin.empty())
@@ -48,7 +55,8 @@ int run(const hunt_command_options& o, const std::string& command_line) {
         throw input_error("", 0, "--budget", "give a time budget (--budget) or an evaluation budget (--evaluations)");
 
     hunt_options options;
-    options.objective = o.objective == "ulp" ? hunt_objective::ulp : hunt_objective::misclass;
+    options.objective = *hunt_objective_from_name(o.objective);  // checked by CLI11
+    options.rounding_only = o.rounding_only;
     options.strategy = o.strategy == "search" ? hunt_strategy::search : hunt_strategy::random;
     options.seed = o.seed;
     options.max_seconds = o.budget;
@@ -60,10 +68,10 @@ int run(const hunt_command_options& o, const std::string& command_line) {
     const hunt_result result = hunt(target, start, options);
 
     const std::string label = target.label();
-    const bool ulp = options.objective == hunt_objective::ulp;
+    const bool ulp = maximises_error(options.objective);
     std::string text = corpus_header_comment() + '\n';
-    text += fmt::format("# rayverify hunt: {}, objective {}, strategy {}, start family {} (seed {})\n", label,
-                        o.objective, o.strategy, family_name, o.seed);
+    text += fmt::format("# rayverify hunt: {}, objective {}{}, strategy {}, start family {} (seed {})\n", label,
+                        o.objective, o.rounding_only ? " (rounding causes only)" : "", o.strategy, family_name, o.seed);
     text += fmt::format("# command: {}\n", command_line);
     text += fmt::format("# searched {} evaluations from {} start cases in {:.2f} s; {} shrinking evaluations\n",
                         result.evaluations, result.starts, result.seconds, result.shrink_evaluations);
@@ -86,10 +94,16 @@ int run(const hunt_command_options& o, const std::string& command_line) {
         corpus_case found = shrunk;
         found.id += "-found";
         found.geometry = f.found;
-        const std::string what = ulp ? fmt::format("agree, {} (lower bound)", error_text(f.found_eval.error))
-                                     : std::string(verdict_name(f.found_eval.verdict));
-        const std::string shrunk_what = ulp ? fmt::format("agree, {}", error_text(f.shrunk_eval.error))
-                                            : std::string(verdict_name(f.shrunk_eval.verdict));
+        const auto failure = [](const hunt_evaluation& e) {
+            std::string text(verdict_name(e.verdict));
+            if (e.cause) text += fmt::format(" ({})", cause_name(*e.cause));
+            return text;
+        };
+        const std::string what =
+            ulp ? fmt::format("agree, {} (lower bound)", error_text(options.objective, f.found_eval.error))
+                : failure(f.found_eval);
+        const std::string shrunk_what =
+            ulp ? fmt::format("agree, {}", error_text(options.objective, f.shrunk_eval.error)) : failure(f.shrunk_eval);
         text += fmt::format("# find {}: {} at evaluation {} ({:.3f} s), searching from {}-{}-{:06}\n", n, what,
                             f.evaluation, f.seconds, family_name, o.seed, f.start_index);
         if (!f.found_eval.detail.empty()) text += fmt::format("#   {}\n", f.found_eval.detail);
@@ -117,8 +131,8 @@ int run(const hunt_command_options& o, const std::string& command_line) {
 command add_hunt_command(CLI::App& app, const std::string& command_line) {
     auto o = std::make_shared<hunt_command_options>();
     auto* sub = app.add_subcommand(
-        "hunt", "Search for inputs that maximise a variant's error (--objective ulp) or make it disagree with the "
-                "exact answer (--objective misclass): random restarts from a family's cases, local search by ulp "
+        "hunt", "Search for inputs that maximise a variant's error (--objective ulp, scale_radius or scale_distance) "
+                "or make it disagree with the exact answer (--objective misclass): random restarts from a family's cases, local search by ulp "
                 "moves judged by the exact oracle, then shrinking. Writes the finds as corpus lines. Exit 1 when "
                 "a disagreement was found");
     sub->add_option("--variant", o->variant, "Variant to hunt");
@@ -133,9 +147,14 @@ command add_hunt_command(CLI::App& app, const std::string& command_line) {
     sub->add_option("--evaluations", o->evaluations,
                     "Search evaluations (0: no limit); with --budget 0 the result is reproducible")
         ->capture_default_str();
-    sub->add_option("--objective", o->objective, "ulp or misclass")
-        ->check(CLI::IsMember({"ulp", "misclass"}))
+    sub->add_option("--objective", o->objective,
+                    "ulp (largest ULP error), scale_radius (largest |t - t*|·|d|/r, which does not explode as t* -> 0), "
+                    "scale_distance (largest |t - t*|·|d|/|o - c|) or misclass (disagreements)")
+        ->check(CLI::IsMember({"ulp", "scale_radius", "scale_distance", "misclass"}))
         ->capture_default_str();
+    sub->add_flag("--rounding-only", o->rounding_only,
+                  "misclass: keep only disagreements whose cause is rounding (not by design: clamp, contract "
+                  "semantics, unit direction, tangent threshold, line not ray)");
     sub->add_option("--strategy", o->strategy, "search, or random (plain sampling of the family: the baseline)")
         ->check(CLI::IsMember({"search", "random"}))
         ->capture_default_str();

@@ -7,13 +7,35 @@
 #include <cmath>
 #include <limits>
 #include <type_traits>
+#include <utility>
 
 #include "core/case_in_progress.h"
 #include "core/float_bits.h"
 
 namespace rayverify {
 
-const char* hunt_objective_name(hunt_objective o) { return o == hunt_objective::ulp ? "ulp" : "misclass"; }
+namespace {
+
+constexpr std::pair<hunt_objective, const char*> objective_names[] = {{hunt_objective::ulp, "ulp"},
+                                                                      {hunt_objective::misclass, "misclass"},
+                                                                      {hunt_objective::scale_radius, "scale_radius"},
+                                                                      {hunt_objective::scale_distance, "scale_distance"}};
+
+}  // namespace
+
+const char* hunt_objective_name(hunt_objective o) {
+    for (const auto& [objective, name] : objective_names)
+        if (objective == o) return name;
+    return "?";
+}
+
+std::optional<hunt_objective> hunt_objective_from_name(std::string_view name) {
+    for (const auto& [objective, n] : objective_names)
+        if (n == name) return objective;
+    return std::nullopt;
+}
+
+bool maximises_error(hunt_objective o) { return o != hunt_objective::misclass; }
 const char* hunt_strategy_name(hunt_strategy s) { return s == hunt_strategy::search ? "search" : "random"; }
 
 namespace {
@@ -123,10 +145,15 @@ struct fitness {
     }
 };
 
-fitness fitness_of(hunt_objective objective, const hunt_evaluation& e, const ray_sphere<double>& g) {
+// A disagreement the hunt keeps: any, or with rounding_only one whose cause is rounding.
+bool kept_disagreement(const hunt_evaluation& e, bool rounding_only) {
+    return is_disagreement(e.verdict) && !(rounding_only && e.cause && is_by_design(*e.cause));
+}
+
+fitness fitness_of(const hunt_options& options, const hunt_evaluation& e, const ray_sphere<double>& g) {
     if (e.verdict == verdict_kind::invalid || e.verdict == verdict_kind::contract_violation) return {-1, 0};
-    if (objective == hunt_objective::misclass) {
-        if (is_disagreement(e.verdict)) return {1, 0};
+    if (options.objective == hunt_objective::misclass) {
+        if (kept_disagreement(e, options.rounding_only)) return {1, 0};
         const long double gap = tangency_gap(g);
         return {0, gap > 0 ? 1 / gap : std::numeric_limits<long double>::max()};
     }
@@ -136,8 +163,9 @@ fitness fitness_of(hunt_objective objective, const hunt_evaluation& e, const ray
 
 // Does `e` fail the way `original` did? Same disagreement kind; for an ULP find,
 // an agreeing answer with at least half the error.
-bool same_failure(hunt_objective objective, const hunt_evaluation& original, const hunt_evaluation& e) {
-    if (objective == hunt_objective::misclass) return e.verdict == original.verdict;
+bool same_failure(const hunt_options& options, const hunt_evaluation& original, const hunt_evaluation& e) {
+    if (options.objective == hunt_objective::misclass)
+        return e.verdict == original.verdict && kept_disagreement(e, options.rounding_only);
     return e.verdict == verdict_kind::agree && e.error >= original.error / 2 && e.error > 0;
 }
 
@@ -154,7 +182,7 @@ public:
             start_index_ = index;
             ray_sphere<double> current = rounded_in(target_.prec, start_(index));
             hunt_evaluation current_eval = judge(current);
-            fitness current_fit = fitness_of(options_.objective, current_eval, current);
+            fitness current_fit = fitness_of(options_, current_eval, current);
             note(current, current_eval, current_fit, index);
             if (options_.strategy == hunt_strategy::random || done()) continue;
 
@@ -162,7 +190,7 @@ public:
             while (!exhausted() && !done() && stale < options_.patience && current_fit.tier < 1) {
                 const ray_sphere<double> candidate = mutate(current);
                 const hunt_evaluation candidate_eval = judge(candidate);
-                const fitness candidate_fit = fitness_of(options_.objective, candidate_eval, candidate);
+                const fitness candidate_fit = fitness_of(options_, candidate_eval, candidate);
                 note(candidate, candidate_eval, candidate_fit, index);
                 stale = candidate_fit > current_fit ? 0 : stale + 1;
                 if (candidate_fit >= current_fit) {
@@ -173,7 +201,7 @@ public:
             }
         }
         result_.seconds = elapsed();
-        if (options_.objective == hunt_objective::ulp && best_) result_.finds.push_back(*best_);
+        if (maximises_error(options_.objective) && best_) result_.finds.push_back(*best_);
         if (options_.shrink)
             for (hunt_find& f : result_.finds) shrink(f);
         return result_;
@@ -206,7 +234,7 @@ private:
         c.geometry = g;
         c.source = "hunt, searching from start case " + std::to_string(start);
         const case_in_progress announced(c);
-        return evaluate_for_hunt(target_, g);
+        return evaluate_for_hunt(target_, g, options_.objective);
     }
 
     void note(const ray_sphere<double>& g, const hunt_evaluation& e, const fitness& f, std::uint64_t index) {
@@ -263,7 +291,7 @@ private:
             --budget;
             ++result_.shrink_evaluations;
             const hunt_evaluation e = announced_and_judged(g, "shrink", result_.shrink_evaluations, f.start_index);
-            if (!same_failure(options_.objective, f.found_eval, e)) return false;
+            if (!same_failure(options_, f.found_eval, e)) return false;
             if (significant_bits(g) > f.shrunk_bits) return false;
             f.shrunk = g;
             f.shrunk_eval = e;
@@ -332,14 +360,21 @@ private:
 
 }  // namespace
 
-hunt_evaluation evaluate_for_hunt(const audit_target& target, const ray_sphere<double>& input) {
+hunt_evaluation evaluate_for_hunt(const audit_target& target, const ray_sphere<double>& input,
+                                  hunt_objective objective) {
     corpus_case c;
     c.id = "hunt";
     c.geometry = input;
     const target_outcome outcome = judge_target(target, c, solve_case(c, target.prec));
     const case_score& score = outcome.score;
-    hunt_evaluation e{score.verdict, score.detail};
-    if (score.verdict == verdict_kind::agree) e.error = std::max(score.near_ulp.value_or(0), score.far_ulp.value_or(0));
+    hunt_evaluation e{score.verdict, score.cause, score.detail};
+    if (score.verdict != verdict_kind::agree) return e;
+    switch (objective) {
+        case hunt_objective::ulp:
+        case hunt_objective::misclass: e.error = std::max(score.near_ulp.value_or(0), score.far_ulp.value_or(0)); break;
+        case hunt_objective::scale_radius: e.error = score.scale_error_radius.value_or(0); break;
+        case hunt_objective::scale_distance: e.error = score.scale_error_distance.value_or(0); break;
+    }
     return e;
 }
 

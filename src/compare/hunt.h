@@ -17,6 +17,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "compare/audit.h"
@@ -26,9 +27,16 @@
 namespace rayverify {
 
 enum class hunt_objective {
-    ulp,       // maximise the nearest- or far-root ULP error over agreeing answers
-    misclass,  // find disagreements (false miss or hit, tangent errors, wrong side, NaN, ...)
+    ulp,             // maximise the nearest- or far-root ULP error over agreeing answers
+    misclass,        // find disagreements (false miss or hit, tangent errors, wrong side, NaN, ...)
+    scale_radius,    // maximise |t − t*|·|d|/r over agreeing answers: the error in units of the radius,
+                     // which, unlike ULPs, does not explode as t* → 0
+    scale_distance,  // maximise |t − t*|·|d|/|o − c| over agreeing answers
 };
+// The name --objective takes; nullopt for an unknown name.
+std::optional<hunt_objective> hunt_objective_from_name(std::string_view name);
+// The error figure an objective maximises (ulp, scale_radius, scale_distance; misclass: none).
+bool maximises_error(hunt_objective o);
 enum class hunt_strategy {
     search,  // random restarts + local search by ulp moves
     random,  // plain random sampling: every evaluation a fresh start case (the baseline)
@@ -44,6 +52,10 @@ struct hunt_options {
     std::uint64_t max_evaluations = 0;  // search evaluations; 0: no limit (then max_seconds must be set)
     double max_seconds = 0;             // wall-clock budget of the search; 0: no limit
     std::size_t max_finds = 1;          // misclass: stop after this many disagreements
+    // misclass: keep only disagreements whose cause is rounding (the judge's
+    // case_score::cause is not by design: no clamp, contract semantics, unit
+    // direction, tangent threshold or line-not-ray finds).
+    bool rounding_only = false;
     std::uint64_t patience = 400;       // evaluations without improvement before a restart
     bool shrink = true;
     std::uint64_t shrink_evaluations = 4000;  // per find
@@ -52,11 +64,15 @@ struct hunt_options {
 // One case judged: what the hunter optimises.
 struct hunt_evaluation {
     verdict_kind verdict = verdict_kind::invalid;
+    std::optional<disagreement_cause> cause;  // of a disagreement
     std::string detail;
-    double error = 0;  // max(near_ulp, far_ulp) when the verdict is agree, else 0
+    // When the verdict is agree, else 0: max(near_ulp, far_ulp) for the ulp
+    // (and misclass) objective, the scale error for the scale objectives.
+    double error = 0;
 };
 
-hunt_evaluation evaluate_for_hunt(const audit_target& target, const ray_sphere<double>& input);
+hunt_evaluation evaluate_for_hunt(const audit_target& target, const ray_sphere<double>& input,
+                                  hunt_objective objective = hunt_objective::ulp);
 
 struct hunt_find {
     ray_sphere<double> found;   // as the search left it

@@ -18,10 +18,14 @@ using name_table = std::array<std::pair<E, std::string_view>, N>;
 
 constexpr name_table<query_kind, 3> query_kind_names{{
     {query_kind::line_roots, "line_roots"}, {query_kind::nearest_hit, "nearest_hit"}, {query_kind::any_hit, "any_hit"}}};
-constexpr name_table<range_source, 2> range_source_names{{{range_source::ray, "ray"}, {range_source::interval, "interval"}}};
+constexpr name_table<range_source, 4> range_source_names{{{range_source::ray, "ray"},
+                                                          {range_source::interval, "interval"},
+                                                          {range_source::tmax_only, "tmax_only"},
+                                                          {range_source::segment, "segment"}}};
 constexpr name_table<end_kind, 2> end_kind_names{{{end_kind::open, "open"}, {end_kind::closed, "closed"}}};
 constexpr name_table<inside_rule, 3> inside_rule_names{
     {{inside_rule::far_root, "far_root"}, {inside_rule::clamp, "clamp"}, {inside_rule::miss, "miss"}}};
+constexpr name_table<answer_kind, 2> answer_kind_names{{{answer_kind::t, "t"}, {answer_kind::point, "point"}}};
 
 template <class E, std::size_t N>
 std::string_view name_in(const name_table<E, N>& table, E value) {
@@ -71,6 +75,7 @@ std::string_view query_kind_name(query_kind k) { return name_in(query_kind_names
 std::string_view range_source_name(range_source r) { return name_in(range_source_names, r); }
 std::string_view end_kind_name(end_kind e) { return name_in(end_kind_names, e); }
 std::string_view inside_rule_name(inside_rule i) { return name_in(inside_rule_names, i); }
+std::string_view answer_kind_name(answer_kind a) { return name_in(answer_kind_names, a); }
 
 std::optional<query_kind> query_kind_from_name(std::string_view name) { return value_in(query_kind_names, name); }
 std::optional<range_source> range_source_from_name(std::string_view name) {
@@ -78,14 +83,22 @@ std::optional<range_source> range_source_from_name(std::string_view name) {
 }
 std::optional<end_kind> end_kind_from_name(std::string_view name) { return value_in(end_kind_names, name); }
 std::optional<inside_rule> inside_rule_from_name(std::string_view name) { return value_in(inside_rule_names, name); }
+std::optional<answer_kind> answer_kind_from_name(std::string_view name) { return value_in(answer_kind_names, name); }
 
 t_range range_of(const contract& c, std::optional<double> tmin, std::optional<double> tmax) {
     t_range r;
     r.lower_end = c.lower_end;
     r.upper_end = c.upper_end;
-    if (c.range == range_source::interval) {
-        if (tmin) r.lower = *tmin;
-        if (tmax) r.upper = *tmax;
+    switch (c.range) {
+        case range_source::ray: break;
+        case range_source::interval:
+        case range_source::segment:
+            if (tmin) r.lower = *tmin;
+            if (tmax) r.upper = *tmax;
+            break;
+        case range_source::tmax_only:
+            if (tmax) r.upper = *tmax;
+            break;
     }
     return r;
 }
@@ -103,14 +116,34 @@ std::string format_contract(const contract& c) {
                                    yes_no(c.assumes_unit_direction));
     if (c.query == query_kind::line_roots) spec += fmt::format(",reports_tangent={}", yes_no(c.reports_tangent));
     if (c.tangent_threshold) spec += fmt::format(",tangent_threshold={}", *c.tangent_threshold);
+    if (c.answer != answer_kind::t) spec += fmt::format(",answer={}", answer_kind_name(c.answer));
+    if (c.outputs.t_bounds) spec += ",t_bounds=yes";
+    if (c.outputs.hit_point && c.answer == answer_kind::t) spec += ",hit_point=yes";
+    if (c.outputs.point_error) spec += ",point_error=yes";
+    if (c.outputs.normal) spec += ",normal=yes";
     return spec;
 }
 
+std::optional<std::string> contract_problem(const contract& c) {
+    if (c.outputs.point_error && !gives_hit_point(c)) return "point_error=yes needs a hit point (hit_point=yes)";
+    if (c.query == query_kind::any_hit && (gives_hit_point(c) || c.outputs.normal || c.outputs.t_bounds))
+        return "an any_hit contract returns no t, point or normal";
+    if (c.answer == answer_kind::point && c.query != query_kind::nearest_hit)
+        return "answer=point needs query=nearest_hit (one hit point)";
+    if (c.answer == answer_kind::point && c.outputs.t_bounds) return "t_bounds needs answer=t";
+    return std::nullopt;
+}
+
 std::string describe_contract(const contract& c) {
-    const std::string range = c.range == range_source::interval
-                                  ? fmt::format("{}tmin, tmax{}", c.lower_end == end_kind::closed ? "[" : "(",
-                                                c.upper_end == end_kind::closed ? "]" : ")")
-                                  : format_range(range_of(c, std::nullopt, std::nullopt));
+    const char* open = c.lower_end == end_kind::closed ? "[" : "(";
+    const char* close = c.upper_end == end_kind::closed ? "]" : ")";
+    std::string range;
+    switch (c.range) {
+        case range_source::ray: range = format_range(range_of(c, std::nullopt, std::nullopt)); break;
+        case range_source::interval: range = fmt::format("{}tmin, tmax{}", open, close); break;
+        case range_source::tmax_only: range = fmt::format("{}0, tmax{} (no tmin)", open, close); break;
+        case range_source::segment: range = fmt::format("the segment {}o + tmin·d, o + tmax·d{}", open, close); break;
+    }
     std::string out;
     switch (c.query) {
         case query_kind::line_roots:
@@ -130,6 +163,16 @@ std::string describe_contract(const contract& c) {
     }
     if (c.tangent_threshold) out += fmt::format(" (tangent whenever b′² − aC ≤ {})", *c.tangent_threshold);
     if (c.assumes_unit_direction) out += "; assumes |d| = 1";
+    if (c.answer == answer_kind::point) out += "; answers with the hit point (t derived from it)";
+    std::string outputs;
+    const auto add = [&](bool given, const char* what) {
+        if (given) outputs += (outputs.empty() ? "" : ", ") + std::string(what);
+    };
+    add(c.outputs.t_bounds, "an interval for each t");
+    add(c.outputs.hit_point && c.answer == answer_kind::t, "the hit point");
+    add(c.outputs.point_error, "an error bound per coordinate of the hit point");
+    add(c.outputs.normal, "the normal");
+    if (!outputs.empty()) out += "; also gives " + outputs;
     return out;
 }
 
@@ -183,13 +226,26 @@ contract parse_contract(std::string_view spec, contract c) {
             if (error != std::errc{} || end != value.data() + value.size() || !std::isfinite(x) || x < 0)
                 throw fail(key, value, "a finite number ≥ 0");
             c.tangent_threshold = x;
+        } else if (key == "answer") {
+            const auto v = answer_kind_from_name(value);
+            if (!v) throw fail(key, value, allowed(answer_kind_names));
+            c.answer = *v;
+        } else if (key == "t_bounds") {
+            c.outputs.t_bounds = yes_no_value(key, value);
+        } else if (key == "hit_point") {
+            c.outputs.hit_point = yes_no_value(key, value);
+        } else if (key == "point_error") {
+            c.outputs.point_error = yes_no_value(key, value);
+        } else if (key == "normal") {
+            c.outputs.normal = yes_no_value(key, value);
         } else {
             throw std::invalid_argument(fmt::format(
                 "contract: unknown key '{}' (keys: query, range, ends, inside, tangent, faces, unit_direction, "
-                "reports_tangent, tangent_threshold)",
+                "reports_tangent, tangent_threshold, answer, t_bounds, hit_point, point_error, normal)",
                 key));
         }
     }
+    if (auto problem = contract_problem(c)) throw std::invalid_argument("contract: " + *problem);
     return c;
 }
 

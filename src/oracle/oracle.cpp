@@ -715,6 +715,20 @@ double exact_solution::rounded_hit_coordinate(root_index i, int axis) const {
     return round_in(prec, state().hit_coordinate(i, axis));
 }
 
+int exact_solution::compare_hit_coordinate(root_index i, int axis, double value) const {
+    const int side = side_of(internal::hit_enclosure(*this, i, axis), value);  // sign(p* − value)
+    if (side != 0) return -side;
+    return -state().hit_coordinate(i, axis).compare(exact(value));
+}
+
+double exact_solution::hit_coordinate_in_double(root_index i, int axis) const {
+    if (prec == precision::binary64) return rounded_hit_coordinate(i, axis);
+    if (const std::optional<double> r =
+            round_hit_coordinate(precision::binary64, geometry_, internal::root_enclosure(*this, i), axis))
+        return *r;
+    return round_in(precision::binary64, state().hit_coordinate(i, axis));
+}
+
 exact_solution solve_exact_unit_direction(const ray_sphere<double>& g, precision prec) {
     return exact_solution::internal::reference(g, prec, std::nullopt, std::nullopt, true);
 }

@@ -79,6 +79,14 @@ public:
     // RN of coordinate `axis` of o + t·d for root i, in the solution's precision.
     double rounded_hit_coordinate(root_index i, int axis) const;
 
+    // sign(value − p*) exactly, p* coordinate `axis` of o + t·d for root i;
+    // value finite. Requires cls != miss.
+    int compare_hit_coordinate(root_index i, int axis, double value) const;
+
+    // RN to double of that coordinate, whatever the solution's precision (a
+    // reference a float variant's normal is measured against).
+    double hit_coordinate_in_double(root_index i, int axis) const;
+
     struct exact_state;  // CGAL/GMP representation, defined in oracle.cpp
     struct internal;     // the filter and the exact route, defined in oracle.cpp
 

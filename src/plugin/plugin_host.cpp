@@ -16,8 +16,10 @@
 #include <cstdio>
 #include <cstring>
 #include <limits>
+#include <optional>
 #include <thread>
 #include <type_traits>
+#include <vector>
 
 #include "core/case_in_progress.h"
 
@@ -27,11 +29,14 @@ namespace {
 using steady = std::chrono::steady_clock;
 
 // The wire. Description: a 32-bit length, then 1 and the fields (texts as a
-// 32-bit length and bytes), or 0 and why the library cannot be used. Call:
-// request_size bytes, a 32-bit kind then o, d, c, r, tmin, tmax in T (one
-// size for both kinds, so the child reads a call at once). Answer: the 32-bit
-// count, then roots[0], roots[1] in T.
-constexpr std::int32_t float_call = 0, double_call = 1;
+// 32-bit length and bytes; version 2's after version 1's), or 0 and why the
+// library cannot be used. Call: a 32-bit kind, then for a version 1 call o, d,
+// c, r, tmin, tmax in T (padded to one size for both kinds: request_size
+// bytes in all), answered by the 32-bit count, then roots[0], roots[1] in T;
+// for a version 2 batch a 32-bit case count n and n rayverify_case_T
+// structs, answered by n rayverify_answer_T structs.
+constexpr std::int32_t float_call = 0, double_call = 1, float_batch = 2, double_batch = 3;
+constexpr std::uint32_t largest_batch = 1u << 20;
 constexpr std::size_t request_size = sizeof(std::int32_t) + 12 * sizeof(double);
 constexpr std::uint32_t longest_description = 1u << 20;
 constexpr int child_lost_exit = 121;  // the child's own loop failed (not the plugin)
@@ -115,6 +120,22 @@ private:
     std::size_t at_ = 0;
 };
 
+// The version 2 fields, after the version 1 ones.
+void encode_version_2(std::string& out, const plugin_description& d) {
+    put_u32(out, static_cast<std::uint32_t>(d.abi));
+    put_text(out, d.contract_spec);
+    put_text(out, d.build);
+    put_u32(out, std::uint32_t{d.has_double});
+}
+
+bool decode_version_2(reader& in, plugin_description& d) {
+    std::uint32_t abi = 0, has_double = 0;
+    if (!in.u32(abi) || !in.text(d.contract_spec) || !in.text(d.build) || !in.u32(has_double)) return false;
+    d.abi = static_cast<int>(abi);
+    d.has_double = has_double != 0;
+    return true;
+}
+
 std::string encoded(const plugin_description& d) {
     std::string out;
     put_u32(out, 1);
@@ -122,6 +143,7 @@ std::string encoded(const plugin_description& d) {
     for (std::uint32_t x : {static_cast<std::uint32_t>(d.query), std::uint32_t{d.assumes_unit_direction},
                             std::uint32_t{d.reports_tangent}, std::uint32_t{d.clamps_to_zero}, std::uint32_t{d.has_float}})
         put_u32(out, x);
+    encode_version_2(out, d);
     return out;
 }
 
@@ -140,7 +162,7 @@ bool decoded(const std::string& bytes, plugin_description& d, std::string& probl
     d.reports_tangent = flags[2] != 0;
     d.clamps_to_zero = flags[3] != 0;
     d.has_float = flags[4] != 0;
-    return true;
+    return decode_version_2(in, d);
 }
 
 bool send_message(int fd, const std::string& message) {
@@ -148,8 +170,20 @@ bool send_message(int fd, const std::string& message) {
     return send_all(fd, &size, sizeof size) && send_all(fd, message.data(), message.size());
 }
 
+// The child's side of a version 2 batch: n cases in, n answers out.
+template <class Case, class Answer, class Fn>
+bool answer_batch(int fd, Fn intersect) {
+    std::uint32_t n = 0;
+    if (!intersect || !receive_all(fd, &n, sizeof n) || n > largest_batch) return false;
+    std::vector<Case> cases(n);
+    if (!receive_all(fd, cases.data(), n * sizeof(Case))) return false;
+    std::vector<Answer> answers(n, blank_answer<Answer>());
+    intersect(cases.data(), answers.data(), n);
+    return send_all(fd, answers.data(), n * sizeof(Answer));
+}
+
 template <class T, class Fn>
-bool answer(int fd, Fn intersect, const unsigned char* request) {
+bool answer_call(int fd, Fn intersect, const unsigned char* request) {
     T in[12];
     std::memcpy(in, request + sizeof(std::int32_t), sizeof in);
     // NaN until written, as in process: a plugin that reports a hit without writing its roots is judged non_finite.
@@ -190,13 +224,20 @@ bool answer(int fd, Fn intersect, const unsigned char* request) {
         if (!send_message(fd, message) || !opened.handle) ::_exit(0);
         for (;;) {
             unsigned char request[request_size];
-            if (!receive_all(fd, request, request_size)) ::_exit(0);  // rayverify closed its end: done
             std::int32_t kind = 0;
-            std::memcpy(&kind, request, sizeof kind);
-            const bool answered = kind == double_call ? answer<double>(fd, opened.run_double, request)
-                                  : kind == float_call && opened.run_float
-                                      ? answer<float>(fd, opened.run_float, request)
-                                      : false;
+            if (!receive_all(fd, &kind, sizeof kind)) ::_exit(0);  // rayverify closed its end: done
+            bool answered = false;
+            if (kind == float_batch) {
+                answered = answer_batch<rayverify_case_float, rayverify_answer_float>(fd, opened.batch_float);
+            } else if (kind == double_batch) {
+                answered = answer_batch<rayverify_case_double, rayverify_answer_double>(fd, opened.batch_double);
+            } else {
+                std::memcpy(request, &kind, sizeof kind);
+                if (!receive_all(fd, request + sizeof kind, request_size - sizeof kind)) ::_exit(0);
+                answered = kind == double_call ? answer_call<double>(fd, opened.run_double, request)
+                           : kind == float_call && opened.run_float ? answer_call<float>(fd, opened.run_float, request)
+                                                                    : false;
+            }
             if (!answered) break;
         }
     } catch (...) {
@@ -218,6 +259,22 @@ std::string how_it_ended(int status) {
                                        : fmt::format("exited with status {}", code);
     }
     return "ended";
+}
+
+// The case a failed call is named by: the one the calling loop announced,
+// else the inputs as given (widened exactly to double) with their interval
+// when it was the case's own.
+template <class T>
+corpus_case failing_case(const ray_sphere<T>& s, std::optional<ray_interval<T>> interval) {
+    if (const corpus_case* announced = case_in_progress::current()) return *announced;
+    corpus_case failing;
+    failing.id = "plugin-failure";
+    failing.geometry = rounded_to<double>(s);
+    if (interval) {
+        failing.tmin = interval->tmin;
+        failing.tmax = interval->tmax;
+    }
+    return failing;
 }
 
 }  // namespace
@@ -327,25 +384,65 @@ root_pair<T> plugin_host::call_in(const ray_sphere<T>& s, T tmin, T tmax, bool i
         happened = got == received::timed_out ? timed_out() : ended();
     }
 
-    // The case the loop announced, else the inputs as given (widened exactly to double).
-    corpus_case failing;
+    corpus_case failing =
+        failing_case(s, interval_asked ? std::optional<ray_interval<T>>(ray_interval<T>{tmin, tmax}) : std::nullopt);
     const corpus_case* announced = case_in_progress::current();
-    if (announced) {
-        failing = *announced;
-    } else {
-        failing.id = "plugin-failure";
-        failing.geometry = rounded_to<double>(s);
-        if (interval_asked) {
-            failing.tmin = tmin;
-            failing.tmax = tmax;
-        }
-    }
     const std::string where = announced ? fmt::format("on case {} ({})", announced->id, announced->source)
                                         : std::string("on inputs given outside any audited case");
     throw plugin_failure(library_,
                          fmt::format("plugin '{}' {} {}, in its {} function", description_.name, happened, where,
                                      std::is_same_v<T, float> ? "float" : "double"),
                          std::move(failing));
+}
+
+template <class T>
+void plugin_host::batch_in(std::span<const batch_case<T>> cases, std::span<answer<T>> out, const contract& promises) {
+    using case_t = std::conditional_t<std::is_same_v<T, float>, rayverify_case_float, rayverify_case_double>;
+    using answer_t = std::conditional_t<std::is_same_v<T, float>, rayverify_answer_float, rayverify_answer_double>;
+    constexpr std::int32_t kind = std::is_same_v<T, float> ? float_batch : double_batch;
+    if (cases.empty()) return;
+    std::string happened = "is no longer running (it failed on an earlier call)";
+    if (fd_ >= 0 && cases.size() <= largest_batch) {
+        std::string request;
+        request.append(reinterpret_cast<const char*>(&kind), sizeof kind);
+        const auto n = static_cast<std::uint32_t>(cases.size());
+        request.append(reinterpret_cast<const char*>(&n), sizeof n);
+        for (const batch_case<T>& c : cases) {
+            const case_t given = case_for_plugin<case_t>(c.input, c.interval.tmin, c.interval.tmax);
+            request.append(reinterpret_cast<const char*>(&given), sizeof given);
+        }
+        std::vector<answer_t> answers(cases.size());
+        const steady::time_point deadline = deadline_after(timeout_seconds_);
+        const received got = send_all(fd_, request.data(), request.size())
+                                 ? receive_by(fd_, answers.data(), answers.size() * sizeof(answer_t), deadline)
+                                 : received::closed;
+        if (got == received::all) {
+            for (std::size_t i = 0; i < cases.size(); ++i) out[i] = answer_from<T>(answers[i], promises, cases[i].input);
+            return;
+        }
+        happened = got == received::timed_out ? timed_out() : ended();
+    }
+    const corpus_case* announced = case_in_progress::current();
+    corpus_case failing = failing_case(cases.front().input, std::optional(cases.front().interval));
+    const std::string where =
+        announced ? fmt::format("on a batch of {} case{} from case {} ({})", cases.size(), cases.size() == 1 ? "" : "s",
+                                announced->id, announced->source)
+                  : fmt::format("on a batch of {} case{} given outside any audited case (the first below)",
+                                cases.size(), cases.size() == 1 ? "" : "s");
+    throw plugin_failure(library_,
+                         fmt::format("plugin '{}' {} {}, in its {} batch function", description_.name, happened, where,
+                                     std::is_same_v<T, float> ? "float" : "double"),
+                         std::move(failing));
+}
+
+void plugin_host::call_batch(std::span<const batch_case<float>> cases, std::span<answer<float>> out,
+                             const contract& promises) {
+    batch_in<float>(cases, out, promises);
+}
+
+void plugin_host::call_batch(std::span<const batch_case<double>> cases, std::span<answer<double>> out,
+                             const contract& promises) {
+    batch_in<double>(cases, out, promises);
 }
 
 root_pair<float> plugin_host::call(const ray_sphere<float>& s, float tmin, float tmax, bool interval_asked) {

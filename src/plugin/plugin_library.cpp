@@ -3,6 +3,9 @@
 #include <dlfcn.h>
 #include <fmt/format.h>
 
+#include <functional>
+#include <stdexcept>
+
 
 namespace rayverify::plugin_internal {
 namespace {
@@ -10,6 +13,48 @@ namespace {
 [[noreturn]] void fail(const std::string& problem) { throw unusable_library(problem); }
 
 std::string text_or(const char* text, std::string fallback) { return text ? std::string(text) : fallback; }
+
+void check_name(const std::string& name) {
+    if (name.empty()) fail("the plugin's name is empty");
+    if (name.find_first_of(" \t\r\n/#") != std::string::npos)
+        fail(fmt::format("the plugin's name '{}' must be one token without '/' or '#'", name));
+}
+
+// Version 2: the description and the batch functions its precisions need.
+void open_v2(opened_library& opened, rayverify_describe_v2_fn describe, const std::filesystem::path& library,
+             const std::function<void*(const char*, bool)>& symbol) {
+    const rayverify_plugin_info_v2* info = describe();
+    if (!info) fail("rayverify_plugin_describe_v2() returned NULL");
+    if (info->abi_version != RAYVERIFY_PLUGIN_ABI_VERSION_2)
+        fail(fmt::format("rayverify_plugin_describe_v2() reports ABI version {}, expected {} "
+                         "(RAYVERIFY_PLUGIN_ABI_VERSION_2)",
+                         info->abi_version, RAYVERIFY_PLUGIN_ABI_VERSION_2));
+    plugin_description& d = opened.description;
+    d.abi = RAYVERIFY_PLUGIN_ABI_VERSION_2;
+    d.name = text_or(info->name, "");
+    check_name(d.name);
+    d.citation = text_or(info->citation, "plugin " + library.filename().string());
+    d.formula = text_or(info->formula, "(not stated)");
+    d.build = text_or(info->build, "");
+    d.contract_spec = text_or(info->contract, "");
+    try {
+        const contract c = parse_contract(d.contract_spec);
+        d.tangent_rule = text_or(info->tangent_rule, c.reports_tangent ? "(not stated)" : "never");
+    } catch (const std::invalid_argument& e) {
+        fail(fmt::format("its contract \"{}\" cannot be used: {}", d.contract_spec, e.what()));
+    }
+    const int known = RAYVERIFY_FLOAT | RAYVERIFY_DOUBLE;
+    if ((info->precisions & known) == 0 || (info->precisions & ~known) != 0)
+        fail(fmt::format("precisions = {}: expected RAYVERIFY_FLOAT, RAYVERIFY_DOUBLE or both", info->precisions));
+    d.has_float = (info->precisions & RAYVERIFY_FLOAT) != 0;
+    d.has_double = (info->precisions & RAYVERIFY_DOUBLE) != 0;
+    if (d.has_double)
+        opened.batch_double =
+            reinterpret_cast<rayverify_batch_double_fn>(symbol("rayverify_plugin_intersect_batch_double", true));
+    if (d.has_float)
+        opened.batch_float =
+            reinterpret_cast<rayverify_batch_float_fn>(symbol("rayverify_plugin_intersect_batch_float", true));
+}
 
 }  // namespace
 
@@ -31,6 +76,11 @@ opened_library open_library(const std::filesystem::path& library) {
             fail(fmt::format("missing symbol {} (see rayverify_plugin.h; in C++ declare it extern \"C\")", name));
         return address;
     };
+    if (const auto describe_v2 =
+            reinterpret_cast<rayverify_describe_v2_fn>(symbol("rayverify_plugin_describe_v2", false))) {
+        open_v2(opened, describe_v2, library, symbol);
+        return opened;
+    }
     const auto describe = reinterpret_cast<rayverify_describe_fn>(symbol("rayverify_plugin_describe", true));
     opened.run_double =
         reinterpret_cast<rayverify_intersect_double_fn>(symbol("rayverify_plugin_intersect_double", true));
@@ -44,9 +94,7 @@ opened_library open_library(const std::filesystem::path& library) {
                          info->abi_version, RAYVERIFY_PLUGIN_ABI_VERSION));
     plugin_description& d = opened.description;
     d.name = text_or(info->name, "");
-    if (d.name.empty()) fail("the plugin's name is empty");
-    if (d.name.find_first_of(" \t\r\n/#") != std::string::npos)
-        fail(fmt::format("the plugin's name '{}' must be one token without '/' or '#'", d.name));
+    check_name(d.name);
     if (info->query < RAYVERIFY_LINE_ROOTS || info->query > RAYVERIFY_NEAREST_IN_INTERVAL)
         fail(fmt::format("unknown query kind {} (RAYVERIFY_LINE_ROOTS, RAYVERIFY_NEAREST_ON_RAY, "
                          "RAYVERIFY_ANY_HIT_IN_INTERVAL or RAYVERIFY_NEAREST_IN_INTERVAL)",
@@ -67,6 +115,13 @@ variant described_variant(const plugin_description& d) {
     v.name = d.name;
     v.citation = d.citation;
     v.formula = d.formula;
+    v.thread_safe = false;  // rayverify_plugin.h: "Called from one thread"
+    if (d.abi == RAYVERIFY_PLUGIN_ABI_VERSION_2) {
+        v.build = d.build;
+        v.promises = parse_contract(d.contract_spec);  // checked by open_library
+        v.promises.tangent_rule = interned_text(d.tangent_rule);
+        return v;
+    }
     contract& c = v.promises;
     switch (d.query) {
         case RAYVERIFY_LINE_ROOTS: c.query = query_kind::line_roots; break;

@@ -11,7 +11,9 @@
 #include <memory>
 #include <mutex>
 #include <string_view>
+#include <span>
 #include <type_traits>
+#include <vector>
 
 #include "core/case_in_progress.h"
 #include "plugin/plugin_host.h"
@@ -156,6 +158,77 @@ void bind_entry_points(variant& v, bool has_float, const Call& call) {
         };
 }
 
+// ---- Version 2: batch entry points --------------------------------------------
+
+template <class T>
+using rayverify_case_t = std::conditional_t<std::is_same_v<T, float>, rayverify_case_float, rayverify_case_double>;
+template <class T>
+using rayverify_answer_t = std::conditional_t<std::is_same_v<T, float>, rayverify_answer_float, rayverify_answer_double>;
+
+// A version 2 plugin's cases in the ABI's structs, and its answers as rayverify holds them.
+template <class T>
+std::vector<rayverify_case_t<T>> plugin_cases(std::span<const batch_case<T>> cases) {
+    std::vector<rayverify_case_t<T>> out;
+    out.reserve(cases.size());
+    for (const batch_case<T>& c : cases)
+        out.push_back(case_for_plugin<rayverify_case_t<T>>(c.input, c.interval.tmin, c.interval.tmax));
+    return out;
+}
+
+template <class T>
+void take_answers(const std::vector<rayverify_answer_t<T>>& given, const contract& promises,
+                  std::span<const batch_case<T>> cases, std::span<answer<T>> out) {
+    for (std::size_t i = 0; i < cases.size(); ++i) out[i] = answer_from<T>(given[i], promises, cases[i].input);
+}
+
+// Wires a version 2 plugin's batch call into `v`: `batch(cases, answers)`
+// for batch_case<float> and <double> (each only when the plugin runs in that
+// precision), and from it the single-case functions (a batch of one).
+template <class Batch>
+void bind_batch_entry_points(variant& v, bool has_float, bool has_double, const Batch& batch) {
+    const auto bind = [&v, &batch]<class T>(std::type_identity<T>) {
+        const T tmin0 = interval_start<T>(v.promises);
+        constexpr T inf = std::numeric_limits<T>::infinity();
+        const auto many = [batch](std::span<const batch_case<T>> cases, std::span<answer<T>> answers) {
+            batch(cases, answers);
+        };
+        const auto one = [batch](const ray_sphere<T>& s, T tmin, T tmax) {
+            const batch_case<T> c{s, {tmin, tmax}};
+            answer<T> a;
+            batch(std::span<const batch_case<T>>(&c, 1), std::span<answer<T>>(&a, 1));
+            return a;
+        };
+        const auto roots_in = [one](const ray_sphere<T>& s, T tmin, T tmax) { return one(s, tmin, tmax).roots; };
+        const auto roots = [one, tmin0](const ray_sphere<T>& s) { return one(s, tmin0, inf).roots; };
+        const bool interval = takes_interval(v.promises);
+        if constexpr (std::is_same_v<T, float>) {
+            v.batch_float = many;
+            v.answer_float = one;
+            v.run_float = roots;
+            if (interval) v.run_float_in = roots_in;
+        } else {
+            v.batch_double = many;
+            v.answer_double = one;
+            v.run_double = roots;
+            if (interval) v.run_double_in = roots_in;
+        }
+    };
+    if (has_float) bind(std::type_identity<float>{});
+    if (has_double) bind(std::type_identity<double>{});
+}
+
+template <class T, class Fn>
+void batch_in_process(const in_process_plugin& plugin, Fn intersect, const contract& promises,
+                      std::span<const batch_case<T>> cases, std::span<answer<T>> out) {
+    const std::vector<rayverify_case_t<T>> given = plugin_cases(cases);
+    std::vector<rayverify_answer_t<T>> answers(cases.size(), blank_answer<rayverify_answer_t<T>>());
+    {
+        const in_call marked(plugin.name);
+        intersect(given.data(), answers.data(), given.size());
+    }
+    take_answers<T>(answers, promises, cases, out);
+}
+
 variant load_in_process(const std::filesystem::path& library) {
     auto plugin = std::make_shared<in_process_plugin>();
     try {
@@ -169,6 +242,18 @@ variant load_in_process(const std::filesystem::path& library) {
     variant v = described_variant(plugin->library.description);
     const bool has_float = plugin->library.run_float != nullptr;
     const std::shared_ptr<const in_process_plugin> p = std::move(plugin);
+    if (p->library.description.abi == RAYVERIFY_PLUGIN_ABI_VERSION_2) {
+        const plugin_description& d = p->library.description;
+        bind_batch_entry_points(v, d.has_float, d.has_double,
+                                [p, promises = v.promises]<class T>(std::span<const batch_case<T>> cases,
+                                                                    std::span<answer<T>> answers) {
+                                    if constexpr (std::is_same_v<T, float>)
+                                        batch_in_process<T>(*p, p->library.batch_float, promises, cases, answers);
+                                    else
+                                        batch_in_process<T>(*p, p->library.batch_double, promises, cases, answers);
+                                });
+        return v;
+    }
     bind_entry_points(v, has_float, [p](const auto& s, auto tmin, auto tmax, bool /*interval_asked*/) {
         if constexpr (std::is_same_v<decltype(tmin), float>)
             return call_in_process(*p, p->library.run_float, s, tmin, tmax);
@@ -183,6 +268,14 @@ variant load_in_process(const std::filesystem::path& library) {
 variant load_isolated(const std::filesystem::path& library, double timeout_seconds) {
     const auto host = std::make_shared<plugin_host>(library, timeout_seconds);
     variant v = described_variant(host->description());
+    if (host->description().abi == RAYVERIFY_PLUGIN_ABI_VERSION_2) {
+        bind_batch_entry_points(v, host->description().has_float, host->description().has_double,
+                                [host, promises = v.promises]<class T>(std::span<const batch_case<T>> cases,
+                                                                       std::span<answer<T>> answers) {
+                                    host->call_batch(cases, answers, promises);
+                                });
+        return v;
+    }
     bind_entry_points(v, host->description().has_float,
                       [host](const auto& s, auto tmin, auto tmax, bool interval_asked) {
                           return host->call(s, tmin, tmax, interval_asked);

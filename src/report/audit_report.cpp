@@ -77,7 +77,11 @@ json tally_json(const target_tally& t, const char* scope) {
             {"near_root_ulp", statistics_json(t.near_root_ulp, scope)},
             {"far_root_ulp", statistics_json(t.far_root_ulp, scope)},
             {"near_root_bits", statistics_json(t.near_root_bits, scope)},
-            {"hit_point_ulp", statistics_json(t.hit_point_ulp, scope)}};
+            {"hit_point_ulp", statistics_json(t.hit_point_ulp, scope)},
+            {"scale_error_radius", statistics_json(t.scale_error_radius, scope)},
+            {"scale_error_distance", statistics_json(t.scale_error_distance, scope)},
+            {"bound_width_ulp", statistics_json(t.bound_width_ulp, scope)},
+            {"normal_angle", statistics_json(t.normal_angle, scope)}};
 }
 
 
@@ -218,6 +222,11 @@ json audit_report_json(const audit_totals& totals, const run_context& context) {
                 "p = 53, emin = -1022 (double); ulp(0) = smallest subnormal"},
         {"ulp_error", "|t - t*| / ulp(t*), t* the exact root of the inputs the variant received"},
         {"bits", "log2(1 + number of representable values between t and RN(t*))"},
+        {"scale_error_radius", "max over the returned roots of |t - t*|·|d| / r: the error in units of the radius"},
+        {"scale_error_distance", "max over the returned roots of |t - t*|·|d| / |o - c|"},
+        {"bound_width_ulp",
+         "the widest interval a variant claims for a returned t, in representable values between its ends"},
+        {"normal_angle", "angle in radians between the returned normal and the exact one (the nearer of ±n*)"},
         {"error_statistics",
          "over the cases whose verdict is agree; count and max are exact (max_case: the first case attaining it); "
          "p99 and median are nearest-rank, reported as upper bounds from a histogram of log buckets of relative "
@@ -292,6 +301,10 @@ json per_case_json(const audited_case& audited, const std::vector<audit_target>&
             const auto& e = *o.score.hit_point_ulp;
             r["hit_point_ulp"] = {json_number(e[0]), json_number(e[1]), json_number(e[2])};
         }
+        if (o.score.scale_error_radius) r["scale_error_radius"] = json_number(*o.score.scale_error_radius);
+        if (o.score.scale_error_distance) r["scale_error_distance"] = json_number(*o.score.scale_error_distance);
+        if (o.score.bound_ulp) r["bound_width_ulp"] = json_number(*o.score.bound_ulp);
+        if (o.score.normal_angle) r["normal_angle"] = json_number(*o.score.normal_angle);
         if (!o.score.detail.empty()) r["detail"] = o.score.detail;
         results[targets[i].label()] = r;
     }

@@ -54,9 +54,17 @@ error_summary summary_from(const json& j) {
 }
 
 json samples_json(const target_samples& s) {
-    return {{"cases", s.cases},           {"verdicts", s.verdicts},          {"causes", s.causes},
-            {"near_ulp", summary_json(s.near_ulp)}, {"far_ulp", summary_json(s.far_ulp)},
-            {"hit_ulp", summary_json(s.hit_ulp)},   {"near_bits", summary_json(s.near_bits)}};
+    return {{"cases", s.cases},
+            {"verdicts", s.verdicts},
+            {"causes", s.causes},
+            {"near_ulp", summary_json(s.near_ulp)},
+            {"far_ulp", summary_json(s.far_ulp)},
+            {"hit_ulp", summary_json(s.hit_ulp)},
+            {"near_bits", summary_json(s.near_bits)},
+            {"scale_radius", summary_json(s.scale_radius)},
+            {"scale_distance", summary_json(s.scale_distance)},
+            {"bound_ulp", summary_json(s.bound_ulp)},
+            {"normal_angle", summary_json(s.normal_angle)}};
 }
 
 target_samples samples_from(const json& j) {
@@ -68,6 +76,10 @@ target_samples samples_from(const json& j) {
     s.far_ulp = summary_from(j.at("far_ulp"));
     s.hit_ulp = summary_from(j.at("hit_ulp"));
     s.near_bits = summary_from(j.at("near_bits"));
+    s.scale_radius = summary_from(j.at("scale_radius"));
+    s.scale_distance = summary_from(j.at("scale_distance"));
+    s.bound_ulp = summary_from(j.at("bound_ulp"));
+    s.normal_angle = summary_from(j.at("normal_angle"));
     return s;
 }
 

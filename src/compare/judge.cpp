@@ -469,8 +469,9 @@ void measure_outputs(const contract& promises, const variant_output& output, con
         const double error = j.root ? exact.root_ulp_error(*j.root, value) * ulp_of_root(exact, *j.root)
                                     : std::fabs(value - j.start);
         const auto keep_max = [](std::optional<double>& figure, double x) { figure = std::max(figure.value_or(0), x); };
-        keep_max(s.scale_error_radius, error * d_length / input.radius);
-        keep_max(s.scale_error_distance, error * d_length / distance);
+        // Each where its length is not 0 (a point sphere, an origin at the centre).
+        if (input.radius > 0) keep_max(s.scale_error_radius, error * d_length / input.radius);
+        if (distance > 0) keep_max(s.scale_error_distance, error * d_length / distance);
         if (!output.t_bounds) continue;
         const auto [lower, upper] = (*output.t_bounds)[static_cast<std::size_t>(j.slot)];
         const bool sound = holds(lower, upper, [&](double x) {

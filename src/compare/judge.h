@@ -164,7 +164,8 @@ struct case_score {
     // Error of the hit point per coordinate, in ulps (agree, and a hit).
     std::optional<std::array<double, 3>> hit_point_ulp;
     // The largest of |t − t*|·|d|/r and of |t − t*|·|d|/|o − c| over the
-    // returned roots (agree; finite t): the error in the scene's length scale.
+    // returned roots (agree; finite t; each when its length is not 0): the
+    // error in the scene's length scale.
     std::optional<double> scale_error_radius, scale_error_distance;
     // Outputs beside t (agree): the widest claimed t interval in ULPs of the
     // precision (representable values between its ends), and the angle in

@@ -22,6 +22,7 @@
 #include "intersectors/registry.h"
 #include "intersectors/threejs_ray.h"
 #include "intersectors/wald_origin_shift.h"
+#include "oracle/oracle.h"
 #include "scene/scene.h"
 #include "scene/scene_audit.h"
 #include "core/input_error.h"
@@ -76,7 +77,7 @@ TEST(Engines, PbrtV4IntervalsAndDesign) {
         EXPECT_LT(a.t_upper[0] - a.t_lower[0], 64 * 0x1p-21f);
         // The reprojected point lies within its own bound of (0, 0, −1).
         EXPECT_LE(std::abs(a.point.z + 1), a.point_error.z);
-        EXPECT_EQ(a.point.x, 0.0f);
+        EXPECT_EQ(a.point.x, 1e-5f) << "a hit on the z axis is moved to x = 1e-5·r";
     }
     // tMax is closed, judged on the interval's upper end: tMax = 3 misses the root 4.
     EXPECT_EQ(pbrt_v4(towards<double>(), 0.0, 3.0).roots.count, 0);
@@ -92,6 +93,45 @@ TEST(Engines, PbrtV4IntervalsAndDesign) {
     const answer<double> surface = pbrt_v4(towards<double>({0, 0, -1}), 0.0, inf_d);
     ASSERT_EQ(surface.roots.count, 1);
     EXPECT_NEAR(surface.roots.t0, 2.0, 1e-14);
+}
+
+// pbrt-v4's point bound γ₅·|p| is the reprojected point's distance to the
+// surface (point_error=surface): judged by whether its box holds a point of
+// the sphere, decided exactly. On the z axis pbrt moves the point to
+// x = 1e-5·r, off the sphere by r·(1 − √(1 − 10⁻¹⁰)) ≈ 5e-11·r: inside the box
+// in float (γ₅ ≈ 3e-7), outside it in double (γ₅ ≈ 6e-16).
+TEST(Engines, PbrtV4PointBoundHoldsTheSurface) {
+    const contract c = parse_contract("query=nearest_hit,hit_point=yes,point_error=surface");
+    EXPECT_EQ(c.outputs.point_error, point_bound::surface);
+    EXPECT_EQ(parse_contract(format_contract(c)).outputs.point_error, point_bound::surface);
+    EXPECT_EQ(pbrt_v4_contract.outputs.point_error, point_bound::surface);
+    try {
+        parse_contract("query=nearest_hit,hit_point=yes,point_error=maybe");
+        ADD_FAILURE() << "point_error=maybe parsed";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("expected no, yes, surface"), std::string::npos) << e.what();
+    }
+    // The unit sphere at the origin: a box across the surface meets it, boxes wholly inside or outside do not;
+    // a degenerate box meets it only on it.
+    const vec3<double> centre{0, 0, 0};
+    EXPECT_TRUE(box_meets_sphere({0.9, -0.1, -0.1}, {1.1, 0.1, 0.1}, centre, 1));
+    EXPECT_FALSE(box_meets_sphere({0.1, 0.1, 0.1}, {0.2, 0.2, 0.2}, centre, 1));
+    EXPECT_FALSE(box_meets_sphere({2, 2, 2}, {3, 3, 3}, centre, 1));
+    EXPECT_TRUE(box_meets_sphere({0, 1, 0}, {0, 1, 0}, centre, 1));
+    EXPECT_FALSE(box_meets_sphere({0, 1 + 0x1p-52, 0}, {0, 1 + 0x1p-52, 0}, centre, 1));
+    EXPECT_FALSE(box_meets_sphere({0.6, 0.8, 0}, {0.6, 0.8, 0}, centre, 1))
+        << "0.6 and 0.8 are not binary fractions: the point is off the sphere by about 1e-17";
+    // The axis hit in both precisions.
+    corpus_case axis;
+    axis.id = "axis";
+    axis.geometry = towards<double>();
+    const auto score = [&](precision p) {
+        return judge_target({*find_builtin_variant("pbrt_v4"), p}, axis, solve_case(axis, p)).score;
+    };
+    EXPECT_EQ(score(precision::binary32).verdict, verdict_kind::agree);
+    const case_score in_double = score(precision::binary64);
+    EXPECT_EQ(in_double.verdict, verdict_kind::unsound_bound);
+    EXPECT_NE(in_double.detail.find("holds no point of the sphere"), std::string::npos) << in_double.detail;
 }
 
 TEST(Engines, Mitsuba3ShiftsByOverLengthOfD) {
@@ -228,6 +268,27 @@ TEST(Engines, JudgedUnderTheirContracts) {
     EXPECT_LT(*pbrt.scale_error_radius, 1e-5);
 }
 
+// The length-scale error where ULPs cannot count: an origin exactly on the
+// sphere has the root t* = 0, where three.js's derived t is about 1e-8 (the
+// regression case on_surface-1-000024), infinitely many ULPs but about 1e-16
+// radii away.
+TEST(EnginesRegression, ScaleErrorAtAnExactZeroRoot) {
+    const std::vector<corpus_case> cases =
+        parse_corpus("regression", "on_surface-1-000024 on_surface -0x1p+22 0x1.4p+23 -0x1.3ap+26 -0x1.c667ce253d78fp-1 "
+                         "-0x1.79ea1ea41f766p-2 0x1.1a85df94e49acp-2 0x1.cp+21 0x1.ep+23 0x1.4p+21 0x1.46p+26\n",
+                     false);
+    ASSERT_EQ(cases.size(), 1u);
+    const case_score s =
+        judge_target({*find_builtin_variant("threejs"), precision::binary64}, cases[0], solve_case(cases[0], precision::binary64))
+            .score;
+    ASSERT_EQ(s.verdict, verdict_kind::agree);
+    ASSERT_TRUE(s.scale_error_radius && s.scale_error_distance);
+    // |t|·|d|/r with |t| < 1e-7, |d| ≈ 1, r = 85458944.
+    EXPECT_GT(*s.scale_error_radius, 0);
+    EXPECT_LT(*s.scale_error_radius, 1e-7 * 1.0000001 / 85458944);
+    EXPECT_TRUE(std::isfinite(*s.scale_error_distance));
+}
+
 // Every engine on the shipped corpus (the audit of corpus_regression_test
 // covers the formulas): no malformed answer, no unsound pbrt bound, most
 // cases agree, and the by-design findings carry their causes.
@@ -248,9 +309,11 @@ TEST(Engines, EveryEngineOnTheShippedCorpus) {
         }
     }
     // raylib's hits behind the origin are by design.
-    for (std::size_t t = 0; t < totals.targets.size(); ++t)
-        if (totals.targets[t].subject.name == "raylib")
+    for (std::size_t t = 0; t < totals.targets.size(); ++t) {
+        if (totals.targets[t].subject.name == "raylib") {
             EXPECT_GT(totals.overall[t].causes[static_cast<int>(disagreement_cause::line_not_ray)], 0u);
+        }
+    }
 }
 
 // Every engine on every shipped scene where it applies: the audit runs, every

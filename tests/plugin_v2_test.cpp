@@ -60,7 +60,8 @@ TEST(PluginV2, ExamplesStateTheirContractsAndPrecisions) {
     EXPECT_EQ(r.t0, 4);
 
     const variant bounds = load_plugin(RAYVERIFY_EXAMPLE_BOUNDS_SPHERE);
-    EXPECT_TRUE(bounds.promises.outputs.t_bounds && bounds.promises.outputs.point_error);
+    EXPECT_TRUE(bounds.promises.outputs.t_bounds);
+    EXPECT_EQ(bounds.promises.outputs.point_error, point_bound::hit);
     const answer<double> a = answer_in(bounds, ray_sphere<double>{{0, 0, -5}, {0, 0, 1}, {0, 0, 0}, 1},
                                        ray_interval<double>{0, 100});
     ASSERT_EQ(a.roots.count, 1);
@@ -122,8 +123,12 @@ TEST(PluginV2, OutputsBesideTAreMeasured) {
             EXPECT_GE(tally.bound_width_ulp.max, 1) << "an interval holds at least its two ends";
             EXPECT_GT(tally.hit_point_ulp.count, 0u);
         }
-        if (name == "nearest_sphere") EXPECT_GT(tally.normal_angle.count, 0u);
-        if (name == "point_sphere") EXPECT_GT(tally.hit_point_ulp.count, 0u);
+        if (name == "nearest_sphere") {
+            EXPECT_GT(tally.normal_angle.count, 0u);
+        }
+        if (name == "point_sphere") {
+            EXPECT_GT(tally.hit_point_ulp.count, 0u);
+        }
         EXPECT_GT(tally.scale_error_radius.count, 0u);
     }
 }

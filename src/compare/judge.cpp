@@ -199,7 +199,7 @@ variant_output widen_answer(const contract& promises, const answer<T>& a, const 
     if (!out.hit_root) return out;
     if (gives_hit_point(promises)) {
         out.hit_point = widened(a.point);
-        if (promises.outputs.point_error) out.point_error = widened(a.point_error);
+        if (promises.outputs.point_error != point_bound::none) out.point_error = widened(a.point_error);
     } else {
         const T t = *out.hit_root == 0 ? r.t0 : r.t1;
         out.hit_point = widened(input.origin + t * input.direction);
@@ -466,8 +466,11 @@ void measure_outputs(const contract& promises, const variant_output& output, con
     for (const judged_value& j : judged) {
         const double value = t[j.slot];
         if (!std::isfinite(value)) continue;
-        const double error = j.root ? exact.root_ulp_error(*j.root, value) * ulp_of_root(exact, *j.root)
-                                    : std::fabs(value - j.start);
+        // |t − t*|: ULPs of t* times ulp(t*), or |t| itself where t* is exactly 0 (no ulp to count in).
+        const double error = !j.root                              ? std::fabs(value - j.start)
+                             : exact.root(*j.root).sign == 0 ? std::fabs(value)
+                                                             : exact.root_ulp_error(*j.root, value) *
+                                                                   ulp_of_root(exact, *j.root);
         const auto keep_max = [](std::optional<double>& figure, double x) { figure = std::max(figure.value_or(0), x); };
         // Each where its length is not 0 (a point sphere, an origin at the centre).
         if (input.radius > 0) keep_max(s.scale_error_radius, error * d_length / input.radius);
@@ -486,16 +489,33 @@ void measure_outputs(const contract& promises, const variant_output& output, con
                                          : fmt::format("the clamp t = {}", j.start));
     }
     const std::optional<exact_hit> hit = exact_hit_of(promises, output, exact, range);
-    if (hit && hit->root && output.point_error) {
-        for (int axis = 0; axis < 3 && !unsound; ++axis) {
+    if (hit && hit->root && output.point_error && !unsound) {
+        // The box p ∓ e, its ends rounded outward to double.
+        double lower[3], upper[3];
+        std::optional<int> bad_axis;
+        for (int axis = 2; axis >= 0; --axis) {
             const double p = (*output.hit_point)[axis], e = (*output.point_error)[axis];
-            // p ∓ e rounded outward to double.
             const dword low = two_sum(p, -e), high = two_sum(p, e);
-            const double lower = low.l < 0 ? std::nextafter(low.h, -INFINITY) : low.h;
-            const double upper = high.l > 0 ? std::nextafter(high.h, INFINITY) : high.h;
-            if (!(e >= 0) || !holds(lower, upper, [&](double x) { return exact.compare_hit_coordinate(*hit->root, axis, x); }))
-                unsound = fmt::format("hit point coordinate {} = {} ± {} leaves out p* ≈ {}", "xyz"[axis], p, e,
-                                      exact.hit_coordinate_in_double(*hit->root, axis));
+            lower[axis] = low.l < 0 ? std::nextafter(low.h, -INFINITY) : low.h;
+            upper[axis] = high.l > 0 ? std::nextafter(high.h, INFINITY) : high.h;
+            if (!(e >= 0) || !std::isfinite(lower[axis]) || !std::isfinite(upper[axis])) bad_axis = axis;
+        }
+        const auto axis_text = [&](int axis) {
+            return fmt::format("{} = {} ± {}", "xyz"[axis], (*output.hit_point)[axis], (*output.point_error)[axis]);
+        };
+        if (bad_axis) {
+            unsound = fmt::format("hit point coordinate {} is no bound", axis_text(*bad_axis));
+        } else if (promises.outputs.point_error == point_bound::surface) {
+            if (!box_meets_sphere({lower[0], lower[1], lower[2]}, {upper[0], upper[1], upper[2]}, input.centre,
+                                  input.radius))
+                unsound = fmt::format("hit point ({}, {}, {}) holds no point of the sphere", axis_text(0),
+                                      axis_text(1), axis_text(2));
+        } else {
+            for (int axis = 0; axis < 3 && !unsound; ++axis)
+                if (!holds(lower[axis], upper[axis],
+                           [&](double x) { return exact.compare_hit_coordinate(*hit->root, axis, x); }))
+                    unsound = fmt::format("hit point coordinate {} leaves out p* ≈ {}", axis_text(axis),
+                                          exact.hit_coordinate_in_double(*hit->root, axis));
         }
     }
     if (hit && hit->root && output.normal) {

@@ -1,7 +1,5 @@
 #include "core/contract.h"
 
-#include <fmt/format.h>
-
 #include <array>
 #include <deque>
 #include <mutex>
@@ -26,6 +24,8 @@ constexpr name_table<end_kind, 2> end_kind_names{{{end_kind::open, "open"}, {end
 constexpr name_table<inside_rule, 3> inside_rule_names{
     {{inside_rule::far_root, "far_root"}, {inside_rule::clamp, "clamp"}, {inside_rule::miss, "miss"}}};
 constexpr name_table<answer_kind, 2> answer_kind_names{{{answer_kind::t, "t"}, {answer_kind::point, "point"}}};
+constexpr name_table<point_bound, 3> point_bound_names{
+    {{point_bound::none, "no"}, {point_bound::hit, "yes"}, {point_bound::surface, "surface"}}};
 
 template <class E, std::size_t N>
 std::string_view name_in(const name_table<E, N>& table, E value) {
@@ -48,9 +48,12 @@ std::string allowed(const name_table<E, N>& table) {
     return out;
 }
 
-std::string bound_text(double x) {
+// The shortest decimal that reads back as x (std::to_chars), ±inf spelled out.
+std::string number_text(double x) {
     if (std::isinf(x)) return x > 0 ? "+inf" : "-inf";
-    return fmt::format("{}", x);
+    char buffer[32];
+    const auto end = std::to_chars(buffer, buffer + sizeof buffer, x).ptr;
+    return std::string(buffer, end);
 }
 
 // "()", "[]", "[)", "(]": the ends as brackets.
@@ -76,6 +79,7 @@ std::string_view range_source_name(range_source r) { return name_in(range_source
 std::string_view end_kind_name(end_kind e) { return name_in(end_kind_names, e); }
 std::string_view inside_rule_name(inside_rule i) { return name_in(inside_rule_names, i); }
 std::string_view answer_kind_name(answer_kind a) { return name_in(answer_kind_names, a); }
+std::string_view point_bound_name(point_bound b) { return name_in(point_bound_names, b); }
 
 std::optional<query_kind> query_kind_from_name(std::string_view name) { return value_in(query_kind_names, name); }
 std::optional<range_source> range_source_from_name(std::string_view name) {
@@ -84,6 +88,7 @@ std::optional<range_source> range_source_from_name(std::string_view name) {
 std::optional<end_kind> end_kind_from_name(std::string_view name) { return value_in(end_kind_names, name); }
 std::optional<inside_rule> inside_rule_from_name(std::string_view name) { return value_in(inside_rule_names, name); }
 std::optional<answer_kind> answer_kind_from_name(std::string_view name) { return value_in(answer_kind_names, name); }
+std::optional<point_bound> point_bound_from_name(std::string_view name) { return value_in(point_bound_names, name); }
 
 t_range range_of(const contract& c, std::optional<double> tmin, std::optional<double> tmax) {
     t_range r;
@@ -104,28 +109,31 @@ t_range range_of(const contract& c, std::optional<double> tmin, std::optional<do
 }
 
 std::string format_range(const t_range& r) {
-    return fmt::format("{}{}, {}{}", r.lower_end == end_kind::closed ? "[" : "(", bound_text(r.lower),
-                       bound_text(r.upper), r.upper_end == end_kind::closed ? "]" : ")");
+    return (r.lower_end == end_kind::closed ? "[" : "(") + number_text(r.lower) + ", " + number_text(r.upper) +
+           (r.upper_end == end_kind::closed ? "]" : ")");
 }
 
 std::string format_contract(const contract& c) {
-    std::string spec = fmt::format("query={},range={},ends={},inside={},tangent={},faces={},unit_direction={}",
-                                   query_kind_name(c.query), range_source_name(c.range),
-                                   ends_text(c.lower_end, c.upper_end), inside_rule_name(c.inside),
-                                   c.tangent_is_hit ? "hit" : "miss", c.front_faces_only ? "front" : "both",
-                                   yes_no(c.assumes_unit_direction));
-    if (c.query == query_kind::line_roots) spec += fmt::format(",reports_tangent={}", yes_no(c.reports_tangent));
-    if (c.tangent_threshold) spec += fmt::format(",tangent_threshold={}", *c.tangent_threshold);
-    if (c.answer != answer_kind::t) spec += fmt::format(",answer={}", answer_kind_name(c.answer));
+    std::string spec = "query=" + std::string(query_kind_name(c.query)) + ",range=" +
+                       std::string(range_source_name(c.range)) + ",ends=" + ends_text(c.lower_end, c.upper_end) +
+                       ",inside=" + std::string(inside_rule_name(c.inside)) +
+                       ",tangent=" + (c.tangent_is_hit ? "hit" : "miss") +
+                       ",faces=" + (c.front_faces_only ? "front" : "both") +
+                       ",unit_direction=" + std::string(yes_no(c.assumes_unit_direction));
+    if (c.query == query_kind::line_roots) spec += ",reports_tangent=" + std::string(yes_no(c.reports_tangent));
+    if (c.tangent_threshold) spec += ",tangent_threshold=" + number_text(*c.tangent_threshold);
+    if (c.answer != answer_kind::t) spec += ",answer=" + std::string(answer_kind_name(c.answer));
     if (c.outputs.t_bounds) spec += ",t_bounds=yes";
     if (c.outputs.hit_point && c.answer == answer_kind::t) spec += ",hit_point=yes";
-    if (c.outputs.point_error) spec += ",point_error=yes";
+    if (c.outputs.point_error != point_bound::none)
+        spec += ",point_error=" + std::string(point_bound_name(c.outputs.point_error));
     if (c.outputs.normal) spec += ",normal=yes";
     return spec;
 }
 
 std::optional<std::string> contract_problem(const contract& c) {
-    if (c.outputs.point_error && !gives_hit_point(c)) return "point_error=yes needs a hit point (hit_point=yes)";
+    if (c.outputs.point_error != point_bound::none && !gives_hit_point(c))
+        return "point_error needs a hit point (hit_point=yes)";
     if (c.query == query_kind::any_hit && (gives_hit_point(c) || c.outputs.normal || c.outputs.t_bounds))
         return "an any_hit contract returns no t, point or normal";
     if (c.answer == answer_kind::point && c.query != query_kind::nearest_hit)
@@ -135,33 +143,34 @@ std::optional<std::string> contract_problem(const contract& c) {
 }
 
 std::string describe_contract(const contract& c) {
-    const char* open = c.lower_end == end_kind::closed ? "[" : "(";
-    const char* close = c.upper_end == end_kind::closed ? "]" : ")";
+    const std::string open = c.lower_end == end_kind::closed ? "[" : "(";
+    const std::string close = c.upper_end == end_kind::closed ? "]" : ")";
     std::string range;
     switch (c.range) {
         case range_source::ray: range = format_range(range_of(c, std::nullopt, std::nullopt)); break;
-        case range_source::interval: range = fmt::format("{}tmin, tmax{}", open, close); break;
-        case range_source::tmax_only: range = fmt::format("{}0, tmax{} (no tmin)", open, close); break;
-        case range_source::segment: range = fmt::format("the segment {}o + tmin·d, o + tmax·d{}", open, close); break;
+        case range_source::interval: range = open + "tmin, tmax" + close; break;
+        case range_source::tmax_only: range = open + "0, tmax" + close + " (no tmin)"; break;
+        case range_source::segment: range = "the segment " + open + "o + tmin·d, o + tmax·d" + close; break;
     }
     std::string out;
     switch (c.query) {
         case query_kind::line_roots:
-            out = fmt::format("both roots of the line, any sign; in front means t in {}", range);
-            out += c.reports_tangent ? fmt::format("; reports a tangent when {}", c.tangent_rule)
-                                     : "; never reports a tangent";
+            out = "both roots of the line, any sign; in front means t in " + range;
+            out += c.reports_tangent ? "; reports a tangent when " + std::string(c.tangent_rule)
+                                     : std::string("; never reports a tangent");
             break;
         case query_kind::nearest_hit:
         case query_kind::any_hit:
-            out = fmt::format("{} in {}; starting inside: {}; a tangent is a {}; {}",
-                              c.query == query_kind::nearest_hit ? "nearest hit" : "any hit", range,
-                              c.inside == inside_rule::far_root ? "the far root"
-                              : c.inside == inside_rule::clamp  ? "clamped to the range start"
-                                                                : "a miss",
-                              c.tangent_is_hit ? "hit" : "miss", c.front_faces_only ? "front faces only" : "both faces");
+            out = std::string(c.query == query_kind::nearest_hit ? "nearest hit" : "any hit") + " in " + range +
+                  "; starting inside: " +
+                  (c.inside == inside_rule::far_root ? "the far root"
+                   : c.inside == inside_rule::clamp  ? "clamped to the range start"
+                                                     : "a miss") +
+                  "; a tangent is a " + (c.tangent_is_hit ? "hit" : "miss") + "; " +
+                  (c.front_faces_only ? "front faces only" : "both faces");
             break;
     }
-    if (c.tangent_threshold) out += fmt::format(" (tangent whenever b′² − aC ≤ {})", *c.tangent_threshold);
+    if (c.tangent_threshold) out += " (tangent whenever b′² − aC ≤ " + number_text(*c.tangent_threshold) + ")";
     if (c.assumes_unit_direction) out += "; assumes |d| = 1";
     if (c.answer == answer_kind::point) out += "; answers with the hit point (t derived from it)";
     std::string outputs;
@@ -170,7 +179,9 @@ std::string describe_contract(const contract& c) {
     };
     add(c.outputs.t_bounds, "an interval for each t");
     add(c.outputs.hit_point && c.answer == answer_kind::t, "the hit point");
-    add(c.outputs.point_error, "an error bound per coordinate of the hit point");
+    add(c.outputs.point_error == point_bound::hit, "an error bound per coordinate of the hit point");
+    add(c.outputs.point_error == point_bound::surface,
+        "an error bound per coordinate of the hit point that holds a point of the sphere");
     add(c.outputs.normal, "the normal");
     if (!outputs.empty()) out += "; also gives " + outputs;
     return out;
@@ -178,7 +189,8 @@ std::string describe_contract(const contract& c) {
 
 contract parse_contract(std::string_view spec, contract c) {
     const auto fail = [&](std::string_view key, std::string_view value, const std::string& expected) {
-        return std::invalid_argument(fmt::format("contract: {}='{}': expected {}", key, value, expected));
+        return std::invalid_argument("contract: " + std::string(key) + "='" + std::string(value) + "': expected " +
+                                     expected);
     };
     const auto yes_no_value = [&](std::string_view key, std::string_view value) {
         if (value == "yes") return true;
@@ -191,7 +203,7 @@ contract parse_contract(std::string_view spec, contract c) {
         spec = comma == std::string_view::npos ? std::string_view{} : spec.substr(comma + 1);
         const std::size_t equals = item.find('=');
         if (item.empty() || equals == std::string_view::npos)
-            throw std::invalid_argument(fmt::format("contract: '{}' is not key=value", item));
+            throw std::invalid_argument("contract: '" + std::string(item) + "' is not key=value");
         const std::string_view key = item.substr(0, equals), value = item.substr(equals + 1);
         if (key == "query") {
             const auto v = query_kind_from_name(value);
@@ -235,14 +247,16 @@ contract parse_contract(std::string_view spec, contract c) {
         } else if (key == "hit_point") {
             c.outputs.hit_point = yes_no_value(key, value);
         } else if (key == "point_error") {
-            c.outputs.point_error = yes_no_value(key, value);
+            const auto v = point_bound_from_name(value);
+            if (!v) throw fail(key, value, allowed(point_bound_names));
+            c.outputs.point_error = *v;
         } else if (key == "normal") {
             c.outputs.normal = yes_no_value(key, value);
         } else {
-            throw std::invalid_argument(fmt::format(
-                "contract: unknown key '{}' (keys: query, range, ends, inside, tangent, faces, unit_direction, "
-                "reports_tangent, tangent_threshold, answer, t_bounds, hit_point, point_error, normal)",
-                key));
+            throw std::invalid_argument("contract: unknown key '" + std::string(key) +
+                                        "' (keys: query, range, ends, inside, tangent, faces, unit_direction, "
+                                        "reports_tangent, tangent_threshold, answer, t_bounds, hit_point, "
+                                        "point_error, normal)");
         }
     }
     if (auto problem = contract_problem(c)) throw std::invalid_argument("contract: " + *problem);

@@ -52,6 +52,13 @@ enum class range_source {
 // are judged as a point.
 enum class answer_kind { t, point };
 
+// What an error bound per coordinate of the hit point claims to hold (spec
+// names no, yes, surface): nothing (none); the exact hit point o + t*·d (hit);
+// some point of the exact sphere (surface): pbrt-v4's bound after
+// reprojection, γ₅·|p|, bounds the distance to the surface, which is what its
+// spawned rays need, not the distance along the ray to o + t*·d.
+enum class point_bound { none, hit, surface };
+
 // What a variant hands over beside t, each checked against the exact answer
 // when given: a conservative interval for each returned t (pbrt-v4's
 // Interval), the hit point it computes (reprojected or not), an absolute
@@ -59,9 +66,9 @@ enum class answer_kind { t, point };
 struct output_set {
     bool t_bounds = false;
     bool hit_point = false;
-    bool point_error = false;  // requires hit_point
+    point_bound point_error = point_bound::none;  // requires hit_point
     bool normal = false;
-    constexpr bool any() const { return t_bounds || hit_point || point_error || normal; }
+    constexpr bool any() const { return t_bounds || hit_point || point_error != point_bound::none || normal; }
 };
 
 // Whether a range end belongs to the range: open (t > tmin) or closed (t ≥ tmin).
@@ -107,6 +114,7 @@ std::string_view range_source_name(range_source r);
 std::string_view end_kind_name(end_kind e);
 std::string_view inside_rule_name(inside_rule i);
 std::string_view answer_kind_name(answer_kind a);
+std::string_view point_bound_name(point_bound b);
 
 // The value named `name`; nullopt for an unknown name.
 std::optional<query_kind> query_kind_from_name(std::string_view name);
@@ -114,6 +122,7 @@ std::optional<range_source> range_source_from_name(std::string_view name);
 std::optional<end_kind> end_kind_from_name(std::string_view name);
 std::optional<inside_rule> inside_rule_from_name(std::string_view name);
 std::optional<answer_kind> answer_kind_from_name(std::string_view name);
+std::optional<point_bound> point_bound_from_name(std::string_view name);
 
 // True for the kinds that are passed the ray's range (its interval, its
 // tmax, or its segment) rather than answering on a fixed one.

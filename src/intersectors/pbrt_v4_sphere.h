@@ -22,7 +22,12 @@
 // reprojected hit point taken back to render space by Translate(c) as a
 // Point3fi (its midpoint) and that interval's half-width as the error bound
 // (InteractionFromIntersection: pError = γ₅·|pHit| in object space, then the
-// transform's propagation). The normal is not modelled.
+// transform's propagation). That bound is the reprojected point's distance to
+// the surface (pbrt-v4 §6.8.5), not along the ray to o + t*·d, so the
+// contract states point_error=surface: the box must hold a point of the
+// sphere. A hit on the object's z axis is moved to x = 1e-5·r (for φ), off
+// the sphere by about r·5e-11: inside γ₅·r in float, outside it in double.
+// The normal is not modelled.
 //
 // Contract: nearest hit in (0, tMax] (BasicIntersect takes tMax, no tmin);
 // decisions are made on interval ends, so a root whose interval reaches 0 is
@@ -191,7 +196,7 @@ inline constexpr contract pbrt_v4_contract{.query = query_kind::nearest_hit,
                                            .range = range_source::tmax_only,
                                            .upper_end = end_kind::closed,
                                            .tangent_is_hit = false,
-                                           .outputs = {.t_bounds = true, .hit_point = true, .point_error = true}};
+                                           .outputs = {.t_bounds = true, .hit_point = true, .point_error = point_bound::surface}};
 
 template <class T>
 answer<T> pbrt_v4(const ray_sphere<T>& s, T /*tmin: none*/, T tmax) {

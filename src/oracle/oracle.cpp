@@ -743,6 +743,20 @@ int compare_squared_length(const vec3<double>& d, double x) {
     return sign_of(dx * dx + dy * dy + dz * dz - exact(x));
 }
 
+bool box_meets_sphere(const vec3<double>& lower, const vec3<double>& upper, const vec3<double>& centre, double radius) {
+    exact nearest(0.0), farthest(0.0);
+    for (int axis = 0; axis < 3; ++axis) {
+        const exact below = exact(lower[axis]) - exact(centre[axis]), above = exact(upper[axis]) - exact(centre[axis]);
+        // The nearest coordinate is c's own when the slab holds it, else the nearer end.
+        if (sign_of(below) > 0) nearest = nearest + below * below;
+        else if (sign_of(above) < 0) nearest = nearest + above * above;
+        const exact low_squared = below * below, high_squared = above * above;
+        farthest = farthest + (low_squared < high_squared ? high_squared : low_squared);
+    }
+    const exact r_squared = exact(radius) * exact(radius);
+    return sign_of(nearest - r_squared) <= 0 && sign_of(farthest - r_squared) >= 0;
+}
+
 int compare_roots(const exact_solution& a, root_index i, const exact_solution& b, root_index j) {
     return exact_solution::internal::compare_roots(a, i, b, j);
 }

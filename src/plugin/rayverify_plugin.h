@@ -147,7 +147,8 @@ typedef struct rayverify_case_float {
  *   t[2]          the roots, t[0] <= t[1] (nearest_hit: t[0]; answer=point: unused)
  *   t_lower[2], t_upper[2]   t_bounds=yes: t[i] lies in [t_lower[i], t_upper[i]]
  *   point[3]      hit_point=yes or answer=point: the hit point
- *   point_error[3]           point_error=yes: |exact − point[k]| <= point_error[k]
+ *   point_error[3]           point_error=yes: |exact − point[k]| <= point_error[k];
+ *                            point_error=surface: that box holds a point of the sphere
  *   normal[3]     normal=yes: the normal at the hit, any length */
 typedef struct rayverify_answer_double {
     int count;

@@ -466,15 +466,18 @@ void measure_outputs(const contract& promises, const variant_output& output, con
     for (const judged_value& j : judged) {
         const double value = t[j.slot];
         if (!std::isfinite(value)) continue;
-        // |t − t*|: ULPs of t* times ulp(t*), or |t| itself where t* is exactly 0 (no ulp to count in).
-        const double error = !j.root                              ? std::fabs(value - j.start)
-                             : exact.root(*j.root).sign == 0 ? std::fabs(value)
-                                                             : exact.root_ulp_error(*j.root, value) *
-                                                                   ulp_of_root(exact, *j.root);
+        // |t − t*|: ULPs of t* times ulp(t*), or |t| itself where t* is exactly 0 (no ulp to count in);
+        // none where t* rounds to an infinity (beyond the precision, no length to measure).
         const auto keep_max = [](std::optional<double>& figure, double x) { figure = std::max(figure.value_or(0), x); };
-        // Each where its length is not 0 (a point sphere, an origin at the centre).
-        if (input.radius > 0) keep_max(s.scale_error_radius, error * d_length / input.radius);
-        if (distance > 0) keep_max(s.scale_error_distance, error * d_length / distance);
+        if (!j.root || std::isfinite(exact.root(*j.root).rounded)) {
+            const double error = !j.root                              ? std::fabs(value - j.start)
+                                 : exact.root(*j.root).sign == 0 ? std::fabs(value)
+                                                                 : exact.root_ulp_error(*j.root, value) *
+                                                                       ulp_of_root(exact, *j.root);
+            // Each where its length is not 0 (a point sphere, an origin at the centre).
+            if (input.radius > 0) keep_max(s.scale_error_radius, error * d_length / input.radius);
+            if (distance > 0) keep_max(s.scale_error_distance, error * d_length / distance);
+        }
         if (!output.t_bounds) continue;
         const auto [lower, upper] = (*output.t_bounds)[static_cast<std::size_t>(j.slot)];
         const bool sound = holds(lower, upper, [&](double x) {

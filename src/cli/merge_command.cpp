@@ -164,17 +164,29 @@ void interleave_per_case(const std::vector<shard_input>& shards, std::size_t tot
                               "has more lines than the shard has cases: it does not match its state");
 }
 
+// The run as the report records it: its command and input as `file` spells them.
+run_context spelled_as_in(const fs::path& file) {
+    const json header = read_state_file(file, true);
+    try {
+        return {header.at("command").get<std::string>(), header.at("input").at("paths").get<std::vector<std::string>>(),
+                header.at("input").at("generated").get<std::vector<std::string>>()};
+    } catch (const json::exception& e) {
+        throw input_error(file.string(), 0, "", fmt::format("not a shard state: {}", e.what()));
+    }
+}
+
 // First every shard's header (checked against the first shard's, then
 // dropped), then the states one at a time: memory holds one shard's state
 // and the merged one, however many shards there are.
 int merge_audits(const merge_options& options) {
     std::vector<shard_input> shards;
-    json first;
+    json first;  // the first shard given, which the others are checked against
+    const fs::path first_file = fs::path(options.shards.front()) / shard_state_file;
     for (const std::string& dir : options.shards) {
         const fs::path file = fs::path(dir) / shard_state_file;
         json header = read_state_file(file, true);
         try {
-            if (!shards.empty()) check_same_audit(first, shards.front().file(), header, file);
+            if (!shards.empty()) check_same_audit(first, first_file, header, file);
         } catch (const json::exception& e) {
             throw input_error(file.string(), 0, "", fmt::format("not a shard state: {}", e.what()));
         }
@@ -189,7 +201,7 @@ int merge_audits(const merge_options& options) {
         total = first.at("input").at("cases").get<std::size_t>();
         targets = targets_from_json(first.at("targets"));
     } catch (const json::exception& e) {
-        throw input_error(shards.front().file().string(), 0, "", fmt::format("not a shard state: {}", e.what()));
+        throw input_error(first_file.string(), 0, "", fmt::format("not a shard state: {}", e.what()));
     }
     check_complete(shards, total);
 
@@ -203,14 +215,12 @@ int merge_audits(const merge_options& options) {
         }
     }
 
+    const run_context context = spelled_as_in(shards.front().file());  // shard 1, whatever the order given
     audit_outputs outputs;
     outputs.open_report(options.output);
     if (!options.per_case_file.empty()) outputs.per_case.emplace(options.per_case_file);
     if (outputs.per_case) interleave_per_case(shards, total, outputs.per_case->stream());
 
-    run_context context{first.at("command").get<std::string>(),
-                        first.at("input").at("paths").get<std::vector<std::string>>(),
-                        first.at("input").at("generated").get<std::vector<std::string>>()};
     const std::optional<json> report = audit_report_document(merged, context);
     return publish_audit(merged.audit.finish(), report, options.output, outputs, options.plots);
 }

@@ -4,10 +4,14 @@
 #include <fmt/format.h>
 #include <sys/resource.h>
 
+#include <algorithm>
+#include <atomic>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <thread>
 
 #include "cli/commands.h"
 #include "core/input_error.h"
@@ -37,19 +41,50 @@ struct shard_input {
     fs::path file() const { return dir / shard_state_file; }
 };
 
-// A shard's state file: whole, or (`header_only`) without its "state", which
-// is then scanned past but never built, so that reading the headers of a
-// thousand shards first is cheap.
+// Builds a document up to the top-level key "state" and stops there: the
+// audit writes "state" last, after everything the consistency checks read,
+// so a header costs a few kilobytes of parsing whatever the state's size.
+class header_reader : public nlohmann::json_sax<json> {
+public:
+    explicit header_reader(json& document) : dom_(document) {}
+    bool null() override { return dom_.null(); }
+    bool boolean(bool value) override { return dom_.boolean(value); }
+    bool number_integer(number_integer_t value) override { return dom_.number_integer(value); }
+    bool number_unsigned(number_unsigned_t value) override { return dom_.number_unsigned(value); }
+    bool number_float(number_float_t value, const string_t& text) override { return dom_.number_float(value, text); }
+    bool string(string_t& value) override { return dom_.string(value); }
+    bool binary(binary_t& value) override { return dom_.binary(value); }
+    bool start_object(std::size_t n) override { return ++depth_, dom_.start_object(n); }
+    bool key(string_t& value) override { return !(depth_ == 1 && value == "state") && dom_.key(value); }
+    bool end_object() override { return --depth_, dom_.end_object(); }
+    bool start_array(std::size_t n) override { return ++depth_, dom_.start_array(n); }
+    bool end_array() override { return --depth_, dom_.end_array(); }
+    bool parse_error(std::size_t position, const std::string& token, const nlohmann::detail::exception& e) override {
+        return dom_.parse_error(position, token, e);
+    }
+
+private:
+    nlohmann::detail::json_sax_dom_parser<json> dom_;
+    int depth_ = 0;
+};
+
+// A shard's state file: whole (read into memory first: parsing from a string
+// is faster than from a stream), or (`header_only`) without its "state".
 json read_state_file(const fs::path& file, bool header_only) {
     std::ifstream in(file, std::ios::binary);
     if (!in)
         throw input_error(file.string(), 0, "",
                           "cannot open: not the report directory of a `rayverify audit --shard K/N --report DIR` run");
-    const json::parser_callback_t skip_state = [](int depth, json::parse_event_t event, json& parsed) {
-        return !(depth == 1 && event == json::parse_event_t::key && parsed == "state");
-    };
     try {
-        json state = header_only ? json::parse(in, skip_state) : json::parse(in);
+        json state;
+        if (header_only) {
+            header_reader reader(state);
+            json::sax_parse(in, &reader);
+        } else {
+            std::ostringstream text;
+            text << in.rdbuf();
+            state = json::parse(std::move(text).str());
+        }
         if (state.at("format").get<std::string>() != shard_state_format)
             throw input_error(file.string(), 0, "format",
                               fmt::format("'{}', this rayverify reads '{}'", state.at("format").dump(),
@@ -58,6 +93,46 @@ json read_state_file(const fs::path& file, bool header_only) {
     } catch (const json::exception& e) {
         throw input_error(file.string(), 0, "", fmt::format("not a shard state: {}", e.what()));
     }
+}
+
+// The shards' states merged. Parsing them is nearly all of a merge's time, so
+// every hardware thread takes shards in turn, parses each and merges it into
+// a state of its own; those are merged at the end. Merging is exact and
+// order-independent: the result does not depend on which thread took which
+// shard. Memory: per thread one parsed document and one state, however many
+// shards there are. Of several malformed shards, the first in shard order is named.
+audit_state merged_states(const std::vector<shard_input>& shards, const std::vector<audit_target>& targets) {
+    const std::size_t threads =
+        std::clamp<std::size_t>(std::thread::hardware_concurrency(), 1, std::max<std::size_t>(shards.size(), 1));
+    std::vector<audit_state> partial(threads, audit_state(targets));
+    std::vector<std::exception_ptr> failure(shards.size());
+    std::atomic<std::size_t> next{0};
+    std::atomic<bool> failed{false};
+    const auto work = [&](audit_state& mine) {
+        for (std::size_t i; !failed && (i = next++) < shards.size();) {
+            try {
+                const json state = read_state_file(shards[i].file(), false);
+                try {
+                    mine.merge(state_from_json(state.at("state"), targets));
+                } catch (const json::exception& e) {
+                    throw input_error(shards[i].file().string(), 0, "state",
+                                      fmt::format("a shard state is malformed: {}", e.what()));
+                }
+            } catch (...) {
+                failure[i] = std::current_exception();
+                failed = true;
+            }
+        }
+    };
+    {
+        std::vector<std::jthread> workers;
+        for (std::size_t t = 1; t < threads; ++t) workers.emplace_back(work, std::ref(partial[t]));
+        work(partial[0]);
+    }
+    for (const std::exception_ptr& e : failure)
+        if (e) std::rethrow_exception(e);
+    for (std::size_t t = 1; t < threads; ++t) partial[0].merge(partial[t]);
+    return std::move(partial[0]);
 }
 
 shard_input shard_from_header(const fs::path& dir, const json& header) {
@@ -176,8 +251,8 @@ run_context spelled_as_in(const fs::path& file) {
 }
 
 // First every shard's header (checked against the first shard's, then
-// dropped), then the states one at a time: memory holds one shard's state
-// and the merged one, however many shards there are.
+// dropped), then the states (merged_states): memory does not grow with the
+// number of shards.
 int merge_audits(const merge_options& options) {
     std::vector<shard_input> shards;
     json first;  // the first shard given, which the others are checked against
@@ -205,15 +280,7 @@ int merge_audits(const merge_options& options) {
     }
     check_complete(shards, total);
 
-    audit_state merged(targets);
-    for (const shard_input& s : shards) {
-        const json state = read_state_file(s.file(), false);
-        try {
-            merged.merge(state_from_json(state.at("state"), targets));
-        } catch (const json::exception& e) {
-            throw input_error(s.file().string(), 0, "state", fmt::format("a shard state is malformed: {}", e.what()));
-        }
-    }
+    const audit_state merged = merged_states(shards, targets);
 
     const run_context context = spelled_as_in(shards.front().file());  // shard 1, whatever the order given
     audit_outputs outputs;

@@ -120,7 +120,7 @@ TEST_F(HuntMerge, HuntsThatDoNotBelongTogetherAreRefusedNamingWhatDiffers) {
     refused("h1.txt h1.txt h2.txt", "shard 1/2 given twice");
     fs::rename(dir_ / "h2.txt", dir_ / "keep.txt");
     hunt_shard(2, 2, "--finds 5");
-    refused("h1.txt h2.txt", "field 'command': differs from h1.txt: h2.txt has '--finds 5' (paths are compared");
+    refused("h1.txt h2.txt", "field 'command': differs from h1.txt: h2.txt has '--finds 5' (shards of different hunts");
     hunt_shard(2, 2, "--seed 5");
     refused("h1.txt h2.txt", "field 'seed': differs from h1.txt: 5 vs 1");
     hunt_shard(2, 2, "--objective misclass");

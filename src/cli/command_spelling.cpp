@@ -84,7 +84,7 @@ std::optional<std::string> command_difference(const std::string& a, const std::s
     if (!only_b.empty()) what += fmt::format("{}{} has {}", what.empty() ? "" : "; ", b_name, listed(only_b));
     if (what.empty()) what = fmt::format("the same options in another order ({} vs {})", listed(groups_a),
                                          listed(groups_b));
-    return fmt::format("{} (paths are compared by what they hold, not by how they are spelled)", what);
+    return what;
 }
 
 }  // namespace rayverify::cli

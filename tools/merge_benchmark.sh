@@ -8,8 +8,9 @@
 #   tools/merge_benchmark.sh RAYVERIFY WORK_DIR "AUDIT ARGS" N...
 #   e.g. tools/merge_benchmark.sh build/rayverify /tmp/mb "--generate uniform:1000000" 10 100 1000
 #
-# WORK_DIR is created and left in place (delete it afterwards); docs/scaling_out.md
-# shows a run.
+# WORK_DIR is created and left in place (delete it afterwards); shards already
+# there from an earlier run with the same arguments are merged again, not
+# audited again. docs/scaling_out.md shows a run.
 set -euo pipefail
 [ $# -ge 4 ] || { sed -n '2,12p' "$0" >&2; exit 2; }
 rayverify="$(cd "$(dirname "$1")" && pwd)/$(basename "$1")"
@@ -25,20 +26,23 @@ echo "| shards | state per shard (MiB) | all states (MiB) | merge wall time (s) 
 echo "|---:|---:|---:|---:|---:|"
 largest=0
 for n in "$@"; do
-  rm -rf "shards-$n" "merged-$n"
-  seq 1 "$n" | parallel --will-cite -j "$(nproc)" \
-    "$rayverify" audit "${audit[@]}" --threads 1 --shard {}/"$n" --report "shards-$n/{}" '>/dev/null' '||' '[ $? -eq 1 ]'
+  rm -rf "merged-$n"
+  if [ "$(ls "shards-$n"/*/shard.json 2>/dev/null | wc -l)" -ne "$n" ]; then
+    rm -rf "shards-$n"
+    seq 1 "$n" | parallel --will-cite -j "$(nproc)" \
+      "$rayverify" audit "${audit[@]}" --threads 1 --shard {}/"$n" --report "shards-$n/{}" '>/dev/null' '||' '[ $? -eq 1 ]'
+  fi
   bytes=$(cat "shards-$n"/*/shard.json | wc -c)
   status=0
   /usr/bin/time -f '%e %M' -o "time-$n.txt" "$rayverify" merge -o "merged-$n" "shards-$n"/* >/dev/null || status=$?
   [ "$status" -le 1 ] || { echo "merge_benchmark.sh: the merge of $n shards failed ($status)" >&2; exit 1; }
-  read -r seconds kib <"time-$n.txt"
+  read -r seconds kib < <(tail -n 1 "time-$n.txt")  # after "Command exited with non-zero status 1"
   awk -v n="$n" -v b="$bytes" -v s="$seconds" -v k="$kib" \
     'BEGIN { printf "| %d | %.2f | %.0f | %.2f | %.0f |\n", n, b / n / 1048576, b / 1048576, s, k / 1024 }'
   [ "$n" -gt "$largest" ] && largest=$n
 done
 
-"$rayverify" audit "${audit[@]}" --report single >/dev/null || [ $? -eq 1 ]
+[ -f single/report.json ] || "$rayverify" audit "${audit[@]}" --report single >/dev/null || [ $? -eq 1 ]
 for file in report.json summary.txt report.md; do
   cmp -s "single/$file" "merged-$largest/$file" || { echo "merge_benchmark.sh: $file of $largest shards differs from one process's" >&2; exit 1; }
 done

@@ -22,8 +22,8 @@ command -v parallel >/dev/null || { echo "merge_benchmark.sh: needs GNU parallel
 mkdir -p "$work"
 cd "$work"
 
-echo "| shards | state per shard (MiB) | all states (MiB) | merge wall time (s) | merge peak RSS (MiB) |"
-echo "|---:|---:|---:|---:|---:|"
+echo "| shards | state per shard (MiB) | all states (MiB) | merge CPU time (s) | merge wall time (s) | merge peak RSS (MiB) |"
+echo "|---:|---:|---:|---:|---:|---:|"
 largest=0
 for n in "$@"; do
   rm -rf "merged-$n"
@@ -34,11 +34,12 @@ for n in "$@"; do
   fi
   bytes=$(cat "shards-$n"/*/shard.json | wc -c)
   status=0
-  /usr/bin/time -f '%e %M' -o "time-$n.txt" "$rayverify" merge -o "merged-$n" "shards-$n"/* >/dev/null || status=$?
+  /usr/bin/time -f '%e %U %S %M' -o "time-$n.txt" "$rayverify" merge -o "merged-$n" "shards-$n"/* >/dev/null || status=$?
   [ "$status" -le 1 ] || { echo "merge_benchmark.sh: the merge of $n shards failed ($status)" >&2; exit 1; }
-  read -r seconds kib < <(tail -n 1 "time-$n.txt")  # after "Command exited with non-zero status 1"
-  awk -v n="$n" -v b="$bytes" -v s="$seconds" -v k="$kib" \
-    'BEGIN { printf "| %d | %.2f | %.0f | %.2f | %.0f |\n", n, b / n / 1048576, b / 1048576, s, k / 1024 }'
+  read -r wall user system kib < <(tail -n 1 "time-$n.txt")  # after "Command exited with non-zero status 1"
+  awk -v n="$n" -v b="$bytes" -v w="$wall" -v c="$user + $system" -v k="$kib" \
+    'BEGIN { split(c, t, " + "); printf "| %d | %.2f | %.0f | %.2f | %.2f | %.0f |\n", n, b / n / 1048576, b / 1048576,
+             t[1] + t[2], w, k / 1024 }'
   [ "$n" -gt "$largest" ] && largest=$n
 done
 
@@ -48,3 +49,4 @@ for file in report.json summary.txt report.md; do
 done
 echo
 echo "The merge of $largest shards wrote the same report.json, summary.txt and report.md as one process."
+echo "$(nproc) CPUs; load average at the end: $(cut -d' ' -f1-3 /proc/loadavg)"

@@ -17,8 +17,9 @@
 # cancels what is left in the queue, stops every daemon this script started,
 # by pid, and removes the directory; then it checks that none of those
 # processes, no job step and no file outside the directory is left, and fails
-# if one is. Exit status: the COMMAND's, or 3 when the cluster did not start
-# or did not clean up. COMMAND gets RAYVERIFY_SLURM_TIMEOUT seconds (default 300).
+# if one is. Exit status: the COMMAND's (above 1, the daemons' last log lines
+# are printed), or 3 when the cluster did not start or did not clean up.
+# COMMAND gets RAYVERIFY_SLURM_TIMEOUT seconds (default 300).
 set -uo pipefail
 
 fail() { echo "local_cluster.sh: $*" >&2; exit 3; }
@@ -67,7 +68,7 @@ cleanup() {
     case "$steps_before" in *" $step "*) ;; *) leftover+=" slurmstepd $step (killed)"; kill -KILL "$step" ;; esac
   done
   for pid in $(pgrep -f "$cluster"); do leftover+=" process $pid ($(ps -o args= -p "$pid"))"; kill -KILL "$pid"; done
-  if [ "$status" -ne 0 ] && [ -d "$cluster" ]; then
+  if [ "$status" -gt 1 ] && [ -d "$cluster" ]; then  # 1: an audit's findings, no failure
     for log in "$cluster"/*.log; do
       [ -s "$log" ] && { echo "== $log (last lines)" >&2; tail -n 15 "$log" >&2; }
     done

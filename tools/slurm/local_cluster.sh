@@ -43,7 +43,7 @@ chmod 755 "$cluster"  # munged requires its socket's directory to be searchable 
 pids=()               # daemons started here, stopped in reverse order
 
 cleanup() {
-  local status=$? leftover=""
+  local status=$? leftover="" new_steps step
   trap - EXIT INT TERM
   if [ -f "$cluster/slurm.conf" ] && [ ${#pids[@]} -ge 2 ]; then
     scancel --quiet --full "--user=$(id -un)" 2>/dev/null
@@ -52,6 +52,15 @@ cleanup() {
       sleep 1
     done
   fi
+  # A job's slurmstepd outlives the job's end by a moment (its own cleanup).
+  for _ in $(seq 1 40); do
+    new_steps=""
+    for step in $(pgrep -x slurmstepd); do
+      case "$steps_before" in *" $step "*) ;; *) new_steps+=" $step" ;; esac
+    done
+    [ -z "$new_steps" ] && break
+    sleep 0.5
+  done
   for ((i = ${#pids[@]} - 1; i >= 0; i--)); do
     kill "${pids[i]}" 2>/dev/null
     for _ in $(seq 1 50); do
@@ -80,7 +89,7 @@ cleanup() {
   [ -n "$new_files" ] && leftover+=" files:$(echo "$new_files" | tr '\n' ' ')"
   if [ -n "$leftover" ]; then
     echo "local_cluster.sh: left behind:$leftover" >&2
-    [ "$status" -eq 0 ] && status=3
+    status=3
   fi
   exit "$status"
 }

@@ -21,7 +21,7 @@ slurm=false
 for option in "$@"; do
   case "$option" in
     --fuzz) packages+=(clang libclang-rt-14-dev) ;;  # tools/fuzz.sh: clang, libFuzzer, sanitizers
-    --slurm) packages+=(slurm-wlm munge); slurm=true ;;
+    --slurm) packages+=(slurm-wlm munge procps); slurm=true ;;  # procps: pgrep, ps for the cleanup checks
     *) echo "setup.sh: unknown option '$option' (--fuzz, --slurm)" >&2; exit 2 ;;
   esac
 done

@@ -64,7 +64,7 @@ public:
     }
 
 private:
-    nlohmann::detail::json_sax_dom_parser<json> dom_;
+    nlohmann::detail::json_sax_dom_parser<json> dom_;  // what json::parse builds with (nlohmann 3.11)
     int depth_ = 0;
 };
 
@@ -100,7 +100,7 @@ json read_state_file(const fs::path& file, bool header_only) {
 // a state of its own; those are merged at the end. Merging is exact and
 // order-independent: the result does not depend on which thread took which
 // shard. Memory: per thread one parsed document and one state, however many
-// shards there are. Of several malformed shards, the first in shard order is named.
+// shards there are. Of the malformed shards met, the first in shard order is named.
 audit_state merged_states(const std::vector<shard_input>& shards, const std::vector<audit_target>& targets) {
     const std::size_t threads =
         std::clamp<std::size_t>(std::thread::hardware_concurrency(), 1, std::max<std::size_t>(shards.size(), 1));

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "core/input_error.h"
+#include "corpus/case_stream.h"
 #include "corpus/corpus_io.h"
 
 namespace rayverify {
@@ -154,6 +155,16 @@ hunt_file read_hunt_file(const fs::path& path) {
                 throw input_error(name, line, "", fmt::format("a case line outside find {} (line {})", i + 1,
                                                               find_lines[i]));
         }
+    }
+    // Every field the file's text and the merge use is there, of its type.
+    try {
+        render_hunt_file(file);
+        for (const json& run : file.hunt.at("runs")) parse_shard(run.at("shard").get<std::string>());
+        for (const hunt_file_find& f : file.finds) parse_shard(f.provenance.at("shard").get<std::string>());
+    } catch (const json::exception& e) {
+        throw input_error(name, 0, "", fmt::format("not a hunt file: {}", e.what()));
+    } catch (const input_error& e) {  // a shard or an error that does not parse
+        throw input_error(name, 0, "", fmt::format("not a hunt file: {}", e.what()));
     }
     return file;
 }

@@ -11,6 +11,7 @@ packages=(
   libcli11-dev nlohmann-json3-dev libfmt-dev        # CLI, JSON reports, formatting
   libbenchmark-dev python3-matplotlib               # rayverify bench (Google Benchmark), report plots
   libpng-dev                   # rayverify render (PNG images)
+  python3-numpy nodejs         # tests: intersectors in NumPy and JavaScript audited through results files
 )
 # tools/fuzz.sh: clang and its runtime libraries (libFuzzer, sanitizers).
 [ "${1:-}" = "--fuzz" ] && packages+=(clang libclang-rt-14-dev)

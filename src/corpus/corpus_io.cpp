@@ -490,4 +490,11 @@ void write_file_atomically(const fs::path& path, const std::string& contents) {
         fail(fmt::format("cannot rename '{}' into place: {}", temporary.string(), ec.message()));
 }
 
+void for_each_text_line(const std::string& file, std::string_view contents,
+                        const std::function<void(std::size_t number, std::string_view line)>& on_line) {
+    for_each_line(file, contents, on_line);
+}
+
+std::vector<std::string_view> split_csv_cells(std::string_view line) { return split_csv_row(line); }
+
 }  // namespace rayverify

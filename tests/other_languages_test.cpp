@@ -1,0 +1,199 @@
+// Intersectors that do not run in rayverify's process, audited end to end:
+// the textbook quadratic (the built-in `naive`) written in C (built strictly,
+// and with -ffast-math -ffp-contract=fast as a GPU compiler would), in NumPy
+// float32 and in JavaScript on Node.js (examples/other_languages/). Each
+// exports cases, computes answers in its own language, and is audited with
+// `audit --results` and hunted with `hunt --command`; the strict ones must
+// give exactly the built-in variant's (or the same C compiled as a plugin's)
+// table, gate and finds, the fast-math build must not.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <string>
+
+#include "support/process.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using rayverify::test_support::read_text;
+using rayverify::test_support::run_cli;
+using rayverify::test_support::run_shell;
+
+const std::string corpus = RAYVERIFY_CORPUS_DIR;
+const std::string examples = std::string(RAYVERIFY_SOURCE_DIR) + "/examples/other_languages";
+const std::string python = "/usr/bin/python3";
+const std::string node = "node";
+// The contract of naive, as `rayverify variants` states it.
+const std::string naive_contract = "query=line_roots,reports_tangent=yes";
+
+class OtherLanguages : public ::testing::Test {
+protected:
+    void SetUp() override {
+        dir_ = fs::temp_directory_path() /
+               ("rayverify_other_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+        fs::remove_all(dir_);
+        fs::create_directories(dir_);
+    }
+    void TearDown() override { fs::remove_all(dir_); }
+    std::string at(const std::string& name) const { return (dir_ / name).string(); }
+
+    fs::path dir_;
+};
+
+// The summary table's row of `name` in `precision`, without the name: the figures.
+std::string row_of(const std::string& output, const std::string& name, const std::string& precision) {
+    std::istringstream lines(output);
+    for (std::string line; std::getline(lines, line);) {
+        std::istringstream words(line);
+        std::string first, second;
+        words >> first >> second;
+        if (first == name && second == precision) {
+            std::string rest, w;
+            while (words >> w) rest += " " + w;
+            return second + rest;
+        }
+    }
+    return "(no row for " + name + "/" + precision + " in:\n" + output + ")";
+}
+
+std::string export_cases(const std::string& format, const std::string& precision, const std::string& out) {
+    const auto r = run_cli("corpus export --corpus " + corpus + " --format " + format + " --precision " + precision +
+                           " -o " + out);
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    return r.output;
+}
+
+TEST_F(OtherLanguages, StrictCResultsGiveExactlyThePluginsTableDiffAndGate) {
+    export_cases("csv", "float", at("cases.csv"));
+    const auto computed = run_shell(std::string(RAYVERIFY_NAIVE_C_STRICT) + " < " + at("cases.csv") + " > " + at("answers.csv"));
+    ASSERT_EQ(computed.exit_code, 0) << computed.output;
+
+    const auto plugin = run_cli("audit --corpus " + corpus + " --plugin " + RAYVERIFY_NAIVE_C_PLUGIN +
+                                " --precision float --report " + at("plugin"));
+    const auto results = run_cli("audit --corpus " + corpus + " --results " + at("answers.csv") + " --contract " +
+                                 naive_contract + " --name c_naive --report " + at("results"));
+    ASSERT_EQ(plugin.exit_code, 1) << plugin.output;  // naive disagrees somewhere on the shipped corpus
+    ASSERT_EQ(results.exit_code, 1) << results.output;
+    EXPECT_EQ(row_of(results.output, "c_naive", "float"), row_of(plugin.output, "c_naive", "float"));
+    // Every figure of report.json, family by family, is the same.
+    const auto diff = run_cli("diff " + at("plugin/report.json") + " " + at("results/report.json"));
+    EXPECT_EQ(diff.exit_code, 0) << diff.output;
+    EXPECT_EQ(diff.output.find("worse"), std::string::npos) << diff.output;
+
+    // The gate: a baseline made from the plugin passes the results, figure for figure.
+    const auto made = run_cli("gate --baseline " + at("baseline.txt") + " --update --corpus " + corpus + " --plugin " +
+                              RAYVERIFY_NAIVE_C_PLUGIN + " --precision float");
+    ASSERT_EQ(made.exit_code, 0) << made.output;
+    const auto gated = run_cli("gate --baseline " + at("baseline.txt") + " --corpus " + corpus + " --results " +
+                               at("answers.csv") + " --contract " + naive_contract + " --name c_naive");
+    EXPECT_EQ(gated.exit_code, 0) << gated.output;
+}
+
+TEST_F(OtherLanguages, FastMathBuildOfTheSameCFindsOtherThanTheStrictBuild) {
+    export_cases("csv", "float", at("cases.csv"));
+    for (const std::string build : {RAYVERIFY_NAIVE_C_STRICT, RAYVERIFY_NAIVE_C_FAST}) {
+        const auto computed = run_shell(build + " < " + at("cases.csv") + " > " + at(fs::path(build).filename().string() + ".csv"));
+        ASSERT_EQ(computed.exit_code, 0) << computed.output;
+    }
+    const auto strict = run_cli("audit --corpus " + corpus + " --results " + at("naive_c_strict.csv") + " --contract " +
+                                naive_contract + " --name strict");
+    const auto fast = run_cli("audit --corpus " + corpus + " --results " + at("naive_c_fast.csv") + " --contract " +
+                              naive_contract + " --name fast");
+    ASSERT_NE(strict.exit_code, 2) << strict.output;
+    ASSERT_NE(fast.exit_code, 2) << fast.output;
+    const std::string strict_row = row_of(strict.output, "strict", "float"), fast_row = row_of(fast.output, "fast", "float");
+    EXPECT_NE(strict_row, fast_row) << "strict: " << strict_row << "\nfast:   " << fast_row;
+    // The strict build is the built-in naive/float, verdict for verdict.
+    const auto builtin = run_cli("audit --corpus " + corpus + " --variant naive --precision float");
+    EXPECT_EQ(strict_row, row_of(builtin.output, "naive", "float"));
+}
+
+TEST_F(OtherLanguages, NumpyFloat32ThroughNpyFilesIsTheBuiltinNaiveInFloat) {
+    export_cases("npy", "float", at("cases.npy"));
+    ASSERT_TRUE(fs::exists(at("cases.json")));
+    const auto computed = run_shell(python + " " + examples + "/naive_numpy.py " + at("cases.npy") + " " + at("answers.npy"));
+    ASSERT_EQ(computed.exit_code, 0) << computed.output;
+    const auto results = run_cli("audit --corpus " + corpus + " --results " + at("answers.npy") + " --contract " +
+                                 naive_contract + " --name numpy_naive");
+    const auto builtin = run_cli("audit --corpus " + corpus + " --variant naive --precision float");
+    ASSERT_EQ(results.exit_code, 1) << results.output;
+    EXPECT_EQ(row_of(results.output, "numpy_naive", "float"), row_of(builtin.output, "naive", "float"));
+}
+
+TEST_F(OtherLanguages, JavaScriptThroughJsonLinesIsTheBuiltinNaiveInDouble) {
+    export_cases("jsonl", "double", at("cases.jsonl"));
+    const auto computed = run_shell(node + " " + examples + "/naive.js < " + at("cases.jsonl") + " > " + at("answers.jsonl"));
+    ASSERT_EQ(computed.exit_code, 0) << computed.output;
+    const auto results = run_cli("audit --corpus " + corpus + " --results " + at("answers.jsonl") + " --contract " +
+                                 naive_contract + " --name js_naive");
+    const auto builtin = run_cli("audit --corpus " + corpus + " --variant naive --precision double");
+    ASSERT_EQ(results.exit_code, 1) << results.output;
+    EXPECT_EQ(row_of(results.output, "js_naive", "double"), row_of(builtin.output, "naive", "double"));
+}
+
+// The finds of a hunt, without its comments (which name the target and command).
+std::string finds_of(const std::string& path) {
+    std::istringstream lines(read_text(path));
+    std::string out;
+    for (std::string line; std::getline(lines, line);)
+        if (!line.starts_with("#")) out += line.substr(line.find(' ')) + "\n";  // without the id (it names the target)
+    return out;
+}
+
+TEST_F(OtherLanguages, HuntCommandInBatchesFindsWhatThePluginFinds) {
+    const std::string common = " --precision float --objective misclass --family near_tangent --evaluations 400 "
+                               "--budget 0 --batch 16 --finds 2 --seed 3";
+    const auto plugin = run_cli("hunt --plugin " + std::string(RAYVERIFY_NAIVE_C_PLUGIN) + common + " -o " + at("plugin.txt"));
+    const auto command = run_cli("hunt --command " + std::string(RAYVERIFY_NAIVE_C_STRICT) +
+                                 " --format csv --contract " + naive_contract + " --name c_naive" + common + " -o " +
+                                 at("command.txt"));
+    ASSERT_NE(plugin.exit_code, 2) << plugin.output;
+    ASSERT_EQ(command.exit_code, plugin.exit_code) << command.output;
+    EXPECT_NE(command.output.find("batches of up to 16 cases"), std::string::npos) << command.output;
+    EXPECT_EQ(finds_of(at("command.txt")), finds_of(at("plugin.txt")));
+}
+
+TEST_F(OtherLanguages, HuntCommandRunsNumpyAndNodeAndFastMathC) {
+    const struct {
+        std::string command, format, precision, name;
+    } programs[] = {
+        {python + " " + examples + "/naive_numpy.py --jsonl", "jsonl", "float", "numpy_naive"},
+        {node + " " + examples + "/naive.js", "jsonl", "double", "js_naive"},
+        {RAYVERIFY_NAIVE_C_FAST, "csv", "float", "fast_naive"},
+    };
+    for (const auto& p : programs) {
+        const auto r = run_cli("hunt --command '" + p.command + "' --format " + p.format + " --precision " + p.precision +
+                               " --contract " + naive_contract + " --name " + p.name +
+                               " --objective misclass --family near_tangent --evaluations 200 --budget 0 --finds 1 "
+                               "--no-shrink -o " + at(p.name + ".txt"));
+        EXPECT_EQ(r.exit_code, 1) << p.command << "\n" << r.output;  // near tangents make naive disagree
+        EXPECT_NE(r.output.find("answered"), std::string::npos) << r.output;
+        EXPECT_TRUE(fs::exists(at(p.name + ".txt")));
+    }
+}
+
+TEST_F(OtherLanguages, ProgramThatDiesHangsOrAnswersGarbageIsNamedWithItsCase) {
+    const struct {
+        std::string command, extra, expected;
+    } programs[] = {
+        {"exit 3", "", "exited with status 3"},
+        {"sleep 30", " --command-timeout 0.5", "gave no answer within 0.5 s"},
+        {"yes garbage", "", "not an answer to its batch"},
+        {"head -c 10 /dev/zero; sleep 30", " --command-timeout 0.5", "gave no answer within 0.5 s"},
+    };
+    for (const auto& p : programs) {
+        const auto r = run_cli("hunt --command '" + p.command + "' --format csv --contract " + naive_contract +
+                               " --name broken --evaluations 20 --budget 0 --batch 1 -o " + at("finds.txt") + p.extra);
+        EXPECT_EQ(r.exit_code, 2) << p.command << "\n" << r.output;
+        EXPECT_NE(r.output.find("command '" + p.command + "' " + p.expected), std::string::npos) << r.output;
+        EXPECT_NE(r.output.find("on case hunt-evaluation-1"), std::string::npos) << r.output;
+        EXPECT_NE(r.output.find("the case, as a corpus line"), std::string::npos) << r.output;
+        EXPECT_FALSE(fs::exists(at("finds.txt")));
+    }
+}
+
+}  // namespace

@@ -77,6 +77,8 @@ audit_target outside_target(const std::string& name, const std::string& contract
     target.subject.citation = citation;
     target.subject.formula = "(computed outside rayverify)";
     target.subject.promises = contract_from(contract_spec);
+    // A spec has no tangent rule: the answers' count is all there is to say.
+    if (target.subject.promises.reports_tangent) target.subject.promises.tangent_rule = "its answers say so";
     target.prec = prec;
     return target;
 }

@@ -48,15 +48,16 @@ TEST(ExchangeCases, CsvAndJsonLinesAreExactInTheirPrecision) {
               "# rayverify cases v1 precision=float fingerprint=0123456789abcdef cases=1 numbers=decimal\n"
               "id,family,ox,oy,oz,dx,dy,dz,cx,cy,cz,r,tmin,tmax\n"
               "c1,hand,0.1,0,-5,0,0,1,0,0,0,1,,7.5\n");
-    EXPECT_EQ(written(exchange_format::csv, precision::binary64, {c}, nullptr, number_style::hex).substr(112),
+    const std::string hex = written(exchange_format::csv, precision::binary64, {c}, nullptr, number_style::hex);
+    EXPECT_EQ(hex.substr(hex.find("\nc1,") + 1),
               "c1,hand,0x1.999999999999ap-4,0x0p+0,-0x1.4p+2,0x0p+0,0x0p+0,0x1p+0,0x0p+0,0x0p+0,0x0p+0,0x1p+0,,0x1."
               "ep+2\n");
     const std::string jsonl = written(exchange_format::jsonl, precision::binary32, {c});
     EXPECT_EQ(jsonl,
               "{\"rayverify\":\"cases\",\"version\":1,\"precision\":\"float\",\"fingerprint\":\"0123456789abcdef\","
               "\"cases\":1,\"numbers\":\"decimal\"}\n"
-              "{\"id\":\"c1\",\"family\":\"hand\",\"ox\":0.1,\"oy\":0.0,\"oz\":-5.0,\"dx\":0.0,\"dy\":0.0,\"dz\":1.0,"
-              "\"cx\":0.0,\"cy\":0.0,\"cz\":0.0,\"r\":1.0,\"tmin\":null,\"tmax\":7.5}\n");
+              "{\"id\":\"c1\",\"family\":\"hand\",\"ox\":0.1,\"oy\":0,\"oz\":-5,\"dx\":0,\"dy\":0,\"dz\":1,"
+              "\"cx\":0,\"cy\":0,\"cz\":0,\"r\":1,\"tmin\":null,\"tmax\":7.5}\n");
 }
 
 TEST(ExchangeCases, NpyHasNumpysHeaderAndTheRowsInThePrecision) {
@@ -117,8 +118,8 @@ TEST(ExchangeResults, BadAnswersAreInputErrorsNamingLineAndField) {
     EXPECT_EQ(error_of(csv_head + "id,count,t0,t1\na,2,1,2\na,2,1,2\n"),
               "a.csv:4: field 'id': duplicate answer for case 'a', first given on line 3");
     EXPECT_EQ(error_of(csv_head + "id,count,t0,t1\na,2.5,1,2\n"), "a.csv:3: field 'count': '2.5' is not a whole number");
-    EXPECT_NE(error_of(csv_head + "id,count,t0,t1\na,2,0.10000000000000001,2\n")
-                  .find("a.csv:3: field 't0': 0.1 is not a float (binary32) value"),
+    EXPECT_NE(error_of(csv_head + "id,count,t0,t1\na,2,0.12345678912345,2\n")
+                  .find("a.csv:3: field 't0': 0.12345678912345 is not a float (binary32) value"),
               std::string::npos);
     EXPECT_EQ(error_of(csv_head + "id,count,t0,t1,px,py\na,2,1,2,1,2\n"),
               "a.csv:3: field 'pz': missing while others of its group are given (all or none)");

@@ -75,6 +75,7 @@ external_program::external_program(std::string command, exchange_format format, 
     if (pid == 0) {
         ::prctl(PR_SET_PDEATHSIG, SIGKILL);  // killed with rayverify
         if (::getppid() != parent) ::_exit(127);
+        ::setpgid(0, 0);  // a group of its own: what the shell starts is stopped with it
         std::signal(SIGPIPE, SIG_DFL);
         if (::dup2(in[0], STDIN_FILENO) < 0 || ::dup2(out[1], STDOUT_FILENO) < 0) ::_exit(127);
         ::close_range(3, ~0u, 0);
@@ -86,6 +87,7 @@ external_program::external_program(std::string command, exchange_format format, 
     to_program_ = in[1];
     from_program_ = out[0];
     pid_ = pid;
+    ::setpgid(pid, pid);  // also here: whichever runs first
     ::fcntl(to_program_, F_SETFL, ::fcntl(to_program_, F_GETFL) | O_NONBLOCK);
 }
 
@@ -109,13 +111,14 @@ std::string external_program::ended() {
             return "ended";
         }
         if (steady::now() >= deadline) {
-            ::kill(pid_, SIGKILL);
+            ::kill(-pid_, SIGKILL);
             while (::waitpid(pid_, &status, 0) < 0 && errno == EINTR) {
             }
             break;
         }
         std::this_thread::sleep_for(std::chrono::milliseconds(1));
     }
+    ::kill(-pid_, SIGKILL);  // anything it started and left running
     pid_ = -1;
     return describe_wait_status(status);
 }
@@ -152,7 +155,7 @@ std::shared_ptr<const answer_book> external_program::answer(std::span<const corp
     while (end == std::string::npos) {
         const auto left = std::chrono::ceil<std::chrono::milliseconds>(deadline - steady::now()).count();
         if (left <= 0) {
-            ::kill(pid_, SIGKILL);
+            ::kill(-pid_, SIGKILL);
             ended();
             fail(fmt::format("gave no answer within {:g} s (it was killed)", timeout_seconds_), cases);
         }
@@ -190,7 +193,7 @@ std::shared_ptr<const answer_book> external_program::answer(std::span<const corp
         for (const corpus_case& c : cases) matcher.add(c);
         return matcher.finish(input_fingerprint);
     } catch (const input_error& e) {
-        ::kill(pid_, SIGKILL);
+        ::kill(-pid_, SIGKILL);
         ended();
         fail(fmt::format("answered with something that is not an answer to its batch ({}); it was stopped", e.what()),
              cases);

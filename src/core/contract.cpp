@@ -1,7 +1,5 @@
 #include "core/contract.h"
 
-#include <fmt/format.h>
-
 #include <array>
 #include <deque>
 #include <mutex>
@@ -44,9 +42,12 @@ std::string allowed(const name_table<E, N>& table) {
     return out;
 }
 
-std::string bound_text(double x) {
+// The shortest decimal that reads back as x (std::to_chars), ±inf spelled out.
+std::string number_text(double x) {
     if (std::isinf(x)) return x > 0 ? "+inf" : "-inf";
-    return fmt::format("{}", x);
+    char buffer[32];
+    const auto end = std::to_chars(buffer, buffer + sizeof buffer, x).ptr;
+    return std::string(buffer, end);
 }
 
 // "()", "[]", "[)", "(]": the ends as brackets.
@@ -91,51 +92,54 @@ t_range range_of(const contract& c, std::optional<double> tmin, std::optional<do
 }
 
 std::string format_range(const t_range& r) {
-    return fmt::format("{}{}, {}{}", r.lower_end == end_kind::closed ? "[" : "(", bound_text(r.lower),
-                       bound_text(r.upper), r.upper_end == end_kind::closed ? "]" : ")");
+    return (r.lower_end == end_kind::closed ? "[" : "(") + number_text(r.lower) + ", " + number_text(r.upper) +
+           (r.upper_end == end_kind::closed ? "]" : ")");
 }
 
 std::string format_contract(const contract& c) {
-    std::string spec = fmt::format("query={},range={},ends={},inside={},tangent={},faces={},unit_direction={}",
-                                   query_kind_name(c.query), range_source_name(c.range),
-                                   ends_text(c.lower_end, c.upper_end), inside_rule_name(c.inside),
-                                   c.tangent_is_hit ? "hit" : "miss", c.front_faces_only ? "front" : "both",
-                                   yes_no(c.assumes_unit_direction));
-    if (c.query == query_kind::line_roots) spec += fmt::format(",reports_tangent={}", yes_no(c.reports_tangent));
-    if (c.tangent_threshold) spec += fmt::format(",tangent_threshold={}", *c.tangent_threshold);
+    std::string spec = "query=" + std::string(query_kind_name(c.query)) + ",range=" +
+                       std::string(range_source_name(c.range)) + ",ends=" + ends_text(c.lower_end, c.upper_end) +
+                       ",inside=" + std::string(inside_rule_name(c.inside)) +
+                       ",tangent=" + (c.tangent_is_hit ? "hit" : "miss") +
+                       ",faces=" + (c.front_faces_only ? "front" : "both") +
+                       ",unit_direction=" + std::string(yes_no(c.assumes_unit_direction));
+    if (c.query == query_kind::line_roots) spec += ",reports_tangent=" + std::string(yes_no(c.reports_tangent));
+    if (c.tangent_threshold) spec += ",tangent_threshold=" + number_text(*c.tangent_threshold);
     return spec;
 }
 
 std::string describe_contract(const contract& c) {
     const std::string range = c.range == range_source::interval
-                                  ? fmt::format("{}tmin, tmax{}", c.lower_end == end_kind::closed ? "[" : "(",
-                                                c.upper_end == end_kind::closed ? "]" : ")")
+                                  ? std::string(c.lower_end == end_kind::closed ? "[" : "(") + "tmin, tmax" +
+                                        (c.upper_end == end_kind::closed ? "]" : ")")
                                   : format_range(range_of(c, std::nullopt, std::nullopt));
     std::string out;
     switch (c.query) {
         case query_kind::line_roots:
-            out = fmt::format("both roots of the line, any sign; in front means t in {}", range);
-            out += c.reports_tangent ? fmt::format("; reports a tangent when {}", c.tangent_rule)
-                                     : "; never reports a tangent";
+            out = "both roots of the line, any sign; in front means t in " + range;
+            out += c.reports_tangent ? "; reports a tangent when " + std::string(c.tangent_rule)
+                                     : std::string("; never reports a tangent");
             break;
         case query_kind::nearest_hit:
         case query_kind::any_hit:
-            out = fmt::format("{} in {}; starting inside: {}; a tangent is a {}; {}",
-                              c.query == query_kind::nearest_hit ? "nearest hit" : "any hit", range,
-                              c.inside == inside_rule::far_root ? "the far root"
-                              : c.inside == inside_rule::clamp  ? "clamped to the range start"
-                                                                : "a miss",
-                              c.tangent_is_hit ? "hit" : "miss", c.front_faces_only ? "front faces only" : "both faces");
+            out = std::string(c.query == query_kind::nearest_hit ? "nearest hit" : "any hit") + " in " + range +
+                  "; starting inside: " +
+                  (c.inside == inside_rule::far_root ? "the far root"
+                   : c.inside == inside_rule::clamp  ? "clamped to the range start"
+                                                     : "a miss") +
+                  "; a tangent is a " + (c.tangent_is_hit ? "hit" : "miss") + "; " +
+                  (c.front_faces_only ? "front faces only" : "both faces");
             break;
     }
-    if (c.tangent_threshold) out += fmt::format(" (tangent whenever b′² − aC ≤ {})", *c.tangent_threshold);
+    if (c.tangent_threshold) out += " (tangent whenever b′² − aC ≤ " + number_text(*c.tangent_threshold) + ")";
     if (c.assumes_unit_direction) out += "; assumes |d| = 1";
     return out;
 }
 
 contract parse_contract(std::string_view spec, contract c) {
     const auto fail = [&](std::string_view key, std::string_view value, const std::string& expected) {
-        return std::invalid_argument(fmt::format("contract: {}='{}': expected {}", key, value, expected));
+        return std::invalid_argument("contract: " + std::string(key) + "='" + std::string(value) + "': expected " +
+                                     expected);
     };
     const auto yes_no_value = [&](std::string_view key, std::string_view value) {
         if (value == "yes") return true;
@@ -148,7 +152,7 @@ contract parse_contract(std::string_view spec, contract c) {
         spec = comma == std::string_view::npos ? std::string_view{} : spec.substr(comma + 1);
         const std::size_t equals = item.find('=');
         if (item.empty() || equals == std::string_view::npos)
-            throw std::invalid_argument(fmt::format("contract: '{}' is not key=value", item));
+            throw std::invalid_argument("contract: '" + std::string(item) + "' is not key=value");
         const std::string_view key = item.substr(0, equals), value = item.substr(equals + 1);
         if (key == "query") {
             const auto v = query_kind_from_name(value);
@@ -184,10 +188,9 @@ contract parse_contract(std::string_view spec, contract c) {
                 throw fail(key, value, "a finite number ≥ 0");
             c.tangent_threshold = x;
         } else {
-            throw std::invalid_argument(fmt::format(
-                "contract: unknown key '{}' (keys: query, range, ends, inside, tangent, faces, unit_direction, "
-                "reports_tangent, tangent_threshold)",
-                key));
+            throw std::invalid_argument("contract: unknown key '" + std::string(key) +
+                                        "' (keys: query, range, ends, inside, tangent, faces, unit_direction, "
+                                        "reports_tangent, tangent_threshold)");
         }
     }
     return c;

@@ -117,11 +117,14 @@ void judge_nearest(ray_query q, const std::vector<renderer_outcome>& pairs, std:
         return;
     }
     if (q == ray_query::any_hit) return;  // both hit: that is all an any-hit ray asks
-    // An exact tie with the nearest hit counts as the nearest sphere.
+    // A sphere whose expected root ties the nearest exactly, or rounds to the
+    // same value in the scene's precision (no renderer can order them), counts
+    // as the nearest sphere.
+    const exact_solution& nearest_exact = solved[exact->index].exact;
     const expected_hit tied = expect_hit(renderer_contract(q), solved[*chosen].exact, mine.range);
     const bool same_hit = *chosen == exact->index ||
-                          (tied.hit() && compare_roots(solved[*chosen].exact, tied.root, solved[exact->index].exact,
-                                                       exact->root) == 0);
+                          (tied.hit() && (tied.value == nearest_exact.root(exact->root).rounded ||
+                                          compare_roots(solved[*chosen].exact, tied.root, nearest_exact, exact->root) == 0));
     if (same_hit || mine.score.verdict == verdict_kind::wrong_side) {
         // The right sphere (or an exact tie), or a self-hit on the sphere it
         // chose: that pair's verdict is the ray's.

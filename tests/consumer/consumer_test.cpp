@@ -46,7 +46,7 @@ root_pair<T> user_sphere_naive_discriminant(const ray_sphere<T>& s) {
 
 rayverify::variant as_variant(root_pair<float> (*f)(const ray_sphere<float>&),
                               root_pair<double> (*d)(const ray_sphere<double>&)) {
-    // As the README writes it; the baseline's entries are named by `name`.
+    // As docs/gate.md writes it; the baseline's entries are named by `name`.
     return rayverify::variant{.name = "user_sphere",
                               .citation = "our renderer, sphere.h",
                               .formula = "RTG ch.7 final form",

@@ -78,6 +78,20 @@ TEST(Stability, TangentIsInfinitelyIllConditioned) {
     EXPECT_EQ(cause_of(g, {1, 5, 5}), std::nullopt);                       // agree
 }
 
+// Issue item 8: at distance/radius 10^15 the cancelling b′² − aC in
+// double-double is off by several percent; the Lagrange form a·r² − |d × f|²
+// the oracle uses is not. f = (10^15, 1/2, 0), d = −x̂, r = 1: Δ′ = 1 − 1/4
+// exactly, b′² = 10^30 and aC = 10^30 − 3/4, so ρ = 0.75 / (2·10^30 − 0.75).
+TEST(Stability, FarSphereDiscriminantDoesNotCancel) {
+    const stability_measures m = measure(make({1e15, 0.5, 0}, {-1, 0, 0}, {0, 0, 0}, 1));
+    EXPECT_EQ(m.cls, line_class::two_hit);
+    EXPECT_NEAR(m.tangency_distance * 2e30, 0.75, 1e-9);
+    // κ of the near root t = 10^15 − √0.75: (|p|·(|o| + |t||d|) + r²)/(√Δ′·t) with
+    // p = f + t·d = (√0.75, 1/2, 0): (√0.75·2·10^15 + 1)/(√0.75·10^15) ≈ 2.
+    ASSERT_TRUE(m.near_condition);
+    EXPECT_NEAR(*m.near_condition, 2.0, 1e-9);
+}
+
 TEST(Stability, MissHasNoConditionNumber) {
     const stability_measures m = measure(make({0, 4, 0}, {1, 0, 0}, {5, 0, 0}, 3));
     EXPECT_EQ(m.cls, line_class::miss);

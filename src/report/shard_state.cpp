@@ -157,7 +157,9 @@ std::vector<audit_target> targets_from_json(const json& j) {
     for (const json& t : j) {
         audit_target target;
         target.subject.name = t.at("variant").get<std::string>();
-        target.prec = t.at("precision").get<std::string>() == "float" ? precision::binary32 : precision::binary64;
+        const std::optional<precision> prec = precision_from_name(t.at("precision").get<std::string>());
+        if (!prec) throw json::other_error::create(501, "unknown precision", &t.at("precision"));
+        target.prec = *prec;
         target.subject.citation = t.at("citation").get<std::string>();
         target.subject.formula = t.at("formula").get<std::string>();
         target.subject.promises = contract_from_json(t.at("contract"));

@@ -13,6 +13,7 @@
 #include <regex>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "support/process.h"
 
@@ -73,9 +74,9 @@ TEST_F(OtherLanguages, StrictCResultsGiveExactlyThePluginsTableDiffAndGate) {
     ASSERT_EQ(computed.exit_code, 0) << computed.output;
 
     const auto plugin = run_cli("audit --corpus " + corpus + " --plugin " + RAYVERIFY_NAIVE_C_PLUGIN +
-                                " --precision float --report " + at("plugin"));
+                                " --precision float --plots --report " + at("plugin"));
     const auto results = run_cli("audit --corpus " + corpus + " --results " + at("answers.csv") + " --contract " +
-                                 naive_contract + " --name c_naive --report " + at("results"));
+                                 naive_contract + " --name c_naive --plots --report " + at("results"));
     ASSERT_EQ(plugin.exit_code, 1) << plugin.output;  // naive disagrees somewhere on the shipped corpus
     ASSERT_EQ(results.exit_code, 1) << results.output;
     EXPECT_EQ(row_of(results.output, "c_naive", "float"), row_of(plugin.output, "c_naive", "float"));
@@ -83,6 +84,13 @@ TEST_F(OtherLanguages, StrictCResultsGiveExactlyThePluginsTableDiffAndGate) {
     const auto diff = run_cli("diff " + at("plugin/report.json") + " " + at("results/report.json"));
     EXPECT_EQ(diff.exit_code, 0) << diff.output;
     EXPECT_NE(diff.output.find("0 worse, 0 better"), std::string::npos) << diff.output;
+    // The same plots, drawn from the same figures.
+    std::vector<std::string> plots;
+    for (const auto& entry : fs::directory_iterator(at("plugin")))
+        if (entry.path().extension() == ".png") plots.push_back(entry.path().filename().string());
+    EXPECT_FALSE(plots.empty()) << plugin.output;
+    for (const std::string& png : plots)
+        EXPECT_EQ(read_text(at("results/" + png)), read_text(at("plugin/" + png))) << png;
 
     // The gate: a baseline made from the plugin passes the results, figure for figure.
     const auto made = run_cli("gate --baseline " + at("baseline.txt") + " --update --corpus " + corpus + " --plugin " +
@@ -133,6 +141,73 @@ TEST_F(OtherLanguages, JavaScriptThroughJsonLinesIsTheBuiltinNaiveInDouble) {
     const auto builtin = run_cli("audit --corpus " + corpus + " --variant naive --precision double");
     ASSERT_EQ(results.exit_code, 1) << results.output;
     EXPECT_EQ(row_of(results.output, "js_naive", "double"), row_of(builtin.output, "naive", "double"));
+}
+
+// explain's row of `label` ("naive/float"), without the label: verdict, cause, answer, ULPs.
+std::string explain_row(const std::string& output, const std::string& label) {
+    std::istringstream lines(output);
+    for (std::string line; std::getline(lines, line);)
+        if (line.starts_with(label + " ")) return line.substr(line.find_first_not_of(' ', label.size()));
+    return "(no row for " + label + " in:\n" + output + ")";
+}
+
+TEST_F(OtherLanguages, ExplainAndSceneAuditJudgeResultsAsTheBuiltinVariant) {
+    export_cases("csv", "float", at("cases.csv"));
+    ASSERT_EQ(run_shell(std::string(RAYVERIFY_NAIVE_C_STRICT) + " < " + at("cases.csv") + " > " + at("answers.csv"))
+                  .exit_code, 0);
+    // far_sphere-1-000001: naive in float hits a sphere the exact ray misses.
+    const auto explained = run_cli("explain --case far_sphere-1-000001 --corpus " + corpus + " --variant naive "
+                                   "--precision float --results " + at("answers.csv") + " --contract " +
+                                   naive_contract + " --name c_naive");
+    ASSERT_EQ(explained.exit_code, 1) << explained.output;
+    EXPECT_NE(explain_row(explained.output, "c_naive/float").find("false_hit"), std::string::npos) << explained.output;
+    EXPECT_EQ(explain_row(explained.output, "c_naive/float"), explain_row(explained.output, "naive/float"));
+
+    // A scene's (ray, sphere) pairs, whose ids hold commas ("px3,7/shadow/..."): quoted CSV cells.
+    const std::string scene = corpus + "/scenes/secondary_self_hit.json";
+    const auto exported = run_cli("corpus export --scene " + scene + " -o " + at("scene.csv"));
+    ASSERT_EQ(exported.exit_code, 0) << exported.output;
+    ASSERT_EQ(run_shell(std::string(RAYVERIFY_NAIVE_C_STRICT) + " < " + at("scene.csv") + " > " + at("scene_answers.csv"))
+                  .exit_code, 0);
+    const auto audited = run_cli("audit --scene " + scene + " --variant naive --results " + at("scene_answers.csv") +
+                                 " --contract " + naive_contract + " --name c_naive");
+    ASSERT_NE(audited.exit_code, 2) << audited.output;
+    // Every table (primary, shadow, secondary rays) has both rows, figure for figure.
+    std::istringstream lines(audited.output);
+    std::vector<std::string> builtin_rows, results_rows;
+    for (std::string line; std::getline(lines, line);) {
+        const std::size_t first = line.find_first_not_of(' ');
+        if (first == std::string::npos) continue;
+        if (line.compare(first, 12, "naive/float ") == 0) builtin_rows.push_back(line.substr(first + 12));
+        if (line.compare(first, 14, "c_naive/float ") == 0) results_rows.push_back(line.substr(first + 14));
+    }
+    ASSERT_GE(builtin_rows.size(), 2u) << audited.output;
+    ASSERT_EQ(results_rows.size(), builtin_rows.size()) << audited.output;
+    for (std::size_t i = 0; i < builtin_rows.size(); ++i) {
+        // The label's padding differs by the two characters of "c_".
+        const std::string want = builtin_rows[i].substr(builtin_rows[i].find_first_not_of(' '));
+        EXPECT_EQ(results_rows[i].substr(results_rows[i].find_first_not_of(' ')), want) << audited.output;
+    }
+}
+
+// Exported cases, the answers of the JavaScript and NumPy programs, and the .npy
+// companions all conform to docs/schema (checked with Debian's python3-jsonschema).
+TEST_F(OtherLanguages, ExportsAndAnswersFollowTheSchemaFile) {
+    const std::string check = python + " " + RAYVERIFY_SOURCE_DIR + "/tests/support/check_exchange_schema.py " +
+                              RAYVERIFY_SOURCE_DIR + "/docs/schema/rayverify-exchange-v1.json ";
+    ASSERT_EQ(run_cli("corpus export --generate uniform:40 --generate inside:20 --format jsonl -o " + at("cases.jsonl")).exit_code, 0);
+    ASSERT_EQ(run_cli("corpus export --generate uniform:40 --format jsonl --numbers hex -o " + at("hex.jsonl")).exit_code, 0);
+    ASSERT_EQ(run_shell(node + " " + examples + "/naive.js < " + at("cases.jsonl") + " > " + at("answers.jsonl")).exit_code, 0);
+    ASSERT_EQ(run_cli("corpus export --generate uniform:40 --precision float -o " + at("cases.npy")).exit_code, 0);
+    ASSERT_EQ(run_shell(python + " " + examples + "/naive_numpy.py " + at("cases.npy") + " " + at("answers.npy")).exit_code, 0);
+    const auto checked = run_shell(check + at("cases.jsonl") + " " + at("hex.jsonl") + " " + at("answers.jsonl") + " " +
+                                   at("cases.json") + " " + at("answers.json"));
+    EXPECT_EQ(checked.exit_code, 0) << checked.output;
+    // The check can fail: a count that is not an integer.
+    std::ofstream(at("bad.jsonl")) << read_text(at("answers.jsonl")) << "{\"id\":\"x\",\"count\":\"two\"}\n";
+    const auto bad = run_shell(check + at("bad.jsonl"));
+    EXPECT_EQ(bad.exit_code, 1) << bad.output;
+    EXPECT_NE(bad.output.find("bad.jsonl:"), std::string::npos) << bad.output;
 }
 
 // The finds of a hunt, without its comments (which name the target and command).

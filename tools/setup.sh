@@ -12,6 +12,7 @@ packages=(
   libbenchmark-dev python3-matplotlib               # rayverify bench (Google Benchmark), report plots
   libpng-dev                   # rayverify render (PNG images)
   python3-numpy nodejs         # tests: intersectors in NumPy and JavaScript audited through results files
+  python3-jsonschema           # tests: exported cases and answers checked against docs/schema
 )
 # tools/fuzz.sh: clang and its runtime libraries (libFuzzer, sanitizers).
 [ "${1:-}" = "--fuzz" ] && packages+=(clang libclang-rt-14-dev)

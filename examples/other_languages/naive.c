@@ -119,6 +119,8 @@ int main(void) {
             int n = 0;
             for (char* p = line; n < 14; ++n) {
                 cell[n] = p;
+                /* A quoted id (a scene ray's "px3,7/...") holds commas; it is copied quoted. */
+                if (*p == '"' && !(p = strchr(p + 1, '"'))) fail("an unclosed quote");
                 p = strchr(p, ',');
                 if (!p) break;
                 *p++ = '\0';

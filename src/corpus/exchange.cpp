@@ -254,6 +254,14 @@ json header_json(const char* kind, precision p, const std::string& fingerprint) 
     return {{"rayverify", kind}, {"version", exchange_version}, {"precision", precision_name(p)}, {"fingerprint", fingerprint}};
 }
 
+// A text cell of a cases CSV: quoted when it holds a comma (a scene ray's id
+// "px3,7/shadow/..."); a quote or a line break cannot be written.
+std::string csv_cell(const std::string& text, const std::string& source, const char* field) {
+    if (text.find_first_of("\"\r\n") != std::string::npos)
+        throw input_error(source, 0, field, fmt::format("'{}' cannot be written as one CSV cell", text));
+    return text.find(',') == std::string::npos ? text : "\"" + text + "\"";
+}
+
 }  // namespace
 
 case_writer::case_writer(std::ostream& out, std::ostream* sidecar, exchange_format format, const cases_header& header)
@@ -305,9 +313,7 @@ void case_writer::write(const corpus_case& c) {
     const std::optional<double> bounds[2] = {bound(c.tmin), bound(c.tmax)};
     switch (format_) {
         case exchange_format::csv: {
-            if (c.id.find_first_of(",\"\n") != std::string::npos || c.family.find_first_of(",\"\n") != std::string::npos)
-                throw input_error(c.source, 0, "id", fmt::format("'{}' cannot be written as one CSV cell", c.id));
-            std::string row = c.id + "," + c.family;
+            std::string row = csv_cell(c.id, c.source, "id") + "," + csv_cell(c.family, c.source, "family");
             for (double v : values) row += "," + number_text(in_precision(v, p), p, header_.numbers);
             for (const auto& b : bounds) row += "," + (b ? number_text(*b, p, header_.numbers) : std::string());
             out_ << row << '\n';

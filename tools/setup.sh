@@ -16,6 +16,8 @@ packages=(
   libbenchmark-dev python3-matplotlib               # rayverify bench (Google Benchmark), report plots
   libpng-dev                   # rayverify render (PNG images)
   parallel                     # GNU parallel: the docs/scaling_out.md recipe a test runs
+  python3-numpy nodejs         # tests: intersectors in NumPy and JavaScript audited through results files
+  python3-jsonschema           # tests: exported cases and answers checked against docs/schema
 )
 slurm=false
 for option in "$@"; do

@@ -33,6 +33,7 @@ struct audit_options {
     unsigned threads = 0;  // 0: every hardware thread
     std::string shard;
     std::string scene;  // issue 6: audit a scene's rays instead (cli/scene_audit.cpp)
+    results_options results;
 };
 
 // Progress on stderr, only when a person is watching it.
@@ -60,20 +61,29 @@ int run(const audit_options& options, const std::string& command_line) {
             throw input_error("", 0, "--scene",
                               "a scene makes its own rays: no --corpus, --generate, --shard, --per-case or --plots");
         return run_scene_audit({options.scene, options.variants, options.plugins, options.precisions,
-                                options.isolation, options.report_dir, command_line});
+                                options.isolation, options.report_dir, command_line, options.results});
     }
-    if (!options.corpus.empty() && !options.generate.empty())
-        throw input_error("", 0, "--generate", "give either --corpus or --generate, not both");
     const shard_spec shard = options.shard.empty() ? shard_spec{} : chosen_shard(options.shard, "audit");
     if (!options.shard.empty() && options.report_dir.empty())
         throw input_error("", 0, "--shard", "a shard needs --report DIR (its state for `rayverify merge` goes there)");
-    std::vector<std::filesystem::path> paths(options.corpus.begin(), options.corpus.end());
-    std::vector<generate_spec> specs;
-    for (const std::string& text : options.generate) specs.push_back(parse_generate_spec(text));
-    if (paths.empty() && specs.empty()) paths.emplace_back(default_corpus());
-    case_stream stream = specs.empty() ? case_stream(paths, shard) : case_stream(specs, shard);
+    const case_input input = select_input(options.corpus, options.generate);
+    const std::vector<std::filesystem::path>& paths = input.paths;
+    const std::vector<generate_spec>& specs = input.specs;
+    case_stream stream = input.open(shard);
+    // A results file answers the whole input (every shard's cases), checked before any case is judged.
+    const std::optional<audit_target> results = results_target(options.results, [&](answer_matcher& matcher) {
+        case_stream whole = input.open();
+        std::vector<corpus_case> cases;
+        std::vector<std::size_t> indices;
+        while (whole.next(cases, indices)) {
+            for (const corpus_case& c : cases) matcher.add(c);
+            cases.clear();
+            indices.clear();
+        }
+        return whole.fingerprint();
+    });
     const std::vector<audit_target> targets =
-        select_targets(options.variants, options.plugins, options.precisions, options.isolation);
+        targets_with_results(options.variants, options.plugins, options.precisions, options.isolation, results);
     if (targets.empty()) throw input_error("", 0, "--precision", "no variant runs in the chosen precision");
     const unsigned requested = options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency());
     const unsigned threads = audit_threads(targets, requested);
@@ -255,6 +265,7 @@ command add_audit_command(CLI::App& app, const std::string& command_line) {
     sub->add_option("--plugin", options->plugins,
                     "Shared library implementing rayverify_plugin.h, audited as a variant (repeatable)");
     add_isolation_options(sub, options->isolation);
+    add_results_options(sub, options->results);
     sub->add_option("--precision", options->precisions, "float or double (repeatable; default: both)")
         ->check(CLI::IsMember({"float", "double"}));
     sub->add_option("--report", options->report_dir,

@@ -11,9 +11,11 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <span>
 
 #include "compare/audit.h"
 #include "corpus/case_stream.h"
+#include "corpus/exchange.h"
 #include "plugin/plugin_loader.h"
 #include "report/atomic_file.h"
 #include "scene/scene.h"
@@ -34,6 +36,7 @@ command add_variants_command(CLI::App& app);
 command add_audit_command(CLI::App& app, const std::string& command_line);
 command add_explain_command(CLI::App& app);
 command add_corpus_command(CLI::App& app);
+command add_export_subcommand(CLI::App* corpus);  // `corpus export` (cli/export_command.cpp)
 command add_bench_command(CLI::App& app, const std::string& command_line);
 command add_hunt_command(CLI::App& app, const std::string& command_line);
 command add_gate_command(CLI::App& app);
@@ -46,6 +49,10 @@ command add_recommend_command(CLI::App& app);  // issue 6: cli/recommend_command
 // hunt, every shard once, as one hunt file at `output` keeping the `keep`
 // worst finds. Returns exit_findings when a disagreement is kept.
 int merge_hunts(const std::vector<std::string>& files, const std::string& output, std::size_t keep);
+// --results FILE --contract SPEC --name NAME (audit, gate, explain).
+struct results_options {
+    std::string file, contract_spec, name;
+};
 
 // issue 6: `audit --scene FILE` (cli/scene_audit.cpp), called by the audit command.
 struct scene_audit_request {
@@ -54,6 +61,7 @@ struct scene_audit_request {
     plugin_isolation isolation;
     std::string report_dir;    // scene_report.json goes there when not empty
     std::string command_line;
+    results_options results;  // answers for the scene's (ray, sphere) pairs
 };
 int run_scene_audit(const scene_audit_request& request);
 // The chosen variants (all by default), each in the scene's precision.
@@ -78,6 +86,44 @@ std::vector<audit_target> select_targets(const std::vector<std::string>& variant
                                          const std::vector<std::string>& plugin_paths,
                                          const std::vector<std::string>& precisions,
                                          const plugin_isolation& isolation = {});
+
+// The cases a command reads: corpus files (the shipped corpus when neither is
+// given) or generated families (cli/results_target.cpp).
+struct case_input {
+    std::vector<std::filesystem::path> paths;
+    std::vector<generate_spec> specs;
+    case_stream open(shard_spec shard = {}) const;
+};
+// Throws input_error when both --corpus and --generate are given, or a spec is malformed.
+case_input select_input(const std::vector<std::string>& corpus, const std::vector<std::string>& generate);
+
+// Every (ray, sphere) pair a scene's rays meet, as cases, in ray order.
+std::vector<corpus_case> scene_cases(const scene& s);
+// The fingerprint of cases held in memory, as case_stream computes it for files.
+std::string fingerprint_of(std::span<const corpus_case> cases);
+
+void add_results_options(CLI::App* sub, results_options& options);
+
+// The target the results file stands for, nullopt without --results. `feed`
+// passes every case of the command's input, in order, to the matcher and
+// returns the input's fingerprint; answers that do not match that input
+// exactly are an input_error (corpus/exchange.h), before anything is judged.
+std::optional<audit_target> results_target(const results_options& options,
+                                           const std::function<std::string(answer_matcher&)>& feed);
+
+// A target answering from outside rayverify (a results file, a --command):
+// its name (one token, not a built-in's), contract spec (core/contract.h's
+// parse_contract) and precision; no functions.
+audit_target outside_target(const std::string& name, const std::string& contract_spec, const std::string& citation,
+                            precision prec);
+
+// select_targets, with the results target last; with results and neither
+// --variant nor --plugin, the results target alone.
+std::vector<audit_target> targets_with_results(const std::vector<std::string>& variant_names,
+                                               const std::vector<std::string>& plugin_paths,
+                                               const std::vector<std::string>& precisions,
+                                               const plugin_isolation& isolation,
+                                               const std::optional<audit_target>& results);
 
 // --isolate and --plugin-timeout, on every command that takes --plugin.
 void add_isolation_options(CLI::App* sub, plugin_isolation& isolation);

@@ -25,6 +25,7 @@ struct gate_options {
     bool update = false;
     std::size_t examples = 3;
     unsigned threads = 0;  // 0: every hardware thread
+    results_options results;
 };
 
 std::string read_text_file(const std::filesystem::path& path, const std::string& field) {
@@ -52,8 +53,12 @@ int run(const gate_options& options) {
     std::vector<std::filesystem::path> paths(options.corpus.begin(), options.corpus.end());
     if (paths.empty()) paths.emplace_back(default_corpus());
     const std::vector<corpus_case> cases = read_corpus(paths);
+    const std::optional<audit_target> results = results_target(options.results, [&](answer_matcher& matcher) {
+        for (const corpus_case& c : cases) matcher.add(c);
+        return fingerprint_of(cases);
+    });
     const std::vector<audit_target> targets =
-        select_targets(options.variants, options.plugins, options.precisions, options.isolation);
+        targets_with_results(options.variants, options.plugins, options.precisions, options.isolation, results);
     if (targets.empty()) throw input_error("", 0, "--precision", "no variant runs in the chosen precision");
 
     const unsigned threads = options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency());
@@ -86,6 +91,7 @@ command add_gate_command(CLI::App& app) {
     sub->add_option("--variant", options->variants, "Built-in variant to gate (repeatable; default: all)");
     sub->add_option("--plugin", options->plugins, "Shared library implementing rayverify_plugin.h (repeatable)");
     add_isolation_options(sub, options->isolation);
+    add_results_options(sub, options->results);
     sub->add_option("--precision", options->precisions, "float or double (repeatable; default: both)")
         ->check(CLI::IsMember({"float", "double"}));
     sub->add_option("--junit", options->junit, "Also write JUnit XML (a test case per variant and family)");

@@ -4,6 +4,7 @@
 #include "compare/hunt.h"
 #include "core/input_error.h"
 #include "corpus/corpus_io.h"
+#include "corpus/external_program.h"
 #include "corpus/generators.h"
 #include "report/audit_report.h"
 #include "report/hunt_file.h"
@@ -26,16 +27,27 @@ struct hunt_command_options {
     bool no_shrink = false;
     std::string output;
     std::string shard;
+    // An external program hunted instead (corpus/external_program.h).
+    std::string command;
+    std::string contract_spec, name;
+    std::string format = "jsonl";
+    double command_timeout = 10;
+    std::size_t batch = 0;  // 0: 1 for a variant or plugin, 64 for a command
 };
 
 std::string error_text(double ulps) { return fmt::format("{:.3g} ulp", ulps); }
 
 int run(const hunt_command_options& o, const std::string& command_line) {
-    if (o.variant.empty() == o.plugin.empty())
-        throw input_error("", 0, "--variant", "name exactly one target: --variant NAME or --plugin LIBRARY");
+    if (int(!o.variant.empty()) + int(!o.plugin.empty()) + int(!o.command.empty()) != 1)
+        throw input_error("", 0, "--variant",
+                          "name exactly one target: --variant NAME, --plugin LIBRARY or --command 'PROGRAM'");
     const std::vector<std::string> names = o.variant.empty() ? std::vector<std::string>{} : std::vector{o.variant};
     const std::vector<std::string> plugins = o.plugin.empty() ? std::vector<std::string>{} : std::vector{o.plugin};
-    const std::vector<audit_target> targets = select_targets(names, plugins, {o.precision}, o.isolation);
+    const std::vector<audit_target> targets = o.command.empty()
+                                                  ? select_targets(names, plugins, {o.precision}, o.isolation)
+                                                  : std::vector<audit_target>{outside_target(o.name, o.contract_spec, "command " + o.command,
+                                                                                   o.precision == "float" ? precision::binary32
+                                                                                                          : precision::binary64)};
     if (targets.empty())
         throw input_error("", 0, "--precision",
                           fmt::format("{} does not run in {}", o.variant.empty() ? o.plugin : o.variant, o.precision));
@@ -63,7 +75,20 @@ int run(const hunt_command_options& o, const std::string& command_line) {
     // This shard's start cases: the family's cases K − 1, K − 1 + N, ...
     const auto start_index = [&](std::uint64_t j) { return shard.index - 1 + j * shard.count; };
     const hunt_start start = [&](std::uint64_t j) { return generate_case(family_name, o.seed, start_index(j)).geometry; };
-    const hunt_result result = hunt(target, start, options);
+    options.batch = o.batch ? o.batch : (o.command.empty() ? 1 : 64);
+    std::optional<external_program> program;
+    hunt_judge judge;
+    if (!o.command.empty()) {
+        program.emplace(o.command, *exchange_format_from_name(o.format), target.prec, o.command_timeout);
+        judge = [&](std::span<const corpus_case> cases) {
+            audit_target answered = target;
+            answered.recorded = program->answer(cases);
+            std::vector<hunt_evaluation> evals;
+            for (const corpus_case& c : cases) evals.push_back(evaluate_for_hunt(answered, c));
+            return evals;
+        };
+    }
+    const hunt_result result = hunt(target, start, options, judge);
 
     const std::string label = target.label();
     const bool ulp = options.objective == hunt_objective::ulp;
@@ -73,6 +98,8 @@ int run(const hunt_command_options& o, const std::string& command_line) {
                label, o.objective, o.strategy, family_name, o.seed, shard_note, result.evaluations, result.starts,
                result.seconds);
 
+    if (program)
+        fmt::print("command '{}' answered {} batches of up to {} cases\n", o.command, program->batches(), options.batch);
     hunt_file file;
     file.hunt = {{"format", hunt_file_format},
                  {"build", build_json()},
@@ -143,6 +170,27 @@ command add_hunt_command(CLI::App& app, const std::string& command_line) {
     sub->add_option("--plugin", o->plugin,
                     "Hunt a plugin (rayverify_plugin.h) instead: its functions are called through a function pointer");
     add_isolation_options(sub, o->isolation);
+    CLI::Option* command = sub->add_option(
+        "--command", o->command,
+        "Hunt a program instead, in any language: run once with /bin/sh -c, it reads batches of cases on stdin and "
+        "answers each on stdout, in --format (docs/other-languages.md); it dying, hanging or answering garbage "
+        "is an input error naming it and the case (exit 2)");
+    sub->add_option("--contract", o->contract_spec, "With --command: the program's contract, e.g. query=line_roots")
+        ->needs(command);
+    sub->add_option("--name", o->name, "With --command: the name its finds are reported under")->needs(command);
+    sub->add_option("--format", o->format, "With --command: jsonl or csv")
+        ->check(CLI::IsMember({"jsonl", "csv"}))
+        ->needs(command)
+        ->capture_default_str();
+    sub->add_option("--command-timeout", o->command_timeout,
+                    "With --command: seconds the program may take over one batch before it is killed")
+        ->check(CLI::Range(0.001, 86400.0))
+        ->needs(command)
+        ->capture_default_str();
+    sub->add_option("--batch", o->batch,
+                    "Cases judged together (start cases, or candidates moved from the same case); default 1, and "
+                    "64 with --command")
+        ->check(CLI::Range(std::size_t{1}, std::size_t{1} << 20));
     sub->add_option("--precision", o->precision, "float or double")
         ->check(CLI::IsMember({"float", "double"}))
         ->capture_default_str();

@@ -12,8 +12,8 @@
 
 namespace {
 
-// The case a plugin failed on as a line to paste into a corpus; an id that
-// could not be read back as one token is replaced.
+// The case an intersector failed on as a line to paste into a corpus; an id
+// that could not be read back as one token is replaced.
 std::string corpus_line_of(rayverify::corpus_case c) {
     try {
         return rayverify::format_case_line(c);
@@ -50,7 +50,7 @@ int main(int argc, char** argv) {
         for (const cli::command& command : commands)
             if (command.parser->parsed()) return command.run();
         return cli::exit_input_error;
-    } catch (const plugin_failure& e) {
+    } catch (const case_failure& e) {  // an isolated plugin or an external program
         fmt::print(stderr, "rayverify: error: {}\n  the case, as a corpus line:\n  {}\n", e.what(),
                    corpus_line_of(e.failing_case()));
         return cli::exit_input_error;

@@ -169,7 +169,15 @@ int run_scene_audit(const scene_audit_request& request) {
     if (!request.precisions.empty())
         throw input_error("", 0, "--precision", "a scene fixes its precision (its \"precision\" field); drop --precision");
     const scene s = read_scene(request.scene_file);
-    const std::vector<audit_target> targets = scene_audit_targets(s, request.variants, request.plugins, request.isolation);
+    const std::optional<audit_target> results = results_target(request.results, [&](answer_matcher& matcher) {
+        const std::vector<corpus_case> cases = scene_cases(s);
+        for (const corpus_case& c : cases) matcher.add(c);
+        return fingerprint_of(cases);
+    });
+    std::vector<audit_target> targets;
+    if (!results || !request.variants.empty() || !request.plugins.empty())
+        targets = scene_audit_targets(s, request.variants, request.plugins, request.isolation);
+    if (results) targets.push_back(*results);
 
     audit_outputs::created_directory created;  // removed again if the audit fails
     std::optional<atomic_file> report;

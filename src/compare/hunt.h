@@ -16,6 +16,7 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -47,6 +48,11 @@ struct hunt_options {
     std::uint64_t patience = 400;       // evaluations without improvement before a restart
     bool shrink = true;
     std::uint64_t shrink_evaluations = 4000;  // per find
+    // Cases judged together: the random strategy's start cases, or the
+    // search's candidates, all moved from the same current case and then
+    // taken in order as if one by one (1: exactly one at a time). An
+    // external program answers a batch in one exchange.
+    std::size_t batch = 1;
 };
 
 // One case judged: what the hunter optimises.
@@ -57,6 +63,13 @@ struct hunt_evaluation {
 };
 
 hunt_evaluation evaluate_for_hunt(const audit_target& target, const ray_sphere<double>& input);
+// The same for a case with an id (a target with recorded answers finds its answer by it).
+hunt_evaluation evaluate_for_hunt(const audit_target& target, const corpus_case& c);
+
+// Judges a batch of cases (ids unique in the batch), e.g. by asking an
+// external program for their answers first; the default judges each with
+// evaluate_for_hunt.
+using hunt_judge = std::function<std::vector<hunt_evaluation>(std::span<const corpus_case> cases)>;
 
 struct hunt_find {
     ray_sphere<double> found;   // as the search left it
@@ -80,7 +93,8 @@ struct hunt_result {
 // Start case `index` (0, 1, ...), deterministic in its index.
 using hunt_start = std::function<ray_sphere<double>(std::uint64_t index)>;
 
-hunt_result hunt(const audit_target& target, const hunt_start& start, const hunt_options& options);
+hunt_result hunt(const audit_target& target, const hunt_start& start, const hunt_options& options,
+                 const hunt_judge& judge = {});
 
 // A sharded hunt is N independent hunts: shard K (1 ≤ K ≤ N) starts from the
 // start cases K − 1, K − 1 + N, … (the caller's hunt_start) and searches with

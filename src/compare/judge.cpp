@@ -167,12 +167,31 @@ root_index stands_for(const exact_solution& exact, double t, root_index wanted) 
 // ---- Running a variant ------------------------------------------------------------
 
 template <class T>
-variant_output evaluate(const variant& v, const ray_sphere<T>& input, ray_interval<T> interval, const t_range& range) {
-    const root_pair<T> r = run_in(v, input, interval);
+root_pair<T> answer_of(const audit_target& target, const corpus_case& c, const ray_sphere<T>& input,
+                       ray_interval<T> interval) {
+    if (!target.recorded) return run_in(target.subject, input, interval);
+    const recorded_answer* a = target.recorded->find(c.id);
+    if (!a) return {-1, T(0), T(0)};
+    // Exact: a recorded answer in precision T holds values of T.
+    return {a->roots.count, static_cast<T>(a->roots.t0), static_cast<T>(a->roots.t1)};
+}
+
+template root_pair<float> answer_of<float>(const audit_target&, const corpus_case&, const ray_sphere<float>&,
+                                           ray_interval<float>);
+template root_pair<double> answer_of<double>(const audit_target&, const corpus_case&, const ray_sphere<double>&,
+                                             ray_interval<double>);
+
+namespace {
+
+// A raw answer as the judge takes it: widened, with the hit point o + t·d
+// evaluated in T for the value the contract makes the hit.
+template <class T>
+variant_output output_of(const contract& promises, const root_pair<T>& r, const ray_sphere<T>& input,
+                         const t_range& range) {
     variant_output out;
     out.roots = {r.count, static_cast<double>(r.t0), static_cast<double>(r.t1)};
     if (r.count <= 0) return out;
-    switch (v.promises.query) {
+    switch (promises.query) {
         case query_kind::any_hit: return out;
         case query_kind::nearest_hit: out.hit_root = 0; break;
         case query_kind::line_roots:
@@ -187,6 +206,28 @@ variant_output evaluate(const variant& v, const ray_sphere<T>& input, ray_interv
         out.hit_point = vec3_cast<double>(input.origin + t * input.direction);
     }
     return out;
+}
+
+// A target's answer on a case as the judge takes it; a recorded answer's own
+// hit point (when it gives one) replaces o + t·d, and its other outputs ride along.
+template <class T>
+variant_output target_output(const audit_target& target, const corpus_case& c, const ray_sphere<T>& input,
+                             ray_interval<T> interval, const t_range& range) {
+    variant_output out = output_of(target.subject.promises, answer_of(target, c, input, interval), input, range);
+    const recorded_answer* a = target.recorded ? target.recorded->find(c.id) : nullptr;
+    if (!a) return out;
+    if (out.hit_point && a->hit_point) out.hit_point = a->hit_point;
+    out.t0_bounds = a->t0_bounds;
+    out.t1_bounds = a->t1_bounds;
+    out.normal = a->normal;
+    return out;
+}
+
+}  // namespace
+
+template <class T>
+variant_output evaluate(const variant& v, const ray_sphere<T>& input, ray_interval<T> interval, const t_range& range) {
+    return output_of(v.promises, run_in(v, input, interval), input, range);
 }
 
 template variant_output evaluate<float>(const variant&, const ray_sphere<float>&, ray_interval<float>, const t_range&);
@@ -498,7 +539,7 @@ target_outcome judge_target_in(const audit_target& target, const corpus_case& c,
         return outcome;
     }
     outcome.range = range_for(promises, c, target.prec);
-    outcome.output = evaluate(target.subject, input, interval_in<T>(outcome.range), outcome.range);
+    outcome.output = target_output(target, c, input, interval_in<T>(outcome.range), outcome.range);
     outcome.score = judge_output(promises, outcome.output, exact, outcome.range, widened);
     return outcome;
 }
@@ -623,7 +664,7 @@ renderer_outcome judge_for_renderer_in(const audit_target& target, const corpus_
     outcome.range = range_for(renderer, c, target.prec);
     // The variant is asked as its contract says: an interval contract on the ray's interval.
     const t_range own_range = range_for(promises, c, target.prec);
-    const root_pair<T> raw = run_in(target.subject, input, interval_in<T>(own_range));
+    const root_pair<T> raw = answer_of(target, c, input, interval_in<T>(own_range));
     outcome.view = renderer_view(promises, raw, input, outcome.range, q);
     case_score s = judge_verdict(renderer, outcome.view, exact, outcome.range);
     if (s.verdict == verdict_kind::agree) {

@@ -7,6 +7,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/ray_sphere_case.h"
+
 namespace rayverify {
 
 class input_error : public std::runtime_error {
@@ -35,6 +37,21 @@ private:
     std::string file_;
     std::size_t line_;
     std::string field_;
+};
+
+// An intersector running outside rayverify's own code (an isolated plugin,
+// an external program) that died, hung or answered garbage on a case: bad
+// input (exit 2), naming the intersector and the case, which is kept whole so
+// that the CLI can print it as a corpus line to paste into a corpus.
+class case_failure : public input_error {
+public:
+    case_failure(std::string file, std::string field, const std::string& problem, corpus_case failing)
+        : input_error(std::move(file), 0, std::move(field), problem), failing_(std::move(failing)) {}
+
+    const corpus_case& failing_case() const { return failing_; }
+
+private:
+    corpus_case failing_;
 };
 
 }  // namespace rayverify

@@ -64,17 +64,32 @@ case_stream::case_stream(std::vector<generate_spec> specs, shard_spec shard, std
             throw input_error("", 0, "--generate",
                               fmt::format("{} with seed {} twice: the cases (and their ids) would repeat", s.family,
                                           s.seed));
-        const std::string identity = fmt::format("{} v{};", s.text(), find_generator_family(s.family)->version);
-        mix(identity.data(), identity.size());
+        fingerprint_.add_text(fmt::format("{} v{};", s.text(), find_generator_family(s.family)->version));
     }
 }
 
-void case_stream::mix(const void* bytes, std::size_t n) {
+void case_fingerprint::mix(const void* bytes, std::size_t n) {
     const auto* p = static_cast<const unsigned char*>(bytes);
     for (std::size_t i = 0; i < n; ++i) hash_ = (hash_ ^ p[i]) * 0x100000001b3ULL;
 }
 
-std::string case_stream::fingerprint() const { return fmt::format("{:016x}", hash_); }
+void case_fingerprint::add_text(std::string_view text) { mix(text.data(), text.size()); }
+
+void case_fingerprint::add(const corpus_case& c) {
+    mix(c.id.data(), c.id.size() + 1);
+    mix(c.family.data(), c.family.size() + 1);
+    const double inputs[10] = {c.geometry.origin.x,    c.geometry.origin.y,    c.geometry.origin.z,
+                               c.geometry.direction.x, c.geometry.direction.y, c.geometry.direction.z,
+                               c.geometry.centre.x,    c.geometry.centre.y,    c.geometry.centre.z,
+                               c.geometry.radius};
+    mix(inputs, sizeof inputs);
+    for (const std::optional<double>& bound : {c.tmin, c.tmax}) {
+        const std::uint64_t bits = bound ? std::bit_cast<std::uint64_t>(*bound) : 0x7ff8dead0000beefULL;
+        mix(&bits, sizeof bits);
+    }
+}
+
+std::string case_fingerprint::text() const { return fmt::format("{:016x}", hash_); }
 
 bool case_stream::next(std::vector<corpus_case>& cases, std::vector<std::size_t>& indices) {
     return generated_ ? next_generated(cases, indices) : next_from_files(cases, indices);
@@ -97,18 +112,7 @@ bool case_stream::next_from_files(std::vector<corpus_case>& cases, std::vector<s
             throw input_error(c.source.substr(0, colon), line, "id",
                               fmt::format("duplicate id '{}', first defined at {}", c.id, seen->second));
         }
-        // The fingerprint covers every case of the input, owned or not.
-        mix(c.id.data(), c.id.size() + 1);
-        mix(c.family.data(), c.family.size() + 1);
-        const double inputs[10] = {c.geometry.origin.x,    c.geometry.origin.y,    c.geometry.origin.z,
-                                   c.geometry.direction.x, c.geometry.direction.y, c.geometry.direction.z,
-                                   c.geometry.centre.x,    c.geometry.centre.y,    c.geometry.centre.z,
-                                   c.geometry.radius};
-        mix(inputs, sizeof inputs);
-        for (const std::optional<double>& bound : {c.tmin, c.tmax}) {
-            const std::uint64_t bits = bound ? std::bit_cast<std::uint64_t>(*bound) : 0x7ff8dead0000beefULL;
-            mix(&bits, sizeof bits);
-        }
+        fingerprint_.add(c);  // every case of the input, owned or not
         const std::size_t index = total_++;
         if (!shard_.owns(index)) continue;
         cases.push_back(std::move(c));

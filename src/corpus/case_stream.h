@@ -49,6 +49,20 @@ struct generate_spec {
 // input_error (field "--generate") for a malformed spec or an unknown family.
 generate_spec parse_generate_spec(std::string_view text);
 
+// 16 hex digits identifying an input: FNV-1a over every case in order (id,
+// family, the ten inputs and the interval, as their bytes), or over texts
+// that name it (a generated family and its version).
+class case_fingerprint {
+public:
+    void add(const corpus_case& c);
+    void add_text(std::string_view text);
+    std::string text() const;
+
+private:
+    void mix(const void* bytes, std::size_t n);
+    std::uint64_t hash_ = 0xcbf29ce484222325ULL;
+};
+
 class case_stream {
 public:
     static constexpr std::size_t default_chunk = 4096;
@@ -71,17 +85,16 @@ public:
     // 16 hex digits identifying the whole input passed so far: a hash of every
     // case (id, family, inputs, interval) for files; of the specs and each
     // family's generator version for generated cases.
-    std::string fingerprint() const;
+    std::string fingerprint() const { return fingerprint_.text(); }
 
 private:
     bool next_from_files(std::vector<corpus_case>& cases, std::vector<std::size_t>& indices);
     bool next_generated(std::vector<corpus_case>& cases, std::vector<std::size_t>& indices);
-    void mix(const void* bytes, std::size_t n);
 
     shard_spec shard_;
     std::size_t chunk_;
     std::size_t total_ = 0;
-    std::uint64_t hash_ = 0xcbf29ce484222325ULL;
+    case_fingerprint fingerprint_;
     // Files.
     std::vector<std::filesystem::path> paths_;
     std::vector<std::filesystem::path> files_;

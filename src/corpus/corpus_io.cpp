@@ -490,4 +490,27 @@ void write_file_atomically(const fs::path& path, const std::string& contents) {
         fail(fmt::format("cannot rename '{}' into place: {}", temporary.string(), ec.message()));
 }
 
+void for_each_text_line(const std::string& file, std::string_view contents,
+                        const std::function<void(std::size_t number, std::string_view line)>& on_line) {
+    for_each_line(file, contents, on_line);
+}
+
+std::vector<std::string_view> split_csv_cells(std::string_view line) {
+    std::vector<std::string_view> cells;
+    for (std::size_t start = 0;;) {
+        // A quoted cell runs to its closing quote, commas included (a scene ray's id).
+        const std::size_t first = line.find_first_not_of(" \t", start);
+        std::size_t end = std::min(line.find(',', start), line.size());
+        if (first < line.size() && line[first] == '"') {
+            const std::size_t closing = line.find('"', first + 1);
+            if (closing != std::string_view::npos) end = std::min(line.find(',', closing), line.size());
+        }
+        std::string_view cell = trim(line.substr(start, end - start));
+        if (cell.size() >= 2 && cell.front() == '"' && cell.back() == '"') cell = cell.substr(1, cell.size() - 2);
+        cells.push_back(cell);
+        if (end == line.size()) return cells;
+        start = end + 1;
+    }
+}
+
 }  // namespace rayverify

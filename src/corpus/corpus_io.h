@@ -20,6 +20,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -75,6 +76,15 @@ std::vector<std::filesystem::path> corpus_files(const std::filesystem::path& pat
 // files, non-recursive, sorted by name), in the order given. Duplicate ids
 // across everything read, or no case at all, are errors.
 std::vector<corpus_case> read_corpus(const std::vector<std::filesystem::path>& paths);
+
+// The corpus readers' line splitting, for other readers of text files
+// (corpus/exchange.h): each line with its number, without its end of line;
+// a byte order mark skipped at the start; an input_error for a line over
+// 1 MB, a NUL byte, invalid UTF-8 or a byte order mark inside.
+void for_each_text_line(const std::string& file, std::string_view contents,
+                        const std::function<void(std::size_t number, std::string_view line)>& on_line);
+// One CSV row's cells, trimmed, each stripped of one pair of surrounding double quotes.
+std::vector<std::string_view> split_csv_cells(std::string_view line);
 
 // Write cases as a text corpus, atomically (see write_file_atomically):
 // corpus_header_comment(), then each of header_comments prefixed by "# ",

@@ -20,6 +20,7 @@
 #include <type_traits>
 
 #include "core/case_in_progress.h"
+#include "core/process_status.h"
 
 namespace rayverify::plugin_internal {
 namespace {
@@ -205,19 +206,8 @@ bool answer(int fd, Fn intersect, const unsigned char* request) {
 }
 
 std::string how_it_ended(int status) {
-    if (WIFSIGNALED(status)) {
-        const int signal = WTERMSIG(status);
-        const char* name = sigabbrev_np(signal);
-        const char* description = sigdescr_np(signal);
-        return name ? fmt::format("was killed by SIG{} ({})", name, description ? description : "?")
-                    : fmt::format("was killed by signal {}", signal);
-    }
-    if (WIFEXITED(status)) {
-        const int code = WEXITSTATUS(status);
-        return code == child_lost_exit ? std::string("lost its connection to rayverify")
-                                       : fmt::format("exited with status {}", code);
-    }
-    return "ended";
+    if (WIFEXITED(status) && WEXITSTATUS(status) == child_lost_exit) return "lost its connection to rayverify";
+    return describe_wait_status(status);
 }
 
 }  // namespace

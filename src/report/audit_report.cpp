@@ -284,6 +284,18 @@ json per_case_json(const audited_case& audited, const std::vector<audit_target>&
                 r["t0"] = hex_float(o.output.roots.t0);
                 if (promises.query == query_kind::line_roots) r["t1"] = hex_float(o.output.roots.t1);
             }
+            // A recorded answer's outputs beside t, as given (not judged yet).
+            const auto hex_all = [](const auto& values) {
+                json out = json::array();
+                for (double v : values) out.push_back(hex_float(v));
+                return out;
+            };
+            if (o.output.t0_bounds) r["t0_bounds"] = hex_all(*o.output.t0_bounds);
+            if (o.output.t1_bounds) r["t1_bounds"] = hex_all(*o.output.t1_bounds);
+            if (o.output.normal) {
+                const vec3<double>& n = *o.output.normal;
+                r["normal"] = hex_all(std::array<double, 3>{n.x, n.y, n.z});
+            }
         }
         if (o.score.near_ulp) r["near_ulp"] = json_number(*o.score.near_ulp);
         if (o.score.far_ulp) r["far_ulp"] = json_number(*o.score.far_ulp);

@@ -4,7 +4,9 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <cstdint>
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -13,8 +15,9 @@
 #include <optional>
 
 #include "compare/audit.h"
+#include "core/outputs.h"
 #include "plugin/plugin_loader.h"
-#include "report/atomic_file.h"
+#include "report/markdown_report.h"
 #include "scene/scene.h"
 
 namespace rayverify::cli {
@@ -73,6 +76,13 @@ std::vector<audit_target> select_targets(const std::vector<std::string>& variant
                                          const std::vector<std::string>& precisions,
                                          const plugin_isolation& isolation = {});
 
+// Checks of a numeric option's text (cli/numeric_options.cpp), for every
+// numeric option: a whole number in [min, max] written in plain digits (no
+// sign, so "-5" is refused instead of wrapping; 2^64 and above refused), or a
+// finite number in [min, max] (> min when `above_min`; nan and inf refused).
+CLI::Validator whole_number(std::uint64_t min, std::uint64_t max = std::numeric_limits<std::uint64_t>::max());
+CLI::Validator finite_number(double min, double max, bool above_min = false);
+
 // --isolate and --plugin-timeout, on every command that takes --plugin.
 void add_isolation_options(CLI::App* sub, plugin_isolation& isolation);
 
@@ -82,32 +92,28 @@ void add_isolation_options(CLI::App* sub, plugin_isolation& isolation);
 // where outputs go or how the work is spread or run, never a figure.
 std::string recorded_command(const std::string& command_line);
 
-// An audit's output files, opened (as temporaries) before the work.
-// A report directory that open_report had to create is removed again (when
-// empty) unless publish_audit committed into it, so a failed audit leaves no
-// directory behind either.
+// An audit's outputs, declared before the work (core/outputs.h): the
+// report directory (report.json, report.md, summary.txt, the plots) and the
+// per-case file. They appear together when publish_audit commits them, or not
+// at all.
 struct audit_outputs {
-    struct created_directory {
-        std::filesystem::path path;  // empty: nothing was created
-        bool keep = false;
-        // Creates `dir` (and its parents) for --report, remembering it when it
-        // did not exist. Throws input_error when it cannot be created.
-        void create(const std::filesystem::path& dir);
-        created_directory() = default;
-        created_directory(const created_directory&) = delete;
-        created_directory& operator=(const created_directory&) = delete;
-        ~created_directory();
-    };
-    std::filesystem::path dir;
-    created_directory created;  // declared first: removed after the temporaries inside it
-    std::optional<atomic_file> per_case, report_json, summary;
-    void open_report(const std::filesystem::path& report_dir);  // nothing when empty
+    run_outputs files;
+    std::optional<report_bundle> report;
+    output_file* summary = nullptr;   // in the report directory
+    output_file* per_case = nullptr;  // --per-case
+    // Declares the report directory and its files (nothing when `dir` is empty).
+    void open_report(const std::filesystem::path& dir, const std::string& option);
 };
 
-// Commits the outputs (report.json and summary.txt when the report is open),
-// prints the summary table, renders report.md (and the plots), and returns
+// Writes the report files, prints the summary table (and where the report
+// went), checks standard output, commits the outputs, and returns
 // exit_findings when any target disagrees with the oracle on some case.
 int publish_audit(const audit_totals& totals, const std::optional<nlohmann::ordered_json>& report,
-                  const std::filesystem::path& report_dir, audit_outputs& outputs, bool plots);
+                  audit_outputs& outputs, bool plots);
+
+// Files a command reads (corpus files and directories, plugins, a baseline,
+// a scene), declared as inputs of its run so that no output overwrites them;
+// a directory among them is a corpus directory.
+void declare_inputs(run_outputs& outputs, const std::vector<std::filesystem::path>& paths, const std::string& option);
 
 }  // namespace rayverify::cli

@@ -4,9 +4,11 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <exception>
+#include <system_error>
 
 #include "cli/commands.h"
 #include "core/input_error.h"
+#include "core/outputs.h"
 #include "corpus/corpus_io.h"
 #include "plugin/plugin_loader.h"
 
@@ -44,11 +46,24 @@ int main(int argc, char** argv) {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
         const int code = app.exit(e);
-        return code == 0 ? cli::exit_ok : cli::exit_input_error;
+        if (code != 0) return cli::exit_input_error;
+        try {
+            check_standard_output();  // --help into a full disk
+        } catch (const input_error& failed) {
+            fmt::print(stderr, "rayverify: error: {}\n", failed.what());
+            return cli::exit_input_error;
+        }
+        return cli::exit_ok;
     }
     try {
+        // While the command runs, an exit() is not its own (a plugin's: plugin/plugin_loader.cpp).
+        const running_command running;
         for (const cli::command& command : commands)
-            if (command.parser->parsed()) return command.run();
+            if (command.parser->parsed()) {
+                const int code = command.run();
+                check_standard_output();  // a lost table is not a success
+                return code;
+            }
         return cli::exit_input_error;
     } catch (const plugin_failure& e) {
         fmt::print(stderr, "rayverify: error: {}\n  the case, as a corpus line:\n  {}\n", e.what(),
@@ -57,6 +72,14 @@ int main(int argc, char** argv) {
     } catch (const input_error& e) {
         fmt::print(stderr, "rayverify: error: {}\n", e.what());
         return cli::exit_input_error;
+    } catch (const std::system_error& e) {
+        // fmt::print throws this when a write to standard output fails.
+        if (std::ferror(stdout)) {
+            fmt::print(stderr, "rayverify: error: standard output: cannot write: {}\n", e.code().message());
+            return cli::exit_input_error;
+        }
+        fmt::print(stderr, "rayverify: internal error: {}\n", e.what());
+        return 3;
     } catch (const std::exception& e) {
         fmt::print(stderr, "rayverify: internal error: {}\n", e.what());
         return 3;

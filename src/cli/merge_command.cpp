@@ -45,6 +45,7 @@ shard_input read_shard(const fs::path& dir) {
             throw input_error(file.string(), 0, "format",
                               fmt::format("'{}', this rayverify reads '{}'", input.state.at("format").dump(),
                                           shard_state_format));
+        check_shard_state(input.state, file.string());  // every field, before any is used
         input.shard.index = input.state.at("shard").at("index").get<std::size_t>();
         input.shard.count = input.state.at("shard").at("count").get<std::size_t>();
     } catch (const json::exception& e) {
@@ -135,16 +136,17 @@ int run(const merge_options& options) {
     }
 
     audit_outputs outputs;
-    outputs.open_report(options.output);
-    if (!options.per_case_file.empty()) outputs.per_case.emplace(options.per_case_file);
-    if (outputs.per_case)
+    for (const shard_input& s : shards) outputs.files.input(s.dir, "a shard directory");
+    outputs.open_report(options.output, "-o");
+    if (!options.per_case_file.empty()) outputs.per_case = &outputs.files.file(options.per_case_file, "--per-case");
+    if (outputs.per_case != nullptr)
         interleave_per_case(shards, first.at("input").at("cases").get<std::size_t>(), outputs.per_case->stream());
 
     run_context context{first.at("command").get<std::string>(),
                         first.at("input").at("paths").get<std::vector<std::string>>(),
                         first.at("input").at("generated").get<std::vector<std::string>>()};
     const std::optional<json> report = audit_report_document(*merged, context);
-    return publish_audit(merged->audit.finish(), report, options.output, outputs, options.plots);
+    return publish_audit(merged->audit.finish(), report, outputs, options.plots);
 }
 
 }  // namespace

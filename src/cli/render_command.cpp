@@ -7,7 +7,6 @@
 
 #include "cli/commands.h"
 #include "core/input_error.h"
-#include "report/atomic_file.h"
 #include "report/png_image.h"
 #include "scene/scene.h"
 #include "scene/scene_audit.h"
@@ -79,17 +78,21 @@ int run(const render_options& options) {
     if (auto why = not_applicable_reason(s, target))
         throw input_error(options.scene_file, 0, "--variant", target.label() + " is not applicable: " + *why);
 
+    // The outputs, declared before the work: the directory (locked) and the legend; the images join them.
+    const std::filesystem::path dir(options.out_dir);
+    run_outputs outputs;
+    declare_inputs(outputs, {options.scene_file}, "--scene");
+    declare_inputs(outputs, {options.plugins.begin(), options.plugins.end()}, "--plugin");
+    outputs.directory(dir, "-o");
+    output_file& legend = outputs.file(dir / "legend.md", "-o");
+
     const std::vector<scene_ray> rays = generate_rays(s);
     scene_picture_builder builder(s, 0);
     const scene_audit_result result =
         audit_scene(s, rays, targets, [&](const judged_ray& r) { builder.add(r); });
     const scene_pictures pictures = builder.finish();
 
-    // Every image is encoded and written atomically; the legend last.
-    const std::filesystem::path dir(options.out_dir);
-    std::error_code error;
-    std::filesystem::create_directories(dir, error);
-    if (error) throw input_error(options.out_dir, 0, "-o", "cannot create directory: " + error.message());
+    // Every image and the legend appear together, or none does.
     std::vector<std::pair<std::string, const rgb_image*>> images = {{"exact.png", &pictures.exact},
                                                                     {"variant.png", &pictures.variant}};
     for (ray_kind kind : {ray_kind::primary, ray_kind::shadow, ray_kind::secondary})
@@ -97,18 +100,18 @@ int run(const render_options& options) {
             images.emplace_back(fmt::format("difference_{}.png", ray_kind_name(kind)), &*d);
     std::vector<std::string> files;
     for (const auto& [name, image] : images) {
-        write_png(dir / name, image->width, image->height, image->pixels);
+        write_png(outputs.file(dir / name, "-o"), image->width, image->height, image->pixels);
         files.push_back(name);
     }
-    atomic_file legend(dir / "legend.md");
     legend.stream() << legend_text(s, target, pictures, files);
-    legend.commit();
 
     fmt::print("render: {} by {} → {}\n", s.name, target.label(), dir.string());
     for (const std::string& f : files) fmt::print("  {}\n", (dir / f).string());
     fmt::print("  {}\n", (dir / "legend.md").string());
     const std::size_t disagreements = result.targets.front().disagreements();
     fmt::print("{} of {} rays disagree with the exact answer\n", disagreements, rays.size());
+    check_standard_output();
+    outputs.commit();
     return disagreements > 0 ? exit_findings : exit_ok;
 }
 

@@ -7,14 +7,13 @@
 #include <string>
 
 #include "core/input_error.h"
-#include "report/atomic_file.h"
 
 namespace rayverify {
 
-void write_png(const std::filesystem::path& file, int width, int height, std::span<const std::uint8_t> rgb) {
+void write_png(output_file& file, int width, int height, std::span<const std::uint8_t> rgb) {
     if (width <= 0 || height <= 0 ||
         rgb.size() != static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 3)
-        throw input_error(file.string(), 0, "", "image size does not match its pixel buffer");
+        throw input_error(file.path().string(), 0, "", "image size does not match its pixel buffer");
 
     png_image image{};
     image.version = PNG_IMAGE_VERSION;
@@ -25,14 +24,12 @@ void write_png(const std::filesystem::path& file, int width, int height, std::sp
     // First call sizes the encoded image, second encodes it into memory.
     png_alloc_size_t size = 0;
     if (!png_image_write_to_memory(&image, nullptr, &size, 0, rgb.data(), 0, nullptr))
-        throw input_error(file.string(), 0, "", std::string("libpng cannot encode the image: ") + image.message);
+        throw input_error(file.path().string(), 0, "", std::string("libpng cannot encode the image: ") + image.message);
     std::unique_ptr<unsigned char[]> encoded(new unsigned char[size]);
     if (!png_image_write_to_memory(&image, encoded.get(), &size, 0, rgb.data(), 0, nullptr))
-        throw input_error(file.string(), 0, "", std::string("libpng cannot encode the image: ") + image.message);
+        throw input_error(file.path().string(), 0, "", std::string("libpng cannot encode the image: ") + image.message);
 
-    atomic_file out(file);
-    out.stream().write(reinterpret_cast<const char*>(encoded.get()), static_cast<std::streamsize>(size));
-    out.commit();
+    file.stream().write(reinterpret_cast<const char*>(encoded.get()), static_cast<std::streamsize>(size));
 }
 
 }  // namespace rayverify

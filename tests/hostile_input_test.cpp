@@ -93,7 +93,7 @@ run_result run_in(const fs::path& cwd, const std::string& arguments, bool unpriv
 std::set<std::string> listing(const fs::path& dir) {
     std::set<std::string> names;
     for (const auto& entry : fs::recursive_directory_iterator(dir))
-        names.insert(fs::relative(entry.path(), dir).string());
+        names.insert(entry.path().lexically_relative(dir).string());
     return names;
 }
 
@@ -722,10 +722,12 @@ TEST(BadInput, SceneAuditAndGateWithOutputsWriteNothingOnBadInput) {
         else if (row.command.starts_with("rayverify gate"))
             outputs = {" --junit junit.xml", " --update"};
         for (const std::string& extra : outputs) {
-            // --update of a missing baseline creates it: that is what it is for; --update writes no --junit.
+            // --update of a missing baseline creates it: that is what it is for; --update writes no --junit;
+            // a row that gives the option already is about that option.
             if (extra == " --update" && (row.command.find("--baseline nowhere") != std::string::npos ||
                                          row.command.find("--junit") != std::string::npos))
                 continue;
+            if (row.command.find(extra.substr(1, extra.find(' ', 1) - 1)) != std::string::npos) continue;
             SCOPED_TRACE(row.command + extra);
             const row_outcome o = run_row(row, extra);
             EXPECT_EQ(o.result.exit_code, 2) << o.result.err;

@@ -26,10 +26,16 @@ std::string corpus_line_of(rayverify::corpus_case c) {
     }
 }
 
+// A message on stderr; never throws (stderr may be as full as stdout).
+void tell(const std::string& text) { std::fputs(text.c_str(), stderr); }
+
 }  // namespace
 
 int main(int argc, char** argv) {
     using namespace rayverify;
+    // From here on, an exit() is not the command's own (a plugin's: plugin/plugin_loader.cpp),
+    // and a signal removes the outputs a command left unfinished.
+    const running_command running;
     std::string command_line;
     for (int i = 0; i < argc; ++i) command_line += (i ? " " : "") + std::string(argv[i]);
 
@@ -50,14 +56,12 @@ int main(int argc, char** argv) {
         try {
             check_standard_output();  // --help into a full disk
         } catch (const input_error& failed) {
-            fmt::print(stderr, "rayverify: error: {}\n", failed.what());
+            tell(fmt::format("rayverify: error: {}\n", failed.what()));
             return cli::exit_input_error;
         }
         return cli::exit_ok;
     }
     try {
-        // While the command runs, an exit() is not its own (a plugin's: plugin/plugin_loader.cpp).
-        const running_command running;
         for (const cli::command& command : commands)
             if (command.parser->parsed()) {
                 const int code = command.run();
@@ -66,22 +70,22 @@ int main(int argc, char** argv) {
             }
         return cli::exit_input_error;
     } catch (const plugin_failure& e) {
-        fmt::print(stderr, "rayverify: error: {}\n  the case, as a corpus line:\n  {}\n", e.what(),
-                   corpus_line_of(e.failing_case()));
+        tell(fmt::format("rayverify: error: {}\n  the case, as a corpus line:\n  {}\n", e.what(),
+                         corpus_line_of(e.failing_case())));
         return cli::exit_input_error;
     } catch (const input_error& e) {
-        fmt::print(stderr, "rayverify: error: {}\n", e.what());
+        tell(fmt::format("rayverify: error: {}\n", e.what()));
         return cli::exit_input_error;
     } catch (const std::system_error& e) {
         // fmt::print throws this when a write to standard output fails.
         if (std::ferror(stdout)) {
-            fmt::print(stderr, "rayverify: error: standard output: cannot write: {}\n", e.code().message());
+            tell(fmt::format("rayverify: error: standard output: cannot write: {}\n", e.code().message()));
             return cli::exit_input_error;
         }
-        fmt::print(stderr, "rayverify: internal error: {}\n", e.what());
+        tell(fmt::format("rayverify: internal error: {}\n", e.what()));
         return 3;
     } catch (const std::exception& e) {
-        fmt::print(stderr, "rayverify: internal error: {}\n", e.what());
+        tell(fmt::format("rayverify: internal error: {}\n", e.what()));
         return 3;
     }
 }

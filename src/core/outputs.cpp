@@ -411,11 +411,13 @@ void run_outputs::directory(const fs::path& dir, const std::string& option) {
             const std::string text = "rayverify run in progress\npid " + std::to_string(::getpid()) + "\nhost " +
                                      host_name() + "\nstarted " + utc_now() + "\ncommand " +
                                      process_command_line() + "\n";
-            const bool written = ::write(fd, text.data(), text.size()) == static_cast<ssize_t>(text.size());
+            const ssize_t written = ::write(fd, text.data(), text.size());
+            const int e = written < 0 ? errno : ENOSPC;
             ::close(fd);
-            if (!written) {
+            if (written != static_cast<ssize_t>(text.size())) {
                 directories_.push_back(std::move(owned));  // removed with the rest
-                throw input_error(dir.string(), 0, option, "cannot write its lock file " + std::string(lock_name));
+                throw input_error(dir.string(), 0, option,
+                                  "cannot write its lock file " + std::string(lock_name) + ": " + error_text(e));
             }
             break;
         }
@@ -577,11 +579,16 @@ void run_outputs::commit() {
             synced.push_back(to.parent_path());
             sync_directory(to.parent_path());
         }
-    for (auto& d : directories_)
+    for (auto& d : directories_) {
         for (auto& [path, slot] : d->staging) {
             std::error_code ignored;
             fs::remove_all(path, ignored);
         }
+        if (d->lock_slot >= 0) {  // the directory is free for the next run
+            ::unlink(d->lock.c_str());
+            release(d->lock_slot);
+        }
+    }
     committed_ = true;
 }
 

@@ -1,9 +1,8 @@
 // Hostile and broken input, end to end through the rayverify executable:
 // every class of bad input we know of gets an answer that names file, line and
 // field, exit code 2, and no output file left behind. The table of
-// docs/hostile_input.md, "Bad input and what rayverify answers", is generated
-// from these very runs, and a test fails when it differs from what the tool
-// answers today.
+// docs/bad-input.md is generated from these very runs, and a test fails when
+// the page differs from what the tool answers today.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <sys/resource.h>
@@ -125,8 +124,8 @@ std::string scene_with(const std::string& from, const std::string& to) { return 
 const std::string baseline_head = "rayverify-baseline 1\n";
 const std::string good_baseline = baseline_head + "naive/double all cases 1\n";
 
-// One row of the table: a bad input, the command given it, and what the
-// answer must say. The answer itself is whatever the tool prints.
+// One row of the docs/bad-input.md table: a bad input, the command given it, and what
+// the answer must say. The answer itself is whatever the tool prints.
 struct bad_input {
     std::string what;     // first column of the table (markdown)
     std::string command;  // as shown in the table; "rayverify" is the binary
@@ -603,6 +602,12 @@ std::vector<bad_input> bad_inputs() {
         {"merge: verdict counts that do not add up to the cases", "rayverify merge -o out s1", {}, 2,
          "s1/shard.json: field 'state.audit.overall[0].verdicts': add up to 2, but the target has 1 cases",
          edited_shard([](nlohmann::json& j) { j["state"]["audit"]["overall"][0]["verdicts"][1] = 1; })},
+        {"merge: disagreement causes that do not add up to the disagreements", "rayverify merge -o out s1", {}, 2,
+         "s1/shard.json: field 'state.audit.overall[0].causes': add up to 1, but the target has 0 disagreements",
+         edited_shard([](nlohmann::json& j) { j["state"]["audit"]["overall"][0]["causes"][0] = 1; })},
+        {"merge: a contract that is not a contract", "rayverify merge -o out s1", {}, 2,
+         "s1/shard.json: field 'targets[0].contract.spec': 'query=teleport'",
+         edited_shard([](nlohmann::json& j) { j["targets"][0]["contract"]["spec"] = "query=teleport"; })},
         {"merge: a `nan` maximum", "rayverify merge -o out s1", {}, 2,
          "s1/shard.json: field 'state.audit.overall[0].near_ulp.max': is nan, expected an error ≥ 0 (never NaN)",
          edited_shard([](nlohmann::json& j) { j["state"]["audit"]["overall"][0]["near_ulp"]["max"] = "nan"; })},
@@ -659,7 +664,7 @@ std::string escape_cell(std::string s) {
     return s;
 }
 
-// Long answers (lists of every family) are cut, so the README stays readable and stable.
+// Long answers (lists of every family) are cut, so the table stays readable and stable.
 std::string shortened(std::string s) {
     constexpr std::size_t width = 200;
     return s.size() <= width ? s : s.substr(0, width) + " …";
@@ -670,7 +675,7 @@ std::string code_span(const std::string& s) {
     return s.find('`') == std::string::npos ? "`" + s + "`" : "`` " + s + " ``";
 }
 
-// The README table, rendered from the outcomes.
+// The docs/bad-input.md table, rendered from the outcomes.
 std::string render_table(const std::vector<bad_input>& rows, const std::vector<row_outcome>& outcomes) {
     std::string table = "| bad input | command | exit | what rayverify answers |\n|---|---|---|---|\n";
     for (std::size_t i = 0; i < rows.size(); ++i) {
@@ -713,6 +718,21 @@ TEST(BadInput, AuditWithOutputsWritesNothingOnAnyBadCorpus) {
     }
 }
 
+// A CSV with a tmin column and no tmax (tmax is then +inf): explain prints the
+// case as a corpus line that explain reads back as the same case (issue 14,
+// item 11: it used to print a line of 13 fields).
+TEST(BadInput, CsvWithTminOnlyExplainsAsALineThatReadsBack) {
+    scratch_dir dir("tmin");
+    std::ofstream(dir.path / "half.csv") << "id,ox,oy,oz,dx,dy,dz,cx,cy,cz,r,tmin\nhalf,0,0,-5,0,0,1,0,0,0,1,5\n";
+    const run_result first = run_in(dir.path, "explain --case half --corpus half.csv --precision double");
+    ASSERT_EQ(first.exit_code, 0) << first.err;
+    const std::string line = first.answer("corpus line: ").substr(std::string("corpus line: ").size());
+    EXPECT_EQ(line, "half - 0x0p+0 0x0p+0 -0x1.4p+2 0x0p+0 0x0p+0 0x1p+0 0x0p+0 0x0p+0 0x0p+0 0x1p+0 0x1.4p+2 -");
+    const run_result again = run_in(dir.path, "explain \"" + line + "\" --precision double");
+    ASSERT_EQ(again.exit_code, 0) << again.err;
+    EXPECT_EQ(again.out, first.out);
+}
+
 TEST(BadInput, SceneAuditAndGateWithOutputsWriteNothingOnBadInput) {
     for (const bad_input& row : bad_inputs()) {
         if (row.exit_code != 2) continue;
@@ -738,23 +758,21 @@ TEST(BadInput, SceneAuditAndGateWithOutputsWriteNothingOnBadInput) {
     }
 }
 
-// The table lives in docs/hostile_input.md, which the README links.
-TEST(BadInput, DocsTableIsWhatTheToolAnswers) {
+TEST(BadInput, DocumentedTableIsWhatTheToolAnswers) {
     const std::vector<bad_input> rows = bad_inputs();
     std::vector<row_outcome> outcomes;
     for (const bad_input& row : rows) outcomes.push_back(run_row(row));
     const std::string generated = render_table(rows, outcomes);
 
-    const fs::path page_path = fs::path(RAYVERIFY_SOURCE_DIR) / "docs" / "hostile_input.md";
-    const std::string page = read_text(page_path);
+    const std::string page = read_text(fs::path(RAYVERIFY_SOURCE_DIR) / "docs" / "bad-input.md");
     const std::size_t begin = page.find(table_begin), end = page.find(table_end);
-    ASSERT_NE(begin, std::string::npos) << page_path << " lacks the marker " << table_begin;
-    ASSERT_NE(end, std::string::npos) << page_path << " lacks the marker " << table_end;
-    const std::string in_page =
+    ASSERT_NE(begin, std::string::npos) << "docs/bad-input.md lacks the marker " << table_begin;
+    ASSERT_NE(end, std::string::npos) << "docs/bad-input.md lacks the marker " << table_end;
+    const std::string documented =
         page.substr(begin + std::string(table_begin).size(), end - begin - std::string(table_begin).size());
-    if (in_page != generated) {
-        ADD_FAILURE() << page_path << "'s bad-input table differs from what rayverify answers; replace what is "
-                                      "between its markers with the table printed below";
+    if (documented != generated) {
+        ADD_FAILURE() << "docs/bad-input.md's table differs from what rayverify answers; replace what is "
+                         "between its markers with the table printed below";
         std::printf("%s", generated.c_str());
     }
 }

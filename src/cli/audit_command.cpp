@@ -9,6 +9,7 @@
 #include "corpus/case_stream.h"
 #include "corpus/corpus_io.h"
 #include "report/audit_report.h"
+#include "report/audit_summary.h"
 #include "report/markdown_report.h"
 #include "report/shard_state.h"
 #include "report/stability_report.h"
@@ -26,6 +27,7 @@ struct audit_options {
     std::string report_dir;
     std::string per_case_file;
     bool plots = false;
+    audit_presentation presentation;
     unsigned threads = 0;  // 0: every hardware thread
     std::string shard;
     std::string scene;  // issue 6: audit a scene's rays instead (cli/scene_audit.cpp)
@@ -91,6 +93,7 @@ int run(const audit_options& options, const std::string& command_line) {
     declare_inputs(outputs.files, {options.plugins.begin(), options.plugins.end()}, "--plugin");
     outputs.open_report(report_dir, "--report");  // first: it creates the directory, which may hold the per-case file
     if (!options.per_case_file.empty()) outputs.per_case = &outputs.files.file(options.per_case_file, "--per-case");
+    open_presentation(outputs, options.presentation);
     output_file* state_file =
         options.shard.empty() ? nullptr : &outputs.files.file(report_dir / shard_state_file, "--report");
 
@@ -99,12 +102,12 @@ int run(const audit_options& options, const std::string& command_line) {
     std::vector<std::string> lines(outputs.per_case != nullptr ? case_stream::default_chunk : 0);
     audit_hooks hooks;
     hooks.parallel = [&](const audited_case& c, std::size_t index, std::size_t slot, unsigned worker) {
-        const case_stability s = assess_case(c, targets);
+        const case_stability s = assess_case(c);
         states[worker].stability.add(c, s, index);
         if (outputs.report) states[worker].points.add(c, s, index);
         if (outputs.per_case == nullptr) return;
         nlohmann::ordered_json line = per_case_json(c, targets);
-        add_stability_fields(line, s, targets);
+        add_stability_fields(line, s);
         lines[slot] = line.dump();
     };
     if (outputs.per_case != nullptr)
@@ -126,7 +129,7 @@ int run(const audit_options& options, const std::string& command_line) {
     for (const auto& p : paths) context.corpus_paths.push_back(p.string());
     for (const generate_spec& s : specs) context.generated.push_back(s.text());
     std::optional<nlohmann::ordered_json> report;
-    if (outputs.report) {
+    if (outputs.report || outputs.summary_md != nullptr) {
         report = audit_report_document(states[0], context);
         if (state_file != nullptr) {
             nlohmann::ordered_json state = {
@@ -152,7 +155,7 @@ int run(const audit_options& options, const std::string& command_line) {
                                                 std::string(shard_state_file) + " into the whole run's report"}};
         }
     }
-    return publish_audit(states[0].audit.finish(), report, outputs, options.plots);
+    return publish_audit(states[0].audit.finish(), report, outputs, options.plots, options.presentation);
 }
 
 }  // namespace
@@ -162,9 +165,9 @@ std::string recorded_command(const std::string& command_line) {
     // run change no figure: they are left out, so that any thread count, any
     // sharding, any output directory and a plugin isolated or not record the
     // same command.
-    static const std::vector<std::string> with_value = {"--threads", "--shard", "--report", "--per-case",
+    static const std::vector<std::string> with_value = {"--threads", "--shard", "--report", "--per-case", "--summary-md",
                                                         "--plugin-timeout"};
-    static const std::vector<std::string> flags = {"--plots", "--isolate"};
+    static const std::vector<std::string> flags = {"--plots", "--isolate", "--summary"};
     std::vector<std::string> words;
     for (std::size_t at = 0; at <= command_line.size();) {
         const std::size_t end = std::min(command_line.find(' ', at), command_line.size());
@@ -192,14 +195,15 @@ void audit_outputs::open_report(const std::filesystem::path& dir, const std::str
 }
 
 int publish_audit(const audit_totals& totals, const std::optional<nlohmann::ordered_json>& report,
-                  audit_outputs& outputs, bool plots) {
+                  audit_outputs& outputs, bool plots, const audit_presentation& presentation) {
     const std::string table = render_summary_table(totals);
     plot_outcome drawn;
     if (outputs.report) {
         outputs.summary->stream() << table;
         drawn = outputs.report->write(*report, plots);
     }
-    fmt::print("{}", table);
+    if (outputs.summary_md != nullptr) outputs.summary_md->stream() << render_summary_markdown(*report);
+    fmt::print("{}", presentation.summary ? render_family_summary(totals) : table);
     fmt::print("build: {}\n", build_summary());
     if (outputs.report) {
         fmt::print("report: {}\n", (outputs.report->dir() / "report.json").string());
@@ -243,6 +247,7 @@ command add_audit_command(CLI::App& app, const std::string& command_line) {
                     "Directory for report.json, summary.txt, report.md and the PNG plots");
     sub->add_flag("--plots", options->plots,
                   "With --report: also draw the PNG plots (tools/plot_report.py, matplotlib; takes seconds)");
+    add_presentation_options(sub, options->presentation);
     sub->add_option("--per-case", options->per_case_file, "Write one JSON object per case to this file");
     sub->add_option("--threads", options->threads,
                     "Threads auditing cases (default: every hardware thread); the output is the same for any number")

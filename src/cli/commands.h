@@ -88,7 +88,7 @@ void add_isolation_options(CLI::App* sub, plugin_isolation& isolation);
 
 // Shared by audit and merge (cli/audit_command.cpp).
 // The command line as reports record it: without --threads, --shard,
-// --report, --per-case, --plots, --isolate and --plugin-timeout, which change
+// --report, --per-case, --plots, --summary, --isolate and --plugin-timeout, which change
 // where outputs go or how the work is spread or run, never a figure.
 std::string recorded_command(const std::string& command_line);
 
@@ -101,15 +101,27 @@ struct audit_outputs {
     std::optional<report_bundle> report;
     output_file* summary = nullptr;   // in the report directory
     output_file* per_case = nullptr;  // --per-case
+    output_file* summary_md = nullptr;  // --summary-md
     // Declares the report directory and its files (nothing when `dir` is empty).
     void open_report(const std::filesystem::path& dir, const std::string& option);
 };
 
-// Writes the report files, prints the summary table (and where the report
-// went), checks standard output, commits the outputs, and returns
+// How an audit's results are shown beside its report files (audit and merge;
+// cli/report_options.cpp).
+struct audit_presentation {
+    bool summary = false;    // --summary: one line per variant family instead of the full table
+    std::string summary_md;  // --summary-md FILE: the headline and compact table of report.md
+};
+void add_presentation_options(CLI::App* sub, audit_presentation& presentation);
+// Declares --summary-md's file as an output of the run when one is named.
+void open_presentation(audit_outputs& outputs, const audit_presentation& presentation);
+
+// Writes the report files, prints the summary table or one line per variant
+// family (and where the report went), checks standard output, commits the
+// outputs, and returns
 // exit_findings when any target disagrees with the oracle on some case.
 int publish_audit(const audit_totals& totals, const std::optional<nlohmann::ordered_json>& report,
-                  audit_outputs& outputs, bool plots);
+                  audit_outputs& outputs, bool plots, const audit_presentation& presentation = {});
 
 // Files a command reads (corpus files and directories, plugins, a baseline,
 // a scene), declared as inputs of its run so that no output overwrites them;

@@ -24,6 +24,7 @@ struct merge_options {
     std::string per_case_file;
     std::vector<std::string> shards;
     bool plots = false;
+    audit_presentation presentation;
 };
 
 struct shard_input {
@@ -139,6 +140,7 @@ int run(const merge_options& options) {
     for (const shard_input& s : shards) outputs.files.input(s.dir, "a shard directory");
     outputs.open_report(options.output, "-o");
     if (!options.per_case_file.empty()) outputs.per_case = &outputs.files.file(options.per_case_file, "--per-case");
+    open_presentation(outputs, options.presentation);
     if (outputs.per_case != nullptr)
         interleave_per_case(shards, first.at("input").at("cases").get<std::size_t>(), outputs.per_case->stream());
 
@@ -146,7 +148,7 @@ int run(const merge_options& options) {
                         first.at("input").at("paths").get<std::vector<std::string>>(),
                         first.at("input").at("generated").get<std::vector<std::string>>()};
     const std::optional<json> report = audit_report_document(*merged, context);
-    return publish_audit(merged->audit.finish(), report, outputs, options.plots);
+    return publish_audit(merged->audit.finish(), report, outputs, options.plots, options.presentation);
 }
 
 }  // namespace
@@ -162,6 +164,7 @@ command add_merge_command(CLI::App& app) {
     sub->add_option("--per-case", options->per_case_file,
                     "Also merge the shards' per-case files (each shard run with --per-case) into this file");
     sub->add_flag("--plots", options->plots, "Also draw the PNG plots, as `audit --plots`");
+    add_presentation_options(sub, options->presentation);
     sub->add_option("shards", options->shards, "The shards' report directories")->required();
     return {sub, [options] { return run(*options); }};
 }

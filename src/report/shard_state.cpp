@@ -4,13 +4,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <deque>
 #include <filesystem>
 #include <limits>
-#include <mutex>
 #include <optional>
+#include <stdexcept>
 
 #include "corpus/corpus_io.h"
+#include "report/audit_report.h"
 
 namespace rayverify {
 
@@ -41,16 +41,6 @@ json audit_report_document(const audit_state& state, const run_context& context)
 
 namespace {
 
-// contract::tangent_rule is a string_view: rules read back are kept here.
-std::string_view interned(std::string text) {
-    static std::mutex mutex;
-    static std::deque<std::string> strings;
-    const std::lock_guard lock(mutex);
-    for (const std::string& s : strings)
-        if (s == text) return s;
-    return strings.emplace_back(std::move(text));
-}
-
 json double_json(double x) { return hex_float(x); }
 double double_from(const json& j) { return parse_exact_double(j.get<std::string>(), "shard state", 0, "value"); }
 
@@ -72,7 +62,7 @@ error_summary summary_from(const json& j) {
 }
 
 json samples_json(const target_samples& s) {
-    return {{"cases", s.cases},           {"verdicts", s.verdicts},
+    return {{"cases", s.cases},           {"verdicts", s.verdicts},          {"causes", s.causes},
             {"near_ulp", summary_json(s.near_ulp)}, {"far_ulp", summary_json(s.far_ulp)},
             {"hit_ulp", summary_json(s.hit_ulp)},   {"near_bits", summary_json(s.near_bits)}};
 }
@@ -81,6 +71,7 @@ target_samples samples_from(const json& j) {
     target_samples s;
     s.cases = j.at("cases").get<std::size_t>();
     s.verdicts = j.at("verdicts").get<std::array<std::size_t, verdict_kind_count>>();
+    s.causes = j.at("causes").get<std::array<std::size_t, disagreement_cause_count>>();
     s.near_ulp = summary_from(j.at("near_ulp"));
     s.far_ulp = summary_from(j.at("far_ulp"));
     s.hit_ulp = summary_from(j.at("hit_ulp"));
@@ -92,7 +83,7 @@ json stability_samples_json(const stability_samples& s) {
     json buckets = json::array(), near = json::array();
     for (int b = 0; b < condition_bucket_count; ++b) {
         const bucket_tally& t = s.buckets[b];
-        buckets.push_back({t.cases, t.misclassified, t.disagreements, t.conditioning_limited, t.algorithmic});
+        buckets.push_back({t.cases, t.misclassified, t.disagreements, t.conditioning_limited, t.algorithmic, t.by_design});
         near.push_back(summary_json(s.near_ulp[b]));
     }
     return {{"buckets", buckets},
@@ -110,6 +101,7 @@ stability_samples stability_samples_from(const json& j) {
         s.buckets[b].disagreements = t.at(2).get<std::size_t>();
         s.buckets[b].conditioning_limited = t.at(3).get<std::size_t>();
         s.buckets[b].algorithmic = t.at(4).get<std::size_t>();
+        s.buckets[b].by_design = t.at(5).get<std::size_t>();
         s.near_ulp[b] = summary_from(j.at("near_ulp").at(b));
     }
     s.excess = summary_from(j.at("excess"));
@@ -254,14 +246,12 @@ private:
             if (precision != "float" && precision != "double")
                 fail(path + ".precision", fmt::format("'{}' is neither float nor double", printable(precision)));
             const json& c = member(target, path, "contract");
-            const std::string query = text(member(c, path + ".contract", "query"), path + ".contract.query");
-            bool known = false;
-            for (query_kind k : {query_kind::line_roots, query_kind::nearest_on_ray, query_kind::any_hit_in_interval,
-                                 query_kind::nearest_in_interval})
-                known = known || query == query_kind_name(k);
-            if (!known) fail(path + ".contract.query", fmt::format("unknown query kind '{}'", printable(query)));
-            for (const char* key : {"assumes_unit_direction", "reports_tangent", "clamps_to_zero"})
-                flag(member(c, path + ".contract", key), path + ".contract." + key);
+            const std::string spec = text(member(c, path + ".contract", "spec"), path + ".contract.spec");
+            try {
+                parse_contract(spec);
+            } catch (const std::invalid_argument& e) {
+                fail(path + ".contract.spec", fmt::format("'{}': {}", printable(spec), e.what()));
+            }
             text(member(c, path + ".contract", "tangent_rule"), path + ".contract.tangent_rule");
         }
     }
@@ -316,6 +306,7 @@ private:
     // Figures of one target over some cases; the verdicts and error counts go to `sums`.
     struct sample_sums {
         std::array<std::uint64_t, verdict_kind_count> verdicts{};
+        std::array<std::uint64_t, disagreement_cause_count> causes{};
         std::array<std::uint64_t, 4> errors{};
     };
     sample_sums samples(const json& j, const std::string& path, std::uint64_t cases) const {
@@ -331,6 +322,17 @@ private:
         }
         if (total != n)
             fail(path + ".verdicts", fmt::format("add up to {}, but the target has {} cases", total, n));
+        const json& causes = array(member(j, path, "causes"), path + ".causes", disagreement_cause_count);
+        std::uint64_t caused = 0, disagreeing = 0;
+        for (int c = 0; c < disagreement_cause_count; ++c) {
+            sums.causes[c] = whole(causes[c], fmt::format("{}.causes[{}] ({})", path, c,
+                                                          cause_name(static_cast<disagreement_cause>(c))));
+            caused += sums.causes[c];
+        }
+        for (int k = 0; k < verdict_kind_count; ++k)
+            if (is_disagreement(static_cast<verdict_kind>(k))) disagreeing += sums.verdicts[k];
+        if (caused != disagreeing)
+            fail(path + ".causes", fmt::format("add up to {}, but the target has {} disagreements", caused, disagreeing));
         const std::uint64_t agreeing = sums.verdicts[static_cast<int>(verdict_kind::agree)];
         int e = 0;
         for (const char* name : {"near_ulp", "far_ulp", "hit_ulp", "near_bits"}) {
@@ -400,6 +402,7 @@ private:
             for (std::size_t t = 0; t < targets_; ++t) {
                 const sample_sums s = samples(list_of_targets[t], fmt::format("{}[{}]", path, t), known->second);
                 for (int k = 0; k < verdict_kind_count; ++k) summed[t].verdicts[k] += s.verdicts[k];
+                for (int c = 0; c < disagreement_cause_count; ++c) summed[t].causes[c] += s.causes[c];
                 for (std::size_t e = 0; e < s.errors.size(); ++e) summed[t].errors[e] += s.errors[e];
             }
         }
@@ -408,6 +411,8 @@ private:
         for (std::size_t t = 0; t < targets_; ++t) {
             if (summed[t].verdicts != whole_run[t].verdicts)
                 fail(fmt::format("state.audit.overall[{}].verdicts", t), "differ from the sums over the families");
+            if (summed[t].causes != whole_run[t].causes)
+                fail(fmt::format("state.audit.overall[{}].causes", t), "differ from the sums over the families");
             if (summed[t].errors != whole_run[t].errors)
                 fail(fmt::format("state.audit.overall[{}]", t),
                      "its error counts differ from the sums over the families");
@@ -420,13 +425,13 @@ private:
         std::uint64_t scored = 0;
         for (int b = 0; b < condition_bucket_count; ++b) {
             const std::string at = fmt::format("{}.buckets[{}]", path, b);
-            const json& tally = array(buckets[b], at, 5);
-            std::uint64_t v[5];
-            for (int i = 0; i < 5; ++i) v[i] = whole(tally[i], fmt::format("{}[{}]", at, i));
-            // cases, misclassified, disagreements, conditioning_limited, algorithmic
-            if (v[1] > v[2] || v[2] > v[0] || v[3] + v[4] != v[2])
-                fail(at, "is inconsistent: expected misclassified ≤ disagreements ≤ cases and the two causes adding "
-                         "up to the disagreements");
+            const json& tally = array(buckets[b], at, 6);
+            std::uint64_t v[6];
+            for (int i = 0; i < 6; ++i) v[i] = whole(tally[i], fmt::format("{}[{}]", at, i));
+            // cases, misclassified, disagreements, conditioning_limited, algorithmic, by_design
+            if (v[1] > v[2] || v[2] > v[0] || v[3] + v[4] + v[5] != v[2])
+                fail(at, "is inconsistent: expected misclassified ≤ disagreements ≤ cases and the three causes "
+                         "(conditioning-limited, algorithmic, by design) adding up to the disagreements");
             if (summary(near[b], fmt::format("{}.near_ulp[{}]", path, b)) > v[0] - v[2])
                 fail(fmt::format("{}.near_ulp[{}].count", path, b), "is more than the bucket's agreeing cases");
             scored += v[0];
@@ -485,17 +490,11 @@ void check_shard_state(const json& doc, const std::string& file) { state_checker
 json targets_json(const std::vector<audit_target>& targets) {
     json out = json::array();
     for (const audit_target& t : targets) {
-        const contract& c = t.subject.promises;
         out.push_back({{"variant", t.subject.name},
                        {"precision", precision_name(t.prec)},
                        {"citation", t.subject.citation},
                        {"formula", t.subject.formula},
-                       {"contract",
-                        {{"query", query_kind_name(c.query)},
-                         {"assumes_unit_direction", c.assumes_unit_direction},
-                         {"reports_tangent", c.reports_tangent},
-                         {"tangent_rule", std::string(c.tangent_rule)},
-                         {"clamps_to_zero", c.clamps_to_zero}}}});
+                       {"contract", contract_json(t.subject.promises)}});
     }
     return out;
 }
@@ -505,16 +504,12 @@ std::vector<audit_target> targets_from_json(const json& j) {
     for (const json& t : j) {
         audit_target target;
         target.subject.name = t.at("variant").get<std::string>();
-        target.prec = t.at("precision").get<std::string>() == "float" ? precision::binary32 : precision::binary64;
+        const std::optional<precision> prec = precision_from_name(t.at("precision").get<std::string>());
+        if (!prec) throw json::other_error::create(501, "unknown precision", &t.at("precision"));
+        target.prec = *prec;
         target.subject.citation = t.at("citation").get<std::string>();
         target.subject.formula = t.at("formula").get<std::string>();
-        const json& c = t.at("contract");
-        contract& p = target.subject.promises;
-        p.query = query_kind_from_name(c.at("query").get<std::string>());
-        p.assumes_unit_direction = c.at("assumes_unit_direction").get<bool>();
-        p.reports_tangent = c.at("reports_tangent").get<bool>();
-        p.tangent_rule = interned(c.at("tangent_rule").get<std::string>());
-        p.clamps_to_zero = c.at("clamps_to_zero").get<bool>();
+        target.subject.promises = contract_from_json(t.at("contract"));
         targets.push_back(std::move(target));
     }
     return targets;

@@ -101,8 +101,13 @@ int run(const bench_options& options, const std::string& command_line) {
             std::find(options.families.begin(), options.families.end(), c.family) != options.families.end())
             cases.push_back(std::move(c));
     if (cases.empty()) throw input_error("", 0, "--family", "no case of the chosen families in the corpus");
-    if (options.repetitions < 1) throw input_error("", 0, "--repetitions", "must be at least 1");
     if (options.oracle) return run_oracle_timing(cases, options);
+    // The report's outputs, declared before the work; committed after it.
+    run_outputs outputs;
+    declare_inputs(outputs, paths, options.corpus.empty() ? "the default corpus" : "--corpus");
+    declare_inputs(outputs, {options.plugins.begin(), options.plugins.end()}, "--plugin");
+    std::optional<report_bundle> bundle;
+    if (!options.report_dir.empty()) bundle.emplace(outputs, options.report_dir, "--report");
 
     // Accuracy: float and double as audited, then long double on double
     // inputs. Plugins are audited and timed beside every built-in variant
@@ -149,7 +154,7 @@ int run(const bench_options& options, const std::string& command_line) {
                "ratio to {} in this run.\n",
                cases.size(), options.repetitions, reference_label);
     fmt::print("build: {}; CPU: {}\n", build_summary(), bench::cpu_model());
-    if (options.report_dir.empty()) return exit_ok;
+    if (!bundle) return exit_ok;
 
     // The report: the audit's sections for float and double, then ours.
     run_context context{command_line, {}, {}};
@@ -179,12 +184,10 @@ int run(const bench_options& options, const std::string& command_line) {
             {"results", audit_report_json(far.totals, context)["results"]},
             {"case_points", far.points}};
     }
-    const std::filesystem::path dir(options.report_dir);
-    std::error_code error;
-    std::filesystem::create_directories(dir, error);
-    if (error) throw input_error(options.report_dir, 0, "--report", "cannot create directory: " + error.message());
-    const plot_outcome plots = write_report_bundle(dir, std::move(report), true);
-    fmt::print("report: {}\nplots: {}\n", (dir / "report.json").string(), plots.message);
+    const plot_outcome plots = bundle->write(std::move(report), true);
+    fmt::print("report: {}\nplots: {}\n", (bundle->dir() / "report.json").string(), plots.message);
+    check_standard_output();
+    outputs.commit();
     return exit_ok;
 }
 
@@ -206,9 +209,12 @@ command add_bench_command(CLI::App& app, const std::string& command_line) {
                   "double intersector per family, with the filter's fallback rates");
     sub->add_option("--family", options->families, "Only cases of this family (repeatable; default: all)");
     sub->add_option("--report", options->report_dir, "Directory for report.json, report.md and the PNG plots");
-    sub->add_option("--repetitions", options->repetitions, "Timed repetitions per benchmark (default 9)");
-    sub->add_option("--min-time", options->min_time, "Minimum seconds per repetition (default 0.01)");
-    sub->add_option("--sweep", options->sweep, "Far-sphere sweep cases for the report (default 5000; 0: none)");
+    sub->add_option("--repetitions", options->repetitions, "Timed repetitions per benchmark (default 9)")
+        ->check(whole_number(1, 1000));
+    sub->add_option("--min-time", options->min_time, "Minimum seconds per repetition (default 0.01)")
+        ->check(finite_number(0, 3600, true));
+    sub->add_option("--sweep", options->sweep, "Far-sphere sweep cases for the report (default 5000; 0: none)")
+        ->check(whole_number(0, 100000000));
     return {sub, [options, command_line] { return run(*options, command_line); }};
 }
 

@@ -4,7 +4,9 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <cstdint>
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -16,8 +18,9 @@
 #include "compare/audit.h"
 #include "corpus/case_stream.h"
 #include "corpus/exchange.h"
+#include "core/outputs.h"
 #include "plugin/plugin_loader.h"
-#include "report/atomic_file.h"
+#include "report/markdown_report.h"
 #include "scene/scene.h"
 
 namespace rayverify::cli {
@@ -125,6 +128,13 @@ std::vector<audit_target> targets_with_results(const std::vector<std::string>& v
                                                const plugin_isolation& isolation,
                                                const std::optional<audit_target>& results);
 
+// Checks of a numeric option's text (cli/numeric_options.cpp), for every
+// numeric option: a whole number in [min, max] written in plain digits (no
+// sign, so "-5" is refused instead of wrapping; 2^64 and above refused), or a
+// finite number in [min, max] (> min when `above_min`; nan and inf refused).
+CLI::Validator whole_number(std::uint64_t min, std::uint64_t max = std::numeric_limits<std::uint64_t>::max());
+CLI::Validator finite_number(double min, double max, bool above_min = false);
+
 // --isolate and --plugin-timeout, on every command that takes --plugin.
 void add_isolation_options(CLI::App* sub, plugin_isolation& isolation);
 
@@ -152,31 +162,19 @@ std::vector<std::string> normalised_command(const std::string& recorded);
 std::optional<std::string> command_difference(const std::string& a, const std::string& b, const std::string& a_name,
                                               const std::string& b_name);
 
-// An audit's output files, opened (as temporaries) before the work.
-// A report directory that open_report had to create is removed again (when
-// empty) unless publish_audit committed into it, so a failed audit leaves no
-// directory behind either.
+// An audit's outputs, declared before the work (core/outputs.h): the
+// report directory (report.json, report.md, summary.txt, the plots) and the
+// per-case file. They appear together when publish_audit commits them, or not
+// at all.
 struct audit_outputs {
-    struct created_directory {
-        std::filesystem::path path;  // empty: nothing was created
-        bool keep = false;
-        // Creates `dir` (and its parents) for --report, remembering it when it
-        // did not exist. Throws input_error when it cannot be created.
-        void create(const std::filesystem::path& dir);
-        created_directory() = default;
-        created_directory(const created_directory&) = delete;
-        created_directory& operator=(const created_directory&) = delete;
-        ~created_directory();
-    };
-    std::filesystem::path dir;
-    created_directory created;  // declared first: removed after the temporaries inside it
-    std::optional<atomic_file> per_case, report_json, summary, summary_md;
-    void open_report(const std::filesystem::path& report_dir);  // nothing when empty
+    run_outputs files;
+    std::optional<report_bundle> report;
+    output_file* summary = nullptr;   // in the report directory
+    output_file* per_case = nullptr;  // --per-case
+    output_file* summary_md = nullptr;  // --summary-md
+    // Declares the report directory and its files (nothing when `dir` is empty).
+    void open_report(const std::filesystem::path& dir, const std::string& option);
 };
-
-// An output path naming an existing directory fails before the work, not at
-// the rename after it (input_error naming `option`).
-void refuse_directory(const std::filesystem::path& path, const char* option);
 
 // How an audit's results are shown beside its report files (audit and merge;
 // cli/report_options.cpp).
@@ -185,15 +183,19 @@ struct audit_presentation {
     std::string summary_md;  // --summary-md FILE: the headline and compact table of report.md
 };
 void add_presentation_options(CLI::App* sub, audit_presentation& presentation);
-// Opens --summary-md's file (as a temporary) when one is named.
+// Declares --summary-md's file as an output of the run when one is named.
 void open_presentation(audit_outputs& outputs, const audit_presentation& presentation);
 
-// Commits the outputs (report.json and summary.txt when the report is open,
-// the Markdown summary when asked), prints the summary table (or one line per
-// variant family), renders report.md (and the plots), and returns
+// Writes the report files, prints the summary table or one line per variant
+// family (and where the report went), checks standard output, commits the
+// outputs, and returns
 // exit_findings when any target disagrees with the oracle on some case.
 int publish_audit(const audit_totals& totals, const std::optional<nlohmann::ordered_json>& report,
-                  const std::filesystem::path& report_dir, audit_outputs& outputs, bool plots,
-                  const audit_presentation& presentation = {});
+                  audit_outputs& outputs, bool plots, const audit_presentation& presentation = {});
+
+// Files a command reads (corpus files and directories, plugins, a baseline,
+// a scene), declared as inputs of its run so that no output overwrites them;
+// a directory among them is a corpus directory.
+void declare_inputs(run_outputs& outputs, const std::vector<std::filesystem::path>& paths, const std::string& option);
 
 }  // namespace rayverify::cli

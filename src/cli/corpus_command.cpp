@@ -25,11 +25,15 @@ struct generate_options {
 int generate(const generate_options& options) {
     if (find_generator_family(options.family) == nullptr)
         generate_family(options.family, 0, options.seed);  // throws the unknown-family error
+    run_outputs outputs;
+    output_file* file = options.output.empty() ? nullptr : &outputs.file(options.output, "-o");
     const std::string text = generated_corpus_text(options.family, options.count, options.seed);
-    if (options.output.empty())
+    if (file == nullptr)
         fmt::print("{}", text);
     else
-        write_file_atomically(options.output, text);
+        file->stream() << text;
+    check_standard_output();
+    outputs.commit();
     return exit_ok;
 }
 
@@ -60,15 +64,17 @@ int regen(const regen_options& options) {
     for (const manifest_entry& e : entries) texts.push_back(generated_corpus_text(e.family, e.count, e.seed));
 
     if (!options.check) {
+        // Every file of the manifest replaced together, or none.
+        run_outputs outputs;
         for (std::size_t i = 0; i < entries.size(); ++i) {
             const fs::path file = dir / entries[i].file;
-            std::error_code error;
-            fs::create_directories(file.parent_path(), error);
-            if (error) throw input_error(file.string(), 0, "", "cannot create its directory: " + error.message());
-            write_file_atomically(file, texts[i]);
+            outputs.directory(file.parent_path(), "--corpus-dir");
+            outputs.file(file, "--corpus-dir").stream() << texts[i];
             fmt::print("wrote {} ({} {}, {} cases, seed {})\n", file.string(), entries[i].family,
                        fmt::format("v{}", entries[i].version), entries[i].count, entries[i].seed);
         }
+        check_standard_output();
+        outputs.commit();
         return exit_ok;
     }
 
@@ -111,8 +117,8 @@ command add_corpus_command(CLI::App& app) {
     // A bound keeps a typo from exhausting memory; the file stays far below the reader's size limit.
     gen->add_option("--count", options->count, "Number of cases (1 to 100000)")
         ->capture_default_str()
-        ->check(CLI::Range(std::size_t{1}, std::size_t{100000}));
-    gen->add_option("--seed", options->seed, "Seed")->capture_default_str();
+        ->check(whole_number(1, 100000));
+    gen->add_option("--seed", options->seed, "Seed")->check(whole_number(0))->capture_default_str();
     gen->add_option("-o,--output", options->output, "Write to this file (atomically) instead of stdout");
 
     auto regen_opts = std::make_shared<regen_options>();

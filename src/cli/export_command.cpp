@@ -5,7 +5,6 @@
 
 #include "cli/commands.h"
 #include "core/input_error.h"
-#include "report/atomic_file.h"
 
 namespace rayverify::cli {
 namespace {
@@ -29,6 +28,13 @@ int run_export(const export_options& o) {
                           "give --format csv|jsonl|npy, or an output ending in .csv, .jsonl or .npy");
     if (!o.scene.empty() && (!o.corpus.empty() || !o.generate.empty()))
         throw input_error("", 0, "--scene", "give one input: --scene, --corpus or --generate");
+
+    // The outputs, declared before the work: never an input, appearing whole or not at all.
+    run_outputs outputs;
+    if (!o.scene.empty()) declare_inputs(outputs, {o.scene}, "--scene");
+    declare_inputs(outputs, {o.corpus.begin(), o.corpus.end()}, "--corpus");
+    output_file& out = outputs.file(output, "-o");
+    output_file* companion = *format == exchange_format::npy ? &outputs.file(sidecar_of(output), "-o") : nullptr;
 
     // The cases, their count and fingerprint first (the header states them):
     // a scene's pairs in memory, a corpus or generated families streamed twice.
@@ -60,10 +66,7 @@ int run_export(const export_options& o) {
     const cases_header header{prec, exchange_fingerprint(fingerprint, prec), count,
                               o.numbers == "hex" ? number_style::hex : number_style::decimal};
 
-    atomic_file out(output);
-    std::optional<atomic_file> companion;
-    if (*format == exchange_format::npy) companion.emplace(sidecar_of(output));
-    case_writer writer(out.stream(), companion ? &companion->stream() : nullptr, *format, header);
+    case_writer writer(out.stream(), companion != nullptr ? &companion->stream() : nullptr, *format, header);
     if (sc) {
         for (const corpus_case& c : pairs) writer.write(c);
     } else {
@@ -77,11 +80,11 @@ int run_export(const export_options& o) {
         }
     }
     writer.finish();
-    out.commit();
-    if (companion) companion->commit();
     fmt::print("wrote {} cases ({}, {}{}) to {}{}\nfingerprint {}\n", count, exchange_format_name(*format),
                precision_name(prec), *format == exchange_format::npy ? "" : ", " + o.numbers, o.output,
-               companion ? " and " + sidecar_of(output).string() : "", header.fingerprint);
+               companion != nullptr ? " and " + sidecar_of(output).string() : "", header.fingerprint);
+    check_standard_output();
+    outputs.commit();
     return exit_ok;
 }
 

@@ -58,9 +58,11 @@ int run(const hunt_command_options& o, const std::string& command_line) {
         for (const family_info& f : generator_families()) known += (known.empty() ? "" : ", ") + std::string(f.name);
         throw input_error("", 0, "--family", fmt::format("unknown generator family '{}' (known: {})", o.family, known));
     }
-    if (!(o.budget >= 0)) throw input_error("", 0, "--budget", "must be a number of seconds >= 0");
     if (o.budget == 0 && o.evaluations == 0)
         throw input_error("", 0, "--budget", "give a time budget (--budget) or an evaluation budget (--evaluations)");
+    run_outputs outputs;  // declared before the search, committed after it
+    declare_inputs(outputs, {plugins.begin(), plugins.end()}, "--plugin");
+    output_file& finds_file = outputs.file(o.output, "-o");
 
     const shard_spec shard = o.shard.empty() ? shard_spec{} : chosen_shard(o.shard, "hunt");
     hunt_options options;
@@ -115,7 +117,8 @@ int run(const hunt_command_options& o, const std::string& command_line) {
                                                           {"evaluations", result.evaluations},
                                                           {"starts", result.starts},
                                                           {"shrink_evaluations", result.shrink_evaluations},
-                                                          {"seconds", result.seconds}}})}};
+                                                          {"seconds", result.seconds},
+                                                          {"disagreements", result.disagreements}}})}};
     std::string id_stem = fmt::format("hunt-{}-{}-{}-{}-{}", target.subject.name, precision_name(target.prec),
                                       o.objective, o.strategy, o.seed);
     if (shard.count > 1) id_stem += fmt::format("-shard{}of{}", shard.index, shard.count);
@@ -151,9 +154,25 @@ int run(const hunt_command_options& o, const std::string& command_line) {
     }
     if (result.finds.empty())
         fmt::print("{}\n", ulp ? "no agreeing answer with a nonzero error was seen" : "no disagreement found");
-    write_file_atomically(o.output, render_hunt_file(file));
+    // An answer that disagrees has no ULP error to maximise, but it is a finding, never a pass.
+    if (const auto& d = result.first_disagreement) {
+        corpus_case c;
+        c.id = fmt::format("{}-disagreement", id_stem);
+        c.family = "hunt_" + family_name;
+        c.geometry = d->found;
+        file.hunt["runs"][0]["first_disagreement"] = {{"evaluation", d->evaluation},
+                                                      {"verdict", verdict_name(d->found_eval.verdict)},
+                                                      {"case", format_case_line(c)}};
+        fmt::print("{} of {} evaluations disagreed with the exact answer; the first ({}) at evaluation {}:\n  {}\n"
+                   "  (--objective misclass hunts for them)\n",
+                   result.disagreements, result.evaluations, verdict_name(d->found_eval.verdict), d->evaluation,
+                   format_case_line(c));
+    }
+    finds_file.stream() << render_hunt_file(file);
     fmt::print("wrote {}\n", o.output);
-    const bool disagreement = !ulp && !result.finds.empty();
+    check_standard_output();
+    outputs.commit();
+    const bool disagreement = (!ulp && !result.finds.empty()) || result.disagreements > 0;
     return disagreement ? exit_findings : exit_ok;
 }
 
@@ -195,9 +214,12 @@ command add_hunt_command(CLI::App& app, const std::string& command_line) {
         ->check(CLI::IsMember({"float", "double"}))
         ->capture_default_str();
     sub->add_option("--family", o->family, "Generator family the searches start from")->capture_default_str();
-    sub->add_option("--budget", o->budget, "Search time in seconds (0: no time limit)")->capture_default_str();
+    sub->add_option("--budget", o->budget, "Search time in seconds (0: no time limit)")
+        ->check(finite_number(0, 1e9))
+        ->capture_default_str();
     sub->add_option("--evaluations", o->evaluations,
                     "Search evaluations (0: no limit); with --budget 0 the result is reproducible")
+        ->check(whole_number(0))
         ->capture_default_str();
     sub->add_option("--objective", o->objective, "ulp or misclass")
         ->check(CLI::IsMember({"ulp", "misclass"}))
@@ -205,8 +227,12 @@ command add_hunt_command(CLI::App& app, const std::string& command_line) {
     sub->add_option("--strategy", o->strategy, "search, or random (plain sampling of the family: the baseline)")
         ->check(CLI::IsMember({"search", "random"}))
         ->capture_default_str();
-    sub->add_option("--seed", o->seed, "Seed of the start cases and of the search")->capture_default_str();
-    sub->add_option("--finds", o->finds, "misclass: stop after this many disagreements")->capture_default_str();
+    sub->add_option("--seed", o->seed, "Seed of the start cases and of the search")
+        ->check(whole_number(0))
+        ->capture_default_str();
+    sub->add_option("--finds", o->finds, "misclass: stop after this many disagreements")
+        ->check(whole_number(1, 1000000))
+        ->capture_default_str();
     sub->add_flag("--no-shrink", o->no_shrink, "Keep the finds as found");
     sub->add_option("--shard", o->shard,
                     "Be shard K of N independent hunts (K/N, auto or auto/N as for audit): start from the family's "

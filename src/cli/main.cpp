@@ -4,9 +4,11 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <exception>
+#include <system_error>
 
 #include "cli/commands.h"
 #include "core/input_error.h"
+#include "core/outputs.h"
 #include "corpus/corpus_io.h"
 #include "plugin/plugin_loader.h"
 
@@ -24,10 +26,16 @@ std::string corpus_line_of(rayverify::corpus_case c) {
     }
 }
 
+// A message on stderr; never throws (stderr may be as full as stdout).
+void tell(const std::string& text) { std::fputs(text.c_str(), stderr); }
+
 }  // namespace
 
 int main(int argc, char** argv) {
     using namespace rayverify;
+    // From here on, an exit() is not the command's own (a plugin's: plugin/plugin_loader.cpp),
+    // and a signal removes the outputs a command left unfinished.
+    const running_command running;
     std::string command_line;
     for (int i = 0; i < argc; ++i) command_line += (i ? " " : "") + std::string(argv[i]);
 
@@ -44,21 +52,40 @@ int main(int argc, char** argv) {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
         const int code = app.exit(e);
-        return code == 0 ? cli::exit_ok : cli::exit_input_error;
+        if (code != 0) return cli::exit_input_error;
+        try {
+            check_standard_output();  // --help into a full disk
+        } catch (const input_error& failed) {
+            tell(fmt::format("rayverify: error: {}\n", failed.what()));
+            return cli::exit_input_error;
+        }
+        return cli::exit_ok;
     }
     try {
         for (const cli::command& command : commands)
-            if (command.parser->parsed()) return command.run();
+            if (command.parser->parsed()) {
+                const int code = command.run();
+                check_standard_output();  // a lost table is not a success
+                return code;
+            }
         return cli::exit_input_error;
     } catch (const case_failure& e) {  // an isolated plugin or an external program
-        fmt::print(stderr, "rayverify: error: {}\n  the case, as a corpus line:\n  {}\n", e.what(),
-                   corpus_line_of(e.failing_case()));
+        tell(fmt::format("rayverify: error: {}\n  the case, as a corpus line:\n  {}\n", e.what(),
+                         corpus_line_of(e.failing_case())));
         return cli::exit_input_error;
     } catch (const input_error& e) {
-        fmt::print(stderr, "rayverify: error: {}\n", e.what());
+        tell(fmt::format("rayverify: error: {}\n", e.what()));
         return cli::exit_input_error;
+    } catch (const std::system_error& e) {
+        // fmt::print throws this when a write to standard output fails.
+        if (std::ferror(stdout)) {
+            tell(fmt::format("rayverify: error: standard output: cannot write: {}\n", e.code().message()));
+            return cli::exit_input_error;
+        }
+        tell(fmt::format("rayverify: internal error: {}\n", e.what()));
+        return 3;
     } catch (const std::exception& e) {
-        fmt::print(stderr, "rayverify: internal error: {}\n", e.what());
+        tell(fmt::format("rayverify: internal error: {}\n", e.what()));
         return 3;
     }
 }

@@ -90,6 +90,7 @@ json read_state_file(const fs::path& file, bool header_only) {
             throw input_error(file.string(), 0, "format",
                               fmt::format("'{}', this rayverify reads '{}'", state.at("format").dump(),
                                           shard_state_format));
+        check_shard_state(state, file.string(), header_only);  // every field, before any is used
         return state;
     } catch (const json::exception& e) {
         throw input_error(file.string(), 0, "", fmt::format("not a shard state: {}", e.what()));
@@ -285,14 +286,14 @@ int merge_audits(const merge_options& options) {
 
     const run_context context = spelled_as_in(shards.front().file());  // shard 1, whatever the order given
     audit_outputs outputs;
-    outputs.open_report(options.output);
-    if (!options.per_case_file.empty()) outputs.per_case.emplace(options.per_case_file);
+    for (const shard_input& s : shards) outputs.files.input(s.dir, "a shard directory");
+    outputs.open_report(options.output, "-o");
+    if (!options.per_case_file.empty()) outputs.per_case = &outputs.files.file(options.per_case_file, "--per-case");
     open_presentation(outputs, options.presentation);
-    if (outputs.per_case) interleave_per_case(shards, total, outputs.per_case->stream());
+    if (outputs.per_case != nullptr) interleave_per_case(shards, total, outputs.per_case->stream());
 
     const std::optional<json> report = audit_report_document(merged, context);
-    return publish_audit(merged.audit.finish(), report, options.output, outputs, options.plots,
-                         options.presentation);
+    return publish_audit(merged.audit.finish(), report, outputs, options.plots, options.presentation);
 }
 
 // Audit shards are directories; hunt outputs are files.

@@ -6,7 +6,6 @@
 
 #include "cli/commands.h"
 #include "core/input_error.h"
-#include "report/atomic_file.h"
 #include "report/audit_report.h"
 #include "scene/scene.h"
 #include "scene/scene_audit.h"
@@ -179,11 +178,13 @@ int run_scene_audit(const scene_audit_request& request) {
         targets = scene_audit_targets(s, request.variants, request.plugins, request.isolation);
     if (results) targets.push_back(*results);
 
-    audit_outputs::created_directory created;  // removed again if the audit fails
-    std::optional<atomic_file> report;
+    run_outputs outputs;  // declared before the work; committed after it
+    declare_inputs(outputs, {request.scene_file}, "--scene");
+    declare_inputs(outputs, {request.plugins.begin(), request.plugins.end()}, "--plugin");
+    output_file* report = nullptr;
     if (!request.report_dir.empty()) {
-        created.create(request.report_dir);
-        report.emplace(std::filesystem::path(request.report_dir) / "scene_report.json");
+        outputs.directory(request.report_dir, "--report");
+        report = &outputs.file(std::filesystem::path(request.report_dir) / "scene_report.json", "--report");
     }
 
     const scene_audit_result result = audit_scene(s, targets);  // the rays streamed
@@ -197,12 +198,12 @@ int run_scene_audit(const scene_audit_request& request) {
     text += render_scene_tables(s, result);
     fmt::print("{}", text);
     fmt::print("build: {}\n", build_summary());
-    if (report) {
+    if (report != nullptr) {
         report->stream() << scene_report_json(s, result, recorded_command(request.command_line)).dump(2) << '\n';
-        report->commit();
-        created.keep = true;
         fmt::print("report: {}\n", (std::filesystem::path(request.report_dir) / "scene_report.json").string());
     }
+    check_standard_output();
+    outputs.commit();
     bool findings = false;
     for (const scene_target_figures& t : result.targets) findings = findings || (!t.not_applicable && t.disagreements() > 0);
     return findings ? exit_findings : exit_ok;

@@ -37,20 +37,6 @@ constexpr std::string_view format_line = "rayverify-baseline 1";
 
 std::string variant_of(const std::string& target) { return target.substr(0, target.find('/')); }
 
-// Text of the file repeated in a message: bytes that are not printable ASCII
-// shown as \xNN, so that binary garbage gives a one-line message.
-std::string printable(std::string_view text) {
-    std::string out;
-    for (const char c : text) {
-        const auto byte = static_cast<unsigned char>(c);
-        if (byte < 0x20 || byte >= 0x7f)
-            out += fmt::format("\\x{:02X}", byte);
-        else
-            out += c;
-    }
-    return out;
-}
-
 std::string quoted(std::string_view token) { return "'" + printable(token) + "'"; }
 
 std::string number_text(double x) {
@@ -165,14 +151,35 @@ baseline parse_baseline(const std::string& file, std::string_view text) {
             b.format_comments = std::exchange(pending, {});
             continue;
         }
+        // A count (of cases, of disagreements, count_slack) is a whole number: inf would pass any count.
+        const auto count = [&](const std::string& token, const std::string& field, const std::string& what) {
+            const double value = number(token, field);
+            if (!std::isfinite(value) || value != std::floor(value) || value > 0x1p53)
+                throw error(field, fmt::format("{} is a whole number of cases, got {}", what, quoted(token)));
+            return value;
+        };
+        // A target's precision, when the text names a target ("naive/float").
+        const auto check_precision = [&](const std::string& target, const std::string& field) {
+            const std::string precision = target.substr(target.find('/') + 1);
+            if (precision != "float" && precision != "double")
+                throw error(field, fmt::format("{}: unknown precision {} (float or double)", quoted(target),
+                                               quoted(precision)));
+        };
         if (words[0] == "policy") {
             if (words.size() != 4) throw error("policy", "expected 'policy SCOPE ulp_slack|count_slack VALUE'");
             if (words[2] != "ulp_slack" && words[2] != "count_slack")
                 throw error("policy",
                             fmt::format("unknown policy key {} (ulp_slack or count_slack)", quoted(words[2])));
-            const double value = number(words[3], "value");
+            if (words[1].find('/') != std::string::npos) check_precision(words[1], "policy");
+            const double value =
+                words[2] == "count_slack" ? count(words[3], "value", "count_slack") : number(words[3], "value");
             if (words[2] == "ulp_slack" && !(value >= 1 && std::isfinite(value)))
                 throw error("value", "ulp_slack is a factor ≥ 1");
+            for (const policy_line& p : b.policies)
+                if (p.scope == words[1] && p.key == words[2])
+                    throw error("policy", fmt::format("duplicate policy line for {} {} (the gate would use one of "
+                                                      "them silently)",
+                                                      printable(words[1]), words[2]));
             b.policies.push_back({words[1], words[2], value, std::exchange(pending, {})});
             continue;
         }
@@ -180,9 +187,11 @@ baseline parse_baseline(const std::string& file, std::string_view text) {
                                                                 words.size()));
         if (words[0].find('/') == std::string::npos)
             throw error("target", fmt::format("{} is not a target like naive/float", quoted(words[0])));
+        check_precision(words[0], "target");
         if (figure_index(words[2]) == figure_list().size())
             throw error("figure", fmt::format("unknown figure {}", quoted(words[2])));
-        const double value = number(words[3], "value");
+        const double value =
+            is_ulp_figure(words[2]) ? number(words[3], "value") : count(words[3], "value", words[2]);
         figure_key key{words[0], words[1], words[2]};
         if (!b.figures.emplace(key, value).second)
             throw error("entry", fmt::format("duplicate entry for {}", printable(key.text())));

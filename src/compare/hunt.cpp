@@ -250,6 +250,7 @@ private:
         }
         if (f.tier == 0 && e.error > 0 && (!best_ || e.error > best_->found_eval.error))
             best_ = make_find(g, e, index);
+        if (is_disagreement(e.verdict) && result_.disagreements++ == 0) result_.first_disagreement = make_find(g, e, index);
     }
 
     hunt_find make_find(const ray_sphere<double>& g, const hunt_evaluation& e, std::uint64_t index) const {

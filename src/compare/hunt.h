@@ -88,6 +88,11 @@ struct hunt_result {
     std::uint64_t starts = 0;       // start cases drawn
     std::uint64_t shrink_evaluations = 0;
     double seconds = 0;  // search time
+    // ulp: the evaluations whose answer disagreed with the exact one (they have
+    // no ULP error to maximise, but are findings all the same), and the first
+    // of them as found.
+    std::uint64_t disagreements = 0;
+    std::optional<hunt_find> first_disagreement;
 };
 
 // Start case `index` (0, 1, ...), deterministic in its index.

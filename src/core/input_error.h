@@ -6,10 +6,26 @@
 #include <cstddef>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 #include "core/ray_sphere_case.h"
 
 namespace rayverify {
+
+// Text of an input repeated in a message: every byte that is not printable
+// ASCII shown as \xNN, so that binary garbage gives a one-line message.
+inline std::string printable(std::string_view text) {
+    static constexpr char digits[] = "0123456789ABCDEF";
+    std::string out;
+    for (const char c : text) {
+        const auto byte = static_cast<unsigned char>(c);
+        if (byte < 0x20 || byte >= 0x7f)
+            out += {'\\', 'x', digits[byte >> 4], digits[byte & 15]};
+        else
+            out += c;
+    }
+    return out;
+}
 
 class input_error : public std::runtime_error {
 public:

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <bit>
 #include <set>
 #include <utility>
@@ -13,6 +14,19 @@
 namespace rayverify {
 
 namespace fs = std::filesystem;
+
+namespace {
+
+// 64 bits of an id: FNV-1a, then splitmix64's finaliser to spread the bits (the table uses the low ones).
+std::uint64_t id_hash(const std::string& id) {
+    std::uint64_t h = 0xcbf29ce484222325ULL;
+    for (const char c : id) h = (h ^ static_cast<unsigned char>(c)) * 0x100000001b3ULL;
+    h = (h ^ (h >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    h = (h ^ (h >> 27)) * 0x94d049bb133111ebULL;
+    return h ^ (h >> 31);
+}
+
+}  // namespace
 
 std::string shard_spec::text() const { return fmt::format("{}/{}", index, count); }
 
@@ -104,14 +118,14 @@ bool case_stream::next_from_files(std::vector<corpus_case>& cases, std::vector<s
             continue;
         }
         corpus_case& c = current_[position_++];
-        const auto [seen, inserted] = first_source_.try_emplace(c.id, c.source);
-        if (!inserted) {
-            const std::size_t colon = c.source.rfind(':');
-            std::size_t line = 0;
-            if (colon != std::string::npos) parse_unsigned(std::string_view(c.source).substr(colon + 1), line);
-            throw input_error(c.source.substr(0, colon), line, "id",
-                              fmt::format("duplicate id '{}', first defined at {}", c.id, seen->second));
-        }
+        if (!seen_ids_.insert(id_hash(c.id)))
+            if (const std::optional<std::string> first = earlier_definition(c)) {
+                const std::size_t colon = c.source.rfind(':');
+                std::size_t line = 0;
+                if (colon != std::string::npos) parse_unsigned(std::string_view(c.source).substr(colon + 1), line);
+                throw input_error(c.source.substr(0, colon), line, "id",
+                                  fmt::format("duplicate id '{}', first defined at {}", c.id, *first));
+            }
         fingerprint_.add(c);  // every case of the input, owned or not
         const std::size_t index = total_++;
         if (!shard_.owns(index)) continue;
@@ -125,6 +139,35 @@ bool case_stream::next_from_files(std::vector<corpus_case>& cases, std::vector<s
         throw input_error(names, 0, "", "empty corpus: no cases found");
     }
     return false;
+}
+
+bool case_stream::id_hashes::insert(std::uint64_t hash) {
+    hash += hash == 0;  // 0 marks an empty slot
+    if (4 * (size_ + 1) > 3 * slots_.size()) {
+        std::vector<std::uint64_t> old(std::max<std::size_t>(1024, 2 * slots_.size()), 0);
+        old.swap(slots_);
+        size_ = 0;
+        for (std::uint64_t h : old)
+            if (h != 0) insert(h);
+    }
+    const std::size_t mask = slots_.size() - 1;
+    for (std::size_t i = hash & mask;; i = (i + 1) & mask) {
+        if (slots_[i] == hash) return false;
+        if (slots_[i] == 0) {
+            slots_[i] = hash;
+            ++size_;
+            return true;
+        }
+    }
+}
+
+std::optional<std::string> case_stream::earlier_definition(const corpus_case& c) const {
+    // Within the file being read, ids are unique (read_corpus_file checks); the
+    // files before it are read again (rare: a real duplicate is an error).
+    for (std::size_t f = 0; f + 1 < next_file_; ++f)
+        for (const corpus_case& earlier : read_corpus_file(files_[f]))
+            if (earlier.id == c.id) return earlier.source;
+    return std::nullopt;
 }
 
 bool case_stream::next_generated(std::vector<corpus_case>& cases, std::vector<std::size_t>& indices) {

@@ -31,7 +31,8 @@ using steady = std::chrono::steady_clock;
 // 32-bit length and bytes), or 0 and why the library cannot be used. Call:
 // request_size bytes, a 32-bit kind then o, d, c, r, tmin, tmax in T (one
 // size for both kinds, so the child reads a call at once). Answer: the 32-bit
-// count, then roots[0], roots[1] in T.
+// count, a 32-bit flag (1: the plugin wrote outside its roots), then
+// roots[0], roots[1] in T.
 constexpr std::int32_t float_call = 0, double_call = 1;
 constexpr std::size_t request_size = sizeof(std::int32_t) + 12 * sizeof(double);
 constexpr std::uint32_t longest_description = 1u << 20;
@@ -153,12 +154,13 @@ template <class T, class Fn>
 bool answer(int fd, Fn intersect, const unsigned char* request) {
     T in[12];
     std::memcpy(in, request + sizeof(std::int32_t), sizeof in);
-    // NaN until written, as in process: a plugin that reports a hit without writing its roots is judged non_finite.
-    T roots[2] = {std::numeric_limits<T>::quiet_NaN(), std::numeric_limits<T>::quiet_NaN()};
-    const std::int32_t count = intersect(in, in + 3, in + 6, in[9], in[10], in[11], roots);
-    unsigned char reply[sizeof count + sizeof roots];
+    guarded_roots<T> buffer;
+    const std::int32_t count = intersect(in, in + 3, in + 6, in[9], in[10], in[11], buffer.roots());
+    const std::int32_t overrun = buffer.intact() ? 0 : 1;
+    unsigned char reply[2 * sizeof count + 2 * sizeof(T)];
     std::memcpy(reply, &count, sizeof count);
-    std::memcpy(reply + sizeof count, roots, sizeof roots);
+    std::memcpy(reply + sizeof count, &overrun, sizeof overrun);
+    std::memcpy(reply + 2 * sizeof count, buffer.roots(), 2 * sizeof(T));
     return send_all(fd, reply, sizeof reply);
 }
 
@@ -304,38 +306,25 @@ root_pair<T> plugin_host::call_in(const ray_sphere<T>& s, T tmin, T tmax, bool i
     std::string happened = "is no longer running (it failed on an earlier call)";
     if (fd_ >= 0) {
         const steady::time_point deadline = deadline_after(timeout_seconds_);
-        std::int32_t count = 0;
+        std::int32_t count = 0, overrun = 0;
         T roots[2];
-        unsigned char reply[sizeof count + sizeof roots];
+        unsigned char reply[2 * sizeof count + sizeof roots];
         const received got =
             send_all(fd_, request, request_size) ? receive_by(fd_, reply, sizeof reply, deadline) : received::closed;
         if (got == received::all) {
             std::memcpy(&count, reply, sizeof count);
-            std::memcpy(roots, reply + sizeof count, sizeof roots);
-            return {count, roots[0], roots[1]};
-        }
-        happened = got == received::timed_out ? timed_out() : ended();
-    }
-
-    // The case the loop announced, else the inputs as given (widened exactly to double).
-    corpus_case failing;
-    const corpus_case* announced = case_in_progress::current();
-    if (announced) {
-        failing = *announced;
-    } else {
-        failing.id = "plugin-failure";
-        failing.geometry = rounded_to<double>(s);
-        if (interval_asked) {
-            failing.tmin = tmin;
-            failing.tmax = tmax;
+            std::memcpy(&overrun, reply + sizeof count, sizeof overrun);
+            std::memcpy(roots, reply + 2 * sizeof count, sizeof roots);
+            if (overrun == 0) return {count, roots[0], roots[1]};
+            happened = "wrote outside its roots[2] buffer";
+        } else {
+            happened = got == received::timed_out ? timed_out() : ended();
         }
     }
-    const std::string where = announced ? fmt::format("on case {} ({})", announced->id, announced->source)
-                                        : std::string("on inputs given outside any audited case");
     throw plugin_failure(library_,
-                         fmt::format("plugin '{}' {} {}, in its {} function", description_.name, happened, where,
-                                     std::is_same_v<T, float> ? "float" : "double"),
-                         std::move(failing));
+                         fmt::format("plugin '{}' {} {}, in its {} function", description_.name, happened,
+                                     failing_case_text(), std::is_same_v<T, float> ? "float" : "double"),
+                         failing_case(s, tmin, tmax, interval_asked));
 }
 
 root_pair<float> plugin_host::call(const ray_sphere<float>& s, float tmin, float tmax, bool interval_asked) {

@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/ray_sphere_case.h"
 #include "intersectors/registry.h"
 #include "plugin/rayverify_plugin.h"
 
@@ -44,6 +45,26 @@ opened_library open_library(const std::filesystem::path& library);
 // The variant the description stands for: name, citation, formula and
 // contract; no run functions, thread_safe false (the ABI calls from one thread).
 variant described_variant(const plugin_description& description);
+
+// The case a failing call was on, as plugin_failure keeps it: the case
+// announced on this thread (core/case_in_progress.h), else the inputs as
+// given (widened exactly to double) with (tmin, tmax) when `interval_asked`.
+template <class T>
+corpus_case failing_case(const ray_sphere<T>& s, T tmin, T tmax, bool interval_asked);
+// "on case ID (SOURCE)", or "on inputs given outside any audited case".
+std::string failing_case_text();
+
+// The roots buffer a call writes, with guard areas on both sides: a plugin
+// that writes outside roots[0..1] is caught instead of silently scored (or
+// corrupting rayverify's memory unnoticed).
+template <class T>
+struct guarded_roots {
+    static constexpr int guard = 16;
+    T cells[guard + 2 + guard];
+    guarded_roots();
+    T* roots() { return cells + guard; }
+    bool intact() const;  // both guards as written
+};
 
 // The interval a plain run function passes as (tmin, tmax): the one its
 // contract is judged on.

@@ -10,6 +10,7 @@ packages=(
   libgtest-dev                 # tests
   libcli11-dev nlohmann-json3-dev libfmt-dev        # CLI, JSON reports, formatting
   libbenchmark-dev python3-matplotlib               # rayverify bench (Google Benchmark), report plots
+  python3-jsonschema           # tests: every JSON output against docs/schema/
   libpng-dev                   # rayverify render (PNG images)
 )
 # tools/fuzz.sh: clang and its runtime libraries (libFuzzer, sanitizers).

@@ -12,6 +12,7 @@
 #include "report/audit_report.h"
 #include "report/audit_summary.h"
 #include "report/markdown_report.h"
+#include "report/schema.h"
 #include "report/shard_state.h"
 #include "report/stability_report.h"
 
@@ -129,6 +130,7 @@ int run(const audit_options& options, const std::string& command_line) {
         report = audit_report_document(states[0], context);
         if (state_file) {
             nlohmann::ordered_json state = {
+                {"schema_version", schema_version::shard_state},
                 {"format", shard_state_format},
                 {"build", build_json()},
                 {"command", context.command_line},

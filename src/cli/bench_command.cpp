@@ -16,7 +16,9 @@
 #include "compare/stability.h"
 #include "core/input_error.h"
 #include "corpus/corpus_io.h"
+#include "report/atomic_file.h"
 #include "report/audit_report.h"
+#include "report/benchmark_json.h"
 #include "report/markdown_report.h"
 #include "report/stability_report.h"
 
@@ -35,6 +37,7 @@ struct bench_options {
     std::vector<std::string> families;
     bool oracle = false;
     std::string report_dir;
+    std::string benchmark_json;  // Google Benchmark's JSON format
     int repetitions = 9;
     double min_time = 0.01;
     std::size_t sweep = 5000;
@@ -102,7 +105,12 @@ int run(const bench_options& options, const std::string& command_line) {
             cases.push_back(std::move(c));
     if (cases.empty()) throw input_error("", 0, "--family", "no case of the chosen families in the corpus");
     if (options.repetitions < 1) throw input_error("", 0, "--repetitions", "must be at least 1");
+    if (options.oracle && !options.benchmark_json.empty())
+        throw input_error("", 0, "--benchmark-json", "times the variants: not with --oracle");
     if (options.oracle) return run_oracle_timing(cases, options);
+    refuse_directory(options.benchmark_json, "--benchmark-json");
+    std::optional<atomic_file> benchmark_file;
+    if (!options.benchmark_json.empty()) benchmark_file.emplace(options.benchmark_json);
 
     // Accuracy: float and double as audited, then long double on double
     // inputs. Plugins are audited and timed beside every built-in variant
@@ -138,6 +146,12 @@ int run(const bench_options& options, const std::string& command_line) {
     timing.min_time_s = options.min_time;
     const std::vector<bench::timing_row> rows = bench::time_variants(by_family, timing, progress);
     const json timing_section = timing_json(rows, timing, reference_label);
+    if (benchmark_file) {
+        benchmark_file->stream() << benchmark_json(rows, current_benchmark_context(command_line))
+                                        .dump(2)
+                                 << '\n';
+        benchmark_file->commit();
+    }
 
     fmt::print("{:<26} {:<12} {:>12} {:>10}\n", "variant", "precision", "ns/test", "ratio");
     for (const json& r : timing_section["overall"])
@@ -206,6 +220,9 @@ command add_bench_command(CLI::App& app, const std::string& command_line) {
                   "double intersector per family, with the filter's fallback rates");
     sub->add_option("--family", options->families, "Only cases of this family (repeatable; default: all)");
     sub->add_option("--report", options->report_dir, "Directory for report.json, report.md and the PNG plots");
+    sub->add_option("--benchmark-json", options->benchmark_json,
+                    "Also write the timings in Google Benchmark's JSON format (mean, median, stddev, cv per "
+                    "benchmark; readable by its compare.py)");
     sub->add_option("--repetitions", options->repetitions, "Timed repetitions per benchmark (default 9)");
     sub->add_option("--min-time", options->min_time, "Minimum seconds per repetition (default 0.01)");
     sub->add_option("--sweep", options->sweep, "Far-sphere sweep cases for the report (default 5000; 0: none)");

@@ -32,20 +32,14 @@ command_result validate(const std::string& schema, const fs::path& file, bool li
 
 class Schema : public ::testing::Test {
 protected:
-    void SetUp() override {
-        dir_ = fs::temp_directory_path() /
-               ("rayverify_schema_test_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
-    }
-    void TearDown() override { fs::remove_all(dir_); }
+    test_support::scratch_directory scratch_{"rayverify_schema_test"};
+    const fs::path& dir_ = scratch_.path();
     // The output's first key is schema_version, equal to the version the code writes.
     static void expect_versioned(const std::string& json_text, int version) {
         EXPECT_TRUE(json_text.starts_with("{\"schema_version\":") || json_text.starts_with("{\n  \"schema_version\":"))
             << json_text.substr(0, 80);
         EXPECT_EQ(nlohmann::json::parse(json_text)["schema_version"], version);
     }
-    fs::path dir_;
 };
 
 TEST_F(Schema, EverySchemaIsAValidSchemaNamedByItsFile) {
@@ -70,7 +64,7 @@ TEST_F(Schema, AuditReportPerCaseLinesAndShardStateValidate) {
             << validate("shard-state", fs::path(shard) / "shard.json").output;
         expect_versioned(read_text(fs::path(shard) / "shard.json"), schema_version::shard_state);
     }
-    const command_result merge = run_cli("merge -o " + (dir_ / "merged").string() + " " +
+    const command_result merge = run_cli("merge --report " + (dir_ / "merged").string() + " " +
                                          (dir_ / "shard-1").string() + " " + (dir_ / "shard-2").string());
     ASSERT_EQ(merge.exit_code, 1) << merge.output;
     for (const fs::path& report : {dir_ / "whole" / "report.json", dir_ / "merged" / "report.json"}) {

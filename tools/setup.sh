@@ -11,6 +11,7 @@ packages=(
   libcli11-dev nlohmann-json3-dev libfmt-dev        # CLI, JSON reports, formatting
   libbenchmark-dev python3-matplotlib               # rayverify bench (Google Benchmark), report plots
   python3-jsonschema           # tests: every JSON output against docs/schema/
+  zsh groff-base               # tests: the generated zsh completion and man page are well formed
   libpng-dev                   # rayverify render (PNG images)
 )
 # tools/fuzz.sh: clang and its runtime libraries (libFuzzer, sanitizers).

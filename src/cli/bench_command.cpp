@@ -77,11 +77,20 @@ accuracy_run audit_with_stability(const std::vector<corpus_case>& cases, const s
     return run;
 }
 
+// The timings' progress line (the harness calls back through a plain function).
+terminal::progress* timing_line = nullptr;
 void progress(std::size_t done, std::size_t total) {
-    if (!isatty(STDERR_FILENO)) return;
-    fmt::print(stderr, "\rbench: {}/{} timings", done, total);
-    if (done == total) fmt::print(stderr, "\n");
+    if (timing_line == nullptr) return;
+    timing_line->set_total(static_cast<double>(total));
+    timing_line->update(static_cast<double>(done));
+    if (done == total) timing_line->finish();
 }
+
+// Shows `line` as the timings' progress while in scope.
+struct timing_progress {
+    explicit timing_progress(terminal::progress& line) { timing_line = &line; }
+    ~timing_progress() { timing_line = nullptr; }
+};
 
 // bench --oracle: the exact oracles' cost per case against the naive double
 // intersector, per family, with the filter's fallback rates and issue 7's targets.
@@ -89,7 +98,10 @@ int run_oracle_timing(const std::vector<corpus_case>& cases, const bench_options
     bench::oracle_timing_options timing;
     timing.repetitions = options.repetitions;
     timing.min_time_s = std::max(options.min_time, 0.05);
+    terminal::progress line("bench", "timings");
+    const timing_progress shown(line);
     const bench::oracle_timing t = bench::time_oracle(cases, timing, progress);
+    line.finish();
     fmt::print("{}", bench::format_oracle_timing(t));
     fmt::print("build: {}; CPU: {}\n", build_summary(), bench::cpu_model());
     return exit_ok;
@@ -131,7 +143,7 @@ int run(const bench_options& options, const std::string& command_line) {
     }
     std::vector<std::string> precision_labels;
     for (const std::string& l : labels) precision_labels.push_back(l.substr(l.find('/') + 1));
-    if (isatty(STDERR_FILENO)) fmt::print(stderr, "bench: auditing {} cases\n", cases.size());
+    if (isatty(STDERR_FILENO)) terminal::note(fmt::format("bench: auditing {} cases", cases.size()));
     const accuracy_run accuracy = audit_with_stability(cases, targets, labels);
 
     // Run time, per family.
@@ -144,7 +156,10 @@ int run(const bench_options& options, const std::string& command_line) {
             timing.plugins.push_back(t.subject);
     timing.repetitions = options.repetitions;
     timing.min_time_s = options.min_time;
+    terminal::progress line("bench", "timings");
+    const timing_progress shown(line);
     const std::vector<bench::timing_row> rows = bench::time_variants(by_family, timing, progress);
+    line.finish();
     const json timing_section = timing_json(rows, timing, reference_label);
     if (benchmark_file) {
         benchmark_file->stream() << benchmark_json(rows, current_benchmark_context(command_line))

@@ -12,7 +12,9 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 
+#include "cli/terminal.h"
 #include "compare/audit.h"
+#include "corpus/case_stream.h"
 #include "plugin/plugin_loader.h"
 #include "report/atomic_file.h"
 #include "scene/scene.h"
@@ -72,6 +74,24 @@ std::vector<audit_target> select_targets(const std::vector<std::string>& variant
                                          const std::vector<std::string>& plugin_paths,
                                          const std::vector<std::string>& precisions,
                                          const plugin_isolation& isolation = {});
+
+// The audit's progress line on a terminal (cli/audit_progress.cpp): cases
+// done out of the input's cases (generated: their counts; files: their case
+// lines), % and ETA; finished on destruction.
+class audit_progress {
+public:
+    audit_progress(const std::vector<std::filesystem::path>& paths, const std::vector<generate_spec>& specs,
+                   const shard_spec& shard);
+    // For audit_hooks::progress; empty when no one watches stderr.
+    std::function<void(std::size_t)> reporter();
+    void finish() { line_.finish(); }
+
+private:
+    terminal::progress line_;
+};
+
+// --tolerance, on gate and diff: ULP figures within it (relative) are equal.
+void add_tolerance_option(CLI::App* sub, double& tolerance);
 
 // --isolate and --plugin-timeout, on every command that takes --plugin.
 void add_isolation_options(CLI::App* sub, plugin_isolation& isolation);

@@ -25,6 +25,7 @@ struct gate_options {
     bool update = false;
     std::size_t examples = 3;
     unsigned threads = 0;  // 0: every hardware thread
+    double tolerance = default_figure_tolerance;
 };
 
 std::string read_text_file(const std::filesystem::path& path, const std::string& field) {
@@ -57,7 +58,7 @@ int run(const gate_options& options) {
     if (targets.empty()) throw input_error("", 0, "--precision", "no variant runs in the chosen precision");
 
     const unsigned threads = options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency());
-    const gate_run run = run_gate(cases, targets, base, options.examples, threads);
+    const gate_run run = run_gate(cases, targets, base, options.examples, threads, options.tolerance);
     if (options.update) {
         write_file_atomically(baseline_path, format_baseline(updated_baseline(base, run.current)));
         std::size_t changed = 0;
@@ -67,7 +68,7 @@ int run(const gate_options& options) {
                    cases.size(), changed, run.result.changes.size() - changed);
         return exit_ok;
     }
-    fmt::print("{}", render_gate_text(run, cases));
+    fmt::print("{}", terminal::coloured_verdicts(render_gate_text(run, cases)));
     if (!options.junit.empty()) write_file_atomically(options.junit, render_junit(run, cases));
     return run.result.passed() ? exit_ok : exit_findings;
 }
@@ -96,6 +97,7 @@ command add_gate_command(CLI::App& app) {
     sub->add_option("--threads", options->threads,
                     "Threads auditing cases (default: every hardware thread); the result is the same for any number")
         ->check(CLI::Range(1u, 4096u));
+    add_tolerance_option(sub, options->tolerance);
     return {sub, [options] { return run(*options); }};
 }
 

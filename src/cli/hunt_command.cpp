@@ -1,6 +1,8 @@
 #include <fmt/format.h>
 
+#include "cli/app.h"
 #include "cli/commands.h"
+#include "cli/terminal.h"
 #include "compare/hunt.h"
 #include "core/input_error.h"
 #include "corpus/corpus_io.h"
@@ -43,9 +45,9 @@ int run(const hunt_command_options& o, const std::string& command_line) {
         for (const family_info& f : generator_families()) known += (known.empty() ? "" : ", ") + std::string(f.name);
         throw input_error("", 0, "--family", fmt::format("unknown generator family '{}' (known: {})", o.family, known));
     }
-    if (!(o.budget >= 0)) throw input_error("", 0, "--budget", "must be a number of seconds >= 0");
+    if (!(o.budget >= 0)) throw input_error("", 0, "--seconds", "must be a number of seconds >= 0");
     if (o.budget == 0 && o.evaluations == 0)
-        throw input_error("", 0, "--budget", "give a time budget (--budget) or an evaluation budget (--evaluations)");
+        throw input_error("", 0, "--seconds", "give a time budget (--seconds) or an evaluation budget (--evaluations)");
 
     hunt_options options;
     options.objective = o.objective == "ulp" ? hunt_objective::ulp : hunt_objective::misclass;
@@ -57,7 +59,19 @@ int run(const hunt_command_options& o, const std::string& command_line) {
     options.shrink = !o.no_shrink;
     const std::string family_name(family->name);
     const hunt_start start = [&](std::uint64_t index) { return generate_case(family_name, o.seed, index).geometry; };
+    // Live: how far the budget is spent, and the best found so far.
+    const bool timed = o.budget > 0;
+    terminal::progress progress("hunt", timed ? "s" : "evaluations",
+                                timed ? o.budget : static_cast<double>(o.evaluations));
+    options.on_progress = [&](const hunt_progress& p) {
+        const std::string best = options.objective == hunt_objective::ulp
+                                     ? fmt::format("best so far {}", p.best_error > 0 ? error_text(p.best_error) : "-")
+                                     : fmt::format("{} disagreement(s) found", p.finds);
+        progress.update(timed ? p.seconds : static_cast<double>(p.evaluations),
+                        timed ? fmt::format("{} evaluations, {}", p.evaluations, best) : best);
+    };
     const hunt_result result = hunt(target, start, options);
+    progress.finish();
 
     const std::string label = target.label();
     const bool ulp = options.objective == hunt_objective::ulp;
@@ -129,9 +143,10 @@ command add_hunt_command(CLI::App& app, const std::string& command_line) {
         ->check(CLI::IsMember({"float", "double"}))
         ->capture_default_str();
     sub->add_option("--family", o->family, "Generator family the searches start from")->capture_default_str();
-    sub->add_option("--budget", o->budget, "Search time in seconds (0: no time limit)")->capture_default_str();
+    sub->add_option("--seconds", o->budget, "Search time in seconds (0: no time limit)")->capture_default_str();
+    add_deprecated_alias(sub, "--budget", o->budget, "--seconds");
     sub->add_option("--evaluations", o->evaluations,
-                    "Search evaluations (0: no limit); with --budget 0 the result is reproducible")
+                    "Search evaluations (0: no limit); with --seconds 0 the result is reproducible")
         ->capture_default_str();
     sub->add_option("--objective", o->objective, "ulp or misclass")
         ->check(CLI::IsMember({"ulp", "misclass"}))

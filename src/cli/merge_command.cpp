@@ -8,6 +8,7 @@
 #include <map>
 #include <sstream>
 
+#include "cli/app.h"
 #include "cli/commands.h"
 #include "core/input_error.h"
 #include "corpus/case_stream.h"
@@ -118,6 +119,7 @@ void interleave_per_case(const std::vector<shard_input>& shards, std::size_t tot
 }
 
 int run(const merge_options& options) {
+    if (options.output.empty()) throw input_error("", 0, "--report", "name the directory of the merged report");
     std::vector<shard_input> shards;
     for (const std::string& dir : options.shards) shards.push_back(read_shard(dir));
     check_consistent(shards);
@@ -158,8 +160,9 @@ command add_merge_command(CLI::App& app) {
         "merge", "Combine the report directories of `rayverify audit --shard K/N --report DIR` runs (every K of "
                  "one N, from the same audit) into exactly the report one run over the whole input writes. Exit 1 "
                  "when the merged audit has findings, 2 when the shards do not belong together.");
-    sub->add_option("-o,--output", options->output, "Directory for the merged report.json, summary.txt, report.md")
-        ->required();
+    sub->add_option("--report", options->output,
+                    "Directory for the merged report.json, summary.txt, report.md (required)");
+    add_deprecated_alias(sub, "-o,--output", options->output, "--report");
     sub->add_option("--per-case", options->per_case_file,
                     "Also merge the shards' per-case files (each shard run with --per-case) into this file");
     sub->add_flag("--plots", options->plots, "Also draw the PNG plots, as `audit --plots`");

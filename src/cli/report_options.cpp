@@ -1,4 +1,5 @@
-// Options that choose how an audit's results are shown, shared by audit and merge.
+// Options shared by several commands: how an audit's results are shown (audit and merge), the figure
+// tolerance (gate and diff).
 #include "cli/commands.h"
 #include "core/input_error.h"
 
@@ -23,6 +24,14 @@ void open_presentation(audit_outputs& outputs, const audit_presentation& present
     if (presentation.summary_md.empty()) return;
     refuse_directory(presentation.summary_md, "--summary-md");
     outputs.summary_md.emplace(presentation.summary_md);
+}
+
+void add_tolerance_option(CLI::App* sub, double& tolerance) {
+    sub->add_option("--tolerance", tolerance,
+                    "Relative difference below which two ULP figures are the same (last-digit noise); counts are "
+                    "compared exactly")
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 0.5));
 }
 
 }  // namespace rayverify::cli

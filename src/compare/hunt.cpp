@@ -238,6 +238,9 @@ private:
 
     hunt_evaluation judge(const ray_sphere<double>& g) {
         ++result_.evaluations;
+        if (options_.on_progress && result_.evaluations % 512 == 0)
+            options_.on_progress({result_.evaluations, elapsed(), result_.finds.size(),
+                                  best_ ? best_->found_eval.error : 0.0});
         return announced_and_judged(g, "evaluation", result_.evaluations, start_index_);
     }
 

@@ -93,12 +93,12 @@ int run(const audit_options& options, const std::string& command_line) {
     std::vector<std::string> lines(outputs.per_case ? case_stream::default_chunk : 0);
     audit_hooks hooks;
     hooks.parallel = [&](const audited_case& c, std::size_t index, std::size_t slot, unsigned worker) {
-        const case_stability s = assess_case(c, targets);
+        const case_stability s = assess_case(c);
         states[worker].stability.add(c, s, index);
         if (outputs.report_json) states[worker].points.add(c, s, index);
         if (!outputs.per_case) return;
         nlohmann::ordered_json line = per_case_json(c, targets);
-        add_stability_fields(line, s, targets);
+        add_stability_fields(line, s);
         lines[slot] = line.dump();
     };
     if (outputs.per_case)

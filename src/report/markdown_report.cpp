@@ -7,6 +7,7 @@
 #include <map>
 #include <memory>
 
+#include "compare/judge.h"
 #include "corpus/corpus_io.h"
 
 namespace rayverify {
@@ -30,8 +31,8 @@ std::string percent(std::size_t part, std::size_t whole) {
 
 std::size_t misclassified(const json& verdicts) {
     std::size_t n = 0;
-    for (const char* k : {"false_miss", "false_hit", "tangent_split", "tangent_missed", "false_tangent"})
-        if (verdicts.contains(k)) n += verdicts[k].get<std::size_t>();
+    for (const auto& [name, count] : verdicts.items())
+        if (const auto kind = verdict_from_name(name); kind && is_misclassification(*kind)) n += count.get<std::size_t>();
     return n;
 }
 

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <utility>
 
-#include <rayverify/compare/verdict.h>
+#include <rayverify/compare/judge.h>
 #include <rayverify/oracle/oracle.h>
 
 namespace {
@@ -64,8 +64,10 @@ TEST(Consumer, CallsTheOracleAndTheJudgeDirectly) {
     const rayverify::exact_solution exact = rayverify::solve_exact(input, rayverify::precision::binary64);
     ASSERT_EQ(exact.cls, rayverify::line_class::two_hit);
     const rayverify::variant v = as_variant(&user_sphere<float>, &user_sphere<double>);
-    const auto output = rayverify::evaluate(v.run_double, v.promises, input);
-    const auto score = rayverify::score_case(v.promises, output, exact, input);
+    rayverify::corpus_case c;
+    c.id = "consumer";
+    c.geometry = input;
+    const auto score = rayverify::judge_target({v, rayverify::precision::binary64}, c, exact).score;
     EXPECT_EQ(score.verdict, rayverify::verdict_kind::agree) << score.detail;
     EXPECT_EQ(*score.near_ulp, 0);
 }

@@ -103,7 +103,7 @@ TEST_F(Terminal, DeprecatedSpellingsStillWorkWithANote) {
               1);
     const command_result merge = run_cli("merge -o " + (dir_ / "merged").string() + " " + shard);
     EXPECT_EQ(merge.exit_code, 1) << merge.output;
-    EXPECT_NE(merge.output.find("rayverify merge: -o,--output is deprecated, use --report"), std::string::npos);
+    EXPECT_NE(merge.output.find("rayverify merge: -o,--output DIR for audit shards is deprecated, use --report DIR"), std::string::npos);
     EXPECT_TRUE(fs::exists(dir_ / "merged" / "report.json"));
     EXPECT_TRUE(fs::exists(dir_ / "merged" / "report.md"));
     EXPECT_EQ(run_cli("merge " + shard).exit_code, 2) << "the report directory is required";

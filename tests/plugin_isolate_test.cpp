@@ -175,7 +175,7 @@ TEST_F(PluginIsolate, HuntAndGateTakeIsolate) {
             if (!line.starts_with("#")) out += line + "\n";
         return out;
     };
-    const std::string hunt = "hunt --plugin " + good + " --objective misclass --budget 0 --evaluations 300 -o ";
+    const std::string hunt = "hunt --plugin " + good + " --objective misclass --seconds 0 --evaluations 300 -o ";
     const command_result plain = run_cli(hunt + (dir_ / "plain.txt").string());
     const command_result isolated = run_cli(hunt + (dir_ / "isolated.txt").string() + " --isolate");
     EXPECT_EQ(plain.exit_code, isolated.exit_code) << plain.output << isolated.output;

@@ -12,6 +12,7 @@
 #include "report/audit_report.h"
 #include "report/audit_summary.h"
 #include "report/markdown_report.h"
+#include "report/schema.h"
 #include "report/shard_state.h"
 #include "report/stability_report.h"
 
@@ -34,12 +35,6 @@ struct audit_options {
     std::string scene;  // issue 6: audit a scene's rays instead (cli/scene_audit.cpp)
     results_options results;
 };
-
-// Progress on stderr, only when a person is watching it.
-std::function<void(std::size_t)> progress_reporter() {
-    if (!isatty(STDERR_FILENO)) return {};
-    return [](std::size_t done) { fmt::print(stderr, "\raudit: {} cases", done); };
-}
 
 // Where a shard's per-case file is, as the merge finds it: relative to the
 // report directory, which must hold it (so shard directories can be moved,
@@ -94,7 +89,7 @@ int run(const audit_options& options, const std::string& command_line) {
     const unsigned requested = options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency());
     const unsigned threads = audit_threads(targets, requested);
     if (threads < requested)
-        fmt::print(stderr, "audit: a plugin is not thread-safe (called from one thread): auditing on one thread\n");
+        terminal::note("audit: a plugin is not thread-safe (called from one thread): auditing on one thread");
 
     // Every output is declared (opened as a temporary) before the audit and
     // committed only once all of them are complete: an error leaves no output behind.
@@ -125,12 +120,13 @@ int run(const audit_options& options, const std::string& command_line) {
         hooks.ordered = [&](const audited_case&, std::size_t, std::size_t slot) {
             outputs.per_case->stream() << lines[slot] << '\n';
         };
-    hooks.progress = progress_reporter();
+    audit_progress progress(paths, specs, shard);
+    hooks.progress = progress.reporter();
     const case_source next = [&](std::vector<corpus_case>& cases, std::vector<std::size_t>& indices) {
         return stream.next(cases, indices);
     };
     states[0].audit = audit_stream(next, targets, threads, hooks);
-    if (hooks.progress) fmt::print(stderr, "\n");
+    progress.finish();
     for (unsigned w = 1; w < threads; ++w) {
         states[0].stability.merge(states[w].stability);
         states[0].points.merge(states[w].points);
@@ -144,6 +140,7 @@ int run(const audit_options& options, const std::string& command_line) {
         report = audit_report_document(states[0], context);
         if (state_file != nullptr) {
             nlohmann::ordered_json state = {
+                {"schema_version", schema_version::shard_state},
                 {"format", shard_state_format},
                 {"build", build_json()},
                 {"command", context.command_line},
@@ -162,7 +159,7 @@ int run(const audit_options& options, const std::string& command_line) {
                                   {"count", shard.count},
                                   {"cases", states[0].audit.cases},
                                   {"input_cases", stream.total()},
-                                  {"merge", "rayverify merge -o DIR SHARD_DIR... combines the shards' " +
+                                  {"merge", "rayverify merge --report DIR SHARD_DIR... combines the shards' " +
                                                 std::string(shard_state_file) + " into the whole run's report"}};
         }
     }

@@ -15,6 +15,7 @@
 #include <optional>
 #include <span>
 
+#include "cli/terminal.h"
 #include "compare/audit.h"
 #include "corpus/case_stream.h"
 #include "corpus/exchange.h"
@@ -134,6 +135,24 @@ std::vector<audit_target> targets_with_results(const std::vector<std::string>& v
 // finite number in [min, max] (> min when `above_min`; nan and inf refused).
 CLI::Validator whole_number(std::uint64_t min, std::uint64_t max = std::numeric_limits<std::uint64_t>::max());
 CLI::Validator finite_number(double min, double max, bool above_min = false);
+
+// The audit's progress line on a terminal (cli/audit_progress.cpp): cases
+// done out of the input's cases (generated: their counts; files: their case
+// lines), % and ETA; finished on destruction.
+class audit_progress {
+public:
+    audit_progress(const std::vector<std::filesystem::path>& paths, const std::vector<generate_spec>& specs,
+                   const shard_spec& shard);
+    // For audit_hooks::progress; empty when no one watches stderr.
+    std::function<void(std::size_t)> reporter();
+    void finish() { line_.finish(); }
+
+private:
+    terminal::progress line_;
+};
+
+// --tolerance, on gate and diff: ULP figures within it (relative) are equal.
+void add_tolerance_option(CLI::App* sub, double& tolerance);
 
 // --isolate and --plugin-timeout, on every command that takes --plugin.
 void add_isolation_options(CLI::App* sub, plugin_isolation& isolation);

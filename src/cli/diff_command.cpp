@@ -34,15 +34,17 @@ figure_table read_report(const std::string& path) {
 
 command add_diff_command(CLI::App& app) {
     auto paths = std::make_shared<std::vector<std::string>>();
+    auto tolerance = std::make_shared<double>(default_figure_tolerance);
     auto* sub = app.add_subcommand("diff", "Compare two report.json files (rayverify audit --report) figure by "
                                            "figure: what changed from A to B. Exit 1 when `gate` would fail with A as "
                                            "the baseline: some figure of B is worse, a family's case count changed, "
                                            "or no figure could be compared at all.");
     sub->add_option("reports", *paths, "A.json B.json")->required()->expected(2);
-    return {sub, [paths] {
+    add_tolerance_option(sub, *tolerance);
+    return {sub, [paths, tolerance] {
                 const figure_table a = read_report((*paths)[0]), b = read_report((*paths)[1]);
-                const gate_result result = compare_figures(a, b, gate_policy{});
-                fmt::print("{}", render_figure_diff(result));
+                const gate_result result = compare_figures(a, b, gate_policy{}, *tolerance);
+                fmt::print("{}", terminal::coloured_verdicts(render_figure_diff(result)));
                 if (result.compared == 0)
                     fmt::print("diff: no figure of B has a counterpart in A with the same case count: nothing "
                                "was compared, which fails as `gate` does\n");

@@ -26,6 +26,7 @@ struct gate_options {
     std::size_t examples = 3;
     unsigned threads = 0;  // 0: every hardware thread
     results_options results;
+    double tolerance = default_figure_tolerance;
 };
 
 std::string read_text_file(const std::filesystem::path& path, const std::string& field) {
@@ -69,7 +70,7 @@ int run(const gate_options& options) {
     if (targets.empty()) throw input_error("", 0, "--precision", "no variant runs in the chosen precision");
 
     const unsigned threads = options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency());
-    const gate_run run = run_gate(cases, targets, base, options.examples, threads);
+    const gate_run run = run_gate(cases, targets, base, options.examples, threads, options.tolerance);
     if (updated != nullptr) {
         updated->stream() << format_baseline(updated_baseline(base, run.current));
         std::size_t changed = 0;
@@ -81,7 +82,7 @@ int run(const gate_options& options) {
         outputs.commit();
         return exit_ok;
     }
-    fmt::print("{}", render_gate_text(run, cases));
+    fmt::print("{}", terminal::coloured_verdicts(render_gate_text(run, cases)));
     if (junit != nullptr) junit->stream() << render_junit(run, cases);
     check_standard_output();
     outputs.commit();
@@ -114,6 +115,7 @@ command add_gate_command(CLI::App& app) {
     sub->add_option("--threads", options->threads,
                     "Threads auditing cases (default: every hardware thread); the result is the same for any number")
         ->check(whole_number(1, 4096));
+    add_tolerance_option(sub, options->tolerance);
     return {sub, [options] { return run(*options); }};
 }
 

@@ -1,6 +1,8 @@
 #include <fmt/format.h>
 
+#include "cli/app.h"
 #include "cli/commands.h"
+#include "cli/terminal.h"
 #include "compare/hunt.h"
 #include "core/input_error.h"
 #include "corpus/corpus_io.h"
@@ -59,7 +61,7 @@ int run(const hunt_command_options& o, const std::string& command_line) {
         throw input_error("", 0, "--family", fmt::format("unknown generator family '{}' (known: {})", o.family, known));
     }
     if (o.budget == 0 && o.evaluations == 0)
-        throw input_error("", 0, "--budget", "give a time budget (--budget) or an evaluation budget (--evaluations)");
+        throw input_error("", 0, "--seconds", "give a time budget (--seconds) or an evaluation budget (--evaluations)");
     run_outputs outputs;  // declared before the search, committed after it
     declare_inputs(outputs, {plugins.begin(), plugins.end()}, "--plugin");
     output_file& finds_file = outputs.file(o.output, "-o");
@@ -90,7 +92,19 @@ int run(const hunt_command_options& o, const std::string& command_line) {
             return evals;
         };
     }
+    // Live: how far the budget is spent, and the best found so far.
+    const bool timed = o.budget > 0;
+    terminal::progress progress("hunt", timed ? "s" : "evaluations",
+                                timed ? o.budget : static_cast<double>(o.evaluations));
+    options.on_progress = [&](const hunt_progress& p) {
+        const std::string best = options.objective == hunt_objective::ulp
+                                     ? fmt::format("best so far {}", p.best_error > 0 ? error_text(p.best_error) : "-")
+                                     : fmt::format("{} disagreement(s) found", p.finds);
+        progress.update(timed ? p.seconds : static_cast<double>(p.evaluations),
+                        timed ? fmt::format("{} evaluations, {}", p.evaluations, best) : best);
+    };
     const hunt_result result = hunt(target, start, options, judge);
+    progress.finish();
 
     const std::string label = target.label();
     const bool ulp = options.objective == hunt_objective::ulp;
@@ -214,11 +228,12 @@ command add_hunt_command(CLI::App& app, const std::string& command_line) {
         ->check(CLI::IsMember({"float", "double"}))
         ->capture_default_str();
     sub->add_option("--family", o->family, "Generator family the searches start from")->capture_default_str();
-    sub->add_option("--budget", o->budget, "Search time in seconds (0: no time limit)")
+    sub->add_option("--seconds", o->budget, "Search time in seconds (0: no time limit)")
         ->check(finite_number(0, 1e9))
         ->capture_default_str();
+    add_deprecated_alias(sub, "--budget", o->budget, "--seconds")->check(finite_number(0, 1e9));
     sub->add_option("--evaluations", o->evaluations,
-                    "Search evaluations (0: no limit); with --budget 0 the result is reproducible")
+                    "Search evaluations (0: no limit); with --seconds 0 the result is reproducible")
         ->check(whole_number(0))
         ->capture_default_str();
     sub->add_option("--objective", o->objective, "ulp or misclass")

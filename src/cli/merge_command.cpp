@@ -13,6 +13,7 @@
 #include <sstream>
 #include <thread>
 
+#include "cli/app.h"
 #include "cli/commands.h"
 #include "core/input_error.h"
 #include "corpus/case_stream.h"
@@ -297,7 +298,7 @@ int merge_audits(const merge_options& options) {
 }
 
 // Audit shards are directories; hunt outputs are files.
-int run(const merge_options& options) {
+int run(const merge_options& options, bool output_given_as_o) {
     std::size_t hunts = 0;
     for (const std::string& input : options.shards) {
         std::error_code error;
@@ -309,8 +310,11 @@ int run(const merge_options& options) {
     }
     if (hunts == 0) {
         if (options.keep_finds) throw input_error("", 0, "--finds", "only hunt outputs are merged by their finds");
+        if (options.output.empty()) throw input_error("", 0, "--report", "name the directory of the merged report");
+        if (output_given_as_o) note_deprecated("merge", "-o,--output DIR for audit shards", "--report DIR");
         return merge_audits(options);
     }
+    if (options.output.empty()) throw input_error("", 0, "-o", "name the merged corpus file");
     if (hunts != options.shards.size())
         throw input_error("", 0, "", "give either audit shards (directories) or hunt outputs (files), not both");
     if (!options.per_case_file.empty() || options.plots)
@@ -329,9 +333,10 @@ command add_merge_command(CLI::App& app) {
                  "output files of `rayverify hunt --shard K/N` into one, keeping the worst finds with their "
                  "provenance. The shards may have been run from other directories or installs. Exit 1 when the "
                  "merged audit has findings or the hunts a disagreement, 2 when the shards do not belong together.");
-    sub->add_option("-o,--output", options->output,
-                    "Directory for the merged report.json, summary.txt, report.md; for hunts, the merged file")
-        ->required();
+    sub->add_option("--report", options->output, "Audit shards: the directory for the merged report.json, "
+                                                 "summary.txt, report.md");
+    CLI::Option* o = sub->add_option("-o,--output", options->output,
+                    "Hunt outputs: the merged corpus file (for audit shards, a deprecated spelling of --report)");
     sub->add_option("--per-case", options->per_case_file,
                     "Also merge the shards' per-case files (each shard run with --per-case) into this file");
     sub->add_flag("--plots", options->plots, "Also draw the PNG plots, as `audit --plots`");
@@ -342,7 +347,7 @@ command add_merge_command(CLI::App& app) {
         ->check(CLI::Range(std::size_t{1}, std::size_t{1000000}));
     sub->add_option("shards", options->shards, "The shards' report directories, or the hunts' output files")
         ->required();
-    return {sub, [options] { return run(*options); }};
+    return {sub, [options, o] { return run(*options, o->count() > 0); }};
 }
 
 }  // namespace rayverify::cli

@@ -1,4 +1,5 @@
-// Options that choose how an audit's results are shown, shared by audit and merge.
+// Options shared by several commands: how an audit's results are shown (audit and merge), the figure
+// tolerance (gate and diff).
 #include "cli/commands.h"
 
 namespace rayverify::cli {
@@ -15,6 +16,14 @@ void add_presentation_options(CLI::App* sub, audit_presentation& presentation) {
 void open_presentation(audit_outputs& outputs, const audit_presentation& presentation) {
     if (presentation.summary_md.empty()) return;
     outputs.summary_md = &outputs.files.file(presentation.summary_md, "--summary-md");
+}
+
+void add_tolerance_option(CLI::App* sub, double& tolerance) {
+    sub->add_option("--tolerance", tolerance,
+                    "Relative difference below which two ULP figures are the same (last-digit noise); counts are "
+                    "compared exactly")
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 0.5));
 }
 
 }  // namespace rayverify::cli

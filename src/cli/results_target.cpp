@@ -45,7 +45,8 @@ void add_results_options(CLI::App* sub, results_options& options) {
         "docs/other-languages.md), judged as a variant named --name under --contract");
     sub->add_option("--contract", options.contract_spec,
                     "The contract of the --results answers, as `rayverify variants` prints contracts, e.g. "
-                    "query=line_roots or query=nearest_hit,range=ray,ends=[),inside=clamp")
+                    "query=line_roots, or query=nearest_hit with range=ray, ends=[) and inside=clamp joined by "
+                    "commas")
         ->needs(results);
     sub->add_option("--name", options.name, "The name the --results answers are reported under (one token)")
         ->needs(results);

@@ -7,6 +7,7 @@
 #include "cli/commands.h"
 #include "core/input_error.h"
 #include "report/audit_report.h"
+#include "report/schema.h"
 #include "scene/scene.h"
 #include "scene/scene_audit.h"
 
@@ -137,7 +138,8 @@ nlohmann::ordered_json scene_report_json(const scene& s, const scene_audit_resul
         const exact_kind_figures& e = result.exact[static_cast<std::size_t>(kind)];
         exact[ray_kind_name(kind)] = {{"rays", e.rays}, {"hits", e.hits}, {"lost_to_tmin", e.lost_to_tmin}};
     }
-    return {{"format", "rayverify-scene-audit-1"},
+    return {{"schema_version", schema_version::scene_report},
+            {"format", "rayverify-scene-audit-1"},
             {"build", build_json()},
             {"command", command},
             {"scene", {{"name", s.name}, {"file", s.file.string()}, {"comment", s.comment},

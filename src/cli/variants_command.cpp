@@ -3,6 +3,7 @@
 #include "cli/commands.h"
 #include "intersectors/registry.h"
 #include "report/audit_report.h"
+#include "report/schema.h"
 
 namespace rayverify::cli {
 
@@ -19,7 +20,9 @@ command add_variants_command(CLI::App& app) {
                                        {"formula", v.formula},
                                        {"contract", contract_json(v.promises)},
                                        {"precisions", {"float", "double"}}});
-                    fmt::print("{}\n", all.dump(2));
+                    const nlohmann::ordered_json document = {{"schema_version", schema_version::variants},
+                                                             {"variants", all}};
+                    fmt::print("{}\n", document.dump(2));
                     return exit_ok;
                 }
                 for (const variant& v : builtin_variants()) {

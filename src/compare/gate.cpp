@@ -266,9 +266,13 @@ bool gate_result::passed() const {
 
 namespace {
 
-// One figure against its baseline value under a policy; nullopt when equal.
-std::optional<figure_change> judge(const figure_key& key, double before, double after, const gate_policy& policy) {
+// One figure against its baseline value under a policy; nullopt when equal
+// (for a ULP figure: within `tolerance` of it, relative to the larger).
+std::optional<figure_change> judge(const figure_key& key, double before, double after, const gate_policy& policy,
+                                   double tolerance) {
     if (before == after) return std::nullopt;
+    if (is_ulp_figure(key.figure) && std::abs(after - before) <= tolerance * std::max(std::abs(before), std::abs(after)))
+        return std::nullopt;
     figure_change change{key, before, after, change_kind::better, 0};
     if (after < before) return change;
     change.limit = is_ulp_figure(key.figure) ? before * policy.ulp_slack : before + policy.count_slack;
@@ -278,7 +282,7 @@ std::optional<figure_change> judge(const figure_key& key, double before, double 
 
 template <class PolicyOf>
 gate_result compare(const figure_table& before, const figure_table& after, const PolicyOf& policy_of,
-                    bool notes_for_unrun) {
+                    bool notes_for_unrun, double tolerance) {
     gate_result result;
     std::set<std::string> targets_run, targets_known;
     for (const auto& entry : after) targets_run.insert(entry.first.target);
@@ -315,7 +319,8 @@ gate_result compare(const figure_table& before, const figure_table& after, const
             continue;
         }
         ++result.compared;
-        if (auto change = judge(key, old->second, value, policy_of(key.target))) result.changes.push_back(*change);
+        if (auto change = judge(key, old->second, value, policy_of(key.target), tolerance))
+            result.changes.push_back(*change);
     }
     // A baseline figure with no current value: its error statistics have no sample any more.
     std::set<std::pair<std::string, std::string>> missing_families;
@@ -341,12 +346,14 @@ gate_result compare(const figure_table& before, const figure_table& after, const
 
 }  // namespace
 
-gate_result compare_to_baseline(const baseline& base, const figure_table& current) {
-    return compare(base.figures, current, [&](const std::string& target) { return base.policy_for(target); }, true);
+gate_result compare_to_baseline(const baseline& base, const figure_table& current, double tolerance) {
+    return compare(
+        base.figures, current, [&](const std::string& target) { return base.policy_for(target); }, true, tolerance);
 }
 
-gate_result compare_figures(const figure_table& before, const figure_table& after, const gate_policy& policy) {
-    return compare(before, after, [&](const std::string&) { return policy; }, false);
+gate_result compare_figures(const figure_table& before, const figure_table& after, const gate_policy& policy,
+                            double tolerance) {
+    return compare(before, after, [&](const std::string&) { return policy; }, false, tolerance);
 }
 
 void gate_examples::add(const audited_case& c, const std::vector<audit_target>& targets) {
@@ -385,12 +392,12 @@ std::vector<const corpus_case*> gate_examples::cases_for(const figure_key& key, 
 }
 
 gate_run run_gate(std::span<const corpus_case> cases, const std::vector<audit_target>& targets,
-                  const baseline& base, std::size_t examples_per_figure, unsigned threads) {
+                  const baseline& base, std::size_t examples_per_figure, unsigned threads, double tolerance) {
     gate_run run;
     run.examples = gate_examples(examples_per_figure);
     run.totals = run_audit(cases, targets, [&](const audited_case& c) { run.examples.add(c, targets); }, {}, threads);
     run.current = figures_of(run.totals);
-    run.result = compare_to_baseline(base, run.current);
+    run.result = compare_to_baseline(base, run.current, tolerance);
     return run;
 }
 

@@ -161,7 +161,7 @@ public:
                 for (auto& g : starts) g = rounded_in(target_.prec, start_(result_.starts++));
                 const std::vector<hunt_evaluation> evals = judge_batch(starts, "evaluation", result_.evaluations, first);
                 for (std::size_t k = 0; k < starts.size() && !done(); ++k) {
-                    ++result_.evaluations;
+                    count_evaluation();
                     start_index_ = first + k;
                     note(starts[k], evals[k], fitness_of(options_.objective, evals[k], starts[k]), start_index_);
                 }
@@ -171,7 +171,7 @@ public:
             start_index_ = index;
             ray_sphere<double> current = rounded_in(target_.prec, start_(index));
             hunt_evaluation current_eval = judge_batch({current}, "evaluation", result_.evaluations, index).front();
-            ++result_.evaluations;
+            count_evaluation();
             fitness current_fit = fitness_of(options_.objective, current_eval, current);
             note(current, current_eval, current_fit, index);
             if (done()) continue;
@@ -184,7 +184,7 @@ public:
                 const std::vector<hunt_evaluation> evals =
                     judge_batch(candidates, "evaluation", result_.evaluations, index);
                 for (std::size_t k = 0; k < candidates.size() && !done(); ++k) {
-                    ++result_.evaluations;
+                    count_evaluation();
                     const fitness candidate_fit = fitness_of(options_.objective, evals[k], candidates[k]);
                     note(candidates[k], evals[k], candidate_fit, index);
                     stale = candidate_fit > current_fit ? 0 : stale + 1;
@@ -214,6 +214,14 @@ private:
     }
     bool done() const {
         return options_.objective == hunt_objective::misclass && result_.finds.size() >= options_.max_finds;
+    }
+
+    // Counts one evaluation; every 512th, the progress so far goes to the caller.
+    void count_evaluation() {
+        ++result_.evaluations;
+        if (options_.on_progress && result_.evaluations % 512 == 0)
+            options_.on_progress({result_.evaluations, elapsed(), result_.finds.size(),
+                                  best_ ? best_->found_eval.error : 0.0});
     }
 
     // The cases a batch may hold: the batch size, within the evaluation budget.

@@ -53,6 +53,16 @@ struct hunt_options {
     // taken in order as if one by one (1: exactly one at a time). An
     // external program answers a batch in one exchange.
     std::size_t batch = 1;
+    // Called every 512 search evaluations with the search so far (a live
+    // progress line); the search does not depend on it.
+    std::function<void(const struct hunt_progress&)> on_progress;
+};
+
+struct hunt_progress {
+    std::uint64_t evaluations = 0;
+    double seconds = 0;
+    std::size_t finds = 0;     // misclass: disagreements found so far
+    double best_error = 0;     // ulp: the largest error found so far (0 before the first)
 };
 
 // One case judged: what the hunter optimises.

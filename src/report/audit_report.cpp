@@ -8,6 +8,7 @@
 
 #include "core/build_info.h"
 #include "corpus/corpus_io.h"
+#include "report/schema.h"
 
 namespace rayverify {
 
@@ -197,6 +198,7 @@ std::string render_summary_table(const audit_totals& totals) {
 json audit_report_json(const audit_totals& totals, const run_context& context) {
     constexpr const char* scope = "maximum over this finite corpus";
     json report;
+    report["schema_version"] = schema_version::report;
     report["tool"] = "rayverify audit";
     report["build"] = build_json();
     report["command"] = context.command_line;
@@ -256,6 +258,7 @@ json per_case_json(const audited_case& audited, const std::vector<audit_target>&
     const corpus_case& c = *audited.source;
     const auto& g = c.geometry;
     json line;
+    line["schema_version"] = schema_version::per_case;
     line["id"] = c.id;
     if (!c.family.empty()) line["family"] = c.family;
     line["source"] = c.source;

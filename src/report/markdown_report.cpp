@@ -10,6 +10,7 @@
 
 #include "compare/judge.h"
 #include "core/input_error.h"
+#include "core/installed_data.h"
 #include "corpus/corpus_io.h"
 
 namespace rayverify {
@@ -341,7 +342,7 @@ std::string render_markdown(const json& report) {
 
 plot_outcome render_plots(const std::filesystem::path& dir) {
     plot_outcome outcome;
-    const std::string python = RAYVERIFY_PLOT_PYTHON, script = RAYVERIFY_PLOT_SCRIPT;
+    const std::string python = RAYVERIFY_PLOT_PYTHON, script = data_file("plot_report.py", RAYVERIFY_PLOT_SCRIPT).string();
     if (!std::filesystem::exists(python)) {
         outcome.message = python + " not found: install python3-matplotlib (tools/setup.sh) for the plots";
         return outcome;

@@ -284,11 +284,13 @@ case_score disagreement(case_score s, verdict_kind k, std::string detail) {
 
 // Which side of the range a root and a value are on, and the verdict when
 // they differ: an exact root outside with the value inside is a self-hit.
-// The correctly rounded root itself is on its root's side whatever range it
-// rounds out of (+inf for a root past the format's largest value, +0 for a
-// positive root below its smallest): no answer can do better.
+// A root whose correctly rounded value is an infinity or a zero (past the
+// format's largest value, below its smallest) is answered best by that value,
+// which is on the root's side whatever range it rounds out of.
 std::optional<std::string> side_difference(const exact_solution& exact, root_index k, double t, const t_range& range) {
-    if (t == exact.root(k).rounded && std::signbit(t) == std::signbit(exact.root(k).rounded)) return std::nullopt;
+    const double rounded = exact.root(k).rounded;
+    if ((std::isinf(rounded) || rounded == 0) && t == rounded && std::signbit(t) == std::signbit(rounded))
+        return std::nullopt;
     const bool root_inside = root_in_range(exact, k, range), value_inside = range.contains(t);
     if (root_inside == value_inside) return std::nullopt;
     if (value_inside)

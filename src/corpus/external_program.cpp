@@ -24,11 +24,6 @@ namespace {
 
 using steady = std::chrono::steady_clock;
 
-steady::time_point deadline_after(double seconds) {
-    const double bounded = !(seconds < 1e7) ? 1e7 : std::max(seconds, 0.0);
-    return steady::now() + std::chrono::duration_cast<steady::duration>(std::chrono::duration<double>(bounded));
-}
-
 // Where a complete answer to `cases` cases ends in `text`, or npos: the header
 // line, then (CSV) the column row, then one line per case; blank lines (and
 // CSV comment lines) are not counted.
@@ -101,26 +96,14 @@ std::string external_program::ended() {
         }
     if (pid_ <= 0) return "ended";
     // With its input closed the program should exit; one that lingers is killed.
-    const steady::time_point deadline = deadline_after(std::min(timeout_seconds_, 5.0));
-    int status = 0;
-    for (;;) {
-        const pid_t reaped = ::waitpid(pid_, &status, WNOHANG);
-        if (reaped == pid_) break;
-        if (reaped < 0 && errno != EINTR) {
-            pid_ = -1;
-            return "ended";
-        }
-        if (steady::now() >= deadline) {
-            ::kill(-pid_, SIGKILL);
-            while (::waitpid(pid_, &status, 0) < 0 && errno == EINTR) {
-            }
-            break;
-        }
-        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    const std::optional<int> status = reap_child(pid_, -pid_, std::min(timeout_seconds_, 5.0));
+    if (!status) {
+        pid_ = -1;
+        return "ended";
     }
     ::kill(-pid_, SIGKILL);  // anything it started and left running
     pid_ = -1;
-    return describe_wait_status(status);
+    return describe_wait_status(*status);
 }
 
 void external_program::fail(const std::string& happened, std::span<const corpus_case> cases) {

@@ -63,11 +63,6 @@ bool receive_all(int fd, void* data, std::size_t size) {
     return true;
 }
 
-steady::time_point deadline_after(double seconds) {
-    const double bounded = !(seconds < 1e7) ? 1e7 : std::max(seconds, 0.0);  // no overflow of the clock's ticks
-    return steady::now() + std::chrono::duration_cast<steady::duration>(std::chrono::duration<double>(bounded));
-}
-
 enum class received { all, closed, timed_out };
 
 // rayverify's side: the bytes, unless the socket closes or the deadline passes first.
@@ -268,25 +263,9 @@ std::string plugin_host::ended() {
     if (pid_ <= 0) return "ended";
     // The socket closes as the child exits: it is reaped at once, or killed
     // when it lingers (a plugin that closed the socket itself).
-    const steady::time_point deadline = deadline_after(timeout_seconds_);
-    int status = 0;
-    for (;;) {
-        const pid_t reaped = ::waitpid(pid_, &status, WNOHANG);
-        if (reaped == pid_) break;
-        if (reaped < 0 && errno != EINTR) {
-            pid_ = -1;
-            return "ended";
-        }
-        if (steady::now() >= deadline) {
-            ::kill(pid_, SIGKILL);
-            while (::waitpid(pid_, &status, 0) < 0 && errno == EINTR) {
-            }
-            break;
-        }
-        std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    }
+    const std::optional<int> status = reap_child(pid_, pid_, timeout_seconds_);
     pid_ = -1;
-    return how_it_ended(status);
+    return status ? how_it_ended(*status) : "ended";
 }
 
 std::string plugin_host::timed_out() {

@@ -7,6 +7,7 @@
 #include "cli/commands.h"
 #include "intersectors/registry.h"
 #include "report/audit_report.h"
+#include "report/schema.h"
 
 namespace rayverify::cli {
 
@@ -31,7 +32,9 @@ command add_variants_command(CLI::App& app) {
                                        {"precisions", precisions(v)}});
                         if (!v.build.empty()) all.back()["build"] = v.build;
                     }
-                    fmt::print("{}\n", all.dump(2));
+                    const nlohmann::ordered_json document = {{"schema_version", schema_version::variants},
+                                                             {"variants", all}};
+                    fmt::print("{}\n", document.dump(2));
                     return exit_ok;
                 }
                 for (const variant& v : builtin_variants()) {

@@ -171,9 +171,37 @@ root_index stands_for(const exact_solution& exact, double t, root_index wanted) 
 
 // ---- Running a variant ------------------------------------------------------------
 
+template <class T>
+answer<T> answer_of(const audit_target& target, const corpus_case& c, const ray_sphere<T>& input,
+                    ray_interval<T> interval) {
+    if (!target.recorded) return answer_in(target.subject, input, interval);
+    const recorded_answer* r = target.recorded->find(c.id);
+    if (!r) return {{-1, T(0), T(0)}};
+    // Exact: a recorded answer in precision T holds values of T (the reader checks).
+    answer<T> a;
+    a.roots = {r->roots.count, static_cast<T>(r->roots.t0), static_cast<T>(r->roots.t1)};
+    const std::optional<std::array<double, 2>>* bounds[2] = {&r->t0_bounds, &r->t1_bounds};
+    for (int i = 0; i < 2; ++i)
+        if (*bounds[i]) {
+            a.t_lower[i] = static_cast<T>((**bounds[i])[0]);
+            a.t_upper[i] = static_cast<T>((**bounds[i])[1]);
+        }
+    if (r->hit_point) a.point = vec3_cast<T>(*r->hit_point);
+    if (r->normal) a.normal = vec3_cast<T>(*r->normal);
+    return a;
+}
+
+template answer<float> answer_of<float>(const audit_target&, const corpus_case&, const ray_sphere<float>&,
+                                        ray_interval<float>);
+template answer<double> answer_of<double>(const audit_target&, const corpus_case&, const ray_sphere<double>&,
+                                          ray_interval<double>);
+
 namespace {
 
-// A variant's whole answer, widened, with its hit point (see variant_output).
+// A whole answer as the judge takes it: widened, with the outputs beside t
+// its contract names, and its hit point — the answer's own when the contract
+// says it gives one, else o + t·d evaluated in T for the value the contract
+// makes the hit (see variant_output).
 template <class T>
 variant_output widen_answer(const contract& promises, const answer<T>& a, const ray_sphere<T>& input,
                             const t_range& range) {
@@ -205,6 +233,17 @@ variant_output widen_answer(const contract& promises, const answer<T>& a, const 
         out.hit_point = widened(input.origin + t * input.direction);
     }
     return out;
+}
+
+// A recorded answer's outputs beside t are judged as it gives them, answer by
+// answer (a miss may leave them out): its bounds, its normal, and its own hit
+// point in place of o + t·d. results_target checks that every hit
+// carries what the contract names.
+void add_recorded_outputs(variant_output& out, const recorded_answer* r) {
+    if (!r || out.roots.count <= 0) return;
+    if (r->t0_bounds && r->t1_bounds) out.t_bounds = {{*r->t0_bounds, *r->t1_bounds}};
+    if (r->normal) out.normal = r->normal;
+    if (out.hit_root && r->hit_point) out.hit_point = r->hit_point;
 }
 
 }  // namespace
@@ -268,7 +307,13 @@ case_score disagreement(case_score s, verdict_kind k, std::string detail) {
 
 // Which side of the range a root and a value are on, and the verdict when
 // they differ: an exact root outside with the value inside is a self-hit.
+// A root whose correctly rounded value is an infinity or a zero (past the
+// format's largest value, below its smallest) is answered best by that value,
+// which is on the root's side whatever range it rounds out of.
 std::optional<std::string> side_difference(const exact_solution& exact, root_index k, double t, const t_range& range) {
+    const double rounded = exact.root(k).rounded;
+    if ((std::isinf(rounded) || rounded == 0) && t == rounded && std::signbit(t) == std::signbit(rounded))
+        return std::nullopt;
     const bool root_inside = root_in_range(exact, k, range), value_inside = range.contains(t);
     if (root_inside == value_inside) return std::nullopt;
     if (value_inside)
@@ -669,10 +714,10 @@ target_outcome judge_target_in(const audit_target& target, const corpus_case& c,
         return outcome;
     }
     outcome.range = range_for(promises, c, target.prec);
-    if (const answer<T>* ahead = std::get_if<answer<T>>(&given))
-        outcome.output = widen_answer(promises, *ahead, input, outcome.range);
-    else
-        outcome.output = evaluate(target.subject, input, interval_in<T>(outcome.range), outcome.range);
+    const answer<T>* ahead = std::get_if<answer<T>>(&given);
+    outcome.output = widen_answer(promises, ahead ? *ahead : answer_of(target, c, input, interval_in<T>(outcome.range)),
+                                  input, outcome.range);
+    if (target.recorded && !ahead) add_recorded_outputs(outcome.output, target.recorded->find(c.id));
     outcome.score = judge_output(promises, outcome.output, exact, outcome.range, widened);
     return outcome;
 }
@@ -812,7 +857,7 @@ renderer_outcome judge_for_renderer_in(const audit_target& target, const corpus_
     outcome.range = range_for(renderer, c, target.prec);
     // The variant is asked as its contract says: an interval contract on the ray's interval.
     const t_range own_range = range_for(promises, c, target.prec);
-    const root_pair<T> raw = run_in(target.subject, input, interval_in<T>(own_range));
+    const root_pair<T> raw = answer_of(target, c, input, interval_in<T>(own_range)).roots;
     outcome.view = renderer_view(promises, raw, input, outcome.range, q);
     case_score s = judge_verdict(renderer, outcome.view, exact, outcome.range);
     if (s.verdict == verdict_kind::agree) {

@@ -44,6 +44,7 @@
 
 #include <array>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -52,6 +53,7 @@
 #include "core/contract.h"
 #include "core/intersection.h"
 #include "core/ray_sphere_case.h"
+#include "core/recorded_answer.h"
 #include "intersectors/registry.h"
 #include "oracle/oracle.h"
 
@@ -127,7 +129,8 @@ struct variant_output {
     std::optional<int> hit_root;              // 0 or 1: which value the hit point is for
     std::optional<vec3<double>> hit_point;    // the variant's own when it gives one (gives_hit_point)
     bool nan_seen = false;  // renderer_view: a NaN among the values the renderer looked at
-    // What the variant gave beside t (contract::outputs), widened exactly.
+    // What the variant gave beside t (contract::outputs), widened exactly: its
+    // own outputs, or a recorded answer's (core/recorded_answer.h).
     std::optional<std::array<std::array<double, 2>, 2>> t_bounds;  // [root][lower, upper]
     std::optional<vec3<double>> point_error;
     std::optional<vec3<double>> normal;
@@ -187,12 +190,26 @@ variant_output evaluate(const variant& v, const ray_sphere<T>& input, ray_interv
 case_score judge_output(const contract& promises, const variant_output& output, const exact_solution& exact,
                         const t_range& range, const ray_sphere<double>& input);
 
-// One variant in one precision, e.g. naive/float.
+// One variant in one precision, e.g. naive/float. A target with recorded
+// answers (a results file, an external program's batch) takes each case's
+// answer from them, looked up by the case's id, instead of running
+// subject's functions (which it has none of); everything else about it —
+// contract, verdicts, figures — is a variant's.
 struct audit_target {
     variant subject;
     precision prec = precision::binary64;
+    std::shared_ptr<const answer_book> recorded{};
     std::string label() const { return subject.name + "/" + precision_name(prec); }
 };
+
+// The target's whole answer on a case, in precision T: its function run on the
+// inputs (an interval contract asked for `interval`), or the case's recorded
+// answer with the outputs beside t it carries (count −1, judged malformed,
+// when the book has none: callers check that every case has one before they
+// judge).
+template <class T>
+answer<T> answer_of(const audit_target& target, const corpus_case& c, const ray_sphere<T>& input,
+                       ray_interval<T> interval);
 
 // Does the case satisfy the variant's assumptions at this precision? A unit
 // direction means |d·d − 1| ≤ 8ε, decided exactly (ε of the precision).

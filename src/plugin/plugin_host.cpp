@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "core/case_in_progress.h"
+#include "core/process_status.h"
 
 namespace rayverify::plugin_internal {
 namespace {
@@ -32,14 +33,16 @@ using steady = std::chrono::steady_clock;
 // 32-bit length and bytes; version 2's after version 1's), or 0 and why the
 // library cannot be used. Call: a 32-bit kind, then for a version 1 call o, d,
 // c, r, tmin, tmax in T (padded to one size for both kinds: request_size
-// bytes in all), answered by the 32-bit count, then roots[0], roots[1] in T;
-// for a version 2 batch a 32-bit case count n and n rayverify_case_T
-// structs, answered by n rayverify_answer_T structs.
+// bytes in all, so the child reads a call at once), answered by the 32-bit
+// count, a 32-bit flag (1: the plugin wrote outside its roots), then
+// roots[0], roots[1] in T; for a version 2 batch a 32-bit case count n and n
+// rayverify_case_T structs, answered by n rayverify_answer_T structs.
 constexpr std::int32_t float_call = 0, double_call = 1, float_batch = 2, double_batch = 3;
 constexpr std::uint32_t largest_batch = 1u << 20;
 constexpr std::size_t request_size = sizeof(std::int32_t) + 12 * sizeof(double);
 constexpr std::uint32_t longest_description = 1u << 20;
 constexpr int child_lost_exit = 121;  // the child's own loop failed (not the plugin)
+constexpr int overran_exit = 122;     // the plugin wrote outside a batch's answers
 
 bool send_all(int fd, const void* data, std::size_t size) {
     const char* p = static_cast<const char*>(data);
@@ -64,11 +67,6 @@ bool receive_all(int fd, void* data, std::size_t size) {
         size -= static_cast<std::size_t>(n);
     }
     return true;
-}
-
-steady::time_point deadline_after(double seconds) {
-    const double bounded = !(seconds < 1e7) ? 1e7 : std::max(seconds, 0.0);  // no overflow of the clock's ticks
-    return steady::now() + std::chrono::duration_cast<steady::duration>(std::chrono::duration<double>(bounded));
 }
 
 enum class received { all, closed, timed_out };
@@ -177,8 +175,9 @@ bool answer_batch(int fd, Fn intersect) {
     if (!intersect || !receive_all(fd, &n, sizeof n) || n > largest_batch) return false;
     std::vector<Case> cases(n);
     if (!receive_all(fd, cases.data(), n * sizeof(Case))) return false;
-    std::vector<Answer> answers(n, blank_answer<Answer>());
+    guarded_answers<Answer> answers(n);
     intersect(cases.data(), answers.data(), n);
+    if (!answers.intact()) ::_exit(overran_exit);
     return send_all(fd, answers.data(), n * sizeof(Answer));
 }
 
@@ -186,12 +185,13 @@ template <class T, class Fn>
 bool answer_call(int fd, Fn intersect, const unsigned char* request) {
     T in[12];
     std::memcpy(in, request + sizeof(std::int32_t), sizeof in);
-    // NaN until written, as in process: a plugin that reports a hit without writing its roots is judged non_finite.
-    T roots[2] = {std::numeric_limits<T>::quiet_NaN(), std::numeric_limits<T>::quiet_NaN()};
-    const std::int32_t count = intersect(in, in + 3, in + 6, in[9], in[10], in[11], roots);
-    unsigned char reply[sizeof count + sizeof roots];
+    guarded_roots<T> buffer;
+    const std::int32_t count = intersect(in, in + 3, in + 6, in[9], in[10], in[11], buffer.roots());
+    const std::int32_t overrun = buffer.intact() ? 0 : 1;
+    unsigned char reply[2 * sizeof count + 2 * sizeof(T)];
     std::memcpy(reply, &count, sizeof count);
-    std::memcpy(reply + sizeof count, roots, sizeof roots);
+    std::memcpy(reply + sizeof count, &overrun, sizeof overrun);
+    std::memcpy(reply + 2 * sizeof count, buffer.roots(), 2 * sizeof(T));
     return send_all(fd, reply, sizeof reply);
 }
 
@@ -246,35 +246,9 @@ bool answer_call(int fd, Fn intersect, const unsigned char* request) {
 }
 
 std::string how_it_ended(int status) {
-    if (WIFSIGNALED(status)) {
-        const int signal = WTERMSIG(status);
-        const char* name = sigabbrev_np(signal);
-        const char* description = sigdescr_np(signal);
-        return name ? fmt::format("was killed by SIG{} ({})", name, description ? description : "?")
-                    : fmt::format("was killed by signal {}", signal);
-    }
-    if (WIFEXITED(status)) {
-        const int code = WEXITSTATUS(status);
-        return code == child_lost_exit ? std::string("lost its connection to rayverify")
-                                       : fmt::format("exited with status {}", code);
-    }
-    return "ended";
-}
-
-// The case a failed call is named by: the one the calling loop announced,
-// else the inputs as given (widened exactly to double) with their interval
-// when it was the case's own.
-template <class T>
-corpus_case failing_case(const ray_sphere<T>& s, std::optional<ray_interval<T>> interval) {
-    if (const corpus_case* announced = case_in_progress::current()) return *announced;
-    corpus_case failing;
-    failing.id = "plugin-failure";
-    failing.geometry = rounded_to<double>(s);
-    if (interval) {
-        failing.tmin = interval->tmin;
-        failing.tmax = interval->tmax;
-    }
-    return failing;
+    if (WIFEXITED(status) && WEXITSTATUS(status) == child_lost_exit) return "lost its connection to rayverify";
+    if (WIFEXITED(status) && WEXITSTATUS(status) == overran_exit) return "wrote outside its answers buffer";
+    return describe_wait_status(status);
 }
 
 }  // namespace
@@ -333,25 +307,9 @@ std::string plugin_host::ended() {
     if (pid_ <= 0) return "ended";
     // The socket closes as the child exits: it is reaped at once, or killed
     // when it lingers (a plugin that closed the socket itself).
-    const steady::time_point deadline = deadline_after(timeout_seconds_);
-    int status = 0;
-    for (;;) {
-        const pid_t reaped = ::waitpid(pid_, &status, WNOHANG);
-        if (reaped == pid_) break;
-        if (reaped < 0 && errno != EINTR) {
-            pid_ = -1;
-            return "ended";
-        }
-        if (steady::now() >= deadline) {
-            ::kill(pid_, SIGKILL);
-            while (::waitpid(pid_, &status, 0) < 0 && errno == EINTR) {
-            }
-            break;
-        }
-        std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    }
+    const std::optional<int> status = reap_child(pid_, pid_, timeout_seconds_);
     pid_ = -1;
-    return how_it_ended(status);
+    return status ? how_it_ended(*status) : "ended";
 }
 
 std::string plugin_host::timed_out() {
@@ -371,28 +329,25 @@ root_pair<T> plugin_host::call_in(const ray_sphere<T>& s, T tmin, T tmax, bool i
     std::string happened = "is no longer running (it failed on an earlier call)";
     if (fd_ >= 0) {
         const steady::time_point deadline = deadline_after(timeout_seconds_);
-        std::int32_t count = 0;
+        std::int32_t count = 0, overrun = 0;
         T roots[2];
-        unsigned char reply[sizeof count + sizeof roots];
+        unsigned char reply[2 * sizeof count + sizeof roots];
         const received got =
             send_all(fd_, request, request_size) ? receive_by(fd_, reply, sizeof reply, deadline) : received::closed;
         if (got == received::all) {
             std::memcpy(&count, reply, sizeof count);
-            std::memcpy(roots, reply + sizeof count, sizeof roots);
-            return {count, roots[0], roots[1]};
+            std::memcpy(&overrun, reply + sizeof count, sizeof overrun);
+            std::memcpy(roots, reply + 2 * sizeof count, sizeof roots);
+            if (overrun == 0) return {count, roots[0], roots[1]};
+            happened = "wrote outside its roots[2] buffer";
+        } else {
+            happened = got == received::timed_out ? timed_out() : ended();
         }
-        happened = got == received::timed_out ? timed_out() : ended();
     }
-
-    corpus_case failing =
-        failing_case(s, interval_asked ? std::optional<ray_interval<T>>(ray_interval<T>{tmin, tmax}) : std::nullopt);
-    const corpus_case* announced = case_in_progress::current();
-    const std::string where = announced ? fmt::format("on case {} ({})", announced->id, announced->source)
-                                        : std::string("on inputs given outside any audited case");
     throw plugin_failure(library_,
-                         fmt::format("plugin '{}' {} {}, in its {} function", description_.name, happened, where,
-                                     std::is_same_v<T, float> ? "float" : "double"),
-                         std::move(failing));
+                         fmt::format("plugin '{}' {} {}, in its {} function", description_.name, happened,
+                                     failing_case_text(), std::is_same_v<T, float> ? "float" : "double"),
+                         failing_case(s, tmin, tmax, interval_asked));
 }
 
 template <class T>
@@ -423,7 +378,8 @@ void plugin_host::batch_in(std::span<const batch_case<T>> cases, std::span<answe
         happened = got == received::timed_out ? timed_out() : ended();
     }
     const corpus_case* announced = case_in_progress::current();
-    corpus_case failing = failing_case(cases.front().input, std::optional(cases.front().interval));
+    corpus_case failing =
+        failing_case(cases.front().input, cases.front().interval.tmin, cases.front().interval.tmax, true);
     const std::string where =
         announced ? fmt::format("on a batch of {} case{} from case {} ({})", cases.size(), cases.size() == 1 ? "" : "s",
                                 announced->id, announced->source)

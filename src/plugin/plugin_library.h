@@ -3,13 +3,18 @@
 // process) and the child process of an isolated plugin (plugin_host).
 #pragma once
 
+#include <algorithm>
+#include <cstring>
 #include <filesystem>
 #include <limits>
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <span>
 #include <type_traits>
+#include <vector>
 
+#include "core/ray_sphere_case.h"
 #include "intersectors/registry.h"
 #include "plugin/rayverify_plugin.h"
 
@@ -89,6 +94,56 @@ Case case_for_plugin(const ray_sphere<T>& s, T tmin, T tmax) {
     return {{s.origin.x, s.origin.y, s.origin.z}, {s.direction.x, s.direction.y, s.direction.z},
             {s.centre.x, s.centre.y, s.centre.z}, s.radius, tmin, tmax};
 }
+
+// The case a failing call was on, as plugin_failure keeps it: the case
+// announced on this thread (core/case_in_progress.h), else the inputs as
+// given (widened exactly to double) with (tmin, tmax) when `interval_asked`.
+template <class T>
+corpus_case failing_case(const ray_sphere<T>& s, T tmin, T tmax, bool interval_asked);
+// "on case ID (SOURCE)", or "on inputs given outside any audited case".
+std::string failing_case_text();
+
+// The roots buffer a call writes, with guard areas on both sides: a plugin
+// that writes outside roots[0..1] is caught instead of silently scored (or
+// corrupting rayverify's memory unnoticed).
+template <class T>
+struct guarded_roots {
+    static constexpr int guard = 16;
+    T cells[guard + 2 + guard];
+    guarded_roots();
+    T* roots() { return cells + guard; }
+    bool intact() const;  // both guards as written
+};
+
+// What the guard areas around a plugin's outputs are filled with.
+constexpr unsigned char guard_byte = 0xA5;
+
+// A version 2 batch's answers as the plugin writes them, each blank_answer,
+// between guard areas as guarded_roots: a plugin that writes past its
+// `count` answers (or before the first) is caught.
+template <class Answer>
+class guarded_answers {
+public:
+    static constexpr std::size_t guard = 2;  // answers' worth of bytes on each side
+    explicit guarded_answers(std::size_t count) : cells_(count + 2 * guard), count_(count) {
+        std::memset(static_cast<void*>(cells_.data()), guard_byte, cells_.size() * sizeof(Answer));
+        for (std::size_t i = 0; i < count; ++i) cells_[guard + i] = blank_answer<Answer>();
+    }
+    Answer* data() { return cells_.data() + guard; }
+    std::span<const Answer> answers() const { return {cells_.data() + guard, count_}; }
+    bool intact() const {
+        const auto* bytes = reinterpret_cast<const unsigned char*>(cells_.data());
+        const std::size_t guard_bytes = guard * sizeof(Answer);
+        const auto clean = [](const unsigned char* p, std::size_t n) {
+            return std::all_of(p, p + n, [](unsigned char b) { return b == guard_byte; });
+        };
+        return clean(bytes, guard_bytes) && clean(bytes + (guard + count_) * sizeof(Answer), guard_bytes);
+    }
+
+private:
+    std::vector<Answer> cells_;
+    std::size_t count_;
+};
 
 // The interval a plain run function passes as (tmin, tmax): the one its
 // contract is judged on.

@@ -1,11 +1,14 @@
 #include "plugin/plugin_loader.h"
 
+#include <fmt/format.h>
 #include <signal.h>
 #include <unistd.h>
 
 #include <atomic>
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
+#include <initializer_list>
 #include <iterator>
 #include <limits>
 #include <memory>
@@ -16,6 +19,7 @@
 #include <vector>
 
 #include "core/case_in_progress.h"
+#include "core/outputs.h"
 #include "plugin/plugin_host.h"
 #include "plugin/plugin_library.h"
 
@@ -24,13 +28,29 @@ namespace {
 
 using namespace plugin_internal;
 
-// ---- In process: a crash names the plugin and the case before rayverify dies ----
+// ---- In process: a crash or an exit() names the plugin and the case ----
+//
+// A plugin that crashes, calls exit() or writes outside its roots is bad
+// input, as isolated (exit 2, docs/outputs.md): the signal handler and the
+// exit hook write what happened, remove the run's unfinished outputs
+// (core/outputs.h) and end the process with status 2.
 
 constexpr int crash_signals[] = {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT};
 struct sigaction previous_actions[std::size(crash_signals)];
+pid_t hooks_owner = 0;  // the process the hooks were installed in (not a forked child)
 
-// The name of the plugin being called on this thread, nullptr between calls.
-thread_local std::atomic<const std::string*> plugin_in_call{nullptr};
+struct in_process_plugin {
+    opened_library library;
+    std::string name;  // read by the hooks
+    std::string path;
+};
+
+// The plugin being called on this thread, nullptr between calls.
+thread_local std::atomic<const in_process_plugin*> plugin_in_call{nullptr};
+// The library being opened (dlopen, its constructors, describe()), empty otherwise.
+std::atomic<const std::string*> library_loading{nullptr};
+// The function being called: "double" or "float".
+thread_local std::atomic<const char*> function_in_call{nullptr};
 
 void write_text(std::string_view text) {
     while (!text.empty()) {
@@ -51,37 +71,74 @@ std::string_view signal_name(int signal) {
     }
 }
 
-// Only async-signal-safe calls: write(2) of text that exists already (the
-// plugin's name, the announced case's id and source), sigaction, raise.
-void crash_handler(int signal, siginfo_t*, void*) {
-    const int saved_errno = errno;
-    if (const std::string* name = plugin_in_call.load(std::memory_order_relaxed)) {
-        write_text("rayverify: plugin ");
-        write_text(*name);
-        write_text(" crashed (");
-        write_text(signal_name(signal));
+// "rayverify: error: LIB: field '--plugin': plugin 'NAME' WHAT on case ID (SOURCE), in its F function; ..."
+// or, while loading, "rayverify: error: LIB: field '--plugin': WHAT while loading it (...)", as
+// input_error and the isolated plugin word it. Only write(2) of text that exists already.
+// Returns false when no plugin is being loaded or called on this thread.
+bool tell_what_happened(std::initializer_list<std::string_view> what) {
+    const in_process_plugin* plugin = plugin_in_call.load(std::memory_order_relaxed);
+    const std::string* loading = library_loading.load(std::memory_order_relaxed);
+    if (!plugin && !loading) return false;
+    write_text("rayverify: error: ");
+    write_text(plugin ? plugin->path : *loading);
+    write_text(": field '--plugin': ");
+    if (!plugin) {
+        for (std::string_view part : what) write_text(part);
+        write_text(" while loading it (dlopen, its constructors, or rayverify_plugin_describe())");
+    } else {
+        write_text("plugin '");
+        write_text(plugin->name);
+        write_text("' ");
+        for (std::string_view part : what) write_text(part);
         if (const corpus_case* c = case_in_progress::current()) {
-            write_text(") on case ");
+            write_text(" on case ");
             write_text(c->id);
             write_text(" (");
             write_text(c->source);
             write_text(")");
         } else {
-            write_text(") outside any audited case");
+            write_text(" on inputs given outside any audited case");
         }
-        write_text("; rerun with --isolate\n");
+        if (const char* function = function_in_call.load(std::memory_order_relaxed)) {
+            write_text(", in its ");
+            write_text(function);
+            write_text(" function");
+        }
     }
-    // Back to what was there before (the default, or a sanitizer's handler),
-    // which takes the signal as soon as this handler returns.
+    write_text("; rerun with --isolate to have its process stopped instead of rayverify's; no output was written\n");
+    return true;
+}
+
+// Only async-signal-safe calls: write(2), unlink(2) and rmdir(2) of paths that exist already, sigaction, _exit.
+void crash_handler(int signal, siginfo_t*, void*) {
+    const int saved_errno = errno;
+    remove_unfinished_outputs();
+    if (::getpid() == hooks_owner && tell_what_happened({"crashed (", signal_name(signal), ")"})) ::_exit(2);
+    // A crash of rayverify's own: back to what was there before (the default,
+    // or a sanitizer's handler), which takes the signal as soon as this handler returns.
     for (std::size_t i = 0; i < std::size(crash_signals); ++i)
         if (crash_signals[i] == signal) ::sigaction(signal, &previous_actions[i], nullptr);
     ::raise(signal);
     errno = saved_errno;
 }
 
-void install_crash_handler() {
+// exit() from a plugin (a call, describe(), a constructor), or from anywhere
+// while a command runs: never the command's own way out (main returns).
+void exit_hook() {
+    if (::getpid() != hooks_owner) return;  // an isolated plugin's child: its exit is reported by the parent
+    if (!tell_what_happened({"called exit()"})) {
+        if (!command_running()) return;
+        write_text("rayverify: error: exit() was called while the command was running, not by rayverify (a plugin "
+                   "loaded in this process?); rerun with --isolate; no output was written\n");
+    }
+    remove_unfinished_outputs();
+    ::_exit(2);
+}
+
+void install_hooks() {
     static std::once_flag once;
     std::call_once(once, [] {
+        hooks_owner = ::getpid();
         // A stack of its own, so that a plugin that overflows its stack is reported too.
         stack_t current{};
         if (::sigaltstack(nullptr, &current) == 0 && (current.ss_flags & SS_DISABLE)) {
@@ -97,42 +154,52 @@ void install_crash_handler() {
         sigemptyset(&action.sa_mask);
         for (std::size_t i = 0; i < std::size(crash_signals); ++i)
             ::sigaction(crash_signals[i], &action, &previous_actions[i]);
+        std::atexit(exit_hook);
     });
 }
 
-struct in_process_plugin {
-    opened_library library;
-    std::string name;  // read by crash_handler
-};
-
-// Marks the call for crash_handler.
+// Marks the call for the hooks.
 class in_call {
 public:
-    explicit in_call(const std::string& name) : previous_(plugin_in_call.load(std::memory_order_relaxed)) {
-        plugin_in_call.store(&name, std::memory_order_relaxed);
+    in_call(const in_process_plugin& plugin, const char* function)
+        : previous_(plugin_in_call.load(std::memory_order_relaxed)),
+          previous_function_(function_in_call.load(std::memory_order_relaxed)) {
+        plugin_in_call.store(&plugin, std::memory_order_relaxed);
+        function_in_call.store(function, std::memory_order_relaxed);
         std::atomic_signal_fence(std::memory_order_seq_cst);
     }
     ~in_call() {
         std::atomic_signal_fence(std::memory_order_seq_cst);
         plugin_in_call.store(previous_, std::memory_order_relaxed);
+        function_in_call.store(previous_function_, std::memory_order_relaxed);
     }
     in_call(const in_call&) = delete;
     in_call& operator=(const in_call&) = delete;
 
 private:
-    const std::string* previous_;
+    const in_process_plugin* previous_;
+    const char* previous_function_;
 };
 
 template <class T, class Fn>
-root_pair<T> call_in_process(const in_process_plugin& plugin, Fn intersect, const ray_sphere<T>& s, T tmin, T tmax) {
+root_pair<T> call_in_process(const in_process_plugin& plugin, Fn intersect, const ray_sphere<T>& s, T tmin, T tmax,
+                             bool interval_asked) {
     const T o[3] = {s.origin.x, s.origin.y, s.origin.z};
     const T d[3] = {s.direction.x, s.direction.y, s.direction.z};
     const T c[3] = {s.centre.x, s.centre.y, s.centre.z};
-    // NaN until written, so a plugin that reports a hit without writing its roots is judged non_finite.
-    T roots[2] = {std::numeric_limits<T>::quiet_NaN(), std::numeric_limits<T>::quiet_NaN()};
-    const in_call marked(plugin.name);
-    const int count = intersect(o, d, c, s.radius, tmin, tmax, roots);
-    return root_pair<T>{count, roots[0], roots[1]};
+    constexpr const char* function = std::is_same_v<T, float> ? "float" : "double";
+    guarded_roots<T> buffer;
+    int count = 0;
+    {
+        const in_call marked(plugin, function);
+        count = intersect(o, d, c, s.radius, tmin, tmax, buffer.roots());
+    }
+    if (!buffer.intact())
+        throw plugin_failure(plugin.path,
+                             fmt::format("plugin '{}' wrote outside its roots[2] buffer {}, in its {} function",
+                                         plugin.name, failing_case_text(), function),
+                             failing_case(s, tmin, tmax, interval_asked));
+    return root_pair<T>{count, buffer.roots()[0], buffer.roots()[1]};
 }
 
 // Wires a plugin's entry points into `v`: `call(s, tmin, tmax, interval_asked)`
@@ -176,7 +243,7 @@ std::vector<rayverify_case_t<T>> plugin_cases(std::span<const batch_case<T>> cas
 }
 
 template <class T>
-void take_answers(const std::vector<rayverify_answer_t<T>>& given, const contract& promises,
+void take_answers(std::span<const rayverify_answer_t<T>> given, const contract& promises,
                   std::span<const batch_case<T>> cases, std::span<answer<T>> out) {
     for (std::size_t i = 0; i < cases.size(); ++i) out[i] = answer_from<T>(given[i], promises, cases[i].input);
 }
@@ -221,23 +288,35 @@ template <class T, class Fn>
 void batch_in_process(const in_process_plugin& plugin, Fn intersect, const contract& promises,
                       std::span<const batch_case<T>> cases, std::span<answer<T>> out) {
     const std::vector<rayverify_case_t<T>> given = plugin_cases(cases);
-    std::vector<rayverify_answer_t<T>> answers(cases.size(), blank_answer<rayverify_answer_t<T>>());
+    guarded_answers<rayverify_answer_t<T>> answers(cases.size());
+    constexpr const char* function = std::is_same_v<T, float> ? "float batch" : "double batch";
     {
-        const in_call marked(plugin.name);
+        const in_call marked(plugin, function);
         intersect(given.data(), answers.data(), given.size());
     }
-    take_answers<T>(answers, promises, cases, out);
+    if (!answers.intact())
+        throw plugin_failure(plugin.path,
+                             fmt::format("plugin '{}' wrote outside its answers[{}] buffer {}, in its {} function",
+                                         plugin.name, cases.size(), failing_case_text(), function),
+                             failing_case(cases.front().input, cases.front().interval.tmin,
+                                          cases.front().interval.tmax, true));
+    take_answers<T>(answers.answers(), promises, cases, out);
 }
 
 variant load_in_process(const std::filesystem::path& library) {
     auto plugin = std::make_shared<in_process_plugin>();
+    plugin->path = library.string();
+    install_hooks();  // before dlopen: a constructor may crash or exit, a truncated library raise SIGBUS
     try {
+        library_loading.store(&plugin->path);
+        std::atomic_signal_fence(std::memory_order_seq_cst);
         plugin->library = open_library(library);
+        library_loading.store(nullptr);
     } catch (const unusable_library& e) {
+        library_loading.store(nullptr);
         throw input_error(library.string(), 0, "--plugin", e.what());
     }
     plugin->name = plugin->library.description.name;
-    install_crash_handler();
 
     variant v = described_variant(plugin->library.description);
     const bool has_float = plugin->library.run_float != nullptr;
@@ -254,11 +333,11 @@ variant load_in_process(const std::filesystem::path& library) {
                                 });
         return v;
     }
-    bind_entry_points(v, has_float, [p](const auto& s, auto tmin, auto tmax, bool /*interval_asked*/) {
+    bind_entry_points(v, has_float, [p](const auto& s, auto tmin, auto tmax, bool interval_asked) {
         if constexpr (std::is_same_v<decltype(tmin), float>)
-            return call_in_process(*p, p->library.run_float, s, tmin, tmax);
+            return call_in_process(*p, p->library.run_float, s, tmin, tmax, interval_asked);
         else
-            return call_in_process(*p, p->library.run_double, s, tmin, tmax);
+            return call_in_process(*p, p->library.run_double, s, tmin, tmax, interval_asked);
     });
     return v;
 }

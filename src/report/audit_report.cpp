@@ -8,6 +8,7 @@
 
 #include "core/build_info.h"
 #include "corpus/corpus_io.h"
+#include "report/schema.h"
 
 namespace rayverify {
 
@@ -201,6 +202,7 @@ std::string render_summary_table(const audit_totals& totals) {
 json audit_report_json(const audit_totals& totals, const run_context& context) {
     constexpr const char* scope = "maximum over this finite corpus";
     json report;
+    report["schema_version"] = schema_version::report;
     report["tool"] = "rayverify audit";
     report["build"] = build_json();
     report["command"] = context.command_line;
@@ -265,6 +267,7 @@ json per_case_json(const audited_case& audited, const std::vector<audit_target>&
     const corpus_case& c = *audited.source;
     const auto& g = c.geometry;
     json line;
+    line["schema_version"] = schema_version::per_case;
     line["id"] = c.id;
     if (!c.family.empty()) line["family"] = c.family;
     line["source"] = c.source;
@@ -293,6 +296,19 @@ json per_case_json(const audited_case& audited, const std::vector<audit_target>&
                 r["t0"] = hex_float(o.output.roots.t0);
                 if (promises.query == query_kind::line_roots) r["t1"] = hex_float(o.output.roots.t1);
             }
+            // The outputs beside t, as given (judged: bound_width_ulp, normal_angle, unsound_bound).
+            const auto hex_all = [](const auto& values) {
+                json out = json::array();
+                for (double v : values) out.push_back(hex_float(v));
+                return out;
+            };
+            const auto hex_vec = [&](const vec3<double>& v) { return hex_all(std::array<double, 3>{v.x, v.y, v.z}); };
+            if (o.output.t_bounds) {
+                r["t0_bounds"] = hex_all((*o.output.t_bounds)[0]);
+                r["t1_bounds"] = hex_all((*o.output.t_bounds)[1]);
+            }
+            if (o.output.point_error) r["point_error"] = hex_vec(*o.output.point_error);
+            if (o.output.normal) r["normal"] = hex_vec(*o.output.normal);
         }
         if (o.score.near_ulp) r["near_ulp"] = json_number(*o.score.near_ulp);
         if (o.score.far_ulp) r["far_ulp"] = json_number(*o.score.far_ulp);

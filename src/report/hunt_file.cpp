@@ -73,6 +73,14 @@ std::string hunt_summary(const json& h) {
                             runs.size());
     text += fmt::format("# searched {} evaluations from {} start cases in {:.2f} s; {} shrinking evaluations\n",
                         evaluations, starts, seconds, shrinking);
+    for (const json& r : runs)
+        if (const auto d = r.find("first_disagreement"); d != r.end())
+            text += fmt::format("# {}{} of {} evaluations disagreed with the exact answer; the first ({}) at evaluation "
+                                "{}:\n#   {}\n",
+                                runs.size() > 1 ? "shard " + r.at("shard").get<std::string>() + ": " : "",
+                                r.at("disagreements").get<std::uint64_t>(), r.at("evaluations").get<std::uint64_t>(),
+                                d->at("verdict").get<std::string>(), d->at("evaluation").get<std::uint64_t>(),
+                                d->at("case").get<std::string>());
     if (ulp_objective(h))
         text += "# the error below is the largest FOUND BY SEARCH: a lower bound on the variant's maximum over all "
                 "inputs, not the maximum\n";

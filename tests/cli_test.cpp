@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <set>
 
 #include "intersectors/registry.h"
 #include "support/process.h"
@@ -149,6 +150,38 @@ TEST_F(Cli, CorpusGenerateIsDeterministicAndReadable) {
     const command_result unknown = run_cli("corpus generate --family nope --count 5");
     EXPECT_EQ(unknown.exit_code, 2);
     EXPECT_NE(unknown.output.find("unknown generator family"), std::string::npos);
+}
+
+// bench --precision times and audits only the chosen precisions, with
+// naive/double (the ratios' reference) timed in the same run; --threads runs
+// the accuracy audit on more threads without changing a figure.
+TEST_F(Cli, BenchPrecisionChoosesTheRowsAndThreadsChangeNoFigure) {
+    const std::string corpus = std::string(RAYVERIFY_CORPUS_DIR) + "/uniform.txt";
+    const auto bench = [&](const std::string& threads, const std::string& dir) {
+        return run_cli("bench --corpus " + corpus + " --variant naive --variant hearn_baker --precision float "
+                       "--repetitions 1 --min-time 0.001 --sweep 200 --threads " + threads + " --report " +
+                       (dir_ / dir).string());
+    };
+    const command_result one = bench("1", "one"), two = bench("2", "two");
+    ASSERT_EQ(one.exit_code, 0) << one.output;
+    ASSERT_EQ(two.exit_code, 0) << two.output;
+    const auto report = [&](const std::string& dir) {
+        return nlohmann::json::parse(std::ifstream(dir_ / dir / "report.json"));
+    };
+    const nlohmann::json a = report("one"), b = report("two");
+    for (const auto& r : a["results"]) EXPECT_EQ(r["precision"], "float") << r.dump();
+    EXPECT_FALSE(a.contains("long_double"));
+    std::set<std::string> timed;
+    for (const auto& r : a["timing"]["overall"])
+        timed.insert(r["variant"].get<std::string>() + "/" + r["precision"].get<std::string>());
+    EXPECT_TRUE(timed.count("naive/float") && timed.count("hearn_baker/float")) << a["timing"]["overall"].dump();
+    EXPECT_TRUE(timed.count("naive/double")) << "the reference is timed whatever --precision says";
+    EXPECT_FALSE(timed.count("hearn_baker/double") || timed.count("naive/long double"));
+    EXPECT_EQ(a["results"], b["results"]);
+    EXPECT_EQ(a["stability"], b["stability"]);
+    EXPECT_EQ(a["far_sphere_sweep"]["results"], b["far_sphere_sweep"]["results"]);
+    const command_result oracle = run_cli("bench --oracle --precision float");
+    EXPECT_EQ(oracle.exit_code, 2) << oracle.output;
 }
 
 }  // namespace

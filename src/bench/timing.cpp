@@ -122,6 +122,14 @@ std::vector<timing_row> time_variants(const std::map<std::string, std::vector<co
         return options.variants.empty() ||
                std::find(options.variants.begin(), options.variants.end(), name) != options.variants.end();
     };
+    const auto timed_in = [&](std::string_view prec) {
+        return options.precisions.empty() ||
+               std::find(options.precisions.begin(), options.precisions.end(), prec) != options.precisions.end();
+    };
+    // Timed through their functions: the plugins, and the engine ports (no inlined kernel).
+    std::vector<variant> through_function = options.plugins;
+    for (const variant& v : builtin_variants())
+        if (!v.build.empty() && wanted(v.name)) through_function.push_back(v);
 
     // Inputs rounded once per family and precision; the bodies refer to them.
     struct family_inputs {
@@ -139,6 +147,7 @@ std::vector<timing_row> time_variants(const std::map<std::string, std::vector<co
         for_each_kernel([&, &in = in, &family = family](std::string_view name, auto kernel) {
             if (!wanted(name)) return;
             const auto add = [&](const char* prec, const auto& cases) {
+                if (!timed_in(prec)) return;
                 timing_row row;
                 row.variant = name;
                 row.precision = prec;
@@ -152,10 +161,11 @@ std::vector<timing_row> time_variants(const std::map<std::string, std::vector<co
             add("long double", in.ld);
         });
     }
-    for (const variant& plugin : options.plugins) {
+    for (const variant& plugin : through_function) {
         for (const auto& [family, in] : inputs) {
             const auto add = [&, &family = family](const char* prec, const auto& cases) {
                 using T = decltype(std::decay_t<decltype(cases)>::value_type::radius);
+                if (!timed_in(prec)) return;
                 timing_row row;
                 row.variant = plugin.name;  // called through a function pointer (timing_json says so)
                 row.precision = prec;

@@ -25,8 +25,11 @@ struct timing_options {
     std::vector<std::string> variants;  // empty: all built-in variants (unless builtins is false)
     bool builtins = true;               // false: time only the plugins
     // Variants without an inlined kernel (plugins): timed in float and double
-    // through their function, a call through a pointer per test.
+    // through their function, a call through a pointer per test. The engine
+    // ports among the built-in variants (variant::build) are timed the same way.
     std::vector<variant> plugins;
+    // The precisions timed, of timed_precisions; empty: all of them.
+    std::vector<std::string> precisions;
     int repetitions = 9;
     double min_time_s = 0.01;     // per repetition
     double warmup_s = 0.02;       // before the first repetition

@@ -34,6 +34,8 @@ struct bench_options {
     std::vector<std::string> plugins;
     plugin_isolation isolation;
     std::vector<std::string> families;
+    std::vector<std::string> precisions;  // float, double, long_double; empty: all three
+    unsigned threads = 0;                 // the accuracy audit's; 0: every hardware thread
     bool oracle = false;
     std::string report_dir;
     std::string benchmark_json;  // Google Benchmark's JSON format
@@ -60,7 +62,7 @@ struct accuracy_run {
 };
 
 accuracy_run audit_with_stability(const std::vector<corpus_case>& cases, const std::vector<audit_target>& targets,
-                                  const std::vector<std::string>& labels) {
+                                  const std::vector<std::string>& labels, unsigned threads) {
     stability_accumulator stability(targets);
     case_points points(targets, labels);
     std::size_t index = 0;
@@ -70,7 +72,8 @@ accuracy_run audit_with_stability(const std::vector<corpus_case>& cases, const s
         points.add(c, s, index++);
     };
     accuracy_run run;
-    run.totals = run_audit(cases, targets, on_case);
+    // on_case sees the cases in corpus order whatever the thread count: the same figures.
+    run.totals = run_audit(cases, targets, on_case, {}, threads);
     run.stability = stability.finish();
     run.points = points.to_json();
     return run;
@@ -117,7 +120,22 @@ int run(const bench_options& options, const std::string& command_line) {
     if (cases.empty()) throw input_error("", 0, "--family", "no case of the chosen families in the corpus");
     if (options.oracle && !options.benchmark_json.empty())
         throw input_error("", 0, "--benchmark-json", "times the variants: not with --oracle");
+    if (options.oracle && !options.precisions.empty())
+        throw input_error("", 0, "--precision", "times the variants: not with --oracle (the oracle is exact)");
     if (options.oracle) return run_oracle_timing(cases, options);
+    // --precision: the names timing rows carry ("long double" for long_double).
+    const auto chosen = [&](const char* name) {
+        return options.precisions.empty() ||
+               std::find(options.precisions.begin(), options.precisions.end(), name) != options.precisions.end();
+    };
+    std::vector<std::string> judged_precisions, timed_precisions;
+    for (const char* p : {"float", "double"})
+        if (chosen(p)) {
+            judged_precisions.emplace_back(p);
+            timed_precisions.emplace_back(p);
+        }
+    const bool with_long_double = chosen("long_double");
+    if (with_long_double) timed_precisions.emplace_back("long double");
     // The outputs, declared before the work; committed after it.
     run_outputs outputs;
     declare_inputs(outputs, paths, options.corpus.empty() ? "the default corpus" : "--corpus");
@@ -130,14 +148,17 @@ int run(const bench_options& options, const std::string& command_line) {
     // Accuracy: float and double as audited, then long double on double
     // inputs. Plugins are audited and timed beside every built-in variant
     // (or the --variant ones), so the plot places them among the known forms.
-    std::vector<audit_target> targets = select_targets(options.variants, {});
+    std::vector<audit_target> targets =
+        judged_precisions.empty() ? std::vector<audit_target>{} : select_targets(options.variants, judged_precisions);
     const std::vector<audit_target> plugin_targets =
-        options.plugins.empty() ? std::vector<audit_target>{} : select_targets({}, options.plugins, {}, options.isolation);
+        options.plugins.empty() || judged_precisions.empty()
+            ? std::vector<audit_target>{}
+            : select_targets({}, options.plugins, judged_precisions, options.isolation);
     targets.insert(targets.end(), plugin_targets.begin(), plugin_targets.end());
     std::vector<std::string> labels;
     for (const audit_target& t : targets) labels.push_back(t.label());
     const std::size_t audited = targets.size();
-    for (const variant& v : bench::long_double_variants()) {
+    for (const variant& v : with_long_double ? bench::long_double_variants() : std::vector<variant>{}) {
         if (!options.variants.empty() &&
             std::find(options.variants.begin(), options.variants.end(), v.name) == options.variants.end())
             continue;
@@ -147,7 +168,9 @@ int run(const bench_options& options, const std::string& command_line) {
     std::vector<std::string> precision_labels;
     for (const std::string& l : labels) precision_labels.push_back(l.substr(l.find('/') + 1));
     if (isatty(STDERR_FILENO)) terminal::note(fmt::format("bench: auditing {} cases", cases.size()));
-    const accuracy_run accuracy = audit_with_stability(cases, targets, labels);
+    const unsigned threads = audit_threads(
+        targets, options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency()));
+    const accuracy_run accuracy = audit_with_stability(cases, targets, labels, threads);
 
     // Run time, per family.
     std::map<std::string, std::vector<corpus_case>> by_family;
@@ -159,9 +182,20 @@ int run(const bench_options& options, const std::string& command_line) {
             timing.plugins.push_back(t.subject);
     timing.repetitions = options.repetitions;
     timing.min_time_s = options.min_time;
+    timing.precisions = timed_precisions;
     terminal::progress line("bench", "timings");
     const timing_progress shown(line);
-    const std::vector<bench::timing_row> rows = bench::time_variants(by_family, timing, progress);
+    std::vector<bench::timing_row> rows = bench::time_variants(by_family, timing, progress);
+    if (!chosen("double")) {
+        // The ratios' reference, naive/double, timed in the same run whatever --precision leaves out.
+        bench::timing_options reference = timing;
+        reference.variants = {"naive"};
+        reference.plugins.clear();
+        reference.precisions = {"double"};
+        reference.include_oracle = false;
+        const std::vector<bench::timing_row> extra = bench::time_variants(by_family, reference, progress);
+        rows.insert(rows.end(), extra.begin(), extra.end());
+    }
     line.finish();
     const json timing_section = timing_json(rows, timing, reference_label);
     if (benchmark_file != nullptr)
@@ -189,11 +223,14 @@ int run(const bench_options& options, const std::string& command_line) {
     json report = audit_report_json(slice(accuracy.totals, 0, audited), context);
     report["tool"] = "rayverify bench";
     report["machine"] = {{"cpu", bench::cpu_model()}, {"hardware_threads", std::thread::hardware_concurrency()}};
-    json long_double = audit_report_json(slice(accuracy.totals, audited, targets.size() - audited), context);
-    for (json& r : long_double["results"]) r["precision"] = "long double";
-    report["long_double"] = {{"description", "x87 80-bit long double arithmetic on the double inputs, roots rounded "
-                                             "to double, judged against the exact roots of the double inputs"},
-                             {"results", long_double["results"]}};
+    if (with_long_double) {
+        json long_double = audit_report_json(slice(accuracy.totals, audited, targets.size() - audited), context);
+        for (json& r : long_double["results"]) r["precision"] = "long double";
+        report["long_double"] = {{"description", "x87 80-bit long double arithmetic on the double inputs, roots "
+                                                 "rounded to double, judged against the exact roots of the double "
+                                                 "inputs"},
+                                 {"results", long_double["results"]}};
+    }
     report["stability"] = stability_json(accuracy.totals, accuracy.stability, precision_labels);
     report["timing"] = timing_section;
     report["case_points"] = accuracy.points;
@@ -202,7 +239,7 @@ int run(const bench_options& options, const std::string& command_line) {
         const std::vector<corpus_case> sweep = bench::far_sphere_sweep(options.sweep, 2);
         const std::vector<audit_target> sweep_targets(targets.begin(), targets.begin() + static_cast<long>(audited));
         const std::vector<std::string> sweep_labels(labels.begin(), labels.begin() + static_cast<long>(audited));
-        const accuracy_run far = audit_with_stability(sweep, sweep_targets, sweep_labels);
+        const accuracy_run far = audit_with_stability(sweep, sweep_targets, sweep_labels, threads);
         report["far_sphere_sweep"] = {
             {"description", fmt::format("{} far_sphere cases (rayverify corpus generate --family far_sphere --count {} "
                                         "--seed 2), grouped by decade of |o - c| / r; every maximum is over this "
@@ -235,6 +272,14 @@ command add_bench_command(CLI::App& app, const std::string& command_line) {
                   "Time the exact oracles instead: the filtered oracle and the reference route against the naive "
                   "double intersector per family, with the filter's fallback rates");
     sub->add_option("--family", options->families, "Only cases of this family (repeatable; default: all)");
+    sub->add_option("--precision", options->precisions,
+                    "float, double or long_double (repeatable; default: all three). naive/double, the ratios' "
+                    "reference, is timed in every run")
+        ->check(CLI::IsMember({"float", "double", "long_double"}));
+    sub->add_option("--threads", options->threads,
+                    "Threads of the accuracy audit (default: every hardware thread; the figures are the same for "
+                    "any number). The timings always run on one thread")
+        ->check(whole_number(1, 4096));
     sub->add_option("--report", options->report_dir, "Directory for report.json, report.md and the PNG plots");
     sub->add_option("--benchmark-json", options->benchmark_json,
                     "Also write the timings in Google Benchmark's JSON format (mean, median, stddev, cv per "

@@ -234,8 +234,8 @@ json timing_json(const std::vector<bench::timing_row>& rows, const bench::timing
                                        "double-double filter cannot decide)"},
                       {"exact_reference", "solve_exact_reference on the double inputs: the same answers from exact "
                                           "arithmetic alone, no filter"},
-                      {"plugins", "a --plugin is called through a function pointer per test (the built-in "
-                                  "variants are inlined)"}};
+                      {"plugins", "a --plugin, and an engine port (a variant with a build), is called through "
+                                  "a function pointer per test (the other built-in variants are inlined)"}};
     out["reference"] = reference_label;
     json table = json::array();
     std::map<std::string, std::pair<double, std::size_t>> totals;  // label → (Σ ns·cases, Σ cases)

@@ -12,6 +12,7 @@
 #include "intersectors/hearn_baker_nearest.h"
 #include "intersectors/hearn_baker_unit.h"
 #include "intersectors/naive.h"
+#include "intersectors/robust.h"
 #include "intersectors/seed003_reduced.h"
 #include "intersectors/seed004_early_out.h"
 #include "intersectors/stable_roots.h"
@@ -39,7 +40,7 @@ variant interval_variant(std::string name, std::string citation, std::string for
 #define RAYVERIFY_INTERVAL_VARIANT(fn, citation, formula) \
     interval_variant<&intersectors::fn<float>, &intersectors::fn<double>>(#fn, citation, formula, intersectors::fn##_contract)
 
-const std::array<variant, 13> registry{{
+const std::array<variant, 16> registry{{
     {"naive", "seed 000 / seed 001 (textbook quadratic)",
      "b = 2d·f, C = f·f − r², Δ = b² − 4aC, t = (−b ∓ √Δ)/2a", intersectors::naive_contract,
      RAYVERIFY_BOTH_PRECISIONS(naive)},
@@ -81,6 +82,13 @@ const std::array<variant, 13> registry{{
     RAYVERIFY_INTERVAL_VARIANT(hearn_baker_unit_any_hit,
                                "Ray Tracing Gems ch.7 final form with a = 1, any-hit in (tmin, tmax) (shadow rays)",
                                "as hearn_baker_any_hit with a = 1: Δ = r² − |f + b′d̂|², roots C/q and q only as needed"),
+    {"robust", "rayverify robust_sphere.h (certified double/double-word filter, Shewchuk expansions)",
+     "sign of Δ′ = a·r² − |d × f|², C, b′ exact; q = −(b′ + sign(b′)√Δ′), t = q/a, C/q rounded to nearest",
+     intersectors::robust_contract, RAYVERIFY_BOTH_PRECISIONS(robust)},
+    RAYVERIFY_INTERVAL_VARIANT(robust_nearest, "rayverify robust_sphere.h, nearest root in (tmin, tmax)",
+                               "as robust; the roots' comparisons with tmin and tmax exact, only the roots needed"),
+    RAYVERIFY_INTERVAL_VARIANT(robust_any_hit, "rayverify robust_sphere.h, any root in (tmin, tmax) (shadow rays)",
+                               "as robust_nearest, answering only whether a root lies in the interval"),
 }};
 
 #undef RAYVERIFY_INTERVAL_VARIANT

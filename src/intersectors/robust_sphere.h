@@ -138,6 +138,25 @@ namespace detail {
 template <class T>
 inline constexpr bool supported = std::is_same_v<T, float> || std::is_same_v<T, double>;
 
+// A decision the fast path may leave open (CGAL's Uncertain<Sign>): a sign
+// or a class, or unknown. Plain values, not std::optional: an optional is
+// written whole and read back in parts, which costs a store-forwarding stall
+// per decision in an inlined loop.
+struct uncertain {
+    static constexpr int unknown = -128;
+    int value = unknown;
+    constexpr explicit operator bool() const { return value != unknown; }
+    constexpr int operator*() const { return value; }
+};
+
+// A value the fast path may leave open: NaN, which no returned root is.
+template <class T>
+struct uncertain_value {
+    T value = std::numeric_limits<T>::quiet_NaN();
+    constexpr explicit operator bool() const { return value == value; }
+    constexpr T operator*() const { return value; }
+};
+
 // ---------------------------------------------------------------------------
 // Error-free transformations on double (Knuth's TwoSum, Dekker's FastTwoSum,
 // split and TwoProduct).
@@ -254,25 +273,25 @@ ROBUST_SPHERE_INLINE float round_to_float(double x) {
 // t̃ = t.hi + t.lo, a normal double: RN(t*) when both ends of [t̃ − w, t̃ + w]
 // round to the same double. The margin 2^-104·|t.hi| covers the rounding of
 // the ends' offsets.
-ROBUST_SPHERE_INLINE std::optional<double> certified_rounding(dd t, double w) {
+ROBUST_SPHERE_INLINE uncertain_value<double> certified_rounding(dd t, double w) {
     const double v = w * 1.0001 + 0x1p-104 * std::fabs(t.hi);
     const double low = t.hi + (t.lo - v), high = t.hi + (t.lo + v);
-    if (low != high) return std::nullopt;
-    return low;
+    if (low != high) return {};
+    return {low};
 }
 
 // Float from a double t̃. The margin 2^-50·|t̃| covers the double rounding of
 // the ends (a float rounding boundary within w of t* is then at least two
 // double ulps inside the ends, so they round apart).
-ROBUST_SPHERE_INLINE std::optional<float> certified_rounding(double t, double w) {
+ROBUST_SPHERE_INLINE uncertain_value<float> certified_rounding(double t, double w) {
     const double v = w + 0x1p-50 * std::fabs(t);
     const float low = round_to_float(t - v), high = round_to_float(t + v);
-    if (low != high) return std::nullopt;
-    return low;
+    if (low != high) return {};
+    return {low};
 }
 
 // ---------------------------------------------------------------------------
-// The fast path. It answers with std::nullopt ("cannot decide") wherever its
+// The fast path. It leaves a decision open ("cannot decide") wherever its
 // certified bounds do not settle the answer; detail::query_* then ask the
 // exact solver, which always answers.
 //
@@ -281,15 +300,21 @@ ROBUST_SPHERE_INLINE std::optional<float> certified_rounding(double t, double w)
 // |fl(x ∘ y) − x ∘ y| ≤ u|fl(x ∘ y)|, u = 2^-53, γ_n = nu/(1 − nu) (Higham,
 // Accuracy and Stability of Numerical Algorithms, §3.1), each constant
 // rounded up with room for the rounding of the bound itself. f = o − c is
-// rounded once: |f̃ − f| ≤ u|f̃|. Double inputs must lie in [2^-160, 2^160]
-// (or be 0): then no product overflows or underflows (f̃ is on the grid
-// 2^-212, degree-4 terms are 0 or above 2^-848). Float inputs always do.
-// This stage decides the class, the signs of C and b′, and for float the
-// roots themselves (to 2^-30, then rounded to float with a certificate).
+// rounded once: |f̃ − f| ≤ u|f̃|. An overflow leaves an infinity or NaN in a
+// value or its bound, and every comparison with it fails (undecided); an
+// underflowing product is off by at most 2^-1075 more, which η = 2^-1000
+// (times the factors such an error is multiplied by) covers. Float inputs
+// never underflow or overflow here. This stage decides the class, the signs
+// of C and b′, and for float the roots themselves (to 2^-30, then rounded
+// to float with a certificate).
 //
-// Stage 2, double inputs only, when a root's value is asked: a, b′, C and
-// Δ′ = b′² − aC again in double-word arithmetic, with f exact (two_sum), to
-// 2^-93·a·M_C at worst; the roots to 2^-60; rounded with a certificate.
+// Stage 2, double inputs only, when a root's value is asked or stage 1
+// cannot decide: a, b′, C and Δ′ = b′² − aC again in double-word
+// arithmetic, with f exact (two_sum), to 2^-93·a·M_C at worst; the roots to
+// 2^-60; rounded with a certificate. Every nonzero input must lie in
+// [2^-160, 2^160]: then no product overflows and no low part underflows (f
+// is on the grid 2^-212, degree-4 terms are 0 or above 2^-848, roots above
+// 2^-800), so every double-word operation keeps its relative bound.
 template <class T>
 class fast_solver {
 public:
@@ -298,10 +323,6 @@ public:
         const double fx = double(r.origin.x) - s.centre.x, fy = double(r.origin.y) - s.centre.y,
                      fz = double(r.origin.z) - s.centre.z;
         const double rr = double(s.radius) * s.radius;
-        if constexpr (std::is_same_v<T, double>)
-            in_range_ = covered(r.origin.x) & covered(r.origin.y) & covered(r.origin.z) & covered(dx) &
-                        covered(dy) & covered(dz) & covered(s.centre.x) & covered(s.centre.y) &
-                        covered(s.centre.z) & covered(s.radius);
 
         // a = d·d: |ã − a| ≤ γ_3·a (exact squares for float: γ_2).
         a_ = dx * dx + dy * dy + dz * dz;
@@ -309,81 +330,71 @@ public:
         // b′ = d·f: |b̃′ − b′| ≤ (u + γ_3)·Σ|d_i f̃_i| ≤ 5u·M_b.
         const double px = dx * fx, py = dy * fy, pz = dz * fz;
         b_ = px + py + pz;
-        eb_ = 5 * u * (std::fabs(px) + std::fabs(py) + std::fabs(pz));
+        eb_ = 5 * u * (std::fabs(px) + std::fabs(py) + std::fabs(pz)) + eta;
 
         // C = f·f − r²: f̃_i² is off by 2.01u·f̃_i², the dot product by γ_4: 7u·M_C.
         const double ff = fx * fx + fy * fy + fz * fz;
         C_ = ff - rr;
         MC_ = ff + rr;
-        eC_ = 7 * u * MC_;
+        eC_ = 7 * u * MC_ + eta;
 
-        // Δ′ = a·r² − |d × f|²: its error grows like |f|/r, not like (|f|/r)²
-        // as b′² − aC's does, so far spheres stay on the fast path.
-        // X_i = d_j f_k − d_k f_j is off by 3.01u·m_i, m_i = |d_j f_k| + |d_k f_j|;
-        // |X̃ − |x|²| ≤ 3.01u·X̃ + 6.02u·Σ m_i|X_i| + 9.1u²·Σ m_i², Σ m_i² ≤ 2a·M_C;
-        // ã·r̃² is off by 5.02u·ã·r²; the difference adds u|Δ̃′|.
-        const double u1 = dy * fz, u2 = dz * fy, v1 = dz * fx, v2 = dx * fz, w1 = dx * fy, w2 = dy * fx;
-        const double X1 = u1 - u2, X2 = v1 - v2, X3 = w1 - w2;
-        const double X = X1 * X1 + X2 * X2 + X3 * X3;
-        const double Y = a_ * rr;
-        D_ = Y - X;
-        const double S = (std::fabs(u1) + std::fabs(u2)) * std::fabs(X1) +
-                         (std::fabs(v1) + std::fabs(v2)) * std::fabs(X2) +
-                         (std::fabs(w1) + std::fabs(w2)) * std::fabs(X3);
-        eD_ = u * (2 * std::fabs(D_) + 6 * Y + 4 * X + 7 * S) + 32 * u * u * a_ * MC_;
+        d_[0] = dx, d_[1] = dy, d_[2] = dz, f_[0] = fx, f_[1] = fy, f_[2] = fz, rr_ = rr;
     }
 
-    ROBUST_SPHERE_INLINE std::optional<int> line_class() {
-        if (!in_range_) return std::nullopt;
-        if (D_ > eD_) return 2;
-        if (D_ < -eD_) return 0;
+    ROBUST_SPHERE_INLINE uncertain line_class() {
+        delta();
+        if (D_ > eD_) return {2};
+        if (D_ < -eD_) return {0};
         if constexpr (std::is_same_v<T, double>) {  // closer to tangency: the double-word Δ′
-            const words& w = double_words();
-            if (w.D.hi > w.eD) return 2;
-            if (w.D.hi < -w.eD) return 0;
+            const words& w = words_D();
+            if (!w.in_range) return {};
+            if (w.D.hi > w.eD) return {2};
+            if (w.D.hi < -w.eD) return {0};
         }
-        return std::nullopt;  // also NaN from invalid inputs
+        return {};  // also NaN from invalid inputs
     }
 
-    ROBUST_SPHERE_INLINE std::optional<int> sign_C() {
-        if (!in_range_) return std::nullopt;
-        if (C_ > eC_) return 1;
-        if (C_ < -eC_) return -1;
-        if constexpr (std::is_same_v<T, double>) return sign_of(double_words().C.hi, double_words().eC);
-        return std::nullopt;
+    ROBUST_SPHERE_INLINE uncertain sign_C() {
+        if (C_ > eC_) return {1};
+        if (C_ < -eC_) return {-1};
+        if constexpr (std::is_same_v<T, double>)
+            if (words_bC().in_range) return sign_of(words_.C.hi, words_.eC);
+        return {};
     }
 
-    ROBUST_SPHERE_INLINE std::optional<int> sign_b() {
-        if (!in_range_) return std::nullopt;
-        if (b_ > eb_) return 1;
-        if (b_ < -eb_) return -1;
-        if constexpr (std::is_same_v<T, double>) return sign_of(double_words().b.hi, double_words().eb);
-        return std::nullopt;
+    ROBUST_SPHERE_INLINE uncertain sign_b() {
+        if (b_ > eb_) return {1};
+        if (b_ < -eb_) return {-1};
+        if constexpr (std::is_same_v<T, double>)
+            if (words_bC().in_range) return sign_of(words_.b.hi, words_.eb);
+        return {};
     }
 
     // RN(t*) of a root (requires line_class() == 2).
-    ROBUST_SPHERE_INLINE std::optional<T> rounded(root which) {
+    ROBUST_SPHERE_INLINE uncertain_value<T> rounded(root which) {
         const estimate& e = root_estimate(which);
-        if (!e.ok) return std::nullopt;
+        if (!e.ok) return {};
         return certified_rounding(e.t, e.w);
     }
 
     // sign(t* − c) for c = rounded(which).
-    ROBUST_SPHERE_INLINE std::optional<int> sign_after(root which, T c) {
+    ROBUST_SPHERE_INLINE uncertain sign_after(root which, T c) {
         const estimate& e = root_estimate(which);
         double residual;  // t̃ − c, exact: c is t̃'s rounding (Sterbenz) or 0
         if constexpr (std::is_same_v<T, double>) {
-            if (c != e.t.hi) return std::nullopt;
+            if (c != e.t.hi) return {};
             residual = e.t.lo;
         } else {
             residual = e.t - double(c);
         }
-        if (std::fabs(residual) <= e.w * 1.0001 + 0x1p-104 * std::fabs(double(c))) return std::nullopt;
-        return residual > 0 ? 1 : -1;
+        if (std::fabs(residual) <= e.w * 1.0001 + 0x1p-104 * std::fabs(double(c))) return {};
+        return {residual > 0 ? 1 : -1};
     }
 
 private:
-    static constexpr double u = 0x1p-53;
+    // eta is far above the underflow errors it covers (2^-1075 each) and keeps
+    // every bound a normal number: subnormal arithmetic is slow.
+    static constexpr double u = 0x1p-53, eta = 0x1p-1000;
     using value = std::conditional_t<std::is_same_v<T, double>, dd, double>;
 
     ROBUST_SPHERE_INLINE static bool covered(double x) {
@@ -391,32 +402,57 @@ private:
         return (m >= 0x1p-160 && m <= 0x1p160) || m == 0;
     }
 
-    ROBUST_SPHERE_INLINE static std::optional<int> sign_of(double x, double bound) {
-        if (x > bound) return 1;
-        if (x < -bound) return -1;
-        return std::nullopt;
+    // Δ′ = a·r² − |d × f|², when first needed (a query may settle from the
+    // signs of C and b′ alone). Its error grows like |f|/r, not like (|f|/r)²
+    // as b′² − aC's does, so far spheres stay on the fast path.
+    // X_i = d_j f_k − d_k f_j is off by 3.01u·m_i, m_i = |d_j f_k| + |d_k f_j|;
+    // |X̃ − |x|²| ≤ 3.01u·X̃ + 6.02u·Σ m_i|X_i| + 9.1u²·Σ m_i², Σ m_i² ≤ 2a·M_C;
+    // ã·r̃² is off by 5.02u·ã·r²; the difference adds u|Δ̃′|.
+    ROBUST_SPHERE_INLINE void delta() {
+        if (have_D_) return;
+        have_D_ = true;
+        const double dx = d_[0], dy = d_[1], dz = d_[2], fx = f_[0], fy = f_[1], fz = f_[2];
+        const double u1 = dy * fz, u2 = dz * fy, v1 = dz * fx, v2 = dx * fz, w1 = dx * fy, w2 = dy * fx;
+        const double X1 = u1 - u2, X2 = v1 - v2, X3 = w1 - w2;
+        const double X = X1 * X1 + X2 * X2 + X3 * X3;
+        const double Y = a_ * rr_;
+        D_ = Y - X;
+        const double S = (std::fabs(u1) + std::fabs(u2)) * std::fabs(X1) +
+                         (std::fabs(v1) + std::fabs(v2)) * std::fabs(X2) +
+                         (std::fabs(w1) + std::fabs(w2)) * std::fabs(X3);
+        eD_ = u * (2 * std::fabs(D_) + 6 * Y + 4 * X + 7 * S) + 32 * u * u * a_ * MC_ +
+              eta * (std::fabs(X1) + std::fabs(X2) + std::fabs(X3) + a_ + rr_ + 1);
+    }
+
+    ROBUST_SPHERE_INLINE static uncertain sign_of(double x, double bound) {
+        if (x > bound) return {1};
+        if (x < -bound) return {-1};
+        return {};
     }
 
     // Stage 2 (double inputs): the coefficients in double-word arithmetic,
-    // Sum2-style (Ogita, Rump, Oishi), u = 2^-53. Each bound is at least 4×
-    // the derived one: a to 2^-98·a (18u²), b′ to 2^-96·M_b (about 21u²), C
-    // to 2^-96·M_C (about 35u²), Δ′ = b′² − aC to 2^-93·a·M_C (using
-    // M_b² ≤ a·M_C and 2^-100 per double-word operation).
+    // Sum2-style (Ogita, Rump, Oishi), u = 2^-53, each computed once and
+    // only when needed. Each bound is at least 4× the derived one: a to
+    // 2^-98·a (18u²), b′ to 2^-96·M_b (about 21u²), C to 2^-96·M_C (about
+    // 35u²), Δ′ = b′² − aC to 2^-93·a·M_C (using M_b² ≤ a·M_C and 2^-100 per
+    // double-word operation).
     struct words {
         dd a, b, C, D;
-        double eb = 0, eC = 0, eD = 0;
+        double eb = 0, eC = 0, eD = 0, MC = 0;
+        bool have_bC = false, have_a = false, have_D = false, in_range = false;
     };
 
-    ROBUST_SPHERE_INLINE const words& double_words() {
-        if (have_words_) return words_;
-        have_words_ = true;
+    ROBUST_SPHERE_INLINE const words& words_bC() {
+        if (words_.have_bC) return words_;
+        words_.have_bC = true;
         const vec3<T>& o = ray_.origin;
         const vec3<T>& d = ray_.direction;
         const vec3<T>& c = sphere_.centre;
+        words_.in_range = covered(o.x) & covered(o.y) & covered(o.z) & covered(d.x) & covered(d.y) & covered(d.z) &
+                          covered(c.x) & covered(c.y) & covered(c.z) & covered(sphere_.radius);
+        if (!words_.in_range) return words_;
         // f = o − c exactly: f_i = fh_i + fl_i, |fl_i| ≤ u|fh_i|.
         const dd fx = two_sum(o.x, -c.x), fy = two_sum(o.y, -c.y), fz = two_sum(o.z, -c.z);
-        const dd squares[3] = {two_prod(d.x, d.x), two_prod(d.y, d.y), two_prod(d.z, d.z)};
-        words_.a = sum2(squares, 0.0);
         // b′ = d·fh + d·fl; the second part is below u·M_b, its rounding below u²·M_b.
         const dd products[3] = {two_prod(d.x, fx.hi), two_prod(d.y, fy.hi), two_prod(d.z, fz.hi)};
         words_.b = sum2(products, d.x * fx.lo + d.y * fy.lo + d.z * fz.lo);
@@ -425,10 +461,28 @@ private:
         const dd r2 = two_prod(sphere_.radius, sphere_.radius);
         const dd terms[4] = {two_prod(fx.hi, fx.hi), two_prod(fy.hi, fy.hi), two_prod(fz.hi, fz.hi), negate(r2)};
         words_.C = sum2(terms, 2 * (fx.hi * fx.lo + fy.hi * fy.lo + fz.hi * fz.lo));
-        const double MC = terms[0].hi + terms[1].hi + terms[2].hi + r2.hi;
-        words_.eC = 0x1p-96 * MC;
-        words_.D = dw_add(dw_mul(words_.b, words_.b), negate(dw_mul(words_.a, words_.C)));
-        words_.eD = 0x1p-93 * words_.a.hi * MC;
+        words_.MC = terms[0].hi + terms[1].hi + terms[2].hi + r2.hi;
+        words_.eC = 0x1p-96 * words_.MC;
+        return words_;
+    }
+
+    ROBUST_SPHERE_INLINE const dd& words_a() {
+        if (!words_.have_a) {
+            words_.have_a = true;
+            const vec3<T>& d = ray_.direction;
+            const dd squares[3] = {two_prod(d.x, d.x), two_prod(d.y, d.y), two_prod(d.z, d.z)};
+            words_.a = sum2(squares, 0.0);
+        }
+        return words_.a;
+    }
+
+    ROBUST_SPHERE_INLINE const words& words_D() {
+        if (words_.have_D) return words_;
+        words_.have_D = true;
+        if (!words_bC().in_range) return words_;
+        const dd a = words_a();
+        words_.D = dw_add(dw_mul(words_.b, words_.b), negate(dw_mul(a, words_.C)));
+        words_.eD = 0x1p-93 * a.hi * words_.MC;
         return words_;
     }
 
@@ -446,15 +500,21 @@ private:
     ROBUST_SPHERE_INLINE const estimate& root_estimate(root which) {
         if (!have_q_) {
             have_q_ = true;
+            delta();
             if constexpr (std::is_same_v<T, double>) {
-                const words& w = double_words();
-                // √ of the double-word Δ′; of stage 1's (certified positive) in
-                // the rare case where the double-word value is not positive.
-                const bool words_positive = w.D.hi > 0;
-                const dd s = words_positive ? dw_sqrt(w.D) : dd{std::sqrt(D_), 0};
-                const double es = words_positive ? 1.01 * w.eD / s.hi + 0x1p-100 * s.hi
-                                                 : 1.01 * eD_ / s.hi + u * s.hi;
+                const words& w = words_bC();
+                q_known_ = w.in_range;
+                if (!q_known_) return undecided_;
                 sigma_ = std::signbit(w.b.hi) ? -1 : 1;
+                // √Δ′ from stage 1 where its error is negligible beside |q| ≥ |b′|
+                // (far spheres); else from the double-word Δ′ (stage 1's when that
+                // one is not positive: then stage 1 certified Δ′ > 0).
+                dd s{std::sqrt(D_), 0};
+                double es = 1.01 * eD_ / s.hi + u * s.hi;
+                if (!(es <= 0x1p-64 * (std::fabs(w.b.hi) + s.hi)) && words_D().D.hi > 0) {
+                    s = dw_sqrt(w.D);
+                    es = 1.01 * w.eD / s.hi + 0x1p-100 * s.hi;
+                }
                 q_ = negate(dw_add(w.b, sigma_ > 0 ? s : negate(s)));
                 xq_ = (w.eb + es) / std::fabs(q_.hi) + 0x1p-100;
             } else {
@@ -469,15 +529,16 @@ private:
                 xq_ = (eb_ * inv_q_ + 1.01 * eD_ * r1 + u * s * inv_q_) * (1 + 8 * u) + u;
             }
         }
+        if (!q_known_) return undecided_;
         // σ = +1: q/a is the near root; σ = −1: the far one.
         const bool q_over_a = (which == root::near_root) == (sigma_ > 0);
         estimate& e = cache_[q_over_a ? 0 : 1];
         if (e.done) return e;
         e.done = true;
         if constexpr (std::is_same_v<T, double>) {
-            const words& w = double_words();
+            const words& w = words_;
             if (q_over_a) {
-                e.t = dw_div(q_, w.a);
+                e.t = dw_div(q_, words_a());
                 e.w = 1.02 * (xq_ + 0x1p-98 + 0x1p-100) * std::fabs(e.t.hi);
             } else {
                 e.t = dw_div(w.C, q_);
@@ -502,15 +563,17 @@ private:
 
     const ray<T>& ray_;
     const sphere<T>& sphere_;
-    bool in_range_ = true;
-    double a_, b_, C_, D_, MC_, eb_, eC_, eD_;
-    bool have_words_ = false;
+    double d_[3], f_[3], rr_;
+    double a_, b_, C_, MC_, eb_, eC_;
+    bool have_D_ = false;
+    double D_ = 0, eD_ = 0;
     words words_;
-    bool have_q_ = false;
+    bool have_q_ = false, q_known_ = true;
     int sigma_ = 1;
     value q_{};
     double xq_ = 0, inv_q_ = 0;
     estimate cache_[2]{};
+    estimate undecided_{};  // ok = false
 };
 
 // ---------------------------------------------------------------------------
@@ -750,38 +813,38 @@ public:
         D_ = difference(product(a_, r2), cross2);
     }
 
-    std::optional<int> line_class() const {
-        if (!valid_) return 0;
+    uncertain line_class() const {
+        if (!valid_) return {0};
         const int s = sign(D_);
-        return s < 0 ? 0 : (s == 0 ? 1 : 2);
+        return {s < 0 ? 0 : (s == 0 ? 1 : 2)};
     }
-    std::optional<int> sign_C() const { return sign(C_); }
-    std::optional<int> sign_b() const { return sign(b_); }
+    uncertain sign_C() const { return {sign(C_)}; }
+    uncertain sign_b() const { return {sign(b_)}; }
 
-    std::optional<T> rounded(root which) {
+    uncertain_value<T> rounded(root which) {
         const xdd& t = root_estimate(which);
-        if (t.zero()) return T(0);
+        if (t.zero()) return {T(0)};
         // Small margin where rounding to T is one rounding of the mantissa
         // (double, normal or overflowing result); 2^-50 where a second
         // rounding follows (float, or a subnormal double).
         const bool one_rounding = std::is_same_v<T, double> && t.e >= -1020;
         const double w = (rho + (one_rounding ? 0x1p-100 : 0x1p-50)) * std::fabs(t.m.hi);
         const T low = scaled(t.m.hi + (t.m.lo - w), t.e), high = scaled(t.m.hi + (t.m.lo + w), t.e);
-        if (low == high) return low;
+        if (low == high) return {low};
         // Walk the candidates, comparing t* exactly with each midpoint.
         for (T c = low; c < high;) {
             const T next = std::nextafter(c, std::numeric_limits<T>::infinity());
             const int s = compare(which, midpoint(c, next));
-            if (s < 0) return c;
-            if (s == 0) return even(c) ? c : next;
+            if (s < 0) return {c};
+            if (s == 0) return {even(c) ? c : next};
             c = next;
         }
-        return high;
+        return {high};
     }
 
-    std::optional<int> sign_after(root which, T c) {
-        if (std::isinf(c)) return c > 0 ? -1 : 1;
-        return compare(which, single(double(c)));
+    uncertain sign_after(root which, T c) {
+        if (std::isinf(c)) return {c > 0 ? -1 : 1};
+        return {compare(which, single(double(c)))};
     }
 
 private:
@@ -854,127 +917,169 @@ private:
 };
 
 // ---------------------------------------------------------------------------
-// The queries, written once over a solver: a fast_solver (any step may answer
-// nullopt, and the query gives up) or an exact_solver (never does).
+// The queries, written once over a solver: a fast_solver (any step may be
+// left open, and the query gives up: it returns false) or an exact_solver
+// (never leaves one open).
 
 template <class S>
-ROBUST_SPHERE_INLINE std::optional<int> root_sign(S& s, root which) {
+ROBUST_SPHERE_INLINE uncertain root_sign(S& s, root which) {
     // Product of the roots C/a, sum −2b′/a.
-    const std::optional<int> sc = s.sign_C();
-    if (!sc) return std::nullopt;
-    if (*sc < 0) return which == root::near_root ? -1 : 1;
-    const std::optional<int> sb = s.sign_b();
-    if (!sb) return std::nullopt;
-    if (*sc > 0) return -*sb;
+    const uncertain sc = s.sign_C();
+    if (!sc) return {};
+    if (*sc < 0) return {which == root::near_root ? -1 : 1};
+    const uncertain sb = s.sign_b();
+    if (!sb) return {};
+    if (*sc > 0) return {-*sb};
     // C = 0: the roots are 0 and −2b′/a.
-    if (*sb > 0) return which == root::near_root ? -1 : 0;
-    if (*sb < 0) return which == root::near_root ? 0 : 1;
-    return 0;
+    if (*sb > 0) return {which == root::near_root ? -1 : 0};
+    if (*sb < 0) return {which == root::near_root ? 0 : 1};
+    return {0};
 }
 
 // sign(t* − v) for a T value v, exactly.
 template <class T, class S>
-ROBUST_SPHERE_INLINE std::optional<int> compare(S& s, root which, T v) {
-    if (std::isinf(v)) return v > 0 ? -1 : 1;
-    const std::optional<int> sg = root_sign(s, which);
-    if (!sg) return std::nullopt;
-    if (v == 0) return *sg;
-    if (*sg <= 0 && v > 0) return -1;
-    if (*sg >= 0 && v < 0) return 1;
-    const std::optional<T> c = s.rounded(which);
-    if (!c) return std::nullopt;
+ROBUST_SPHERE_INLINE uncertain compare(S& s, root which, T v) {
+    if (std::isinf(v)) return {v > 0 ? -1 : 1};
+    const uncertain sg = root_sign(s, which);
+    if (!sg) return {};
+    if (v == 0) return sg;
+    if (*sg <= 0 && v > 0) return {-1};
+    if (*sg >= 0 && v < 0) return {1};
+    const uncertain_value<T> c = s.rounded(which);
+    if (!c) return {};
     // v < RN(t*) means v ≤ the T below it, which t* exceeds; likewise above.
-    if (v < *c) return 1;
-    if (v > *c) return -1;
+    if (v < *c) return {1};
+    if (v > *c) return {-1};
     return s.sign_after(which, *c);
 }
 
 // The value returned for a root: RN(t*), but never 0 for a nonzero root.
 template <class T, class S>
-ROBUST_SPHERE_INLINE std::optional<T> returned(S& s, root which) {
-    const std::optional<T> c = s.rounded(which);
-    if (!c) return std::nullopt;
-    if (*c != 0) return c;
-    const std::optional<int> sg = root_sign(s, which);
-    if (!sg) return std::nullopt;
-    return *sg == 0 ? T(0) : std::copysign(std::numeric_limits<T>::denorm_min(), T(*sg));
+ROBUST_SPHERE_INLINE uncertain_value<T> returned(S& s, root which) {
+    const uncertain_value<T> c = s.rounded(which);
+    if (!c || *c != 0) return c;
+    const uncertain sg = root_sign(s, which);
+    if (!sg) return {};
+    return {*sg == 0 ? T(0) : std::copysign(std::numeric_limits<T>::denorm_min(), T(*sg))};
+}
+
+// The class: two roots whenever C < 0 (the origin inside: Δ′ = b′² − aC > 0),
+// without computing Δ′.
+template <class S>
+ROBUST_SPHERE_INLINE uncertain line_class(S& s) {
+    const uncertain sc = s.sign_C();
+    if (sc && *sc < 0) return {2};
+    return s.line_class();
+}
+
+// C > 0 and b′ > 0: any roots are both behind the origin (product C/a > 0,
+// sum −2b′/a < 0), so an interval with tmin ≥ 0 holds none.
+template <class T, class S>
+ROBUST_SPHERE_INLINE bool behind(S& s, T tmin) {
+    if (!(tmin >= 0)) return false;
+    const uncertain sc = s.sign_C();
+    if (!sc || *sc <= 0) return false;
+    const uncertain sb = s.sign_b();
+    return sb && *sb > 0;
 }
 
 template <class T, class S>
-ROBUST_SPHERE_INLINE std::optional<line_roots<T>> query_line(S& s) {
-    const std::optional<int> cls = s.line_class();
-    if (!cls) return std::nullopt;
-    if (*cls == 0) return line_roots<T>{};
-    const std::optional<T> t0 = returned<T>(s, root::near_root);
-    if (!t0) return std::nullopt;
-    if (*cls == 1) return line_roots<T>{1, *t0, *t0};
-    const std::optional<T> t1 = returned<T>(s, root::far_root);
-    if (!t1) return std::nullopt;
-    return line_roots<T>{2, *t0, *t1};
+ROBUST_SPHERE_INLINE bool query_line(S& s, line_roots<T>& out) {
+    const uncertain cls = line_class(s);
+    if (!cls) return false;
+    if (*cls == 0) {
+        out = {};
+        return true;
+    }
+    const uncertain_value<T> t0 = returned<T>(s, root::near_root);
+    if (!t0) return false;
+    if (*cls == 1) {
+        out = {1, *t0, *t0};
+        return true;
+    }
+    const uncertain_value<T> t1 = returned<T>(s, root::far_root);
+    if (!t1) return false;
+    out = {2, *t0, *t1};
+    return true;
 }
 
-// Is root `which` in the interval? nullopt when the solver cannot tell.
+// Is root `which` in the interval? 0 or 1, or unknown.
 template <ends Lower, ends Upper, class T, class S>
-ROBUST_SPHERE_INLINE std::optional<bool> inside(S& s, root which, T tmin, T tmax) {
-    const std::optional<int> lower = compare(s, which, tmin);
-    if (!lower) return std::nullopt;
-    if (*lower < 0 || (*lower == 0 && Lower == ends::open)) return false;
-    const std::optional<int> upper = compare(s, which, tmax);
-    if (!upper) return std::nullopt;
-    return *upper < 0 || (*upper == 0 && Upper == ends::closed);
+ROBUST_SPHERE_INLINE uncertain inside(S& s, root which, T tmin, T tmax) {
+    const uncertain lower = compare(s, which, tmin);
+    if (!lower) return {};
+    if (*lower < 0 || (*lower == 0 && Lower == ends::open)) return {0};
+    const uncertain upper = compare(s, which, tmax);
+    if (!upper) return {};
+    return {*upper < 0 || (*upper == 0 && Upper == ends::closed)};
 }
 
 template <ends Lower, ends Upper, class T, class S>
-ROBUST_SPHERE_INLINE std::optional<ray_hit<T>> query_nearest(S& s, T tmin, T tmax) {
-    const std::optional<int> cls = s.line_class();
-    if (!cls) return std::nullopt;
-    if (*cls == 0) return ray_hit<T>{};
+ROBUST_SPHERE_INLINE bool query_nearest(S& s, T tmin, T tmax, ray_hit<T>& out) {
+    out = {};
+    if (behind(s, tmin)) return true;
+    const uncertain cls = line_class(s);
+    if (!cls) return false;
+    if (*cls == 0) return true;
     for (root which : {root::near_root, root::far_root}) {
         if (which == root::far_root && *cls == 1) break;
-        const std::optional<bool> in = inside<Lower, Upper>(s, which, tmin, tmax);
-        if (!in) return std::nullopt;
+        const uncertain in = inside<Lower, Upper>(s, which, tmin, tmax);
+        if (!in) return false;
         if (!*in) continue;
-        std::optional<T> t = returned<T>(s, which);
-        if (!t) return std::nullopt;
+        const uncertain_value<T> found = returned<T>(s, which);
+        if (!found) return false;
         // RN(t*) may fall on an open end: one ulp inside (within 1 ulp of t*).
-        if (Lower == ends::open && *t <= tmin) t = std::nextafter(tmin, tmax);
-        if (Upper == ends::open && *t >= tmax) t = std::nextafter(tmax, tmin);
-        return ray_hit<T>{true, *t, which};
+        T t = *found;
+        if (Lower == ends::open && t <= tmin) t = std::nextafter(tmin, tmax);
+        if (Upper == ends::open && t >= tmax) t = std::nextafter(tmax, tmin);
+        out = {true, t, which};
+        return true;
     }
-    return ray_hit<T>{};
+    return true;
 }
 
 template <ends Lower, ends Upper, class T, class S>
-ROBUST_SPHERE_INLINE std::optional<bool> query_any(S& s, T tmin, T tmax) {
-    const std::optional<int> cls = s.line_class();
-    if (!cls) return std::nullopt;
-    if (*cls == 0) return false;
+ROBUST_SPHERE_INLINE bool query_any(S& s, T tmin, T tmax, bool& out) {
+    out = false;
+    if (behind(s, tmin)) return true;
+    const uncertain cls = line_class(s);
+    if (!cls) return false;
+    if (*cls == 0) return true;
     for (root which : {root::near_root, root::far_root}) {
         if (which == root::far_root && *cls == 1) break;
-        const std::optional<bool> in = inside<Lower, Upper>(s, which, tmin, tmax);
-        if (!in) return std::nullopt;
-        if (*in) return true;
+        const uncertain in = inside<Lower, Upper>(s, which, tmin, tmax);
+        if (!in) return false;
+        if (*in) {
+            out = true;
+            return true;
+        }
     }
-    return false;
+    return true;
 }
 
 // The exact path, out of line: it runs for few cases and is large.
 template <class T>
 [[gnu::noinline, gnu::cold]] line_roots<T> exact_line(const ray<T>& r, const sphere<T>& s) {
     exact_solver<T> e(r, s);
-    return *query_line<T>(e);
+    line_roots<T> out;
+    query_line<T>(e, out);
+    return out;
 }
 
 template <ends Lower, ends Upper, class T>
 [[gnu::noinline, gnu::cold]] ray_hit<T> exact_nearest(const ray<T>& r, const sphere<T>& s, T tmin, T tmax) {
     exact_solver<T> e(r, s);
-    return *query_nearest<Lower, Upper>(e, tmin, tmax);
+    ray_hit<T> out;
+    query_nearest<Lower, Upper>(e, tmin, tmax, out);
+    return out;
 }
 
 template <ends Lower, ends Upper, class T>
 [[gnu::noinline, gnu::cold]] bool exact_any(const ray<T>& r, const sphere<T>& s, T tmin, T tmax) {
     exact_solver<T> e(r, s);
-    return *query_any<Lower, Upper>(e, tmin, tmax);
+    bool out = false;
+    query_any<Lower, Upper>(e, tmin, tmax, out);
+    return out;
 }
 
 // ulp above |x|: the largest distance from x to a real that rounds to it.
@@ -1007,7 +1112,8 @@ template <class T>
     requires detail::supported<T>
 ROBUST_SPHERE_INLINE line_roots<T> intersect_line(const ray<T>& r, const sphere<T>& s) {
     detail::fast_solver<T> fast(r, s);
-    if (const auto answer = detail::query_line<T>(fast)) return *answer;
+    line_roots<T> out;
+    if (detail::query_line<T>(fast, out)) return out;
     return detail::exact_line(r, s);
 }
 
@@ -1016,18 +1122,21 @@ ROBUST_SPHERE_INLINE line_roots<T> intersect_line(const ray<T>& r, const sphere<
 template <ends Lower = ends::open, ends Upper = ends::open, class T>
     requires detail::supported<T>
 ROBUST_SPHERE_INLINE ray_hit<T> nearest_hit(const ray<T>& r, const sphere<T>& s, std::type_identity_t<T> tmin,
-                       std::type_identity_t<T> tmax) {
+                                            std::type_identity_t<T> tmax) {
     detail::fast_solver<T> fast(r, s);
-    if (const auto answer = detail::query_nearest<Lower, Upper>(fast, tmin, tmax)) return *answer;
+    ray_hit<T> out;
+    if (detail::query_nearest<Lower, Upper>(fast, tmin, tmax, out)) return out;
     return detail::exact_nearest<Lower, Upper>(r, s, tmin, tmax);
 }
 
 // Is there a root in the interval (a shadow ray)? Decided exactly.
 template <ends Lower = ends::open, ends Upper = ends::open, class T>
     requires detail::supported<T>
-ROBUST_SPHERE_INLINE bool any_hit(const ray<T>& r, const sphere<T>& s, std::type_identity_t<T> tmin, std::type_identity_t<T> tmax) {
+ROBUST_SPHERE_INLINE bool any_hit(const ray<T>& r, const sphere<T>& s, std::type_identity_t<T> tmin,
+                                  std::type_identity_t<T> tmax) {
     detail::fast_solver<T> fast(r, s);
-    if (const auto answer = detail::query_any<Lower, Upper>(fast, tmin, tmax)) return *answer;
+    bool out = false;
+    if (detail::query_any<Lower, Upper>(fast, tmin, tmax, out)) return out;
     return detail::exact_any<Lower, Upper>(r, s, tmin, tmax);
 }
 
@@ -1037,7 +1146,9 @@ template <class T>
     requires detail::supported<T>
 std::optional<line_roots<T>> intersect_line_fast(const ray<T>& r, const sphere<T>& s) {
     detail::fast_solver<T> fast(r, s);
-    return detail::query_line<T>(fast);
+    line_roots<T> out;
+    if (detail::query_line<T>(fast, out)) return out;
+    return std::nullopt;
 }
 
 template <ends Lower = ends::open, ends Upper = ends::open, class T>
@@ -1045,7 +1156,9 @@ template <ends Lower = ends::open, ends Upper = ends::open, class T>
 std::optional<ray_hit<T>> nearest_hit_fast(const ray<T>& r, const sphere<T>& s, std::type_identity_t<T> tmin,
                                            std::type_identity_t<T> tmax) {
     detail::fast_solver<T> fast(r, s);
-    return detail::query_nearest<Lower, Upper>(fast, tmin, tmax);
+    ray_hit<T> out;
+    if (detail::query_nearest<Lower, Upper>(fast, tmin, tmax, out)) return out;
+    return std::nullopt;
 }
 
 template <ends Lower = ends::open, ends Upper = ends::open, class T>
@@ -1053,7 +1166,9 @@ template <ends Lower = ends::open, ends Upper = ends::open, class T>
 std::optional<bool> any_hit_fast(const ray<T>& r, const sphere<T>& s, std::type_identity_t<T> tmin,
                                  std::type_identity_t<T> tmax) {
     detail::fast_solver<T> fast(r, s);
-    return detail::query_any<Lower, Upper>(fast, tmin, tmax);
+    bool out = false;
+    if (detail::query_any<Lower, Upper>(fast, tmin, tmax, out)) return out;
+    return std::nullopt;
 }
 
 // The hit point o + t·d for a root t returned above (|t − t*| ≤ 1 ulp), and

@@ -57,6 +57,7 @@
 #include <cfloat>
 #include <cmath>
 #include <cstdint>
+#include <initializer_list>
 #include <limits>
 #include <optional>
 #include <type_traits>
@@ -377,6 +378,24 @@ public:
         return certified_rounding(e.t, e.w);
     }
 
+    // sign(t* − v) from the root's enclosure alone, when v lies clear of it
+    // (a secondary ray's tmin beside a root next to the origin that is
+    // known too loosely to be rounded).
+    ROBUST_SPHERE_INLINE uncertain sign_against(root which, T v) {
+        const estimate& e = root_estimate(which);
+        if (!e.valid) return {};
+        double t, lo = 0;
+        if constexpr (std::is_same_v<T, double>)
+            t = e.t.hi, lo = e.t.lo;
+        else
+            t = e.t;
+        const double gap = (t - double(v)) + lo;  // two roundings: within 2u(|t| + |v|) + 2u|lo|
+        const double margin = e.w * 1.0001 + 4 * u * (std::fabs(t) + std::fabs(double(v)));
+        if (gap > margin) return {1};
+        if (gap < -margin) return {-1};
+        return {};
+    }
+
     // sign(t* − c) for c = rounded(which).
     ROBUST_SPHERE_INLINE uncertain sign_after(root which, T c) {
         const estimate& e = root_estimate(which);
@@ -487,9 +506,11 @@ private:
     }
 
     struct estimate {
-        bool ok = false, done = false;
-        value t{};     // t̃
-        double w = 0;  // |t* − t̃| ≤ w
+        bool done = false;
+        bool valid = false;  // w bounds the error (relative bound below 2^-20: first order holds)
+        bool ok = false;     // and is small enough to round t̃ with a certificate
+        value t{};           // t̃
+        double w = 0;        // |t* − t̃| ≤ w
     };
 
     // The roots q/a and C/q, q = −(b′ + σ√Δ′), from stage 1 (float) or stage 2
@@ -544,6 +565,7 @@ private:
                 e.t = dw_div(w.C, q_);
                 e.w = 1.02 * (w.eC / std::fabs(w.C.hi) + xq_ + 0x1p-100) * std::fabs(e.t.hi);
             }
+            e.valid = e.w <= 0x1p-20 * std::fabs(e.t.hi);
             e.ok = e.w <= 0x1p-60 * std::fabs(e.t.hi);
         } else {
             if (q_over_a) {
@@ -556,7 +578,8 @@ private:
                 e.t = std::copysign(C_ * inv_q_, C_ * q_);
                 e.w = 1.01 * (eC_ * inv_q_ * (1 + 4.1 * u) + (xq_ + 4.1 * u) * std::fabs(e.t));
             }
-            e.ok = e.w <= 0x1p-30 * std::fabs(e.t);  // also false for NaN
+            e.valid = e.w <= 0x1p-20 * std::fabs(e.t);  // also false for NaN
+            e.ok = e.w <= 0x1p-30 * std::fabs(e.t);
         }
         return e;
     }
@@ -588,9 +611,17 @@ struct xfloat {
     int e = 0;
 };
 
+// 2^k for −1022 ≤ k ≤ 1023, exactly.
+inline double power_of_two(int k) { return std::bit_cast<double>(static_cast<std::uint64_t>(k + 1023) << 52); }
+
 inline xfloat to_xfloat(double v, int scale = 0) {
+    const std::uint64_t bits = std::bit_cast<std::uint64_t>(v);
+    const int biased = static_cast<int>((bits >> 52) & 0x7ff);
+    if (biased != 0 && biased != 0x7ff)  // normal: set the exponent field to that of [½, 1)
+        return {std::bit_cast<double>((bits & ~(std::uint64_t{0x7ff} << 52)) | (std::uint64_t{1022} << 52)),
+                biased - 1022 + scale};
     int k = 0;
-    const double m = std::frexp(v, &k);
+    const double m = std::frexp(v, &k);  // 0 or subnormal
     return m == 0 ? xfloat{} : xfloat{m, k + scale};
 }
 
@@ -614,7 +645,7 @@ inline xpair two_sum(xfloat a, xfloat b) {
     const int gap = big.e - small.e;
     // Below ½ulp(big): RN(big + small) = big, the error is small itself.
     if (gap > 1000) return {big, small};
-    const dd s = two_sum(big.m, std::ldexp(small.m, -gap));  // the shift is exact: gap ≤ 1000
+    const dd s = two_sum(big.m, small.m * power_of_two(-gap));  // exact: the product is at least 2^-1001
     return {to_xfloat(s.hi, big.e), to_xfloat(s.lo, big.e)};
 }
 
@@ -625,7 +656,46 @@ inline xpair two_prod(xfloat a, xfloat b) {
 }
 
 // Nonoverlapping components in increasing magnitude, no zeros; empty is 0.
-using expansion = std::vector<xfloat>;
+// Up to 32 components in place, more on the heap.
+class expansion {
+public:
+    expansion() = default;
+    expansion(std::initializer_list<xfloat> components) {
+        for (const xfloat& x : components) push_back(x);
+    }
+    std::size_t size() const { return size_; }
+    bool empty() const { return size_ == 0; }
+    xfloat* begin() { return spill_.empty() ? local_ : spill_.data(); }
+    xfloat* end() { return begin() + size_; }
+    const xfloat* begin() const { return spill_.empty() ? local_ : spill_.data(); }
+    const xfloat* end() const { return begin() + size_; }
+    xfloat& operator[](std::size_t i) { return begin()[i]; }
+    const xfloat& operator[](std::size_t i) const { return begin()[i]; }
+    const xfloat& back() const { return begin()[size_ - 1]; }
+    void push_back(xfloat x) {
+        if (spill_.empty() && size_ < local) {
+            local_[size_++] = x;
+            return;
+        }
+        if (spill_.empty()) spill_.assign(local_, local_ + size_);
+        spill_.push_back(x);
+        ++size_;
+    }
+    // n zero components (compress fills them from the top).
+    void resize(std::size_t n) {
+        while (size_ < n) push_back({});
+    }
+    void truncate(std::size_t n) {
+        size_ = n;
+        if (!spill_.empty()) spill_.resize(n);
+    }
+
+private:
+    static constexpr std::size_t local = 32;
+    xfloat local_[local];
+    std::vector<xfloat> spill_;  // all components, once there are more than `local`
+    std::size_t size_ = 0;
+};
 
 inline int sign(const expansion& e) { return e.empty() ? 0 : (e.back().m > 0 ? 1 : -1); }
 
@@ -634,30 +704,28 @@ inline expansion negated(expansion e) {
     return e;
 }
 
-// GROW-EXPANSION with zero elimination (Shewchuk, Theorem 10).
-inline expansion grow(const expansion& e, xfloat b) {
-    expansion h;
-    h.reserve(e.size() + 1);
+// e += b in place: GROW-EXPANSION with zero elimination (Shewchuk,
+// Theorem 10); the output index never passes the input index.
+inline void grow(expansion& e, xfloat b) {
     xfloat Q = b;
-    for (const xfloat& x : e) {
-        const xpair s = two_sum(Q, x);
-        if (s.lo.m != 0) h.push_back(s.lo);
+    std::size_t h = 0;
+    for (std::size_t i = 0; i < e.size(); ++i) {
+        const xpair s = two_sum(Q, e[i]);
+        if (s.lo.m != 0) e[h++] = s.lo;
         Q = s.hi;
     }
-    if (Q.m != 0) h.push_back(Q);
-    return h;
+    e.truncate(h);
+    if (Q.m != 0) e.push_back(Q);
 }
 
-inline expansion sum(expansion e, const expansion& f) {
-    for (const xfloat& x : f) e = grow(e, x);
-    return e;
+inline void add(expansion& e, const expansion& f) {
+    for (const xfloat& x : f) grow(e, x);
 }
 
 // SCALE-EXPANSION with zero elimination (Theorem 19).
 inline expansion scale(const expansion& e, xfloat b) {
     expansion h;
     if (e.empty() || b.m == 0) return h;
-    h.reserve(2 * e.size());
     xpair p = two_prod(e[0], b);
     if (p.lo.m != 0) h.push_back(p.lo);
     xfloat Q = p.hi;
@@ -677,7 +745,8 @@ inline expansion scale(const expansion& e, xfloat b) {
 // the largest within an ulp of the whole.
 inline expansion compress(const expansion& e) {
     if (e.size() < 2) return e;
-    expansion g(e.size());
+    expansion g;
+    g.resize(e.size());
     std::size_t bottom = e.size() - 1;
     xfloat Q = e.back();
     for (std::size_t i = e.size() - 1; i-- > 0;) {
@@ -702,11 +771,17 @@ inline expansion compress(const expansion& e) {
 
 inline expansion product(const expansion& e, const expansion& f) {
     expansion acc;
-    for (const xfloat& x : f) acc = compress(sum(std::move(acc), scale(e, x)));
+    for (const xfloat& x : f) {
+        add(acc, scale(e, x));
+        acc = compress(acc);
+    }
     return acc;
 }
 
-inline expansion difference(const expansion& e, const expansion& f) { return compress(sum(e, negated(f))); }
+inline expansion difference(expansion e, const expansion& f) {
+    add(e, negated(f));
+    return compress(e);
+}
 
 // The exact value a − b of two doubles (in xfloats: no overflow).
 inline expansion exact_difference(double a, double b) {
@@ -795,9 +870,9 @@ public:
         // a = d·d, b′ = d·f, C = f·f − r².
         expansion a, b, C;
         for (int i = 0; i < 3; ++i) {
-            a = sum(std::move(a), product(single(d[i]), single(d[i])));
-            b = sum(std::move(b), scale(f[i], dx[i]));
-            C = sum(std::move(C), product(f[i], f[i]));
+            add(a, product(single(d[i]), single(d[i])));
+            add(b, scale(f[i], dx[i]));
+            add(C, product(f[i], f[i]));
         }
         a_ = compress(a);
         b_ = compress(b);
@@ -808,7 +883,8 @@ public:
         for (int i = 0; i < 3; ++i) {
             const int j = (i + 1) % 3, k = (i + 2) % 3;
             const expansion x = difference(scale(f[k], dx[j]), scale(f[j], dx[k]));
-            cross2 = compress(sum(std::move(cross2), product(x, x)));
+            add(cross2, product(x, x));
+            cross2 = compress(cross2);
         }
         D_ = difference(product(a_, r2), cross2);
     }
@@ -841,6 +917,8 @@ public:
         }
         return {high};
     }
+
+    uncertain sign_against(root, T) const { return {}; }  // rounded() settles it
 
     uncertain sign_after(root which, T c) {
         if (std::isinf(c)) return {c > 0 ? -1 : 1};
@@ -881,7 +959,9 @@ private:
     // sign(t* − v) for the root `which` and an exact value v: with
     // w = a·v + b′, t* − v = (σ√Δ′ − w)/a, σ = −1 for the near root, +1 far.
     int compare(root which, const expansion& v) const {
-        const expansion w = compress(sum(product(a_, v), b_));
+        expansion w = product(a_, v);
+        add(w, b_);
+        w = compress(w);
         const int sw = sign(w), sD = sign(D_);
         if (which == root::far_root) {
             if (sw <= 0) return (sD > 0 || sw < 0) ? 1 : 0;
@@ -945,6 +1025,7 @@ ROBUST_SPHERE_INLINE uncertain compare(S& s, root which, T v) {
     if (v == 0) return sg;
     if (*sg <= 0 && v > 0) return {-1};
     if (*sg >= 0 && v < 0) return {1};
+    if (const uncertain clear = s.sign_against(which, v)) return clear;
     const uncertain_value<T> c = s.rounded(which);
     if (!c) return {};
     // v < RN(t*) means v ≤ the T below it, which t* exceeds; likewise above.

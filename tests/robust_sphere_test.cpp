@@ -4,10 +4,14 @@
 // hand-worked cases, held-out regression cases at the ends of the ranges,
 // random cases with a printed seed, and both paths (fast and exact) apart.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <optional>
 #include <cstdint>
 #include <limits>
@@ -15,11 +19,14 @@
 #include <string>
 #include <vector>
 
+#include "compare/ulp.h"
 #include "core/ray_sphere_case.h"
 #include "corpus/generators.h"
 #include "intersectors/robust.h"
 #include "intersectors/robust_sphere.h"
 #include "oracle/oracle.h"
+#include "robust_vendored/answers.h"
+#include "support/process.h"
 
 namespace rayverify {
 namespace {
@@ -392,6 +399,231 @@ TEST(RobustSphereProperty, CorrectlyRoundedAndExactOnRandomCases) {
     random_sweep<double>(seed, 3000, true);
     random_sweep<float>(seed + 1, 20000, false);
     random_sweep<double>(seed + 1, 20000, false);
+}
+
+}  // namespace
+}  // namespace rayverify
+
+namespace rayverify {
+namespace {
+
+// ---------------------------------------------------------------------------
+// The two paths apart: wherever the fast path answers, the exact path (run
+// on every case here, not only where the fast path gives up) answers the same.
+
+template <class T>
+void fast_matches_exact(std::uint64_t seed, int count) {
+    random_cases gen{std::mt19937_64(seed)};
+    int failures = 0, fast = 0;
+    for (int i = 0; i < count && failures < 5; ++i) {
+        const ray_sphere<double> g = gen.next();
+        if (validity<T>(g) != invalid_reason::none) continue;
+        const ray_sphere<T> in = rounded_to<T>(g);
+        const rs::ray<T> r = ray_of(in);
+        const rs::sphere<T> s = sphere_of(in);
+        const rs::line_roots<T> exact = rs::detail::exact_line(r, s);
+        const T tmin = std::is_same_v<T, float> ? T(0x1p-10) : T(0);  // a renderer's epsilon, or 0
+        const rs::ray_hit<T> exact_hit = rs::detail::exact_nearest<ends::open, ends::open>(r, s, tmin, T(INFINITY));
+        const bool exact_any = rs::detail::exact_any<ends::open, ends::open>(r, s, tmin, T(INFINITY));
+        const auto same = [](T a, T b) { return a == b && std::signbit(a) == std::signbit(b); };
+        std::string why;
+        if (const auto f = rs::intersect_line_fast(r, s)) {
+            ++fast;
+            if (f->count != exact.count || !same(f->t0, exact.t0) || !same(f->t1, exact.t1)) why = "line roots";
+        }
+        if (const auto f = rs::nearest_hit_fast(r, s, tmin, T(INFINITY)))
+            if (f->found != exact_hit.found || !same(f->t, exact_hit.t) || f->which != exact_hit.which)
+                why = "nearest hit";
+        if (const auto f = rs::any_hit_fast(r, s, tmin, T(INFINITY)))
+            if (*f != exact_any) why = "any hit";
+        if (!why.empty()) {
+            ++failures;
+            ADD_FAILURE() << "seed " << seed << " case " << i << ": fast and exact paths differ on " << why << "\n  "
+                          << show(rounded_to<double>(in));
+        }
+    }
+    EXPECT_GT(fast, count / 4) << "the fast path should settle most of these cases";
+}
+
+TEST(RobustSphereProperty, FastPathAgreesWithTheExactPath) {
+    const std::uint64_t seed = seed_from_env();
+    std::printf("RAYVERIFY_SEED=%llu\n", static_cast<unsigned long long>(seed));
+    fast_matches_exact<float>(seed, 4000);
+    fast_matches_exact<double>(seed, 4000);
+}
+
+// Every returned root within 1 ulp of the exact root, as the oracle measures it.
+TEST(RobustSphereProperty, RootsWithinOneUlp) {
+    const std::uint64_t seed = seed_from_env() + 2;
+    std::printf("RAYVERIFY_SEED=%llu\n", static_cast<unsigned long long>(seed - 2));
+    random_cases gen{std::mt19937_64(seed)};
+    double worst = 0;
+    for (int i = 0; i < 6000; ++i) {
+        const ray_sphere<double> g = gen.next();
+        for (precision p : {precision::binary32, precision::binary64}) {
+            if ((p == precision::binary32 ? validity<float>(g) : validity<double>(g)) != invalid_reason::none) continue;
+            const ray_sphere<double> in = p == precision::binary32 ? rounded_to<double>(rounded_to<float>(g)) : g;
+            const exact_solution e = solve_exact(in, p);
+            if (e.cls == line_class::miss) continue;
+            double t0, t1;
+            if (p == precision::binary32) {
+                const auto r = rs::intersect_line(ray_of(rounded_to<float>(in)), sphere_of(rounded_to<float>(in)));
+                t0 = r.t0, t1 = r.t1;
+            } else {
+                const auto r = rs::intersect_line(ray_of(in), sphere_of(in));
+                t0 = r.t0, t1 = r.t1;
+            }
+            for (const auto& [which, t] : {std::pair{root_index::near_root, t0}, std::pair{root_index::far_root, t1}}) {
+                if (std::isinf(t) && std::isinf(e.root(which).rounded)) continue;  // RN(t*) overflows: ±inf promised
+                const double ulps = e.root_ulp_error(which, t);
+                worst = std::max(worst, ulps);
+                EXPECT_LE(ulps, 1.0) << "seed " << seed - 2 << " case " << i << " " << precision_name(p) << "\n  "
+                                     << show(in);
+            }
+        }
+    }
+    std::printf("largest root error: %.3g ulp\n", worst);
+}
+
+// ---------------------------------------------------------------------------
+// Literal regression cases: exact tangents off the axes and with non-unit
+// directions, origins exactly on the surface, roots exactly at interval ends.
+
+TEST(RobustSphere, HandConstructedEdgeCases) {
+    const ray_sphere<double> cases[] = {
+        // The line x = 3, y = 4 touches the sphere of radius 5 at (3, 4, 0): t = 10 (d = e_z), 5 (d = 2e_z).
+        geometry({3, 4, -10}, {0, 0, 1}, {0, 0, 0}, 5),
+        geometry({3, 4, -10}, {0, 0, 2}, {0, 0, 0}, 5),
+        geometry({3 + 0x1p40, 4, -10}, {0, 0, 2}, {0x1p40, 0, 0}, 5),
+        // Tangent through the origin side: o on the tangent line at the touching point (t* = 0).
+        geometry({3, 4, 0}, {0, 0, 1}, {0, 0, 0}, 5),
+        // Origin on the surface (2, 3, 6)/7·7: entering and leaving.
+        geometry({2, 3, 6}, {-2, -3, -6}, {0, 0, 0}, 7),
+        geometry({2, 3, 6}, {2, 3, 6}, {0, 0, 0}, 7),
+        // r = 0: a point; the line through it is tangent, one beside it misses.
+        geometry({0, 0, -1}, {0, 0, 1}, {0, 0, 0}, 0),
+        geometry({0x1p-1074, 0, -1}, {0, 0, 1}, {0, 0, 0}, 0),
+        // Opposite-signed huge positions: o − c overflows double.
+        geometry({0, 0, -0x1p1023}, {0, 0, 1}, {0, 0, 0x1p1023}, 0x1p1022),
+    };
+    for (const ray_sphere<double>& g : cases) {
+        SCOPED_TRACE(show(g));
+        EXPECT_EQ(check_case(g), "");
+        EXPECT_EQ(check_case(rounded_to<float>(g)), "") << "float";
+    }
+    EXPECT_EQ(rs::intersect_line(ray_of(cases[1]), sphere_of(cases[1])).count, 1);
+    EXPECT_EQ(rs::intersect_line(ray_of(cases[1]), sphere_of(cases[1])).t0, 5.0);
+    EXPECT_EQ(rs::intersect_line(ray_of(cases[3]), sphere_of(cases[3])).t0, 0.0);
+    const auto huge = rs::intersect_line(ray_of(cases[8]), sphere_of(cases[8]));
+    EXPECT_EQ(huge.count, 2);
+    EXPECT_EQ(huge.t0, 0x1.8p1023);  // 2^1023 + 2^1023 − 2^1022
+}
+
+// ---------------------------------------------------------------------------
+// Hit points: the bound holds against the exact hit point (or, reprojected,
+// against the sphere).
+
+TEST(RobustSphere, HitPointErrorBoundsHold) {
+    const std::uint64_t seed = seed_from_env() + 3;
+    random_cases gen{std::mt19937_64(seed)};
+    int checked = 0;
+    for (int i = 0; i < 3000; ++i) {
+        const ray_sphere<double> g = gen.next();
+        if (validity<double>(g) != invalid_reason::none) continue;
+        const exact_solution e = solve_exact(g, precision::binary64);
+        if (!e.nearest_in_front) continue;
+        const root_index which = *e.nearest_in_front;
+        const rs::ray<double> r = ray_of(g);
+        const rs::sphere<double> s = sphere_of(g);
+        const rs::ray_hit<double> h = rs::nearest_hit(r, s, 0.0, INFINITY);
+        ASSERT_TRUE(h.found);
+        const rs::surface_point<double> p = rs::hit_point(r, s, h.t);
+        const double point[3] = {p.point.x, p.point.y, p.point.z}, error[3] = {p.error.x, p.error.y, p.error.z};
+        for (int axis = 0; axis < 3; ++axis) {
+            if (!std::isfinite(point[axis])) continue;
+            // |point − p*| from the oracle: its ulps times the ulp at p* (within a factor 2 of RN(p*)'s).
+            const double exact = e.rounded_hit_coordinate(which, axis);
+            const double ulps = e.hit_point_ulp_error(which, axis, point[axis]);
+            const double ulp = std::max(ulp_of(exact), ulp_of(point[axis]));
+            EXPECT_LE(ulps * ulp, error[axis] * 2.0001) << "seed " << seed - 3 << " case " << i << " axis " << axis;
+            // And the bound is not vacuous: a few ulps of the coordinate.
+            ++checked;
+        }
+        // Reprojected: the point lies within its error box of the sphere (distance to the sphere in
+        // double-double, far below the bound's scale).
+        const rs::surface_point<double> q = rs::hit_point(r, s, h.t, true);
+        const long double dx = (long double)q.point.x - g.centre.x, dy = (long double)q.point.y - g.centre.y,
+                          dz = (long double)q.point.z - g.centre.z;
+        const long double distance = std::fabs(std::sqrt(dx * dx + dy * dy + dz * dz) - (long double)g.radius);
+        const long double box = std::sqrt((long double)q.error.x * q.error.x + (long double)q.error.y * q.error.y +
+                                          (long double)q.error.z * q.error.z);
+        const long double slack = 0x1p-60L * (std::fabs(dx) + std::fabs(dy) + std::fabs(dz) + g.radius);
+        EXPECT_LE(distance, box + slack) << "seed " << seed - 3 << " case " << i;
+    }
+    EXPECT_GT(checked, 1000);
+}
+
+}  // namespace
+}  // namespace rayverify
+
+namespace rayverify {
+namespace {
+
+// ---------------------------------------------------------------------------
+// Vendored: the header copied alone into an empty directory, built with
+// -Wall -Wextra -Wpedantic -Werror and with FMA contraction allowed (the
+// double path's products then use std::fma): the same answers, bit for bit,
+// as this build's (which the tests above check against the oracle).
+
+TEST(RobustSphereVendored, HeaderAloneWithFmaContractionGivesTheSameAnswers) {
+    if (!__builtin_cpu_supports("fma")) GTEST_SKIP() << "this CPU has no FMA to run an -mfma build on";
+    namespace fs = std::filesystem;
+    const fs::path dir = fs::temp_directory_path() / ("rayverify_vendored_" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    const fs::path source(RAYVERIFY_SOURCE_DIR);
+    fs::copy_file(source / "src/intersectors/robust_sphere.h", dir / "robust_sphere.h");
+    fs::copy_file(source / "tests/robust_vendored/answers.h", dir / "answers.h");
+    fs::copy_file(source / "tests/robust_vendored/main.cpp", dir / "main.cpp");
+    const auto built = test_support::run_shell(std::string(RAYVERIFY_CXX_COMPILER) +
+                                               " -std=c++20 -O2 -mfma -ffp-contract=fast -Wall -Wextra -Wpedantic "
+                                               "-Werror -I " + dir.string() + " " + (dir / "main.cpp").string() + " -o " +
+                                               (dir / "vendored").string());
+    ASSERT_EQ(built.exit_code, 0) << built.output;
+
+    // Cases valid in both precisions, with intervals around their roots.
+    const std::uint64_t seed = seed_from_env() + 4;
+    random_cases gen{std::mt19937_64(seed)};
+    std::string input, expected;
+    int cases = 0;
+    while (cases < 3000) {
+        const ray_sphere<double> g = gen.next();
+        if (validity<float>(g) != invalid_reason::none || validity<double>(g) != invalid_reason::none) continue;
+        const exact_solution e = solve_exact(g, precision::binary64);
+        const double t = e.cls == line_class::miss ? 1.0 : e.near_root.rounded;
+        const double interval[][2] = {{0, INFINITY}, {t, INFINITY}, {std::nextafter(t, -INFINITY), 2 * std::fabs(t)}};
+        const auto& [tmin, tmax] = interval[cases % 3];
+        if (!std::isfinite(tmin) || std::fabs(tmin) > 1e30 || (std::isfinite(tmax) && std::fabs(tmax) > 1e30)) continue;
+        const double v[12] = {g.origin.x, g.origin.y, g.origin.z, g.direction.x, g.direction.y, g.direction.z,
+                              g.centre.x, g.centre.y, g.centre.z, g.radius, tmin, tmax};
+        char line[512];
+        std::snprintf(line, sizeof line, "%a %a %a %a %a %a %a %a %a %a %a %a\n", v[0], v[1], v[2], v[3], v[4], v[5],
+                      v[6], v[7], v[8], v[9], v[10], v[11]);
+        input += line;
+        expected += robust_answers<float>(v) + "\n" + robust_answers<double>(v) + "\n";
+        ++cases;
+    }
+    { std::ofstream(dir / "cases.txt") << input; }
+    const auto ran = test_support::run_shell((dir / "vendored").string() + " < " + (dir / "cases.txt").string());
+    ASSERT_EQ(ran.exit_code, 0) << ran.output.substr(0, 2000);
+    std::istringstream got(ran.output), want(expected), lines(input);
+    std::string g, w, c;
+    for (int i = 0; std::getline(want, w); ++i) {
+        ASSERT_TRUE(std::getline(got, g)) << "vendored build stopped at line " << i;
+        if (i % 2 == 0) std::getline(lines, c);
+        EXPECT_EQ(g, w) << (i % 2 ? "double" : "float") << " case " << i / 2 << " (seed " << seed - 4 << "): " << c;
+    }
+    fs::remove_all(dir);
 }
 
 }  // namespace

@@ -40,6 +40,12 @@ variant interval_variant(std::string name, std::string citation, std::string for
 #define RAYVERIFY_INTERVAL_VARIANT(fn, citation, formula) \
     interval_variant<&intersectors::fn<float>, &intersectors::fn<double>>(#fn, citation, formula, intersectors::fn##_contract)
 
+// The robust variants decide exactly by construction (robust_sphere.h).
+variant with_exact_decisions(variant v) {
+    v.exact_decisions = true;
+    return v;
+}
+
 const std::array<variant, 16> registry{{
     {"naive", "seed 000 / seed 001 (textbook quadratic)",
      "b = 2d·f, C = f·f − r², Δ = b² − 4aC, t = (−b ∓ √Δ)/2a", intersectors::naive_contract,
@@ -82,13 +88,16 @@ const std::array<variant, 16> registry{{
     RAYVERIFY_INTERVAL_VARIANT(hearn_baker_unit_any_hit,
                                "Ray Tracing Gems ch.7 final form with a = 1, any-hit in (tmin, tmax) (shadow rays)",
                                "as hearn_baker_any_hit with a = 1: Δ = r² − |f + b′d̂|², roots C/q and q only as needed"),
-    {"robust", "rayverify robust_sphere.h (certified double/double-word filter, Shewchuk expansions)",
-     "sign of Δ′ = a·r² − |d × f|², C, b′ exact; q = −(b′ + sign(b′)√Δ′), t = q/a, C/q rounded to nearest",
-     intersectors::robust_contract, RAYVERIFY_BOTH_PRECISIONS(robust)},
-    RAYVERIFY_INTERVAL_VARIANT(robust_nearest, "rayverify robust_sphere.h, nearest root in (tmin, tmax)",
-                               "as robust; the roots' comparisons with tmin and tmax exact, only the roots needed"),
-    RAYVERIFY_INTERVAL_VARIANT(robust_any_hit, "rayverify robust_sphere.h, any root in (tmin, tmax) (shadow rays)",
-                               "as robust_nearest, answering only whether a root lies in the interval"),
+    with_exact_decisions(
+        {"robust", "rayverify robust_sphere.h (certified double/double-word filter, Shewchuk expansions)",
+         "sign of Δ′ = a·r² − |d × f|², C, b′ exact; q = −(b′ + sign(b′)√Δ′), t = q/a, C/q rounded to nearest",
+         intersectors::robust_contract, RAYVERIFY_BOTH_PRECISIONS(robust)}),
+    with_exact_decisions(RAYVERIFY_INTERVAL_VARIANT(
+        robust_nearest, "rayverify robust_sphere.h, nearest root in (tmin, tmax)",
+        "as robust; the roots' comparisons with tmin and tmax exact, only the roots needed")),
+    with_exact_decisions(RAYVERIFY_INTERVAL_VARIANT(
+        robust_any_hit, "rayverify robust_sphere.h, any root in (tmin, tmax) (shadow rays)",
+        "as robust_nearest, answering only whether a root lies in the interval")),
 }};
 
 #undef RAYVERIFY_INTERVAL_VARIANT

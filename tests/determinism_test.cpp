@@ -55,15 +55,16 @@ protected:
     fs::path dir_;
 };
 
-// The whole shipped corpus, every variant: stdout and every per-case line.
+// The whole shipped corpus, every variant: stdout and every per-case line,
+// on one thread and then on two.
 TEST_F(Determinism, AuditOfTheShippedCorpusIsByteIdenticalAcrossRuns) {
     const std::string arguments = fmt::format("audit --corpus '{}' --per-case cases.jsonl", RAYVERIFY_CORPUS_DIR);
     std::string first_out, second_out;
-    const int first = run(arguments, first_out);
+    const int first = run(arguments + " --threads 1", first_out);
     ASSERT_NE(first, 2) << first_out;
     const std::string first_cases = read_bytes(dir_ / "cases.jsonl");
     fs::remove(dir_ / "cases.jsonl");
-    const int second = run(arguments, second_out);
+    const int second = run(arguments + " --threads 2", second_out);
     const std::string second_cases = read_bytes(dir_ / "cases.jsonl");
 
     EXPECT_EQ(first, second);
@@ -72,7 +73,8 @@ TEST_F(Determinism, AuditOfTheShippedCorpusIsByteIdenticalAcrossRuns) {
     EXPECT_TRUE(first_cases == second_cases) << "cases.jsonl differs between runs";
 }
 
-// A generated corpus, and the full report of its audit (every file --report writes).
+// A generated corpus, and the full report of its audit (every file --report
+// writes), audited on two threads and then on one.
 TEST_F(Determinism, GeneratedCorpusAndItsReportAreByteIdentical) {
     std::string out;
     for (const char* name : {"a.txt", "b.txt"})
@@ -80,9 +82,9 @@ TEST_F(Determinism, GeneratedCorpusAndItsReportAreByteIdentical) {
     EXPECT_EQ(read_bytes(dir_ / "a.txt"), read_bytes(dir_ / "b.txt"));
 
     std::string first_out, second_out;
-    run("audit --corpus a.txt --report rep --per-case cases.jsonl", first_out);
+    run("audit --corpus a.txt --report rep --per-case cases.jsonl --threads 2", first_out);
     keep_outputs("first");
-    run("audit --corpus a.txt --report rep --per-case cases.jsonl", second_out);
+    run("audit --corpus a.txt --report rep --per-case cases.jsonl --threads 1", second_out);
     keep_outputs("second");
     EXPECT_EQ(first_out, second_out);
     std::size_t compared = 0;

@@ -229,7 +229,7 @@ TEST(Gate, OwnVariantsPassTheCommittedBaseline) {
 }
 
 // The "done when": a user's intersector in its own directory, built
-// as a plugin with the README's command, audited, baselined; then the naive
+// as a plugin with docs/gate.md's command, audited, baselined; then the naive
 // discriminant goes in and the gate fails.
 TEST(Gate, EndToEndUserPluginBaselineThenNaiveDiscriminantFails) {
     const fs::path user = fs::temp_directory_path() / "rayverify_gate_user";

@@ -1,8 +1,8 @@
 // Hostile and broken input, end to end through the rayverify executable:
 // every class of bad input we know of gets an answer that names file, line and
-// field, exit code 2, and no output file left behind. The README table "Bad
-// input and what rayverify answers" is generated from these very runs, and a
-// test fails when the README differs from what the tool answers today.
+// field, exit code 2, and no output file left behind. The table of
+// docs/bad-input.md is generated from these very runs, and a test fails when
+// the page differs from what the tool answers today.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <sys/resource.h>
@@ -120,11 +120,11 @@ std::string scene_with(const std::string& from, const std::string& to) { return 
 const std::string baseline_head = "rayverify-baseline 1\n";
 const std::string good_baseline = baseline_head + "naive/double all cases 1\n";
 
-// One row of the README table: a bad input, the command given it, and what
+// One row of the docs/bad-input.md table: a bad input, the command given it, and what
 // the answer must say. The answer itself is whatever the tool prints.
 struct bad_input {
-    std::string what;     // first column of the README table (markdown)
-    std::string command;  // as shown in the README; "rayverify" is the binary
+    std::string what;     // first column of the table (markdown)
+    std::string command;  // as shown in the table; "rayverify" is the binary
     std::vector<std::pair<std::string, std::string>> files;  // created in the row's directory
     int exit_code = 2;
     std::string expect;   // the answer contains this: file:line: field 'name' where there is one
@@ -426,7 +426,7 @@ std::string escape_cell(std::string s) {
     return s;
 }
 
-// Long answers (lists of every family) are cut, so the README stays readable and stable.
+// Long answers (lists of every family) are cut, so the table stays readable and stable.
 std::string shortened(std::string s) {
     constexpr std::size_t width = 200;
     return s.size() <= width ? s : s.substr(0, width) + " …";
@@ -437,7 +437,7 @@ std::string code_span(const std::string& s) {
     return s.find('`') == std::string::npos ? "`" + s + "`" : "`` " + s + " ``";
 }
 
-// The README table, rendered from the outcomes.
+// The docs/bad-input.md table, rendered from the outcomes.
 std::string render_table(const std::vector<bad_input>& rows, const std::vector<row_outcome>& outcomes) {
     std::string table = "| bad input | command | exit | what rayverify answers |\n|---|---|---|---|\n";
     for (std::size_t i = 0; i < rows.size(); ++i)
@@ -498,20 +498,20 @@ TEST(BadInput, SceneAuditAndGateWithOutputsWriteNothingOnBadInput) {
     }
 }
 
-TEST(BadInput, ReadmeTableIsWhatTheToolAnswers) {
+TEST(BadInput, DocumentedTableIsWhatTheToolAnswers) {
     const std::vector<bad_input> rows = bad_inputs();
     std::vector<row_outcome> outcomes;
     for (const bad_input& row : rows) outcomes.push_back(run_row(row));
     const std::string generated = render_table(rows, outcomes);
 
-    const std::string readme = read_text(fs::path(RAYVERIFY_SOURCE_DIR) / "README.md");
-    const std::size_t begin = readme.find(table_begin), end = readme.find(table_end);
-    ASSERT_NE(begin, std::string::npos) << "README.md lacks the marker " << table_begin;
-    ASSERT_NE(end, std::string::npos) << "README.md lacks the marker " << table_end;
-    const std::string in_readme =
-        readme.substr(begin + std::string(table_begin).size(), end - begin - std::string(table_begin).size());
-    if (in_readme != generated) {
-        ADD_FAILURE() << "README.md's bad-input table differs from what rayverify answers; replace what is "
+    const std::string page = read_text(fs::path(RAYVERIFY_SOURCE_DIR) / "docs" / "bad-input.md");
+    const std::size_t begin = page.find(table_begin), end = page.find(table_end);
+    ASSERT_NE(begin, std::string::npos) << "docs/bad-input.md lacks the marker " << table_begin;
+    ASSERT_NE(end, std::string::npos) << "docs/bad-input.md lacks the marker " << table_end;
+    const std::string documented =
+        page.substr(begin + std::string(table_begin).size(), end - begin - std::string(table_begin).size());
+    if (documented != generated) {
+        ADD_FAILURE() << "docs/bad-input.md's table differs from what rayverify answers; replace what is "
                          "between its markers with the table printed below";
         std::printf("%s", generated.c_str());
     }

@@ -137,17 +137,26 @@ TEST(Hunt, IsDeterministicForASeedAndAnEvaluationBudget) {
     EXPECT_FALSE(a.finds.empty());
 }
 
-TEST(Hunt, ACorrectVariantYieldsNoMisclassificationFromExactTangents) {
-    // hearn_baker in double gets the tangent_exact family right except at the
-    // tangent point (b = 0, its documented NaN): the hunter reports only real
-    // disagreements, each confirmed by the audit engine.
+TEST(Hunt, EveryFindNearExactTangentsIsAConfirmedDisagreement) {
+    // hearn_baker in double near the tangent_exact family: the hunter must
+    // find disagreements (its documented NaN at the tangent point b = 0, and
+    // false hits just off tangency), and every one it reports must be what the
+    // audit engine says of the same case.
     hunt_options options;
     options.objective = hunt_objective::misclass;
     options.max_evaluations = 1500;
     options.max_finds = 5;
     const audit_target t = target("hearn_baker", precision::binary64);
-    for (const hunt_find& f : hunt(t, from_family("tangent_exact", 3), options).finds)
+    const hunt_result r = hunt(t, from_family("tangent_exact", 3), options);
+    ASSERT_FALSE(r.finds.empty()) << "no find in " << r.evaluations << " evaluations";
+    bool documented_nan = false;
+    for (const hunt_find& f : r.finds) {
+        EXPECT_TRUE(is_disagreement(f.found_eval.verdict)) << f.found_eval.detail;
         EXPECT_EQ(audited_verdict(t, f.found), f.found_eval.verdict);
+        EXPECT_EQ(audited_verdict(t, f.shrunk), f.shrunk_eval.verdict);
+        documented_nan = documented_nan || f.found_eval.verdict == verdict_kind::non_finite;
+    }
+    EXPECT_TRUE(documented_nan) << "the NaN at the tangent point was not found";
 }
 
 TEST(Hunt, SignificantBitsCountsEachInput) {

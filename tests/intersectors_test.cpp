@@ -9,6 +9,7 @@
 #include <string>
 #include <string_view>
 
+#include "compare/judge.h"
 #include "core/intersection.h"
 #include "core/ray_sphere_case.h"
 #include "intersectors/registry.h"
@@ -55,23 +56,12 @@ root_pair<double> contract_answer(const contract& c, const exact_solution& s) {
             case line_class::two_hit: return {2, near, far};
         }
     }
-    if (s.cls == line_class::miss) return {0, 0, 0};
-    if (takes_interval(c.query)) {
-        // Asked without an interval: the open ray (0, +inf), a root at the
-        // origin excluded. The nearest root in it, or whether there is one.
-        const double t = s.near_root.sign > 0 ? near : far;
-        if (s.near_root.sign <= 0 && s.far_root.sign <= 0) return {0, 0, 0};
-        if (c.query == query_kind::any_hit_in_interval) return {1, 0, 0};
-        return {1, t, t};
-    }
-    // Nearest hit on the closed ray t ≥ 0. With the origin inside (or on the
-    // surface, leaving) the first such root is the far one, or 0 when clamped.
-    if (s.near_root.sign >= 0) return {1, near, near};
-    if (s.far_root.sign >= 0) {
-        const double t = c.clamps_to_zero ? 0.0 : far;
-        return {1, t, t};
-    }
-    return {0, 0, 0};  // both roots behind
+    // nearest_hit and any_hit: what the judge expects under the contract, on
+    // the range a variant asked without an interval answers for.
+    const expected_hit want = expect_hit(c, s, range_of(c, std::nullopt, std::nullopt));
+    if (!want.hit()) return {0, 0, 0};
+    if (c.query == query_kind::any_hit) return {1, 0, 0};
+    return {1, want.value, want.value};
 }
 
 std::string label(const variant& v, precision p) { return v.name + "<" + precision_name(p) + ">"; }
@@ -119,7 +109,7 @@ TEST(IntersectorHandCases, EveryVariantIsExactOnIntegerCases) {
                 const root_pair<double> got = run(v, p, h.geometry);
                 ++checked;
                 ASSERT_EQ(got.count, want.count);
-                if (got.count == 0 || v.promises.query == query_kind::any_hit_in_interval) continue;
+                if (got.count == 0 || v.promises.query == query_kind::any_hit) continue;
                 EXPECT_EQ(got.t0, want.t0);
                 if (v.promises.query == query_kind::line_roots) {
                     EXPECT_EQ(got.t1, want.t1);
@@ -180,11 +170,11 @@ TEST(IntersectorHandCases, IrrationalRootsWithinTwoUlps) {
             SCOPED_TRACE(label(v, p));
             const exact_solution s = exact_for(g, p);
             const root_pair<double> got = run(v, p, g);
-            if (v.promises.query == query_kind::any_hit_in_interval) {
+            if (v.promises.query == query_kind::any_hit) {
                 EXPECT_EQ(got.count, 1);  // both roots 5 ∓ √2 lie in (0, +inf)
                 continue;
             }
-            if (v.promises.query == query_kind::nearest_on_ray || v.promises.query == query_kind::nearest_in_interval) {
+            if (v.promises.query == query_kind::nearest_hit) {
                 ASSERT_EQ(got.count, 1);
                 EXPECT_LE(s.root_ulp_error(near_root, got.t0), 2.0);
                 continue;

@@ -20,6 +20,7 @@
 #include "compare/audit.h"
 #include "corpus/corpus_io.h"
 #include "intersectors/registry.h"
+#include "intersectors/seed004_early_out.h"
 #include "intersectors/stable_roots.h"
 
 namespace rayverify {
@@ -200,9 +201,9 @@ struct mutant_case {
 };
 
 const contract line_roots_any_direction{.query = query_kind::line_roots, .reports_tangent = true};
-const contract nearest_clamped{
-    .query = query_kind::nearest_on_ray, .assumes_unit_direction = true, .clamps_to_zero = true};
-const contract nearest_any_direction{.query = query_kind::nearest_on_ray};
+const contract nearest_clamped = intersectors::seed004_early_out_contract;
+// The nearest hit on the open ray t > 0, any direction length.
+const contract nearest_any_direction{.query = query_kind::nearest_hit};
 
 #define MUTANT(name, promises, expected, parent) \
     mutant_case { variant{#name, "mutant", "", promises, &name<float>, &name<double>}, expected, parent }

@@ -37,13 +37,14 @@ def colour(variant):
     return EXTRA_ASSIGNED.setdefault(variant, EXTRA_COLOURS[len(EXTRA_ASSIGNED) % len(EXTRA_COLOURS)])
 PRECISION_MARKERS = {"float": "o", "double": "s", "long double": "D", "exact": "*"}
 MISCLASS = ("false_miss", "false_hit", "tangent_split", "tangent_missed", "false_tangent")
-FLOOR = 1e-3  # where zero errors are drawn on log axes
+DPI = 100
+plt.rcParams.update({"font.size": 11, "axes.titlesize": 11, "legend.fontsize": 10})
 
 
 def save(fig, directory, name):
     path = os.path.join(directory, name)
     temporary = path + ".tmp.png"
-    fig.savefig(temporary, dpi=110, bbox_inches="tight")
+    fig.savefig(temporary, dpi=DPI, bbox_inches="tight")
     plt.close(fig)
     os.replace(temporary, path)
     print("wrote " + name)
@@ -59,12 +60,12 @@ def number(x):
 
 def scored(entry):
     v = entry["verdicts"]
-    return entry["cases"] - v["invalid"] - v["contract_violation"]
+    return entry["cases"] - v.get("invalid", 0) - v.get("contract_violation", 0)
 
 
 def misclassification_rate(entry):
     n = scored(entry)
-    return sum(entry["verdicts"][k] for k in MISCLASS) / n if n else 0.0
+    return sum(entry["verdicts"].get(k, 0) for k in MISCLASS) / n if n else 0.0
 
 
 def accuracy_entries(report):
@@ -83,72 +84,125 @@ def pareto(points):
     return sorted(front, key=lambda i: points[i][0])
 
 
+class LogAxis:
+    """A log axis for values ≥ 0 that may be infinite: 0 on a labelled floor
+    below 1 and below the smallest positive value, inf (and values beyond
+    1e300) on a labelled ceiling a decade above the largest finite one."""
+
+    def __init__(self, values, floor_label="0", ceiling_label="inf"):
+        finite = [v for v in values if v is not None and math.isfinite(v) and 0 < v < 1e300]
+        low = min(0, math.floor(math.log10(min(finite)))) if finite else -1
+        high = math.ceil(math.log10(max(finite))) if finite else 1
+        high = max(high, low + 1)
+        self.step = max(1, math.ceil((high - low) / 8))
+        # An exact answer is 0 ulp, a correctly rounded one at most 0.5: the floor sits below both.
+        self.floor = 10.0 ** (low - max(1, self.step // 2))
+        self.ceiling = 10.0 ** (high + 1)
+        self.has_floor = any(v == 0 for v in values if v is not None)
+        self.has_ceiling = any(v is not None and (not math.isfinite(v) or v >= 1e300) for v in values)
+        self.floor_label, self.ceiling_label = floor_label, ceiling_label
+        self.low, self.high = low, high
+
+    def y(self, v):
+        if v is None or not math.isfinite(v) or v >= 1e300:
+            return self.ceiling
+        return self.floor if v <= 0 else v
+
+    def apply(self, ax):
+        ax.set_yscale("log")
+        ax.set_ylim(self.floor / 3 if self.has_floor else 10.0 ** self.low / 3,
+                    self.ceiling * 3 if self.has_ceiling else 10.0 ** self.high * 3)
+        exponents = range(self.low, self.high + 1, self.step)
+        ticks = [10.0 ** e for e in exponents]
+        labels = ["$10^{%d}$" % e for e in exponents]
+        for shown, at, label in [(self.has_floor, self.floor, self.floor_label),
+                                 (self.has_ceiling, self.ceiling, self.ceiling_label)]:
+            if shown:
+                ticks.append(at)
+                labels.append(label)
+                ax.axhline(at, color="grey", lw=0.8, ls=":", zorder=1)
+        ax.set_yticks(ticks)
+        ax.set_yticklabels(labels)
+        ax.minorticks_off()
+
+
 def plot_accuracy_vs_time(report, directory):
     timing = {(r["variant"], r["precision"]): r["ns_per_test"] for r in report["timing"]["overall"]}
     entries = [(v, p, e) for v, p, e in accuracy_entries(report) if (v, p) in timing]
-    oracle = timing.get(("exact_oracle", "exact"))
-    reference = timing.get(("exact_reference", "exact"))
-    metrics = [("max ulp error (nearest root)", lambda e: number(e["near_root_ulp"].get("max"))),
-               ("p99 ulp error (nearest root)", lambda e: number(e["near_root_ulp"].get("p99"))),
-               ("misclassification rate", misclassification_rate)]
-    fig, axes = plt.subplots(1, 3, figsize=(17, 6))
-    for ax, (title, metric) in zip(axes, metrics):
-        finite = [metric(e) for _, _, e in entries if metric(e) is not None and math.isfinite(metric(e)) and metric(e) > 0]
-        # Infinite (and beyond 1e300) errors are drawn on a line above the largest finite one.
-        finite = [y for y in finite if y < 1e300]
-        top = 10 ** (math.ceil(math.log10(max(finite))) + 1) if finite else 10
+    exact = [(x, label, marker) for x, label, marker in
+             [(timing.get(("exact_oracle", "exact")), "exact oracle (filtered)", "*"),
+              (timing.get(("exact_reference", "exact")), "exact reference (no filter)", "P")] if x]
+    # A float ulp is 2^29 double ulps: each precision has its own panel and front.
+    # Long double roots are rounded to double and judged in double ulps.
+    panels = [("float: max nearest-root error (ulp of float)", ("float",), "ulp"),
+              ("double and long double: max nearest-root error (ulp of double)", ("double", "long double"), "ulp"),
+              ("all precisions: misclassified share of scored cases", ("float", "double", "long double"), "rate")]
+    fig, axes = plt.subplots(1, 3, figsize=(18, 6.8))
+    for ax, (title, precisions, kind) in zip(axes, panels):
+        chosen = [(v, p, e) for v, p, e in entries if p in precisions]
+        rootless = sorted({v for v, p, e in chosen if kind == "ulp" and e["near_root_ulp"].get("count", 0) == 0})
+        chosen = [(v, p, e) for v, p, e in chosen if v not in rootless]
+        if kind == "ulp":
+            values = [number(e["near_root_ulp"].get("max")) for _, _, e in chosen]
+            axis = LogAxis(values + [0.0], "0 (exact)", "inf")
+        else:
+            values = [misclassification_rate(e) for _, _, e in chosen]
+            axis = LogAxis(values + [0.0], "0")
         points = []
-        for variant, precision, e in entries:
-            y = metric(e)
-            y = top if (y is None or not math.isfinite(y) or y >= top) else max(y, FLOOR)
+        for (variant, precision, e), y in zip(chosen, values):
             x = timing[(variant, precision)]
-            points.append((x, y))
-            ax.scatter(x, y, color=colour(variant), marker=PRECISION_MARKERS[precision],
-                       s=60, edgecolors="black", linewidths=0.5, zorder=3)
-        # The exact answers cost time and have no error: drawn on the floor line.
-        for x, label, marker, offset in [(oracle, "exact oracle (filtered)", "*", (-10, 10)),
-                                         (reference, "exact reference (no filter)", "P", (-10, -16))]:
-            if not x:
-                continue
-            points.append((x, FLOOR))
-            ax.scatter(x, FLOOR, color="black", marker=marker, s=160, zorder=3)
-            ax.annotate(label, (x, FLOOR), textcoords="offset points", xytext=offset, ha="right", fontsize=8)
+            points.append((x, axis.y(y)))
+            ax.scatter(x, axis.y(y), color=colour(variant), marker=PRECISION_MARKERS[precision],
+                       s=70, edgecolors="black", linewidths=0.5, zorder=3)
+        # The exact answers cost time and have no error: on the floor.
+        for x, label, marker in exact:
+            points.append((x, axis.floor))
+            ax.scatter(x, axis.floor, color="black", marker=marker, s=170, zorder=3)
         front = pareto(points)
         ax.plot([points[i][0] for i in front], [points[i][1] for i in front], "k--", lw=1, zorder=2,
-                label="Pareto front")
-        if any(y == top for _, y in points):
-            ax.axhline(top, color="grey", lw=0.5, ls=":")
-            ax.text(min(p[0] for p in points), top, " inf or > 1e300", va="bottom", fontsize=8, color="grey")
-        ax.axhline(FLOOR, color="grey", lw=0.5, ls=":")
+                label="Pareto front (time, error)")
+        axis.apply(ax)
         ax.set_xscale("log")
-        ax.set_yscale("log")
-        ax.set_xlabel("run time: ns per ray–sphere test (CPU, median; log)")
-        ax.set_ylabel(title + " (log; 0 drawn at 1e-3)")
+        ax.set_xlabel("ns per ray–sphere test (CPU, median; log)")
+        if rootless:
+            ax.text(0.98, 0.87, "not drawn (no root returned):\n" + "\n".join(rootless), transform=ax.transAxes,
+                    ha="right", va="top", fontsize=9, color="dimgrey")
         ax.set_title(title)
         ax.grid(True, which="major", alpha=0.3)
-        ax.legend(loc="upper right", fontsize=8)
-    shown = list(dict.fromkeys(v for v, _, _ in entries))  # the report's variants, in its order
-    variant_handles = [plt.Line2D([], [], color=colour(v), marker="o", ls="", label=v) for v in shown]
-    precision_handles = [plt.Line2D([], [], color="grey", marker=m, ls="", label=p) for p, m in PRECISION_MARKERS.items()]
-    fig.legend(handles=variant_handles + precision_handles, loc="lower center", ncol=6, fontsize=9,
-               bbox_to_anchor=(0.5, -0.12))
-    fig.suptitle("Accuracy against run time (%s cases; maxima over this finite corpus, not bounds)"
-                 % report["corpus"]["cases"])
+        ax.legend(loc="upper right")
+    shown = list(dict.fromkeys(v for v, _, _ in entries))
+    handles = [plt.Line2D([], [], color=colour(v), marker="o", ls="", ms=8, label=v) for v in shown]
+    handles += [plt.Line2D([], [], color="grey", marker=PRECISION_MARKERS[p], ls="", ms=8, label=p)
+                for p in ("float", "double", "long double")]
+    handles += [plt.Line2D([], [], color="black", marker=marker, ls="", ms=12, label=label) for _, label, marker in exact]
+    fig.legend(handles=handles, loc="upper center", ncol=6, bbox_to_anchor=(0.5, 0.0))
+    fig.suptitle("Accuracy against run time (%s cases; lower left is better; maxima over this finite corpus, "
+                 "not bounds)" % report["corpus"]["cases"])
     fig.tight_layout()
     save(fig, directory, "accuracy_vs_time.png")
 
 
-def target_columns(points):
-    return list(points["targets"].items())
+def root_targets(points):
+    """The targets with at least one nearest-root error (any-hit variants return no root)."""
+    return [(label, t) for label, t in points["targets"].items() if any(u is not None for u in t["near_ulp"])]
+
+
+def panel_grid(n, cols, width, height):
+    rows = max(1, math.ceil(n / cols))
+    cols = min(cols, n) if n else 1
+    fig, axes = plt.subplots(rows, cols, figsize=(width * cols, height * rows), squeeze=False)
+    for ax in axes.flat[n:]:
+        ax.remove()
+    return fig, axes
 
 
 def plot_error_vs_condition(report, directory):
     points = report["case_points"]
-    targets = target_columns(points)
-    n = len(targets)
-    cols = 4
-    rows = math.ceil(n / cols)
-    fig, axes = plt.subplots(rows, cols, figsize=(4.2 * cols, 3.4 * rows), sharex=True, sharey=True, squeeze=False)
+    targets = root_targets(points)
+    if not targets:
+        return
+    fig, axes = panel_grid(len(targets), 4, 4.2, 3.6)
+    floor, top = 1e-3, 5e17
     for ax, (label, t) in zip(axes.flat, targets):
         kappa = points["condition"]["float" if t["precision_of_inputs"] == "float" else "double"]
         xs, ys = [], []
@@ -156,107 +210,157 @@ def plot_error_vs_condition(report, directory):
             k, u = number(k), number(u)
             if k is None or u is None or not math.isfinite(k) or not math.isfinite(u):
                 continue
-            xs.append(min(max(k, 1.0), 5e17))
-            ys.append(min(max(u, FLOOR), 5e17))
-        ax.scatter(xs, ys, s=4, alpha=0.4, color=colour(t["variant"]))
+            xs.append(min(max(k, 1.0), top))
+            ys.append(min(max(u, floor), top))
+        ax.scatter(xs, ys, s=5, alpha=0.5, color=colour(t["variant"]))
         line = [1, 1e18]
-        ax.plot(line, line, "k-", lw=1, label="κ·u (in ulps: κ)")
-        ax.plot(line, [16 * x for x in line], "k:", lw=1, label="16·κ·u")
+        ax.plot(line, line, "k-", lw=1)
+        ax.plot(line, [16 * x for x in line], "k:", lw=1)
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.set_xlim(1, 1e18)
-        ax.set_ylim(FLOOR / 2, 1e18)
-        ax.set_title(label, fontsize=10)
+        ax.set_ylim(floor / 3, 3e18)
+        ax.set_xticks([1, 1e6, 1e12, 1e18])
+        ax.set_yticks([floor, 1, 1e6, 1e12, top])
+        ax.set_yticklabels(["0", "1", "$10^6$", "$10^{12}$", "≥5e17"])
+        ax.minorticks_off()
+        ax.set_title("%s (%d cases)" % (label, len(xs)))
         ax.grid(True, alpha=0.3)
-    for ax in axes.flat[n:]:
-        ax.set_visible(False)
-    for ax in axes[-1]:
-        ax.set_xlabel("κ of the near root")
-    for ax in axes[:, 0]:
-        ax.set_ylabel("near-root error (ulp)")
-    axes.flat[0].legend(loc="upper left", fontsize=8)
-    fig.suptitle("Error against condition number (agreeing cases with finite κ; 0 ulp drawn at 1e-3, "
-                 "values above 5e17 on the top edge)")
-    fig.tight_layout(rect=(0, 0, 1, 0.98))
+    fig.supxlabel("κ, condition number of the nearest root (log)")
+    fig.supylabel("nearest-root error, ulp (log)")
+    handles = [plt.Line2D([], [], color="black", lw=1, label="κ·u: what a backward-stable formula stays below"),
+               plt.Line2D([], [], color="black", lw=1, ls=":", label="16·κ·u")]
+    fig.legend(handles=handles, loc="upper center", ncol=2, bbox_to_anchor=(0.5, 0.985), frameon=False, fontsize=12)
+    fig.suptitle("Error against condition number (agreeing cases of the plot sample with finite κ)", y=1.0)
+    fig.tight_layout(rect=(0, 0, 1, 0.96))
     save(fig, directory, "error_vs_condition.png")
+
+
+# The distance/radius beyond which C = f·f − r² keeps no bit of r² in precision p: 2^(p/2)·r.
+LOST_R2 = {"float": (2.0 ** 12, "4096·r"), "double": (2.0 ** 26.5, "$2^{26.5}$·r")}
 
 
 def plot_far_sphere(report, directory):
     sweep = report.get("far_sphere_sweep")
     source = sweep["case_points"] if sweep else report["case_points"]
-    what = sweep["description"] if sweep else "far_sphere cases of this corpus"
+    what = sweep["description"] if sweep else "the far_sphere cases of this corpus's plot sample"
     ratio = source["distance_ratio"]
-    keep = [i for i, f in enumerate(source["family"]) if sweep or f == "far_sphere"]
+    keep = [i for i, f in enumerate(source["family"]) if (sweep or f == "far_sphere") and number(ratio[i])]
     if not keep:
         return
-    shown = ["naive", "geometric", "stable_roots", "hearn_baker", "fma_discriminant"]
-    edges = [10 ** (1 + 0.25 * i) for i in range(0, 33)]
-    fig, axes = plt.subplots(2, 2, figsize=(15, 9), sharex=True)
+    # The forms that show the story (and any plugin); every audited variant when none of them was audited.
+    present = list(dict.fromkeys(t["variant"] for t in source["targets"].values()))
+    known = ["naive", "geometric", "stable_roots", "hearn_baker", "fma_discriminant"]
+    variants = [v for v in present if v in known or v not in VARIANT_COLOURS] or present
+    decades = sorted({math.floor(math.log10(number(ratio[i]))) for i in keep})
+    bins = list(range(decades[0], decades[-1] + 1))
+    names = ["$10^{%d}$–$10^{%d}$" % (d, d + 1) for d in bins]
+    xs = list(range(len(bins)))
+    fig, axes = plt.subplots(3, 2, figsize=(16, 11), sharex=True, gridspec_kw={"height_ratios": [3, 3, 1.3]})
     for column, precision in enumerate(["float", "double"]):
-        for variant in shown:
+        counts, has_error = None, False
+        for variant in variants:
             t = source["targets"].get(variant + "/" + precision)
             if not t:
                 continue
-            centres, worst, rate = [], [], []
-            for lo, hi in zip(edges, edges[1:]):
-                idx = [i for i in keep if ratio[i] is not None and lo <= number(ratio[i]) < hi
+            worst, rate, n = [], [], []
+            for d in bins:
+                idx = [i for i in keep if math.floor(math.log10(number(ratio[i]))) == d
                        and t["verdict"][i] not in ("invalid", "contract_violation")]
-                if not idx:
-                    continue
                 errors = [number(t["near_ulp"][i]) for i in idx if t["near_ulp"][i] is not None]
-                wrong = sum(1 for i in idx if t["verdict"][i] in MISCLASS)
-                centres.append(math.sqrt(lo * hi))
-                worst.append(max([max(e, FLOOR) for e in errors if math.isfinite(e)] or [math.nan]))
-                rate.append(wrong / len(idx))
+                errors = [e for e in errors if math.isfinite(e)]
+                worst.append(max(errors) if errors else None)
+                rate.append(sum(1 for i in idx if t["verdict"][i] in MISCLASS) / len(idx) if idx else None)
+                n.append(len(idx))
+            counts = counts or n
+            has_error = has_error or any(w is not None for w in worst)
             # naive is drawn dashed on top: stable_roots and fma_discriminant share its C and often its line.
-            style = dict(color=colour(variant), label=variant, ms=3,
-                         ls="--" if variant == "naive" else "-", lw=2.2 if variant == "naive" else 1.2,
-                         zorder=4 if variant == "naive" else 3, marker="o")
-            axes[0][column].plot(centres, worst, **style)
-            axes[1][column].plot(centres, [max(r, FLOOR) for r in rate], **style)
-        for row in (0, 1):
-            ax = axes[row][column]
-            ax.axvline(4096, color="grey", ls="--", lw=1)
-            ax.text(4096, 0.98, " 4096·r", transform=ax.get_xaxis_transform(), va="top", fontsize=9)
-            ax.set_xscale("log")
-            ax.set_yscale("log")
-            ax.grid(True, alpha=0.3)
-        axes[0][column].set_title("%s: worst near-root error per bin (agreeing cases)" % precision)
-        axes[1][column].set_title("%s: misclassified fraction per bin (0 drawn at 1e-3)" % precision)
-        axes[0][column].set_ylabel("max near-root error (ulp)")
+            style = dict(color=colour(variant), label=variant, ms=5, marker="o",
+                         ls="--" if variant == "naive" else "-", lw=2.4 if variant == "naive" else 1.4,
+                         zorder=4 if variant == "naive" else 3)
+            axes[0][column].plot(xs, [w if w is None else max(w, 1e-3) for w in worst], **style)
+            axes[1][column].plot(xs, [r if r is None else max(r, 1e-3) for r in rate], **style)
+        at, text = LOST_R2[precision]
+        position = math.log10(at) - bins[0] - 0.5  # bins are centred on their index
+        if -0.5 <= position <= len(bins) - 0.5:
+            for row in (0, 1):
+                axes[row][column].axvline(position, color="grey", ls="--", lw=1)
+            right = position > len(bins) / 2
+            axes[1][column].text(position, 0.55, (" %s: no bit of r² left in C = f·f − r² " % text),
+                                 transform=axes[1][column].get_xaxis_transform(), va="center", fontsize=9,
+                                 bbox=dict(facecolor="white", edgecolor="none", alpha=0.85),
+                                 ha="right" if right else "left")
+        if has_error:
+            axes[0][column].set_yscale("log")
+        else:
+            axes[0][column].text(0.5, 0.5, "no root returned by these variants", ha="center",
+                                 transform=axes[0][column].transAxes, color="dimgrey")
+            axes[0][column].set_yticks([])
+        axes[0][column].set_ylabel("max nearest-root error (ulp)")
+        axes[0][column].set_title("%s: worst nearest-root error per bin (agreeing cases)" % precision)
+        axes[1][column].set_yscale("log")
+        axes[1][column].set_ylim(5e-4, 1.5)
+        axes[1][column].set_yticks([1e-3, 1e-2, 1e-1, 1])
+        axes[1][column].set_yticklabels(["0", "0.01", "0.1", "1"])
+        axes[1][column].minorticks_off()
         axes[1][column].set_ylabel("misclassified / scored")
-        axes[1][column].set_xlabel("distance / radius  |o − c| / r")
-        axes[0][column].legend(loc="upper left", fontsize=8)
-    fig.suptitle("Far spheres (RTG ch.7): " + what, fontsize=10)
-    fig.tight_layout()
+        axes[1][column].set_title("%s: misclassified share per bin" % precision)
+        bars = axes[2][column].bar(xs, counts or [0] * len(xs), color="lightgrey", edgecolor="grey")
+        axes[2][column].bar_label(bars, fontsize=9)
+        axes[2][column].set_ylabel("cases")
+        axes[2][column].set_ylim(0, max(counts or [1]) * 1.35)
+        axes[2][column].set_xticks(xs)
+        axes[2][column].set_xticklabels(names)
+        axes[2][column].set_xlabel("distance / radius  |o − c| / r  (one bin per decade)")
+        for row in (0, 1):
+            axes[row][column].grid(True, alpha=0.3)
+    shown = [v for v in variants if any(v + "/" + p in source["targets"] for p in ("float", "double"))]
+    fig.legend(handles=[plt.Line2D([], [], color=colour(v), marker="o", ls="--" if v == "naive" else "-",
+                                   lw=2.4 if v == "naive" else 1.4, label=v) for v in shown],
+               loc="upper center", ncol=len(shown), bbox_to_anchor=(0.5, 0.965), frameon=False)
+    fig.suptitle("Far spheres (Ray Tracing Gems ch. 7): " + what, fontsize=11)
+    fig.tight_layout(rect=(0, 0, 1, 0.94))
     save(fig, directory, "far_sphere.png")
 
 
 def plot_histograms(report, directory):
     points = report["case_points"]
-    targets = target_columns(points)
-    n = len(targets)
-    cols = 4
-    rows = math.ceil(n / cols)
-    edges = [0] + [10 ** (e / 2) for e in range(-6, 41)]
-    fig, axes = plt.subplots(rows, cols, figsize=(4.2 * cols, 3.0 * rows), sharex=True, sharey=True, squeeze=False)
+    targets = root_targets(points)
+    if not targets:
+        return
+    # x is log10 of the error: a bar of its own for exactly 0 (at -4) and for
+    # 1e20 and beyond, infinity included (at 21); half-decade bins between.
+    zero_at, beyond_at = -4.0, 21.0
+    edges = [zero_at - 0.25, zero_at + 0.25] + [e / 2 for e in range(-6, 41)] + [beyond_at - 0.25, beyond_at + 0.25]
+    fig, axes = panel_grid(len(targets), 4, 4.2, 3.0)
+    top = 1
     for ax, (label, t) in zip(axes.flat, targets):
         values = [number(u) for u in t["near_ulp"] if u is not None]
-        values = [min(max(v, 1.5e-3), 9e19) if math.isfinite(v) else 9e19 for v in values]
-        ax.hist(values, bins=[1e-3] + edges[1:], color=colour(t["variant"]))
-        ax.set_xscale("log")
-        ax.set_yscale("log")
-        ax.axvline(0.5, color="black", lw=0.8, ls=":")
-        ax.set_title(label, fontsize=10)
+        xs = []
+        for v in values:
+            if v == 0:
+                xs.append(zero_at)
+            elif not math.isfinite(v) or v >= 1e20:
+                xs.append(beyond_at)
+            else:
+                xs.append(min(max(math.log10(v), -3.0), 19.99))
+        counts, _, _ = ax.hist(xs, bins=edges, color=colour(t["variant"]))
+        top = max(top, max(counts))
+        ax.axvline(math.log10(0.5), color="black", lw=0.8, ls=":")
+        ax.set_title("%s (%d cases)" % (label, len(values)))
         ax.grid(True, alpha=0.3)
-    for ax in axes.flat[n:]:
-        ax.set_visible(False)
-    for ax in axes[-1]:
-        ax.set_xlabel("near-root error (ulp; 0 in the first bin, > 1e19 and inf in the last)")
-    for ax in axes[:, 0]:
-        ax.set_ylabel("cases")
-    fig.suptitle("Near-root ULP error per variant (agreeing cases; dotted: 0.5 ulp, correctly rounded)")
-    fig.tight_layout(rect=(0, 0, 1, 0.98))
+    for ax in axes.flat[:len(targets)]:
+        ax.set_yscale("log")
+        ax.set_ylim(0.7, top * 2)
+        ax.set_xlim(zero_at - 0.6, beyond_at + 0.6)
+        ax.set_xticks([zero_at, 0, 5, 10, 15, beyond_at])
+        ax.set_xticklabels(["0", "1", "$10^5$", "$10^{10}$", "$10^{15}$", "≥1e20"])
+        ax.minorticks_off()
+    fig.supxlabel("nearest-root error, ulp (log; half-decade bins; own bars for 0 and for ≥ 1e20 or inf)")
+    fig.supylabel("cases (log)")
+    fig.suptitle("Nearest-root ULP error per variant: agreeing cases of the plot sample "
+                 "(dotted: 0.5 ulp, correctly rounded)")
+    fig.tight_layout(rect=(0, 0, 1, 0.985))
     save(fig, directory, "ulp_histograms.png")
 
 

@@ -16,7 +16,7 @@ std::vector<variant> long_double_variants() {
                 const root_pair<long double> r = kernel(rounded_to<long double>(s));
                 return root_pair<double>{r.count, static_cast<double>(r.t0), static_cast<double>(r.t1)};
             };
-            if (takes_interval(base->promises.query))
+            if (takes_interval(base->promises))
                 v.run_double_in = [kernel](const ray_sphere<double>& s, double tmin, double tmax) {
                     const root_pair<long double> r = kernel(rounded_to<long double>(s), static_cast<long double>(tmin),
                                                             static_cast<long double>(tmax));

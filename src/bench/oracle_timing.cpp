@@ -137,7 +137,7 @@ std::string format_oracle_timing(const oracle_timing& t) {
             if (r.family == family) return &r;
         return nullptr;
     };
-    out += "targets (issue 7), this run:\n";
+    out += "targets, this run:\n";
     const auto target = [&out](const std::string& what, double value, double limit, bool at_most) {
         const bool met = at_most ? value <= limit : value >= limit;
         out += fmt::format("  {:<44} {:>8.1f}x  target {}{:g}x  {}\n", what, value, at_most ? "<= " : ">= ", limit,

@@ -8,7 +8,7 @@
 #include <limits>
 
 #include "bench/kernels.h"
-#include "compare/query.h"
+#include "compare/judge.h"
 #include "core/input_error.h"
 #include "scene/scene_audit.h"
 
@@ -86,21 +86,25 @@ prepared_rays<T> prepare(const scene& s, const std::vector<const scene_ray*>& ra
     return p;
 }
 
-// The first root of the answer in (tmin, upper), as a renderer takes it.
+// The first root of the answer in (tmin, upper), as a renderer takes it
+// (judge.h's renderer_view, without the bookkeeping a judge needs: this is
+// the timed loop). An interval contract was asked for (tmin, upper) itself.
 template <class T>
-bool first_root_in(query_kind kind, const root_pair<T>& a, T tmin, T upper, T& t) {
+bool first_root_in(const contract& promises, const root_pair<T>& a, T tmin, T upper, T& t) {
     if (a.count <= 0) return false;
-    switch (kind) {
-        case query_kind::any_hit_in_interval: return true;
-        case query_kind::nearest_in_interval: t = a.t0; return true;
-        case query_kind::nearest_on_ray: t = a.t0; return t > tmin && t < upper;
+    const auto inside = [&](T x) { return x > tmin && x < upper; };
+    switch (promises.query) {
+        case query_kind::any_hit: return true;
+        case query_kind::nearest_hit:
+            t = a.t0;
+            return takes_interval(promises) || inside(t);
         case query_kind::line_roots:
-            if (a.t0 > tmin && a.t0 < upper) {
+            if (inside(a.t0)) {
                 t = a.t0;
                 return true;
             }
             t = a.t1;
-            return t > tmin && t < upper;
+            return inside(t);
     }
     return false;
 }
@@ -109,7 +113,7 @@ bool first_root_in(query_kind kind, const root_pair<T>& a, T tmin, T upper, T& t
 // so far); an any-hit ray stops at its first hit; a hit_point_normal ray
 // also forms its hit point and normal. Returns a sum over every answer.
 template <class T, class Kernel>
-[[gnu::flatten]] double cast_all(const prepared_rays<T>& p, Kernel kernel, query_kind kind) {
+[[gnu::flatten]] double cast_all(const prepared_rays<T>& p, Kernel kernel, const contract& promises) {
     double sum = 0;
     for (const prepared_ray<T>& r : p.rays) {
         T upper = r.tmax;
@@ -122,7 +126,7 @@ template <class T, class Kernel>
                 continue;
             }
             T t{};
-            if (!first_root_in(kind, a, r.tmin, upper, t)) continue;
+            if (!first_root_in(promises, a, r.tmin, upper, t)) continue;
             hit = true;
             if (r.query == ray_query::any_hit) break;
             upper = t;
@@ -150,19 +154,19 @@ timing_row time_variant(const variant& v, const prepared_rays<T>& p, const timin
     row.precision = std::is_same_v<T, float> ? "float" : "double";
     row.family = "scene";
     row.cases = p.rays.size();
-    const query_kind kind = v.promises.query;
+    const contract promises = v.promises;
     std::optional<timing_row> timed;
     const variant* builtin = find_builtin_variant(v.name);
     if (builtin && builtin->citation == v.citation)
         for_each_kernel([&](std::string_view name, auto kernel) {
             if (name == v.name)
-                timed = time_pass(row, [&p, kernel, kind] { return cast_all(p, kernel, kind); }, options);
+                timed = time_pass(row, [&p, kernel, promises] { return cast_all(p, kernel, promises); }, options);
         });
     if (!timed) {
         const auto through = [&v](const ray_sphere<T>& s, T tmin, T tmax) {
             return run_in(v, s, ray_interval<T>{tmin, tmax});
         };
-        timed = time_pass(row, [&p, through, kind] { return cast_all(p, through, kind); }, options);
+        timed = time_pass(row, [&p, through, promises] { return cast_all(p, through, promises); }, options);
         timed->variant += " (called through a function pointer)";
     }
     return *timed;
@@ -175,15 +179,15 @@ recommend_candidate judged(const scene_target_figures& f, ray_kind kind, ray_que
     const ray_kind_figures& k = f.by_kind[static_cast<std::size_t>(kind)];
     c.rays = k.rays;
     c.wrong = k.disagreements();
-    c.false_miss = k.verdicts[static_cast<std::size_t>(ray_verdict::false_miss)];
-    c.false_hit = k.verdicts[static_cast<std::size_t>(ray_verdict::false_hit)];
+    c.false_miss = k.verdicts[static_cast<std::size_t>(verdict_kind::false_miss)];
+    c.false_hit = k.verdicts[static_cast<std::size_t>(verdict_kind::false_hit)];
     if (query != ray_query::any_hit && k.nearest_ulp.count > 0) {
         c.max_ulp = k.nearest_ulp.max;
-        c.max_ulp_ray = k.nearest_ulp.max_case;
+        c.max_ulp_ray = k.nearest_ulp.max_id;
     }
     if (query == ray_query::both_roots && k.far_ulp.count > 0 && k.far_ulp.max > c.max_ulp.value_or(-1)) {
         c.max_ulp = k.far_ulp.max;
-        c.max_ulp_ray = k.far_ulp.max_case;
+        c.max_ulp_ray = k.far_ulp.max_id;
     }
     const bool accurate = !c.max_ulp || *c.max_ulp <= budget.max_ulp;
     c.meets_budget = c.wrong <= budget.max_wrong && accurate;

@@ -2,7 +2,7 @@
 
 #include <string_view>
 
-#include "compare/query.h"
+#include "compare/judge.h"
 #include "intersectors/robust.h"
 
 namespace rayverify::bench {
@@ -25,10 +25,10 @@ robust_fallback_row count(const std::string& family, std::string_view name, cons
     robust_fallback_row row{family, std::string(name), precision_name(prec)};
     for (const corpus_case& c : cases) {
         if (validity<T>(c.geometry) != invalid_reason::none) continue;
-        const ray_interval<double> wide = interval_of(c, prec);
+        const t_range range = range_for(intersectors::robust_nearest_contract, c, prec);
         ++row.cases;
         if (!fast_path_answers<T>(name, rounded_to<T>(c.geometry),
-                                  {static_cast<T>(wide.tmin), static_cast<T>(wide.tmax)}))
+                                  {static_cast<T>(range.lower), static_cast<T>(range.upper)}))
             ++row.exact;
     }
     return row;

@@ -10,6 +10,7 @@
 #include "corpus/corpus_io.h"
 #include "report/atomic_file.h"
 #include "report/audit_report.h"
+#include "report/audit_summary.h"
 #include "report/markdown_report.h"
 #include "report/shard_state.h"
 #include "report/stability_report.h"
@@ -27,6 +28,7 @@ struct audit_options {
     std::string report_dir;
     std::string per_case_file;
     bool plots = false;
+    audit_presentation presentation;
     unsigned threads = 0;  // 0: every hardware thread
     std::string shard;
     std::string scene;  // issue 6: audit a scene's rays instead (cli/scene_audit.cpp)
@@ -36,13 +38,6 @@ struct audit_options {
 std::function<void(std::size_t)> progress_reporter() {
     if (!isatty(STDERR_FILENO)) return {};
     return [](std::size_t done) { fmt::print(stderr, "\raudit: {} cases", done); };
-}
-
-// An output path naming an existing directory fails before the audit, not at the rename after it.
-void refuse_directory(const std::filesystem::path& path, const char* option) {
-    std::error_code error;
-    if (!path.empty() && std::filesystem::is_directory(path, error))
-        throw input_error(path.string(), 0, option, "is a directory, expected a file to write");
 }
 
 // Where a shard's per-case file is, as the merge finds it: relative to the
@@ -91,6 +86,7 @@ int run(const audit_options& options, const std::string& command_line) {
     audit_outputs outputs;
     outputs.open_report(report_dir);  // first: it creates the directory, which may hold the per-case file
     if (!options.per_case_file.empty()) outputs.per_case.emplace(options.per_case_file);
+    open_presentation(outputs, options.presentation);
     std::optional<atomic_file> state_file;
     if (!options.shard.empty()) {
         refuse_directory(report_dir / shard_state_file, "--report");
@@ -102,12 +98,12 @@ int run(const audit_options& options, const std::string& command_line) {
     std::vector<std::string> lines(outputs.per_case ? case_stream::default_chunk : 0);
     audit_hooks hooks;
     hooks.parallel = [&](const audited_case& c, std::size_t index, std::size_t slot, unsigned worker) {
-        const case_stability s = assess_case(c, targets);
+        const case_stability s = assess_case(c);
         states[worker].stability.add(c, s, index);
         if (outputs.report_json) states[worker].points.add(c, s, index);
         if (!outputs.per_case) return;
         nlohmann::ordered_json line = per_case_json(c, targets);
-        add_stability_fields(line, s, targets);
+        add_stability_fields(line, s);
         lines[slot] = line.dump();
     };
     if (outputs.per_case)
@@ -129,7 +125,7 @@ int run(const audit_options& options, const std::string& command_line) {
     for (const auto& p : paths) context.corpus_paths.push_back(p.string());
     for (const generate_spec& s : specs) context.generated.push_back(s.text());
     std::optional<nlohmann::ordered_json> report;
-    if (outputs.report_json) {
+    if (outputs.report_json || outputs.summary_md) {
         report = audit_report_document(states[0], context);
         if (state_file) {
             nlohmann::ordered_json state = {
@@ -156,7 +152,7 @@ int run(const audit_options& options, const std::string& command_line) {
         }
     }
     if (state_file) state_file->commit();
-    return publish_audit(states[0].audit.finish(), report, report_dir, outputs, options.plots);
+    return publish_audit(states[0].audit.finish(), report, report_dir, outputs, options.plots, options.presentation);
 }
 
 }  // namespace
@@ -166,9 +162,9 @@ std::string recorded_command(const std::string& command_line) {
     // run change no figure: they are left out, so that any thread count, any
     // sharding, any output directory and a plugin isolated or not record the
     // same command.
-    static const std::vector<std::string> with_value = {"--threads", "--shard", "--report", "--per-case",
+    static const std::vector<std::string> with_value = {"--threads", "--shard", "--report", "--per-case", "--summary-md",
                                                         "--plugin-timeout"};
-    static const std::vector<std::string> flags = {"--plots", "--isolate"};
+    static const std::vector<std::string> flags = {"--plots", "--isolate", "--summary"};
     std::vector<std::string> words;
     for (std::size_t at = 0; at <= command_line.size();) {
         const std::size_t end = std::min(command_line.find(' ', at), command_line.size());
@@ -214,17 +210,20 @@ void audit_outputs::open_report(const std::filesystem::path& report_dir) {
 }
 
 int publish_audit(const audit_totals& totals, const std::optional<nlohmann::ordered_json>& report,
-                  const std::filesystem::path& report_dir, audit_outputs& outputs, bool plots) {
+                  const std::filesystem::path& report_dir, audit_outputs& outputs, bool plots,
+                  const audit_presentation& presentation) {
     const std::string table = render_summary_table(totals);
     if (outputs.report_json) {
         outputs.report_json->stream() << report->dump(2) << '\n';
         outputs.summary->stream() << table;
     }
-    for (std::optional<atomic_file>* output : {&outputs.per_case, &outputs.report_json, &outputs.summary})
+    if (outputs.summary_md) outputs.summary_md->stream() << render_summary_markdown(*report);
+    for (std::optional<atomic_file>* output :
+         {&outputs.per_case, &outputs.report_json, &outputs.summary, &outputs.summary_md})
         if (*output) (*output)->commit();
     outputs.created.keep = true;
 
-    fmt::print("{}", table);
+    fmt::print("{}", presentation.summary ? render_family_summary(totals) : table);
     fmt::print("build: {}\n", build_summary());
     if (outputs.report_json) {
         // report.md and the plots render the committed report.json.
@@ -260,6 +259,7 @@ command add_audit_command(CLI::App& app, const std::string& command_line) {
                     "Directory for report.json, summary.txt, report.md and the PNG plots");
     sub->add_flag("--plots", options->plots,
                   "With --report: also draw the PNG plots (tools/plot_report.py, matplotlib; takes seconds)");
+    add_presentation_options(sub, options->presentation);
     sub->add_option("--per-case", options->per_case_file, "Write one JSON object per case to this file");
     sub->add_option("--threads", options->threads,
                     "Threads auditing cases (default: every hardware thread); the output is the same for any number")

@@ -64,7 +64,7 @@ accuracy_run audit_with_stability(const std::vector<corpus_case>& cases, const s
     case_points points(targets, labels);
     std::size_t index = 0;
     const auto on_case = [&](const audited_case& c) {
-        const case_stability s = assess_case(c, targets);
+        const case_stability s = assess_case(c);
         stability.add(c, s, index);
         points.add(c, s, index++);
     };

@@ -78,7 +78,7 @@ void add_isolation_options(CLI::App* sub, plugin_isolation& isolation);
 
 // Shared by audit and merge (cli/audit_command.cpp).
 // The command line as reports record it: without --threads, --shard,
-// --report, --per-case, --plots, --isolate and --plugin-timeout, which change
+// --report, --per-case, --plots, --summary, --isolate and --plugin-timeout, which change
 // where outputs go or how the work is spread or run, never a figure.
 std::string recorded_command(const std::string& command_line);
 
@@ -100,14 +100,30 @@ struct audit_outputs {
     };
     std::filesystem::path dir;
     created_directory created;  // declared first: removed after the temporaries inside it
-    std::optional<atomic_file> per_case, report_json, summary;
+    std::optional<atomic_file> per_case, report_json, summary, summary_md;
     void open_report(const std::filesystem::path& report_dir);  // nothing when empty
 };
 
-// Commits the outputs (report.json and summary.txt when the report is open),
-// prints the summary table, renders report.md (and the plots), and returns
+// An output path naming an existing directory fails before the work, not at
+// the rename after it (input_error naming `option`).
+void refuse_directory(const std::filesystem::path& path, const char* option);
+
+// How an audit's results are shown beside its report files (audit and merge;
+// cli/report_options.cpp).
+struct audit_presentation {
+    bool summary = false;    // --summary: one line per variant family instead of the full table
+    std::string summary_md;  // --summary-md FILE: the headline and compact table of report.md
+};
+void add_presentation_options(CLI::App* sub, audit_presentation& presentation);
+// Opens --summary-md's file (as a temporary) when one is named.
+void open_presentation(audit_outputs& outputs, const audit_presentation& presentation);
+
+// Commits the outputs (report.json and summary.txt when the report is open,
+// the Markdown summary when asked), prints the summary table (or one line per
+// variant family), renders report.md (and the plots), and returns
 // exit_findings when any target disagrees with the oracle on some case.
 int publish_audit(const audit_totals& totals, const std::optional<nlohmann::ordered_json>& report,
-                  const std::filesystem::path& report_dir, audit_outputs& outputs, bool plots);
+                  const std::filesystem::path& report_dir, audit_outputs& outputs, bool plots,
+                  const audit_presentation& presentation = {});
 
 }  // namespace rayverify::cli

@@ -63,10 +63,13 @@ corpus_case case_from_corpus(const explain_options& options) {
 }
 
 std::string root_text(double t, int sign) {
-    const char* side = sign > 0 ? "in front" : (sign == 0 ? "at the origin" : "behind");
+    const char* side = sign > 0 ? "t* > 0" : (sign == 0 ? "t* = 0" : "t* < 0");
     return fmt::format("{} ({}, {})", t, hex_float(t), side);
 }
 
+// The facts of the line, for any contract: the class, each root (correctly
+// rounded) with its exact sign, and each root's point o + t·d. Which root a
+// variant is asked for depends on its contract: each row below says.
 void print_exact(const char* label, const exact_solution& e) {
     if (!e.valid()) {
         fmt::print("{}: invalid ({})\n", label, invalid_reason_name(e.invalid));
@@ -74,14 +77,10 @@ void print_exact(const char* label, const exact_solution& e) {
     }
     fmt::print("{}: {}\n", label, line_class_name(e.cls));
     if (e.cls == line_class::miss) return;
-    fmt::print("    t_near = {}\n    t_far  = {}\n", root_text(e.near_root.rounded, e.near_root.sign),
-               root_text(e.far_root.rounded, e.far_root.sign));
-    if (e.nearest_in_front)
-        fmt::print("    hit point (nearest root in front) = ({}, {}, {})\n", e.hit_point.x, e.hit_point.y,
-                   e.hit_point.z);
-    else
-        fmt::print("    no root in front of the origin\n");
-    if (e.hits_interval) fmt::print("    a root in [tmin, tmax]: {}\n", *e.hits_interval ? "yes" : "no");
+    for (root_index i : {root_index::near_root, root_index::far_root})
+        fmt::print("    t_{} = {}, point ({}, {}, {})\n", i == root_index::near_root ? "near" : "far ",
+                   root_text(e.root(i).rounded, e.root(i).sign), e.rounded_hit_coordinate(i, 0),
+                   e.rounded_hit_coordinate(i, 1), e.rounded_hit_coordinate(i, 2));
 }
 
 std::string optional_number(const std::optional<double>& x) {
@@ -106,27 +105,38 @@ int run(const explain_options& options) {
     print_exact("exact, double inputs", audited.exact_double);
     if (audited.exact_float) print_exact("exact, inputs rounded to float", *audited.exact_float);
 
-    fmt::print("\n{:<26} {:<18} {:>5} {:>24} {:>24} {:>10} {:>10}\n", "variant", "verdict", "count", "t0", "t1",
-               "near_ulp", "far_ulp");
+    fmt::print("\n{:<26} {:<18} {:<20} {:>5} {:>24} {:>24} {:>10} {:>10}\n", "variant", "verdict", "cause", "count",
+               "t0", "t1", "near_ulp", "far_ulp");
     bool findings = false;
     std::vector<verdict_kind> seen;
+    std::vector<disagreement_cause> causes;
     for (std::size_t i = 0; i < targets.size(); ++i) {
         const target_outcome& o = audited.outcomes[i];
+        const contract& promises = targets[i].subject.promises;
         const auto& r = o.output.roots;
         const bool ran = o.score.verdict != verdict_kind::invalid && o.score.verdict != verdict_kind::contract_violation;
-        fmt::print("{:<26} {:<18} {:>5} {:>24} {:>24} {:>10} {:>10}\n", targets[i].label(),
-                   verdict_name(o.score.verdict), ran ? std::to_string(r.count) : "-",
-                   ran && r.count > 0 ? fmt::format("{}", r.t0) : "-",
-                   ran && r.count > 1 ? fmt::format("{}", r.t1) : "-", optional_number(o.score.near_ulp),
+        // Every value the judge looked at: a line answer's t1 even with count 1.
+        const bool shows_t0 = ran && r.count > 0 && promises.query != query_kind::any_hit;
+        const bool shows_t1 = shows_t0 && promises.query == query_kind::line_roots;
+        fmt::print("{:<26} {:<18} {:<20} {:>5} {:>24} {:>24} {:>10} {:>10}\n", targets[i].label(),
+                   verdict_name(o.score.verdict), o.score.cause ? cause_name(*o.score.cause) : "-",
+                   ran ? std::to_string(r.count) : "-", shows_t0 ? fmt::format("{}", r.t0) : "-",
+                   shows_t1 ? fmt::format("{}", r.t1) : "-", optional_number(o.score.near_ulp),
                    optional_number(o.score.far_ulp));
+        if (ran) fmt::print("    contract: {}\n", describe_contract(promises));
+        if (ran && promises.query != query_kind::line_roots)
+            fmt::print("    asks for: {}\n", describe_expected(promises, audited.exact_for(targets[i].prec), o.range));
         if (!o.score.detail.empty()) fmt::print("    {}\n", o.score.detail);
         findings = findings || is_disagreement(o.score.verdict);
         if (o.score.verdict != verdict_kind::agree &&
             std::find(seen.begin(), seen.end(), o.score.verdict) == seen.end())
             seen.push_back(o.score.verdict);
+        if (o.score.cause && std::find(causes.begin(), causes.end(), *o.score.cause) == causes.end())
+            causes.push_back(*o.score.cause);
     }
     if (!seen.empty()) fmt::print("\n");
     for (verdict_kind k : seen) fmt::print("{}: {}\n", verdict_name(k), verdict_meaning(k));
+    for (disagreement_cause c : causes) fmt::print("cause {}: {}\n", cause_name(c), cause_meaning(c));
     return findings ? exit_findings : exit_ok;
 }
 

@@ -24,6 +24,7 @@ struct merge_options {
     std::string per_case_file;
     std::vector<std::string> shards;
     bool plots = false;
+    audit_presentation presentation;
 };
 
 struct shard_input {
@@ -137,6 +138,7 @@ int run(const merge_options& options) {
     audit_outputs outputs;
     outputs.open_report(options.output);
     if (!options.per_case_file.empty()) outputs.per_case.emplace(options.per_case_file);
+    open_presentation(outputs, options.presentation);
     if (outputs.per_case)
         interleave_per_case(shards, first.at("input").at("cases").get<std::size_t>(), outputs.per_case->stream());
 
@@ -144,7 +146,8 @@ int run(const merge_options& options) {
                         first.at("input").at("paths").get<std::vector<std::string>>(),
                         first.at("input").at("generated").get<std::vector<std::string>>()};
     const std::optional<json> report = audit_report_document(*merged, context);
-    return publish_audit(merged->audit.finish(), report, options.output, outputs, options.plots);
+    return publish_audit(merged->audit.finish(), report, options.output, outputs, options.plots,
+                         options.presentation);
 }
 
 }  // namespace
@@ -160,6 +163,7 @@ command add_merge_command(CLI::App& app) {
     sub->add_option("--per-case", options->per_case_file,
                     "Also merge the shards' per-case files (each shard run with --per-case) into this file");
     sub->add_flag("--plots", options->plots, "Also draw the PNG plots, as `audit --plots`");
+    add_presentation_options(sub, options->presentation);
     sub->add_option("shards", options->shards, "The shards' report directories")->required();
     return {sub, [options] { return run(*options); }};
 }

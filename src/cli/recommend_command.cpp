@@ -8,7 +8,7 @@
 
 #include "bench/recommend.h"
 #include "cli/commands.h"
-#include "compare/query.h"
+#include "compare/judge.h"
 #include "core/input_error.h"
 #include "plugin/plugin_loader.h"
 #include "report/audit_report.h"

@@ -52,15 +52,15 @@ std::string legend_text(const scene& s, const audit_target& target, const scene_
     for (const palette_entry& e : scene_palette())
         out += fmt::format("| `{}` | {} | {} |\n", hex(e.colour), e.name, e.meaning);
     out += "\nPixels by verdict:\n\n| ray kind |";
-    for (int v = 0; v < ray_verdict_count; ++v) out += fmt::format(" {} |", ray_verdict_name(static_cast<ray_verdict>(v)));
+    for (int v = 0; v < verdict_kind_count; ++v) out += fmt::format(" {} |", verdict_name(static_cast<verdict_kind>(v)));
     out += "\n|---|";
-    for (int v = 0; v < ray_verdict_count; ++v) out += "---|";
+    for (int v = 0; v < verdict_kind_count; ++v) out += "---|";
     out += "\n";
     for (ray_kind kind : {ray_kind::primary, ray_kind::shadow, ray_kind::secondary}) {
         const std::size_t k = static_cast<std::size_t>(kind);
         if (!p.difference[k]) continue;
         out += fmt::format("| {} |", ray_kind_name(kind));
-        for (int v = 0; v < ray_verdict_count; ++v) out += fmt::format(" {} |", p.pixels_by_verdict[k][static_cast<std::size_t>(v)]);
+        for (int v = 0; v < verdict_kind_count; ++v) out += fmt::format(" {} |", p.pixels_by_verdict[k][static_cast<std::size_t>(v)]);
         out += "\n";
     }
     return out;

@@ -15,25 +15,38 @@ namespace rayverify::cli {
 namespace {
 
 // The verdict columns a query can produce: nothing else is printed.
-std::vector<ray_verdict> verdicts_for(ray_query q) {
+std::vector<verdict_kind> verdicts_for(ray_query q) {
+    using v = verdict_kind;
     switch (q) {
-        case ray_query::any_hit: return {ray_verdict::agree, ray_verdict::false_miss, ray_verdict::false_hit};
+        case ray_query::any_hit:
+            return {v::agree, v::false_miss, v::false_hit, v::tangent_missed, v::non_finite, v::malformed_output};
         case ray_query::both_roots:
-            return {ray_verdict::agree, ray_verdict::false_miss, ray_verdict::false_hit, ray_verdict::wrong_root,
-                    ray_verdict::other};
+            return {v::agree,      v::false_miss, v::false_hit,  v::tangent_split, v::tangent_missed,
+                    v::false_tangent, v::wrong_root, v::wrong_side, v::non_finite,   v::malformed_output};
         case ray_query::nearest_hit:
         case ray_query::hit_point_normal:
-            return {ray_verdict::agree,      ray_verdict::false_miss, ray_verdict::false_hit,
-                    ray_verdict::wrong_sphere, ray_verdict::wrong_side, ray_verdict::wrong_root};
+            return {v::agree,      v::false_miss, v::false_hit,  v::tangent_missed, v::wrong_root,
+                    v::wrong_sphere, v::wrong_side, v::non_finite, v::malformed_output};
     }
     return {};
 }
+
+// How many of the disagreements the formula makes by design (the clamp's light leaks among them).
+std::size_t by_design(const ray_kind_figures& f) {
+    std::size_t n = 0;
+    for (int c = 0; c < disagreement_cause_count; ++c)
+        if (is_by_design(static_cast<disagreement_cause>(c))) n += f.causes[static_cast<std::size_t>(c)];
+    return n;
+}
+
+std::size_t column_width(std::string_view name) { return std::max<std::size_t>(6, name.size()); }
 
 const ray_kind_settings& settings_of(const scene& s, ray_kind k) {
     return k == ray_kind::primary ? s.primary : k == ray_kind::shadow ? s.shadow : s.secondary;
 }
 
-std::string ulp_cell(const error_statistics& e) {
+std::string ulp_cell(const error_summary& summary) {
+    const error_statistics e = summary.statistics();
     if (e.count == 0) return "-";
     return fmt::format("{:.3g} / {:.3g} / {:.3g}", e.median, e.p99, e.max);
 }
@@ -51,12 +64,13 @@ std::string render_scene_tables(const scene& s, const scene_audit_result& result
             out += fmt::format(", {} with an exact root in (0, tmin] (hits the ray epsilon discards)", ex.lost_to_tmin);
         out += "\n";
 
-        const std::vector<ray_verdict> columns = verdicts_for(settings.query);
+        const std::vector<verdict_kind> columns = verdicts_for(settings.query);
         const bool nearest = settings.query != ray_query::any_hit;
         const bool far = settings.query == ray_query::both_roots;
         const bool point = settings.query == ray_query::hit_point_normal;
         std::string header = fmt::format("  {:<30}", "variant");
-        for (ray_verdict v : columns) header += fmt::format(" {:>12}", ray_verdict_name(v));
+        for (verdict_kind v : columns) header += fmt::format(" {:>{}}", verdict_name(v), column_width(verdict_name(v)));
+        header += " by_design";
         if (nearest) header += fmt::format("  {:<28}", far ? "near-root ulp med/p99/max" : "nearest ulp med/p99/max");
         if (far) header += fmt::format("  {:<28}", "far-root ulp med/p99/max");
         if (point) header += fmt::format("  {:<28}", "hit-point ulp med/p99/max");
@@ -66,11 +80,13 @@ std::string render_scene_tables(const scene& s, const scene_audit_result& result
             if (t.not_applicable) continue;
             const ray_kind_figures& f = t.by_kind[k];
             std::string row = fmt::format("  {:<30}", t.target.label());
-            for (ray_verdict v : columns) row += fmt::format(" {:>12}", f.verdicts[static_cast<std::size_t>(v)]);
+            for (verdict_kind v : columns)
+                row += fmt::format(" {:>{}}", f.verdicts[static_cast<std::size_t>(v)], column_width(verdict_name(v)));
+            row += fmt::format(" {:>9}", by_design(f));
             if (nearest) row += fmt::format("  {:<28}", ulp_cell(f.nearest_ulp));
             if (far) row += fmt::format("  {:<28}", ulp_cell(f.far_ulp));
             if (point) row += fmt::format("  {:<28}", ulp_cell(f.hit_point_ulp));
-            if (nearest && f.nearest_ulp.count > 0) row += "  " + f.nearest_ulp.max_case;
+            if (nearest && f.nearest_ulp.count > 0) row += "  " + f.nearest_ulp.max_id;
             while (!row.empty() && row.back() == ' ') row.pop_back();
             out += row + "\n";
         }
@@ -85,7 +101,8 @@ std::string render_scene_tables(const scene& s, const scene_audit_result& result
     return out;
 }
 
-nlohmann::ordered_json figures_json(const error_statistics& e) {
+nlohmann::ordered_json figures_json(const error_summary& summary) {
+    const error_statistics e = summary.statistics();
     return {{"count", e.count}, {"median", e.median}, {"p99", e.p99}, {"max", e.max}, {"max_ray", e.max_case}};
 }
 
@@ -103,8 +120,12 @@ nlohmann::ordered_json scene_report_json(const scene& s, const scene_audit_resul
             if (!settings.enabled) continue;
             const ray_kind_figures& f = t.by_kind[static_cast<std::size_t>(kind)];
             nlohmann::ordered_json k = {{"query", ray_query_name(settings.query)}, {"rays", f.rays}};
-            for (ray_verdict v : verdicts_for(settings.query))
-                k["verdicts"][std::string(ray_verdict_name(v))] = f.verdicts[static_cast<std::size_t>(v)];
+            for (verdict_kind v : verdicts_for(settings.query))
+                k["verdicts"][std::string(verdict_name(v))] = f.verdicts[static_cast<std::size_t>(v)];
+            for (int c = 0; c < disagreement_cause_count; ++c)
+                if (f.causes[static_cast<std::size_t>(c)] > 0)
+                    k["causes"][std::string(cause_name(static_cast<disagreement_cause>(c)))] =
+                        f.causes[static_cast<std::size_t>(c)];
             if (settings.query != ray_query::any_hit) k["nearest_ulp"] = figures_json(f.nearest_ulp);
             if (settings.query == ray_query::both_roots) k["far_ulp"] = figures_json(f.far_ulp);
             if (settings.query == ray_query::hit_point_normal) k["hit_point_ulp"] = figures_json(f.hit_point_ulp);

@@ -13,36 +13,22 @@ command add_variants_command(CLI::App& app) {
     return {sub, [as_json] {
                 if (*as_json) {
                     nlohmann::ordered_json all = nlohmann::ordered_json::array();
-                    for (const variant& v : builtin_variants()) {
-                        const contract& c = v.promises;
+                    for (const variant& v : builtin_variants())
                         all.push_back({{"name", v.name},
                                        {"citation", v.citation},
                                        {"formula", v.formula},
-                                       {"query", query_kind_name(c.query)},
-                                       {"assumes_unit_direction", c.assumes_unit_direction},
-                                       {"reports_tangent", c.reports_tangent},
-                                       {"tangent_rule", std::string(c.tangent_rule)},
-                                       {"clamps_to_zero", c.clamps_to_zero},
+                                       {"contract", contract_json(v.promises)},
                                        {"precisions", {"float", "double"}}});
-                    }
                     fmt::print("{}\n", all.dump(2));
                     return exit_ok;
                 }
                 for (const variant& v : builtin_variants()) {
                     const contract& c = v.promises;
-                    fmt::print("{}\n  source:   {}\n  formula:  {}\n", v.name, v.citation, v.formula);
-                    fmt::print("  returns:  {}\n",
-                               c.query == query_kind::line_roots ? "both roots of the line, ordered, negative roots included"
-                               : c.query == query_kind::any_hit_in_interval
-                                   ? "whether some root lies in the ray's interval (tmin, tmax), no root"
-                               : c.query == query_kind::nearest_in_interval
-                                   ? "the nearest root in the ray's interval (tmin, tmax)"
-                               : (c.clamps_to_zero ? "nearest hit on the ray t >= 0, clamped to 0 when the origin is inside"
-                                                   : "nearest hit on the ray t >= 0"));
-                    fmt::print("  assumes:  {}\n", c.assumes_unit_direction ? "unit direction (|d|^2 = 1 within 8 eps)"
-                                                                           : "any nonzero direction");
-                    fmt::print("  tangent:  {}\n  precision: float, double\n\n",
-                               c.reports_tangent ? std::string(c.tangent_rule) : std::string("not reported separately"));
+                    fmt::print("{}\n  source:    {}\n  formula:   {}\n", v.name, v.citation, v.formula);
+                    fmt::print("  answers:   {}\n", describe_contract(c));
+                    fmt::print("  contract:  {}\n", format_contract(c));
+                    if (c.reports_tangent) fmt::print("  tangent:   {}\n", c.tangent_rule);
+                    fmt::print("  precision: float, double\n\n");
                 }
                 return exit_ok;
             }};

@@ -9,7 +9,6 @@
 #include <iterator>
 #include <thread>
 
-#include "compare/query.h"
 #include "core/case_in_progress.h"
 
 namespace rayverify {
@@ -22,64 +21,18 @@ std::vector<audit_target> targets_for(std::span<const variant> variants) {
     return targets;
 }
 
-namespace {
-
-template <class T>
-target_outcome run_target(const audit_target& target, const corpus_case& c, const exact_solution& exact) {
-    target_outcome outcome;
-    if (!exact.valid()) {
-        outcome.score.verdict = verdict_kind::invalid;
-        outcome.score.detail = invalid_reason_name(exact.invalid);
-        return outcome;
-    }
-    const ray_sphere<T> input = rounded_to<T>(c.geometry);
-    const ray_sphere<double> widened = rounded_to<double>(input);
-    if (auto breach = contract_breach(target.subject.promises, widened, target.prec)) {
-        outcome.score.verdict = verdict_kind::contract_violation;
-        outcome.score.detail = *breach;
-        return outcome;
-    }
-    // Kinds that take an interval are asked for the case's (default (0, +inf)).
-    const ray_interval<double> asked = interval_of(c, target.prec);
-    outcome.output = evaluate(target.subject, input, ray_interval<T>{static_cast<T>(asked.tmin), static_cast<T>(asked.tmax)});
-    outcome.score = score_case(target.subject.promises, outcome.output, exact, widened);
-    return outcome;
-}
-
-exact_solution solve_at(const corpus_case& c, precision p) {
-    // A case that overflows float is invalid there; the oracle then never sees it.
-    const invalid_reason reason =
-        p == precision::binary32 ? validity<float>(c.geometry) : validity<double>(c.geometry);
-    if (reason != invalid_reason::none) {
-        exact_solution invalid;
-        invalid.prec = p;
-        invalid.invalid = reason;
-        return invalid;
-    }
-    const ray_sphere<double> input = p == precision::binary32 ? rounded_to<double>(rounded_to<float>(c.geometry))
-                                                              : c.geometry;
-    const auto bound = [p](std::optional<double> t) -> std::optional<double> {
-        if (!t || p == precision::binary64) return t;
-        return static_cast<double>(static_cast<float>(*t));
-    };
-    return solve_exact(input, p, bound(c.tmin), bound(c.tmax));
-}
-
-}  // namespace
-
 audited_case audit_case(const corpus_case& c, std::span<const audit_target> targets) {
     const case_in_progress announced(c);  // named by a plugin that crashes or hangs on it
     audited_case result;
     result.source = &c;
-    result.exact_double = solve_at(c, precision::binary64);
+    result.exact_double = solve_case(c, precision::binary64);
     if (std::any_of(targets.begin(), targets.end(),
                     [](const audit_target& t) { return t.prec == precision::binary32; }))
-        result.exact_float = solve_at(c, precision::binary32);
+        result.exact_float = solve_case(c, precision::binary32);
     result.outcomes.reserve(targets.size());
     for (const audit_target& target : targets) {
         const exact_solution& exact = result.exact_for(target.prec);
-        result.outcomes.push_back(target.prec == precision::binary32 ? run_target<float>(target, c, exact)
-                                                                     : run_target<double>(target, c, exact));
+        result.outcomes.push_back(judge_target(target, c, exact));
     }
     return result;
 }
@@ -88,6 +41,13 @@ std::size_t target_tally::disagreements() const {
     std::size_t n = 0;
     for (int k = 0; k < verdict_kind_count; ++k)
         if (is_disagreement(static_cast<verdict_kind>(k))) n += verdicts[k];
+    return n;
+}
+
+std::size_t target_tally::by_design() const {
+    std::size_t n = 0;
+    for (int c = 0; c < disagreement_cause_count; ++c)
+        if (is_by_design(static_cast<disagreement_cause>(c))) n += causes[c];
     return n;
 }
 
@@ -169,6 +129,7 @@ error_statistics error_summary::statistics() const {
 void target_samples::merge(const target_samples& other) {
     cases += other.cases;
     for (int k = 0; k < verdict_kind_count; ++k) verdicts[k] += other.verdicts[k];
+    for (int c = 0; c < disagreement_cause_count; ++c) causes[c] += other.causes[c];
     near_ulp.merge(other.near_ulp);
     far_ulp.merge(other.far_ulp);
     hit_ulp.merge(other.hit_ulp);
@@ -202,6 +163,7 @@ void audit_accumulator::add(const audited_case& c, std::size_t index) {
         for (target_samples* s : {&overall[t], &family_samples[t]}) {
             ++s->cases;
             ++s->verdicts[static_cast<int>(score.verdict)];
+            if (score.cause) ++s->causes[static_cast<int>(*score.cause)];
             if (score.verdict != verdict_kind::agree) continue;
             const std::string& id = c.source->id;
             if (score.near_ulp) s->near_ulp.add(*score.near_ulp, index, id);
@@ -233,6 +195,7 @@ target_tally summarise(const target_samples& s) {
     target_tally tally;
     tally.cases = s.cases;
     tally.verdicts = s.verdicts;
+    tally.causes = s.causes;
     tally.near_root_ulp = s.near_ulp.statistics();
     tally.far_root_ulp = s.far_ulp.statistics();
     tally.hit_point_ulp = s.hit_ulp.statistics();

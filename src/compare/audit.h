@@ -13,27 +13,15 @@
 
 #include <boost/container/flat_map.hpp>
 
-#include "compare/verdict.h"
+#include "compare/judge.h"
 #include "core/ray_sphere_case.h"
 #include "intersectors/registry.h"
 #include "oracle/oracle.h"
 
 namespace rayverify {
 
-// One variant in one precision, e.g. naive/float.
-struct audit_target {
-    variant subject;
-    precision prec = precision::binary64;
-    std::string label() const { return subject.name + "/" + precision_name(prec); }
-};
-
 // Every variant of `variants` in each precision it runs in, float first.
 std::vector<audit_target> targets_for(std::span<const variant> variants);
-
-struct target_outcome {
-    case_score score;
-    variant_output output;  // empty for invalid or contract-violating cases
-};
 
 struct audited_case {
     const corpus_case* source = nullptr;
@@ -111,6 +99,7 @@ void merge_per_target(std::vector<Tally>& overall, std::map<std::string, std::ve
 struct target_samples {
     std::size_t cases = 0;
     std::array<std::size_t, verdict_kind_count> verdicts{};
+    std::array<std::size_t, disagreement_cause_count> causes{};  // of the disagreements
     error_summary near_ulp, far_ulp, hit_ulp, near_bits;
     void merge(const target_samples& other);
 };
@@ -119,9 +108,11 @@ struct target_samples {
 struct target_tally {
     std::size_t cases = 0;
     std::array<std::size_t, verdict_kind_count> verdicts{};
+    std::array<std::size_t, disagreement_cause_count> causes{};  // of the disagreements
     // Errors over the cases whose verdict is agree (disagreements are counted above).
     error_statistics near_root_ulp, far_root_ulp, hit_point_ulp, near_root_bits;
     std::size_t disagreements() const;
+    std::size_t by_design() const;  // disagreements with a by-design cause
 };
 
 // A case that is invalid in some precision: listed in reports, never scored.

@@ -15,13 +15,22 @@
 namespace rayverify {
 namespace {
 
-constexpr std::array<std::string_view, 14> figure_list = {
-    "cases",         "false_miss",   "false_hit",    "tangent_split", "tangent_missed",
-    "false_tangent", "wrong_root",   "wrong_side",   "non_finite",    "malformed_output",
-    "near_ulp_max",  "near_ulp_p99", "far_ulp_max",  "far_ulp_p99"};
+// The figures in baseline order: the case count, each disagreement verdict
+// (judge.h's names, in verdict order), then the ULP figures.
+const std::vector<std::string_view>& figure_list() {
+    static const std::vector<std::string_view> list = [] {
+        std::vector<std::string_view> names = {"cases"};
+        for (int k = 0; k < verdict_kind_count; ++k)
+            if (is_disagreement(static_cast<verdict_kind>(k))) names.push_back(verdict_name(static_cast<verdict_kind>(k)));
+        for (std::string_view ulp : {"near_ulp_max", "near_ulp_p99", "far_ulp_max", "far_ulp_p99"}) names.push_back(ulp);
+        return names;
+    }();
+    return list;
+}
 
 std::size_t figure_index(std::string_view figure) {
-    return static_cast<std::size_t>(std::find(figure_list.begin(), figure_list.end(), figure) - figure_list.begin());
+    const auto& list = figure_list();
+    return static_cast<std::size_t>(std::find(list.begin(), list.end(), figure) - list.begin());
 }
 
 constexpr std::string_view format_line = "rayverify-baseline 1";
@@ -51,7 +60,7 @@ std::string number_text(double x) {
 
 }  // namespace
 
-std::span<const std::string_view> figure_names() { return figure_list; }
+std::span<const std::string_view> figure_names() { return figure_list(); }
 
 bool is_ulp_figure(std::string_view figure) { return figure.find("_ulp_") != std::string_view::npos; }
 
@@ -171,7 +180,7 @@ baseline parse_baseline(const std::string& file, std::string_view text) {
                                                                 words.size()));
         if (words[0].find('/') == std::string::npos)
             throw error("target", fmt::format("{} is not a target like naive/float", quoted(words[0])));
-        if (figure_index(words[2]) == figure_list.size())
+        if (figure_index(words[2]) == figure_list().size())
             throw error("figure", fmt::format("unknown figure {}", quoted(words[2])));
         const double value = number(words[3], "value");
         figure_key key{words[0], words[1], words[2]};

@@ -9,6 +9,7 @@
 #include <type_traits>
 
 #include "core/case_in_progress.h"
+#include "core/float_bits.h"
 
 namespace rayverify {
 
@@ -51,24 +52,9 @@ double& input_at(ray_sphere<double>& g, int i) {
 }
 double input_at(const ray_sphere<double>& g, int i) { return input_at(const_cast<ray_sphere<double>&>(g), i); }
 
-// x moved by `steps` representable values of T (sign-magnitude encoding mapped
-// onto a monotone integer line, so the step crosses zero correctly).
-template <class T>
-double step_ulps(double x, std::int64_t steps) {
-    using bits = std::conditional_t<std::is_same_v<T, float>, std::int32_t, std::int64_t>;
-    constexpr bits magnitude = std::numeric_limits<bits>::max();
-    const bits raw = std::bit_cast<bits>(static_cast<T>(x));
-    const std::int64_t ordered = raw < 0 ? -static_cast<std::int64_t>(raw & magnitude) : raw;
-    const std::int64_t moved = ordered + steps;
-    if (moved > static_cast<std::int64_t>(magnitude) || moved < -static_cast<std::int64_t>(magnitude))
-        return std::numeric_limits<double>::quiet_NaN();
-    const bits back = moved < 0 ? static_cast<bits>((-moved) | (std::int64_t{1} << (sizeof(bits) * 8 - 1)))
-                                : static_cast<bits>(moved);
-    return static_cast<double>(std::bit_cast<T>(back));
-}
-
 double step_in(precision p, double x, std::int64_t steps) {
-    return p == precision::binary32 ? step_ulps<float>(x, steps) : step_ulps<double>(x, steps);
+    return p == precision::binary32 ? static_cast<double>(step_by<float>(static_cast<float>(x), steps))
+                                     : step_by<double>(x, steps);
 }
 
 // x rounded to the precision. The volatile store is needed: GCC 12 at -O2
@@ -105,36 +91,6 @@ int bits_of(double x) {
         ++bits;
     }
     return bits;
-}
-
-template <class T>
-hunt_evaluation evaluate_in(const audit_target& target, const ray_sphere<double>& g) {
-    hunt_evaluation e;
-    const invalid_reason reason = validity<T>(g);
-    if (reason != invalid_reason::none) {
-        e.verdict = verdict_kind::invalid;
-        e.detail = invalid_reason_name(reason);
-        return e;
-    }
-    const ray_sphere<T> input = rounded_to<T>(g);
-    const ray_sphere<double> widened = rounded_in(target.prec, g);  // == the widened input, see round_to
-    if (auto breach = contract_breach(target.subject.promises, widened, target.prec)) {
-        e.verdict = verdict_kind::contract_violation;
-        e.detail = *breach;
-        return e;
-    }
-    const exact_solution exact = solve_exact(widened, target.prec);
-    variant_output output;
-    if constexpr (std::is_same_v<T, float>)
-        output = evaluate(target.subject.run_float, target.subject.promises, input);
-    else
-        output = evaluate(target.subject.run_double, target.subject.promises, input);
-    const case_score score = score_case(target.subject.promises, output, exact, widened);
-    e.verdict = score.verdict;
-    e.detail = score.detail;
-    if (score.verdict == verdict_kind::agree)
-        e.error = std::max(score.near_ulp.value_or(0), score.far_ulp.value_or(0));
-    return e;
 }
 
 // How far the line is from tangency, relative: |dist² − r²| / r², with dist the
@@ -377,7 +333,14 @@ private:
 }  // namespace
 
 hunt_evaluation evaluate_for_hunt(const audit_target& target, const ray_sphere<double>& input) {
-    return target.prec == precision::binary32 ? evaluate_in<float>(target, input) : evaluate_in<double>(target, input);
+    corpus_case c;
+    c.id = "hunt";
+    c.geometry = input;
+    const target_outcome outcome = judge_target(target, c, solve_case(c, target.prec));
+    const case_score& score = outcome.score;
+    hunt_evaluation e{score.verdict, score.detail};
+    if (score.verdict == verdict_kind::agree) e.error = std::max(score.near_ulp.value_or(0), score.far_ulp.value_or(0));
+    return e;
 }
 
 int significant_bits(const ray_sphere<double>& g) {

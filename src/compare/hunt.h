@@ -20,7 +20,7 @@
 #include <vector>
 
 #include "compare/audit.h"
-#include "compare/verdict.h"
+#include "compare/judge.h"
 #include "core/ray_sphere_case.h"
 
 namespace rayverify {

@@ -46,7 +46,7 @@
 #include <span>
 
 #include "compare/audit.h"
-#include "compare/verdict.h"
+#include "compare/judge.h"
 #include "core/ray_sphere_case.h"
 #include "oracle/oracle.h"
 
@@ -71,20 +71,6 @@ struct stability_measures {
 // be the oracle's answer for the same inputs and precision).
 stability_measures measure_stability(const ray_sphere<double>& input, precision prec, const exact_solution& exact);
 
-// A verdict that names the wrong class (false miss/hit, tangent split/missed,
-// false tangent).
-bool is_misclassification(verdict_kind k);
-
-enum class disagreement_cause { conditioning_limited, algorithmic };
-const char* disagreement_cause_name(disagreement_cause c);
-
-// Why a variant disagreed; nullopt when the verdict is not a disagreement.
-// Class verdicts: conditioning-limited iff the tangency margin ≤ γ. Wrong
-// root or wrong side: iff the margin ≤ γ or γ·u·κ ≥ 1 (the near root's sign
-// or identity is within the backward error). Non-finite and malformed
-// outputs are always algorithmic.
-std::optional<disagreement_cause> classify_disagreement(verdict_kind k, const stability_measures& s, precision prec);
-
 // Condition buckets by decade: index 0 holds κ < 10, index i holds
 // 10^i ≤ κ < 10^(i+1) up to `condition_decades − 1` (which holds everything
 // finite above), then κ = +∞, then misses (no κ).
@@ -99,22 +85,23 @@ std::string condition_bucket_label(int bucket);
 // called stable.
 inline constexpr double stability_factor = 16;
 
-// One case's measures at each precision in use, and the cause of each
-// target's disagreement (aligned with the targets).
+// One case's measures at each precision in use. (The cause of each target's
+// disagreement is the judge's: case_score::cause.)
 struct case_stability {
     std::optional<stability_measures> at_float, at_double;
-    std::vector<std::optional<disagreement_cause>> causes;
     const stability_measures& at(precision p) const { return p == precision::binary32 ? *at_float : *at_double; }
 };
 
-case_stability assess_case(const audited_case& c, std::span<const audit_target> targets);
+case_stability assess_case(const audited_case& c);
 
 // Per target and condition bucket.
 struct bucket_tally {
     std::size_t cases = 0;          // scored cases (neither invalid nor outside the contract)
     std::size_t misclassified = 0;  // wrong class
     std::size_t disagreements = 0;
-    std::size_t conditioning_limited = 0, algorithmic = 0;  // causes of the disagreements
+    // Causes of the disagreements (compare/judge.h): rounding, told apart by
+    // conditioning, and what the formula does by design.
+    std::size_t conditioning_limited = 0, algorithmic = 0, by_design = 0;
     error_statistics near_root_ulp;                          // over the agreeing cases
 };
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include "core/vec3.h"
 
@@ -24,6 +25,13 @@ enum class precision { binary32, binary64 };
 
 constexpr const char* precision_name(precision p) {
     return p == precision::binary32 ? "float" : "double";
+}
+
+// The precision named `name` ("float" or "double"); nullopt for any other name.
+constexpr std::optional<precision> precision_from_name(std::string_view name) {
+    if (name == "float") return precision::binary32;
+    if (name == "double") return precision::binary64;
+    return std::nullopt;
 }
 
 constexpr int significand_bits(precision p) { return p == precision::binary32 ? 24 : 53; }

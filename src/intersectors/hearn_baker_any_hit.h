@@ -13,8 +13,8 @@
 //   computed one at a time: the near root first when both are in front, only
 //   the far root when the origin is inside and tmin ≥ 0.
 //
-// Contract: any direction length; answers any_hit_in_interval for the open
-// interval (tmin, tmax) (default (0, +∞)): count 1 when some root lies in it,
+// Contract: any direction length; answers any_hit for the open interval
+// (tmin, tmax) (default (0, +∞)): count 1 when some root lies in it,
 // else 0; t0, t1 unused (0). Same known failures as hearn_baker (C cancels
 // near the surface; b′ = 0 with Δ = 0 gives C/q = 0/0, which compares false:
 // a miss).
@@ -28,7 +28,7 @@
 
 namespace rayverify::intersectors {
 
-inline constexpr contract hearn_baker_any_hit_contract{.query = query_kind::any_hit_in_interval};
+inline constexpr contract hearn_baker_any_hit_contract{.query = query_kind::any_hit, .range = range_source::interval};
 
 // Is one of the roots C/q, q/a of a t² − 2b′t + C = 0 in (tmin, tmax)?
 // Computes the near root first when both are in front, only the far root

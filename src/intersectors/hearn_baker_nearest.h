@@ -11,8 +11,8 @@
 //   C < 0, tmin ≥ 0 (origin inside): only the far root, q/a or C/q by the sign of q
 //   otherwise both roots, ordered, and the first inside the interval
 //
-// Contract: any direction length; answers nearest_in_interval for the open
-// interval (tmin, tmax) (default (0, +∞)): count 1 and the root in t0 (= t1),
+// Contract: any direction length; answers nearest_hit for the open interval
+// (tmin, tmax) (default (0, +∞)): count 1 and the root in t0 (= t1),
 // or count 0. Same known failures as hearn_baker.
 #pragma once
 
@@ -25,7 +25,8 @@
 
 namespace rayverify::intersectors {
 
-inline constexpr contract hearn_baker_nearest_contract{.query = query_kind::nearest_in_interval};
+inline constexpr contract hearn_baker_nearest_contract{.query = query_kind::nearest_hit,
+                                                       .range = range_source::interval};
 
 // The nearest of the roots C/q and q/a of a t² − 2b′t + C = 0 in (tmin, tmax),
 // computing only what the signs of C and b′ leave open. Shared by the unit-

@@ -33,11 +33,11 @@ inline constexpr contract hearn_baker_unit_contract{.query = query_kind::line_ro
                                                     .reports_tangent = true,
                                                     .tangent_rule = "Δ == 0"};
 
-inline constexpr contract hearn_baker_unit_nearest_contract{.query = query_kind::nearest_in_interval,
-                                                            .assumes_unit_direction = true};
+inline constexpr contract hearn_baker_unit_nearest_contract{
+    .query = query_kind::nearest_hit, .range = range_source::interval, .assumes_unit_direction = true};
 
-inline constexpr contract hearn_baker_unit_any_hit_contract{.query = query_kind::any_hit_in_interval,
-                                                             .assumes_unit_direction = true};
+inline constexpr contract hearn_baker_unit_any_hit_contract{
+    .query = query_kind::any_hit, .range = range_source::interval, .assumes_unit_direction = true};
 
 template <class T>
 root_pair<T> hearn_baker_unit(const ray_sphere<T>& s) {

@@ -25,8 +25,8 @@ namespace rayverify::intersectors {
 
 inline constexpr contract robust_contract{
     .query = query_kind::line_roots, .reports_tangent = true, .tangent_rule = "Δ′ == 0 (exact)"};
-inline constexpr contract robust_nearest_contract{.query = query_kind::nearest_in_interval};
-inline constexpr contract robust_any_hit_contract{.query = query_kind::any_hit_in_interval};
+inline constexpr contract robust_nearest_contract{.query = query_kind::nearest_hit, .range = range_source::interval};
+inline constexpr contract robust_any_hit_contract{.query = query_kind::any_hit, .range = range_source::interval};
 
 template <class T>
 robust_sphere::ray<T> robust_ray(const ray_sphere<T>& s) {

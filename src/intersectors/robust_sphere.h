@@ -15,12 +15,13 @@
 //
 // Promises, for all finite inputs with d ≠ 0 (r is used through r² only):
 // - The class (miss, tangent, two roots) is the exact one for the inputs as
-//   given, and every returned root has the sign of its exact root: t > 0,
-//   t = 0 and t < 0 exactly when t* is (a nonzero root too small for T is
-//   returned as ±denorm_min, not 0).
+//   given, and every returned root has the side of its exact root: t > 0
+//   exactly when t* > 0, signbit(t) set exactly when t* < 0 (a positive root
+//   too small for T is returned as +denorm_min, not +0, so that it stays in
+//   front; a negative one rounds to −0 as usual).
 // - A root is RN(t*), the exact root rounded to nearest-even in T, overflow
 //   to ±inf included (so it is finite wherever RN(t*) is), except for the
-//   ±denorm_min rule above and the nearest hit in an open interval, which is
+//   +denorm_min rule above and the nearest hit in an open interval, which is
 //   moved one ulp inside the interval when RN(t*) falls on its end: always
 //   within 1 ulp of t*.
 // - Whether a root lies in (tmin, tmax) — or [tmin, tmax], per end — is
@@ -48,9 +49,10 @@
 // (-ffp-contract=fast) is harmless: with a hardware FMA (__FMA__,
 // FP_FAST_FMA, __AVX2__) products are split with std::fma, otherwise with
 // Dekker's split, whose exactness contraction could not break anyway because
-// then no FMA exists to contract into. The exact path allocates (std::vector)
-// and runs for a small share of cases (rayverify bench prints the share per
-// family).
+// then no FMA exists to contract into. The exact path keeps up to 32
+// expansion components in place and spills longer expansions to a
+// std::vector (it allocates only then); it runs for a small share of cases
+// (rayverify bench prints the share per family).
 #pragma once
 
 #include <bit>
@@ -1034,14 +1036,15 @@ ROBUST_SPHERE_INLINE uncertain compare(S& s, root which, T v) {
     return s.sign_after(which, *c);
 }
 
-// The value returned for a root: RN(t*), but never 0 for a nonzero root.
+// The value returned for a root: RN(t*), but +denorm_min for a positive root
+// that rounds to 0 (it stays in front) and −0 for a negative one.
 template <class T, class S>
 ROBUST_SPHERE_INLINE uncertain_value<T> returned(S& s, root which) {
     const uncertain_value<T> c = s.rounded(which);
     if (!c || *c != 0) return c;
     const uncertain sg = root_sign(s, which);
     if (!sg) return {};
-    return {*sg == 0 ? T(0) : std::copysign(std::numeric_limits<T>::denorm_min(), T(*sg))};
+    return {*sg == 0 ? T(0) : (*sg > 0 ? std::numeric_limits<T>::denorm_min() : -T(0))};
 }
 
 // The class: two roots whenever C < 0 (the origin inside: Δ′ = b′² − aC > 0),

@@ -22,7 +22,8 @@ namespace rayverify::intersectors {
 inline constexpr contract seed003_reduced_contract{.query = query_kind::line_roots,
                                                    .assumes_unit_direction = true,
                                                    .reports_tangent = true,
-                                                   .tangent_rule = "Δ ≤ 1e-7 (absolute)"};
+                                                   .tangent_rule = "Δ ≤ 1e-7 (absolute)",
+                                                   .tangent_threshold = 1e-7};
 
 template <class T>
 root_pair<T> seed003_reduced(const ray_sphere<T>& s) {

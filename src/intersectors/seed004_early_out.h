@@ -19,9 +19,11 @@
 
 namespace rayverify::intersectors {
 
-inline constexpr contract seed004_early_out_contract{.query = query_kind::nearest_on_ray,
-                                                     .assumes_unit_direction = true,
-                                                     .clamps_to_zero = true};
+inline constexpr contract seed004_early_out_contract{.query = query_kind::nearest_hit,
+                                                     .range = range_source::ray,
+                                                     .lower_end = end_kind::closed,
+                                                     .inside = inside_rule::clamp,
+                                                     .assumes_unit_direction = true};
 
 template <class T>
 root_pair<T> seed004_early_out(const ray_sphere<T>& s) {

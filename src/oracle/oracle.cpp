@@ -13,6 +13,9 @@
 // every guess is verified exactly before it is used.
 #include "oracle/oracle.h"
 
+#include "core/double_word.h"
+#include "core/float_bits.h"
+
 #include <CGAL/Gmpzf.h>
 #include <mpfr.h>
 
@@ -68,6 +71,22 @@ struct quadratic_irrational {
     int compare(const exact& m) const { return sign_of_sum_with_root(A - m * den, B, D); }
     quadratic_irrational negated() const { return {-A, -B, D, den}; }
 };
+
+// sign(x − y) for x = (A1 + B1√D1)/den1, y = (A2 + B2√D2)/den2, exactly: with
+// P = A1·den2 − A2·den1, Q = B1·den2, R = −B2·den1 it is the sign of
+// u + v, u = P + Q√D1, v = R√D2. When u and v have opposite signs the larger
+// magnitude wins: u² − v² = (P² + Q²D1 − R²D2) + 2PQ√D1, one more square root
+// term, whose sign sign_of_sum_with_root decides.
+int sign_of_difference(const quadratic_irrational& x, const quadratic_irrational& y) {
+    const exact P = x.A * y.den - y.A * x.den, Q = x.B * y.den, R = -(y.B * x.den);
+    const int sign_u = sign_of_sum_with_root(P, Q, x.D);
+    const int sign_v = y.D.is_zero() ? 0 : sign_of(R);
+    if (sign_v == 0) return sign_u;
+    if (sign_u == 0 || sign_u == sign_v) return sign_v;
+    const int larger_u = sign_of_sum_with_root(P * P + Q * Q * x.D - R * R * y.D, exact(2.0) * P * Q, x.D);
+    if (larger_u == 0) return 0;
+    return larger_u > 0 ? sign_u : sign_v;
+}
 
 // RAII wrapper for an mpfr_t.
 class big_float {
@@ -291,8 +310,10 @@ struct exact_solution::exact_state {
 
 namespace {
 
-// The exact quadratic a t² + 2b′t + C = 0 with f = o − c, Δ′ = b′² − aC.
-std::shared_ptr<exact_solution::exact_state> build_exact_state(const ray_sphere<double>& g) {
+// The exact quadratic a t² + 2b′t + C = 0 with f = o − c, Δ′ = b′² − aC;
+// with `unit_direction`, a is taken to be 1 (what a unit-direction formula solves).
+std::shared_ptr<exact_solution::exact_state> build_exact_state(const ray_sphere<double>& g,
+                                                               bool unit_direction = false) {
     auto state = std::make_shared<exact_solution::exact_state>();
     const double o[3] = {g.origin.x, g.origin.y, g.origin.z};
     const double d[3] = {g.direction.x, g.direction.y, g.direction.z};
@@ -306,6 +327,7 @@ std::shared_ptr<exact_solution::exact_state> build_exact_state(const ray_sphere<
         b_prime = b_prime + state->direction[axis] * f;
         f_squared = f_squared + f * f;
     }
+    if (unit_direction) a = exact(1.0);
     const exact r(g.radius);
     const exact C = f_squared - r * r;
     state->discriminant = b_prime * b_prime - a * C;
@@ -338,11 +360,6 @@ invalid_reason check_case(const ray_sphere<double>& g, std::optional<double> tmi
     return reason;
 }
 
-// An infinite bound admits every root on its side (or none beyond it).
-bool infinite_bound_admits(std::optional<double> bound, bool lower) {
-    if (!bound) return true;
-    return lower ? *bound < 0 : *bound > 0;
-}
 
 // ===========================================================================
 // The nearest root with t > 0, from the roots' exact signs.
@@ -352,34 +369,10 @@ std::optional<root_index> nearest_root_in_front(int near_sign, int far_sign) {
     return std::nullopt;
 }
 
-// The filter: double-word ("double-double") arithmetic with rigorous error
-// bounds.
-//
-// Notation: u = 2^−53. A double-word x = xh + xl is a pair of doubles read as
-// their exact sum. A `bounded` value is a double-word v with a bound err such
-// that the exact quantity X it stands for satisfies |X − (vh + vl)| ≤ err.
-//
-// Error-free transformations (exact in the absence of overflow, and of
-// underflow for two_prod; Knuth, Dekker, and with an FMA, Ogita–Rump–Oishi):
-// two_sum(a, b) = (s, e) with s = RN(a + b), s + e = a + b; fast_two_sum the
-// same when |a| ≥ |b|; two_prod(a, b) = (p, e) with p = RN(ab), p + e = ab.
-//
-// Double-word operations and their proven relative error bounds (Joldes,
-// Muller, Popescu, "Tight and rigorous error bounds for basic building blocks
-// of double-word arithmetic", ACM TOMS 44(2), 2017): AccurateDWPlusDW
-// (Alg. 6) ≤ 3u²/(1 − 4u); DWTimesDW3 (Alg. 12) ≤ 4u² [Muller & Rideau,
-// 2022, confirm it]; DWTimesFP3 (Alg. 9) ≤ 2u². The bound we use for every
-// one of them is 16u²·|result high word| = 2^−102·|zh|, at least four times
-// the proven one (|exact| ≤ |zh|(1 + 2u)(1 + 4u²), so the factor 4 covers
-// reading the bound off the computed result). Division and square root use no
-// cited bound: their error is bounded a posteriori from a residual computed
-// with the operations above.
-//
-// Propagation: |XY − xy| ≤ |x|·ey + |y|·ex + ex·ey and |(X + Y) − (x + y)| ≤
-// ex + ey. Every error bound is itself computed in double, from non-negative
-// terms (at most 7 roundings, each a factor ≤ 1 + u), then passed through
-// widen(): × (1 + 2^−45) > (1 + u)^8, plus 2^−600 for any term that
-// underflowed.
+// ===========================================================================
+// The filter: double-word arithmetic with rigorous error bounds
+// (core/double_word.h: two_sum, two_prod, the double-word operations, and
+// `bounded` values whose error bounds propagate through +, −, ×, √ and ÷).
 //
 // Range. The filter runs only when every input is 0 or has magnitude in
 // [2^−80, 2^80] (otherwise the exact route runs). Every input is then an
@@ -388,102 +381,9 @@ std::optional<root_index> nearest_root_in_front(int near_sign, int far_sign) {
 // stay below 2^330: every product the filter forms is far from the underflow
 // threshold (the smallest nonzero root is above 2^−440, a hit-point term
 // above 2^−520, their low words above 2^−630), and nothing overflows. The
-// relative bounds above, which assume no underflow, therefore hold.
+// relative bounds of the double-word operations, which assume no underflow,
+// therefore hold.
 // ===========================================================================
-
-struct dword {
-    double h = 0, l = 0;
-};
-
-inline dword two_sum(double a, double b) {
-    const double s = a + b;
-    const double bb = s - a;
-    return {s, (a - (s - bb)) + (b - bb)};
-}
-
-inline dword fast_two_sum(double a, double b) {
-    const double s = a + b;
-    return {s, b - (s - a)};
-}
-
-inline dword two_prod(double a, double b) {
-    const double p = a * b;
-    return {p, std::fma(a, b, -p)};
-}
-
-// AccurateDWPlusDW.
-inline dword dw_add(dword x, dword y) {
-    const dword s = two_sum(x.h, y.h);
-    const dword t = two_sum(x.l, y.l);
-    const dword v = fast_two_sum(s.h, s.l + t.h);
-    return fast_two_sum(v.h, t.l + v.l);
-}
-
-// DWTimesDW3.
-inline dword dw_mul(dword x, dword y) {
-    const dword c = two_prod(x.h, y.h);
-    const double tl1 = std::fma(x.h, y.l, x.l * y.l);
-    const double cl2 = std::fma(x.l, y.h, tl1);
-    return fast_two_sum(c.h, c.l + cl2);
-}
-
-// DWTimesFP3.
-inline dword dw_mul(dword x, double y) {
-    const dword c = two_prod(x.h, y);
-    return fast_two_sum(c.h, std::fma(x.l, y, c.l));
-}
-
-constexpr double op_error = 0x1p-102;  // 16u², per double-word operation, relative to |zh|
-
-// The floor 2^−600 bounds whatever a bound's terms lost to underflow (< 2^−1022
-// each); it is far above the subnormal range, so that multiplying a bound by a
-// value of ordinary size never produces a subnormal (which costs a microcode
-// assist per operation on x86), and far below any ordinary value's error.
-inline double widen(double bound) { return bound * (1 + 0x1p-45) + 0x1p-600; }
-
-struct bounded {
-    dword v;
-    double err = 0;
-};
-
-inline bounded exactly(double x) { return {{x, 0}, 0}; }
-inline bounded exactly(dword x) { return {x, 0}; }
-inline bounded operator-(bounded x) { return {{-x.v.h, -x.v.l}, x.err}; }
-
-inline bounded operator+(bounded x, bounded y) {
-    const dword z = dw_add(x.v, y.v);
-    return {z, widen(x.err + y.err + op_error * std::fabs(z.h))};
-}
-inline bounded operator-(bounded x, bounded y) { return x + (-y); }
-
-inline bounded operator*(bounded x, bounded y) {
-    const dword z = dw_mul(x.v, y.v);
-    // |x| ≤ |xh|(1 + u): the factor is inside widen's margin.
-    return {z, widen(std::fabs(x.v.h) * y.err + std::fabs(y.v.h) * x.err + x.err * y.err +
-                     op_error * std::fabs(z.h))};
-}
-
-inline bounded operator*(bounded x, double y) {
-    const dword z = dw_mul(x.v, y);
-    return {z, widen(std::fabs(y) * x.err + op_error * std::fabs(z.h))};
-}
-
-// Upper bound of |xh + xl| + err.
-inline double magnitude_bound(const bounded& x) {
-    return widen(std::fabs(x.v.h) + std::fabs(x.v.l) + x.err);
-}
-
-// Is every real within err of xh + xl strictly greater than mh + ml?
-// With (s, e) = two_sum(xh, −mh) the exact difference is s + e + xl − ml;
-// T = RN(s + RN(RN(e + xl) − ml)) is within 2.01u·(|T| + |e| + |xl| + |ml|)
-// of it, so T > 2err + 2^−48·(…) proves difference > err (the slack also
-// absorbs the roundings of the test itself).
-inline bool exceeds(double xh, double xl, double err, double mh, double ml = 0) {
-    const dword s = two_sum(xh, -mh);
-    const double t = s.h + ((s.l + xl) - ml);
-    const double margin = 2 * err + 0x1p-48 * (std::fabs(t) + std::fabs(s.l) + std::fabs(xl) + std::fabs(ml));
-    return t > margin + 0x1p-1000;
-}
 
 using enclosure = exact_solution::enclosure;
 
@@ -504,27 +404,13 @@ inline int side_of(const enclosure& x, double m) {
 // overflow threshold. For float the midpoints are doubles; for double they are
 // y ∓ gap/2, exact double-words (y subnormal is excluded: its half gap is not a
 // double). `sign` is the known sign of x, for a result that rounds to zero.
-// The next representable value up (down) from a finite y, as nextafter
-// toward ±inf (±max steps to ±inf), without a library call.
-template <class T>
-T step_up(T y) {
-    using bits = std::conditional_t<sizeof(T) == 4, std::uint32_t, std::uint64_t>;
-    if (y == 0) return std::numeric_limits<T>::denorm_min();
-    const bits b = std::bit_cast<bits>(y);
-    return std::bit_cast<T>(y > 0 ? b + 1 : b - 1);
-}
-template <class T>
-T step_down(T y) {
-    return -step_up<T>(-y);
-}
-
 template <class T>
 std::optional<double> round_enclosure(const enclosure& x, int sign) {
     if (!known(x) || sign == 0) return std::nullopt;
     const double approx = x.hi + x.lo;
     const T y = static_cast<T>(approx);
     if (!std::isfinite(y)) return std::nullopt;
-    const T below = step_down(y), above = step_up(y);
+    const T below = next_down(y), above = next_up(y);
     // Gap to the neighbour; at ±max the neighbour beyond is the threshold's twin.
     const double gap_below = std::isinf(below) ? double(above) - double(y) : double(y) - double(below);
     const double gap_above = std::isinf(above) ? double(y) - double(below) : double(above) - double(y);
@@ -580,40 +466,6 @@ inline bool in_filter_range(double x) {
     return m == 0 || (m >= 0x1p-80 && m <= 0x1p80);
 }
 
-// √x for x with xh > 2·err (so X > 0). The approximation s (one Newton step
-// from √xh) need not be accurate for the bound to hold: with R ≥ |x − s²|
-// computed rigorously, |√x − s| = |x − s²|/(√x + s) ≤ R/s, and for the exact
-// X, |√X − √x| = |X − x|/(√X + √x) ≤ err/√x with √x ≥ s − R/s.
-std::optional<bounded> square_root(const bounded& x) {
-    const double s0 = std::sqrt(x.v.h);
-    const dword square = two_prod(s0, s0);
-    const dword s = fast_two_sum(s0, (((x.v.h - square.h) - square.l) + x.v.l) / (2 * s0));
-    const bounded residual = exactly(x.v) - exactly(s) * exactly(s);
-    const double R = magnitude_bound(residual);
-    const double sh = s.h;
-    if (!(sh > 0) || !(R < sh * sh * 0x1p-40)) return std::nullopt;
-    const double root_lower = sh * (1 - 0x1p-39);  // ≤ s − R/s ≤ √x
-    return bounded{s, widen(R / root_lower + x.err / root_lower)};
-}
-
-// x / y for |yh| > 4·y.err. With q ≈ x/y (two Newton-free steps) and
-// R ≥ |x − q·y| computed rigorously, |x/y − q| ≤ R/|y|; for the exact X, Y:
-// |X/Y − x/y| ≤ (ex + |x/y|·ey)/(|y| − ey).
-std::optional<bounded> quotient(const bounded& x, const bounded& y) {
-    const double yh = y.v.h;
-    if (!(std::fabs(yh) > 4 * y.err)) return std::nullopt;
-    const double q0 = x.v.h / yh;
-    const bounded first = exactly(x.v) - exactly(y.v) * q0;
-    const dword q = fast_two_sum(q0, first.v.h / yh);
-    const bounded residual = exactly(x.v) - exactly(y.v) * exactly(q);
-    const double R = magnitude_bound(residual);
-    const double y_lower = std::fabs(yh) * (1 - 0x1p-50);  // ≤ |y|
-    const double rounding = R / y_lower;
-    const double ratio = std::fabs(q.h) * (1 + 0x1p-50) + rounding;  // ≥ |x/y|
-    const double denominator = (y_lower - y.err) * (1 - 0x1p-50);   // ≤ |y| − ey
-    return bounded{q, widen(rounding + (x.err + ratio * y.err) / denominator)};
-}
-
 // What the filter computed for one case.
 struct filtered_quadratic {
     int discriminant_sign = 0;  // 0: undecided, the exact route must classify
@@ -643,8 +495,8 @@ filtered_quadratic filter_quadratic(const ray_sphere<double>& g) {
     const bounded cross[3] = {f[2] * d[1] - f[1] * d[2], f[0] * d[2] - f[2] * d[0], f[1] * d[0] - f[0] * d[1]};
     const bounded discriminant = a * r2 - (cross[0] * cross[0] + cross[1] * cross[1] + cross[2] * cross[2]);
 
-    // Class: sign of Δ′ when |Δ′h| > 2·err (|Δ′h + Δ′l| ≥ |Δ′h|(1 − u) > err).
-    if (std::fabs(discriminant.v.h) > 2 * discriminant.err) out.discriminant_sign = discriminant.v.h > 0 ? 1 : -1;
+    // Class: the sign of Δ′ when its bound settles it.
+    out.discriminant_sign = certain_sign(discriminant);
     if (out.discriminant_sign <= 0) return out;
 
     // Roots without cancellation: q = −(b′ + σ√Δ′), σ the sign of b′'s
@@ -735,8 +587,18 @@ struct exact_solution::internal {
         return hit_coordinate_enclosure(s.geometry_, root_enclosure(s, i), axis);
     }
 
+    static int compare_roots(const exact_solution& a, root_index i, const exact_solution& b, root_index j) {
+        const enclosure& x = root_enclosure(a, i);
+        const enclosure& y = root_enclosure(b, j);
+        if (known(x) && known(y)) {
+            const bounded difference = bounded{{x.hi, x.lo}, x.err} - bounded{{y.hi, y.lo}, y.err};
+            if (const int sign = certain_sign(difference); sign != 0) return sign;
+        }
+        return sign_of_difference(a.state().root(i), b.state().root(j));
+    }
+
     static exact_solution reference(const ray_sphere<double>& g, precision prec, std::optional<double> tmin,
-                                    std::optional<double> tmax) {
+                                    std::optional<double> tmax, bool unit_direction = false) {
         exact_solution solution;
         solution.prec = prec;
         solution.geometry_ = g;
@@ -744,33 +606,18 @@ struct exact_solution::internal {
         if (!solution.valid()) return solution;
         solution.stage = oracle_stage::exact;
 
-        std::shared_ptr<exact_state> state = build_exact_state(g);
+        std::shared_ptr<exact_state> state = build_exact_state(g, unit_direction);
         const int sign_discriminant = sign_of(state->discriminant);
         solution.cls = sign_discriminant < 0   ? line_class::miss
                        : sign_discriminant == 0 ? line_class::tangent
                                                 : line_class::two_hit;
-        if (solution.cls == line_class::miss) {
-            if (tmin || tmax) solution.hits_interval = false;
-            return solution;
-        }
+        if (solution.cls == line_class::miss) return solution;
         for (root_index i : {root_index::near_root, root_index::far_root}) {
             exact_root& out = i == root_index::near_root ? solution.near_root : solution.far_root;
             out.sign = state->root(i).sign();
             out.rounded = round_in(prec, state->root(i));
         }
         solution.nearest_in_front = nearest_root_in_front(solution.near_root.sign, solution.far_root.sign);
-
-        if (tmin || tmax) {
-            bool inside = false;
-            for (const quadratic_irrational* t : {&state->near_root, &state->far_root}) {
-                const bool at_least = !tmin || std::isinf(*tmin) ? infinite_bound_admits(tmin, true)
-                                                                  : t->compare(exact(*tmin)) >= 0;
-                const bool at_most = !tmax || std::isinf(*tmax) ? infinite_bound_admits(tmax, false)
-                                                                 : t->compare(exact(*tmax)) <= 0;
-                inside = inside || (at_least && at_most);
-            }
-            solution.hits_interval = inside;
-        }
 
         solution.exact_ = std::move(state);
         if (solution.nearest_in_front) {
@@ -797,7 +644,6 @@ struct exact_solution::internal {
         solution.roots_[1] = filter.roots[1];
         if (filter.discriminant_sign < 0) {
             solution.cls = line_class::miss;
-            if (tmin || tmax) solution.hits_interval = false;
             solution.stage = oracle_stage::filter;
             return solution;
         }
@@ -811,19 +657,6 @@ struct exact_solution::internal {
             out.rounded = filter.rounded[k] ? *filter.rounded[k] : round_in(prec, solution.state().root(i));
         }
         solution.nearest_in_front = nearest_root_in_front(solution.near_root.sign, solution.far_root.sign);
-
-        if (tmin || tmax) {
-            bool inside = false;
-            for (root_index i : {root_index::near_root, root_index::far_root}) {
-                // compare_root is sign(value − t*): t* ≥ tmin ⇔ compare_root(tmin) ≤ 0.
-                const bool at_least = !tmin || std::isinf(*tmin) ? infinite_bound_admits(tmin, true)
-                                                                  : solution.compare_root(i, *tmin) <= 0;
-                const bool at_most = !tmax || std::isinf(*tmax) ? infinite_bound_admits(tmax, false)
-                                                                 : solution.compare_root(i, *tmax) >= 0;
-                inside = inside || (at_least && at_most);
-            }
-            solution.hits_interval = inside;
-        }
 
         if (solution.nearest_in_front) {
             const root_index front = *solution.nearest_in_front;
@@ -849,6 +682,22 @@ int exact_solution::compare_root(root_index i, double value) const {
     return -state().root(i).compare(exact(value));
 }
 
+int exact_solution::compare_midpoint(double value) const {
+    // The midpoint's enclosure from the roots' (their mean), when the filter has them.
+    const enclosure& near = internal::root_enclosure(*this, root_index::near_root);
+    const enclosure& far = internal::root_enclosure(*this, root_index::far_root);
+    if (known(near) && known(far)) {
+        const bounded mean = (bounded{{near.hi, near.lo}, near.err} + bounded{{far.hi, far.lo}, far.err}) * 0.5;
+        const int side = side_of({mean.v.h, mean.v.l, mean.err}, value);  // sign(m − value)
+        if (side != 0) return -side;
+    }
+    // Exactly: m = A/den for the roots (A ∓ B√D)/den, so sign(value − m) = sign(value·den − A).
+    const quadratic_irrational& root = state().near_root;
+    return sign_of(exact(value) * root.den - root.A);
+}
+
+int exact_solution::compare_discriminant(double x) const { return sign_of(state().discriminant - exact(x)); }
+
 double exact_solution::root_ulp_error(root_index i, double value) const {
     if (const std::optional<double> e = ulp_error_from(prec, internal::root_enclosure(*this, i), value)) return *e;
     return ulp_error_in(prec, state().root(i), value);
@@ -864,6 +713,24 @@ double exact_solution::rounded_hit_coordinate(root_index i, int axis) const {
     if (const std::optional<double> r = round_hit_coordinate(prec, geometry_, internal::root_enclosure(*this, i), axis))
         return *r;
     return round_in(prec, state().hit_coordinate(i, axis));
+}
+
+exact_solution solve_exact_unit_direction(const ray_sphere<double>& g, precision prec) {
+    return exact_solution::internal::reference(g, prec, std::nullopt, std::nullopt, true);
+}
+
+int compare_squared_length(const vec3<double>& d, double x) {
+    const bool filterable = in_filter_range(d.x) && in_filter_range(d.y) && in_filter_range(d.z) && in_filter_range(x);
+    if (filterable) {
+        const bounded length = exactly(two_prod(d.x, d.x)) + exactly(two_prod(d.y, d.y)) + exactly(two_prod(d.z, d.z));
+        if (const int sign = certain_sign(length - exactly(x)); sign != 0) return sign;
+    }
+    const exact dx(d.x), dy(d.y), dz(d.z);
+    return sign_of(dx * dx + dy * dy + dz * dz - exact(x));
+}
+
+int compare_roots(const exact_solution& a, root_index i, const exact_solution& b, root_index j) {
+    return exact_solution::internal::compare_roots(a, i, b, j);
 }
 
 exact_solution solve_exact(const ray_sphere<double>& g, precision prec, std::optional<double> tmin,

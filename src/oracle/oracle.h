@@ -48,9 +48,6 @@ public:
     std::optional<root_index> nearest_in_front;
     vec3<double> hit_point{};
 
-    // When the case carries an interval [tmin, tmax]: does a root lie in it?
-    std::optional<bool> hits_interval;
-
     // The deepest stage this answer needed; its rate per family measures how stiff the family is.
     oracle_stage stage = oracle_stage::exact;
 
@@ -61,6 +58,14 @@ public:
 
     // sign(value − t*) exactly; value must be finite. Requires cls != miss.
     int compare_root(root_index i, double value) const;
+
+    // sign(value − m) exactly, m = −b′/a the midpoint of the two roots; value
+    // finite. Below the midpoint a value is nearer the near root, above it
+    // the far root. Requires cls != miss.
+    int compare_midpoint(double value) const;
+
+    // sign(Δ′ − x) exactly, Δ′ = b′² − aC of this solution's quadratic; x finite.
+    int compare_discriminant(double x) const;
 
     // |value − t*| / ulp(t*) in the solution's precision, with every printed
     // digit right (the exact difference is bracketed adaptively). 0 exactly
@@ -99,12 +104,30 @@ private:
 
 // Solve one case exactly. `geometry` must hold exactly the values the variant
 // receives (for a float variant: the inputs already rounded to float). Never
-// throws for bad geometry: an invalid case comes back with `invalid` set.
+// throws for bad geometry: an invalid case comes back with `invalid` set. A
+// case's interval, when it has one, is only checked here (a NaN bound or
+// tmin > tmax makes it invalid); which roots lie in a range is the judge's
+// question, asked under a contract's end semantics (compare/judge.h).
 //
 // The filtered oracle: a double-double evaluation with rigorous error bounds
 // settles what it can (`stage == filter`); exact arithmetic runs only for what
 // it cannot (`stage == exact`). No heap allocation when the filter settles
 // everything. Its answers are those of solve_exact_reference, bit for bit.
+// What a formula that takes a = d·d to be 1 solves, exactly: t² + 2b′t + C = 0
+// for the given inputs (the roots of the true quadratic when |d| = 1). Its
+// class, signs, roots and discriminant say what such a formula gets in exact
+// arithmetic when |d| is only near 1: a failure it shares is the formula's
+// design, not rounding. Always the exact route.
+exact_solution solve_exact_unit_direction(const ray_sphere<double>& geometry, precision prec);
+
+// sign(|d|² − x) exactly, for finite d and x.
+int compare_squared_length(const vec3<double>& d, double x);
+
+// sign(t*_i of `a` − t*_j of `b`) exactly: roots of two cases' quadratics
+// (two spheres on one ray) compared without rounding. Requires both classes
+// != miss.
+int compare_roots(const exact_solution& a, root_index i, const exact_solution& b, root_index j);
+
 exact_solution solve_exact(const ray_sphere<double>& geometry, precision prec,
                            std::optional<double> tmin = std::nullopt,
                            std::optional<double> tmax = std::nullopt);

@@ -3,22 +3,11 @@
 #include <dlfcn.h>
 #include <fmt/format.h>
 
-#include <deque>
-#include <mutex>
 
 namespace rayverify::plugin_internal {
 namespace {
 
 [[noreturn]] void fail(const std::string& problem) { throw unusable_library(problem); }
-
-// contract::tangent_rule is a string_view; a plugin's text is copied here so
-// that it outlives any unloading of the library.
-std::string_view interned(std::string text) {
-    static std::mutex mutex;
-    static std::deque<std::string> strings;
-    const std::lock_guard lock(mutex);
-    return strings.emplace_back(std::move(text));
-}
 
 std::string text_or(const char* text, std::string fallback) { return text ? std::string(text) : fallback; }
 
@@ -78,13 +67,26 @@ variant described_variant(const plugin_description& d) {
     v.name = d.name;
     v.citation = d.citation;
     v.formula = d.formula;
-    constexpr query_kind kinds[] = {query_kind::line_roots, query_kind::nearest_on_ray,
-                                    query_kind::any_hit_in_interval, query_kind::nearest_in_interval};
-    v.promises.query = kinds[d.query];
-    v.promises.assumes_unit_direction = d.assumes_unit_direction;
-    v.promises.reports_tangent = d.reports_tangent;
-    v.promises.clamps_to_zero = d.clamps_to_zero;
-    v.promises.tangent_rule = interned(d.tangent_rule);
+    contract& c = v.promises;
+    switch (d.query) {
+        case RAYVERIFY_LINE_ROOTS: c.query = query_kind::line_roots; break;
+        case RAYVERIFY_NEAREST_ON_RAY:  // "the nearest hit with t >= 0": a ray closed at 0
+            c.query = query_kind::nearest_hit;
+            c.lower_end = end_kind::closed;
+            c.inside = d.clamps_to_zero ? inside_rule::clamp : inside_rule::far_root;
+            break;
+        case RAYVERIFY_ANY_HIT_IN_INTERVAL:
+            c.query = query_kind::any_hit;
+            c.range = range_source::interval;
+            break;
+        case RAYVERIFY_NEAREST_IN_INTERVAL:
+            c.query = query_kind::nearest_hit;
+            c.range = range_source::interval;
+            break;
+    }
+    c.assumes_unit_direction = d.assumes_unit_direction;
+    c.reports_tangent = d.reports_tangent;
+    c.tangent_rule = interned_text(d.tangent_rule);  // outlives an unloaded library
     v.thread_safe = false;  // rayverify_plugin.h: "Called from one thread"
     return v;
 }

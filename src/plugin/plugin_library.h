@@ -48,8 +48,8 @@ variant described_variant(const plugin_description& description);
 // The interval a plain run function passes as (tmin, tmax): the one its
 // contract is judged on.
 template <class T>
-T interval_start(query_kind query) {
-    return query == query_kind::line_roots ? -std::numeric_limits<T>::infinity() : T(0);
+T interval_start(const contract& promises) {
+    return promises.query == query_kind::line_roots ? -std::numeric_limits<T>::infinity() : T(0);
 }
 
 }  // namespace rayverify::plugin_internal

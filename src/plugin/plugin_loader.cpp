@@ -139,14 +139,14 @@ root_pair<T> call_in_process(const in_process_plugin& plugin, Fn intersect, cons
 // judged on; the interval kinds also get the ray's own interval.
 template <class Call>
 void bind_entry_points(variant& v, bool has_float, const Call& call) {
-    const double tmin_d = interval_start<double>(v.promises.query);
-    const float tmin_f = interval_start<float>(v.promises.query);
+    const double tmin_d = interval_start<double>(v.promises);
+    const float tmin_f = interval_start<float>(v.promises);
     constexpr double inf_d = std::numeric_limits<double>::infinity();
     constexpr float inf_f = std::numeric_limits<float>::infinity();
     v.run_double = [call, tmin_d](const ray_sphere<double>& s) { return call(s, tmin_d, inf_d, false); };
     if (has_float)
         v.run_float = [call, tmin_f](const ray_sphere<float>& s) { return call(s, tmin_f, inf_f, false); };
-    if (!takes_interval(v.promises.query)) return;
+    if (!takes_interval(v.promises)) return;
     v.run_double_in = [call](const ray_sphere<double>& s, double tmin, double tmax) {
         return call(s, tmin, tmax, true);
     };

@@ -32,9 +32,10 @@ std::string build_summary() {
 
 namespace {
 
-// Table columns for the verdict kinds, in enum order.
-constexpr const char* verdict_column[verdict_kind_count] = {
-    "agree", "f_miss", "f_hit", "t_split", "t_miss", "f_tan", "w_root", "w_side", "nonfin", "malf", "contract", "invalid"};
+// The verdict columns of the corpus table: every kind but wrong_sphere (a scene's).
+bool corpus_column(verdict_kind k) { return k != verdict_kind::wrong_sphere; }
+
+std::size_t column_width(std::string_view heading) { return std::max<std::size_t>(6, heading.size()); }
 
 }  // namespace
 
@@ -66,22 +67,37 @@ json tally_json(const target_tally& t, const char* scope) {
     json verdicts = json::object();
     for (int k = 0; k < verdict_kind_count; ++k)
         verdicts[std::string(verdict_name(static_cast<verdict_kind>(k)))] = t.verdicts[k];
+    json causes = json::object();
+    for (int c = 0; c < disagreement_cause_count; ++c)
+        causes[std::string(cause_name(static_cast<disagreement_cause>(c)))] = t.causes[c];
     return {{"cases", t.cases},
             {"disagreements", t.disagreements()},
             {"verdicts", verdicts},
+            {"causes", causes},
             {"near_root_ulp", statistics_json(t.near_root_ulp, scope)},
             {"far_root_ulp", statistics_json(t.far_root_ulp, scope)},
             {"near_root_bits", statistics_json(t.near_root_bits, scope)},
             {"hit_point_ulp", statistics_json(t.hit_point_ulp, scope)}};
 }
 
+
+}  // namespace
+
 json contract_json(const contract& c) {
-    return {{"query", query_kind_name(c.query)},
-            {"assumes_unit_direction", c.assumes_unit_direction},
-            {"reports_tangent", c.reports_tangent},
-            {"tangent_rule", std::string(c.tangent_rule)},
-            {"clamps_to_zero", c.clamps_to_zero}};
+    return {{"spec", format_contract(c)}, {"tangent_rule", std::string(c.tangent_rule)}, {"meaning", describe_contract(c)}};
 }
+
+contract contract_from_json(const json& j) {
+    try {
+        contract c = parse_contract(j.at("spec").get<std::string>());
+        c.tangent_rule = interned_text(j.at("tangent_rule").get<std::string>());
+        return c;
+    } catch (const std::invalid_argument& e) {
+        throw json::other_error::create(501, e.what(), &j);
+    }
+}
+
+namespace {
 
 json exact_json(const exact_solution& e) {
     json out;
@@ -96,12 +112,31 @@ json exact_json(const exact_solution& e) {
         out["near_sign"] = e.near_root.sign;
         out["far_sign"] = e.far_root.sign;
     }
-    if (e.nearest_in_front) {
-        out["front_root"] = *e.nearest_in_front == root_index::near_root ? "near" : "far";
-        out["hit_point"] = {hex_float(e.hit_point.x), hex_float(e.hit_point.y), hex_float(e.hit_point.z)};
+    // Facts of the line, for any contract: each root's point o + t·d, correctly
+    // rounded (which root is "the hit" is each result's "expected").
+    if (e.cls != line_class::miss) {
+        json points = json::object();
+        for (root_index i : {root_index::near_root, root_index::far_root}) {
+            json point = json::array();
+            for (int axis = 0; axis < 3; ++axis) point.push_back(hex_float(e.rounded_hit_coordinate(i, axis)));
+            points[i == root_index::near_root ? "near" : "far"] = point;
+        }
+        out["hit_points"] = points;
     }
-    if (e.hits_interval) out["hits_interval"] = *e.hits_interval;
     return out;
+}
+
+// What a nearest_hit or any_hit contract asks for on this case.
+json expected_json(const contract& promises, const exact_solution& exact, const t_range& range) {
+    if (exact.cls == line_class::miss) return {{"answer", "none"}};
+    const expected_hit want = expect_hit(promises, exact, range);
+    switch (want.what) {
+        case expected_hit::kind::none: return {{"answer", "none"}};
+        case expected_hit::kind::clamp: return {{"answer", "clamp"}, {"t", hex_float(want.value)}};
+        case expected_hit::kind::root:
+            return {{"answer", want.root == root_index::near_root ? "near" : "far"}, {"t", hex_float(want.value)}};
+    }
+    return {};
 }
 
 // "zero_direction", or "float: not_representable_in_precision" when only float
@@ -122,14 +157,20 @@ std::string render_summary_table(const audit_totals& totals) {
     std::size_t name_width = 7;
     for (const auto& t : totals.targets) name_width = std::max(name_width, t.subject.name.size());
     out += fmt::format("{:<{}} {:<6} {:>6}", "variant", name_width, "prec", "cases");
-    for (const char* column : verdict_column) out += fmt::format(" {:>{}}", column, std::max<std::size_t>(6, std::string_view(column).size()));
-    out += fmt::format(" {:>9} {:>9} {:>9}\n", "max_ulp", "p99_ulp", "med_ulp");
+    for (int k = 0; k < verdict_kind_count; ++k) {
+        const auto kind = static_cast<verdict_kind>(k);
+        if (corpus_column(kind)) out += fmt::format(" {:>{}}", verdict_column(kind), column_width(verdict_column(kind)));
+    }
+    out += fmt::format(" {:>6} {:>9} {:>9} {:>9}\n", "design", "max_ulp", "p99_ulp", "med_ulp");
     for (std::size_t i = 0; i < totals.targets.size(); ++i) {
         const audit_target& target = totals.targets[i];
         const target_tally& t = totals.overall[i];
         out += fmt::format("{:<{}} {:<6} {:>6}", target.subject.name, name_width, precision_name(target.prec), t.cases);
-        for (int k = 0; k < verdict_kind_count; ++k)
-            out += fmt::format(" {:>{}}", t.verdicts[k], std::max<std::size_t>(6, std::string_view(verdict_column[k]).size()));
+        for (int k = 0; k < verdict_kind_count; ++k) {
+            const auto kind = static_cast<verdict_kind>(k);
+            if (corpus_column(kind)) out += fmt::format(" {:>{}}", t.verdicts[k], column_width(verdict_column(kind)));
+        }
+        out += fmt::format(" {:>6}", t.by_design());
         const error_statistics& s = t.near_root_ulp;
         if (s.count == 0)
             out += fmt::format(" {:>9} {:>9} {:>9}\n", "-", "-", "-");
@@ -230,11 +271,18 @@ json per_case_json(const audited_case& audited, const std::vector<audit_target>&
         const target_outcome& o = audited.outcomes[i];
         json r = {{"verdict", std::string(verdict_name(o.score.verdict))}};
         const bool ran = o.score.verdict != verdict_kind::invalid && o.score.verdict != verdict_kind::contract_violation;
+        if (o.score.cause) r["cause"] = std::string(cause_name(*o.score.cause));
         if (ran) {
+            const contract& promises = targets[i].subject.promises;
+            const exact_solution& exact = audited.exact_for(targets[i].prec);
+            r["range"] = format_range(o.range);
+            if (promises.query != query_kind::line_roots) r["expected"] = expected_json(promises, exact, o.range);
+            // Every value the judge looked at: both roots of a line answer (a
+            // count-1 tangent's t1 included), the one root of a nearest hit.
             r["count"] = o.output.roots.count;
-            if (o.output.roots.count > 0) {
+            if (o.output.roots.count > 0 && promises.query != query_kind::any_hit) {
                 r["t0"] = hex_float(o.output.roots.t0);
-                if (o.output.roots.count > 1) r["t1"] = hex_float(o.output.roots.t1);
+                if (promises.query == query_kind::line_roots) r["t1"] = hex_float(o.output.roots.t1);
             }
         }
         if (o.score.near_ulp) r["near_ulp"] = json_number(*o.score.near_ulp);

@@ -40,4 +40,10 @@ extern const char* const quantile_scope;
 // A finite double as a JSON number, ±inf and NaN as strings ("inf", "-inf", "nan").
 nlohmann::ordered_json json_number(double x);
 
+// A contract as report.json and shard states record it: its spec
+// (format_contract), tangent rule and meaning; and back (a spec that does not
+// parse is a json::other_error).
+nlohmann::ordered_json contract_json(const contract& c);
+contract contract_from_json(const nlohmann::ordered_json& j);
+
 }  // namespace rayverify

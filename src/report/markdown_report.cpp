@@ -7,6 +7,7 @@
 #include <map>
 #include <memory>
 
+#include "compare/judge.h"
 #include "corpus/corpus_io.h"
 
 namespace rayverify {
@@ -30,8 +31,8 @@ std::string percent(std::size_t part, std::size_t whole) {
 
 std::size_t misclassified(const json& verdicts) {
     std::size_t n = 0;
-    for (const char* k : {"false_miss", "false_hit", "tangent_split", "tangent_missed", "false_tangent"})
-        if (verdicts.contains(k)) n += verdicts[k].get<std::size_t>();
+    for (const auto& [name, count] : verdicts.items())
+        if (const auto kind = verdict_from_name(name); kind && is_misclassification(*kind)) n += count.get<std::size_t>();
     return n;
 }
 
@@ -41,8 +42,19 @@ std::size_t scored(const json& entry) {
            v["contract_violation"].get<std::size_t>();
 }
 
+// What each plot shows, as its image's alt text.
+std::string plot_title(const std::string& file) {
+    static const std::map<std::string, std::string> titles = {
+        {"accuracy_vs_time.png", "Accuracy against run time, one panel per precision"},
+        {"error_vs_condition.png", "Nearest-root error against the condition number"},
+        {"far_sphere.png", "Far spheres: error and misclassification by distance/radius"},
+        {"ulp_histograms.png", "Nearest-root ULP error per variant"}};
+    const auto it = titles.find(file);
+    return it == titles.end() ? file : it->second;
+}
+
 void accuracy_table(std::string& out, const json& results, const std::string& title) {
-    out += fmt::format("\n### {}\n\n", title);
+    out += fmt::format("\n#### {}\n\n", title);
     out += "| variant | precision | scored | agree | misclassified | other disagreements | max ulp | p99 ulp | median ulp |\n";
     out += "|---|---|---:|---:|---:|---:|---:|---:|---:|\n";
     for (const json& r : results) {
@@ -59,7 +71,7 @@ void accuracy_table(std::string& out, const json& results, const std::string& ti
 }
 
 void stability_tables(std::string& out, const json& stability) {
-    out += "\n## Stability\n\n";
+    out += "\n";
     for (const auto& [name, text] : stability["definitions"].items())
         out += fmt::format("- **{}**: {}\n", name, text.get<std::string>());
     out += "\n| variant | precision | stable | judged | above 16·κ | above, κ < 1e3 | max excess | misclassified | "
@@ -77,7 +89,7 @@ void stability_tables(std::string& out, const json& stability) {
            "wrong classes). Maximum excess is over this finite corpus.\n";
 
     // Per family: which variants stay on the κ·u line.
-    out += "\n### Stable per family (no agreeing case above 16·κ ulps; unstable lists the count above)\n\n";
+    out += "\n#### Stable per family (no agreeing case above 16·κ ulps; unstable lists the count above)\n\n";
     std::map<std::string, std::vector<std::string>> cells;
     std::vector<std::string> families;
     out += "| variant | precision |";
@@ -103,7 +115,7 @@ void stability_tables(std::string& out, const json& stability) {
     }
 
     // Condition buckets, overall.
-    out += "\n### By condition number of the near root (cases · misclassified · median / max ulp)\n\n";
+    out += "\n#### By condition number of the near root (cases · misclassified · median / max ulp)\n\n";
     std::vector<std::string> labels;
     for (const json& r : stability["results"])
         for (const json& b : r["buckets"]) {
@@ -135,7 +147,7 @@ void stability_tables(std::string& out, const json& stability) {
 }
 
 void timing_tables(std::string& out, const json& timing) {
-    out += "\n## Run time\n\n";
+    out += "\n";
     for (const auto& [name, text] : timing["harness"].items())
         out += fmt::format("- {}: {}\n", name, text.is_string() ? text.get<std::string>() : text.dump());
     out += fmt::format("\nRatios are to `{}` measured in the same run, family by family. ns are CPU time per "
@@ -146,7 +158,7 @@ void timing_tables(std::string& out, const json& timing) {
         out += fmt::format("| {} | {} | {:.2f} | {} |\n", r["variant"].get<std::string>(),
                            r["precision"].get<std::string>(), r["ns_per_test"].get<double>(),
                            number(r["ratio_to_reference"]));
-    out += fmt::format("\n({})\n\n### Per family: median ns per test [min–max over repetitions]\n\n",
+    out += fmt::format("\n({})\n\n#### Per family: median ns per test [min–max over repetitions]\n\n",
                        timing["overall_definition"].get<std::string>());
     std::vector<std::string> families, labels;
     std::map<std::string, std::map<std::string, const json*>> cell;
@@ -178,7 +190,7 @@ void timing_tables(std::string& out, const json& timing) {
 }
 
 void sweep_table(std::string& out, const json& sweep) {
-    out += fmt::format("\n## Far-sphere sweep\n\n{}\n\n", sweep["description"].get<std::string>());
+    out += fmt::format("\n{}\n\n", sweep["description"].get<std::string>());
     out += "Misclassified / scored cases per decade of distance/radius (|o − c| / r):\n\n| d/r |";
     const json& results = sweep["results"];
     for (const json& r : results)
@@ -197,36 +209,131 @@ void sweep_table(std::string& out, const json& sweep) {
     }
 }
 
+// The headline: whether any target disagrees with the exact answer.
+std::string headline(const json& report) {
+    const std::string tool = report.value("tool", std::string("rayverify report"));
+    std::size_t targets = 0, wrong = 0;
+    for (const json& r : report.value("results", json::array())) {
+        ++targets;
+        if (r["disagreements"].get<std::size_t>() > 0) ++wrong;
+    }
+    const std::size_t cases = report.contains("corpus") ? report["corpus"]["cases"].get<std::size_t>() : 0;
+    if (wrong == 0)
+        return fmt::format("## {}: no disagreement — all {} targets agree with the exact answer on all {} cases\n",
+                           tool, targets, cases);
+    return fmt::format("## {}: findings — {} of {} targets answer some of the {} cases wrong\n", tool, wrong,
+                       targets, cases);
+}
+
+// One row per variant, a pair of columns per precision: what a reviewer reads first.
+void compact_table(std::string& out, const json& report) {
+    std::vector<std::string> variants, precisions;
+    std::map<std::pair<std::string, std::string>, const json*> cell;
+    const auto add = [&](const json& r, const std::string& precision) {
+        const std::string v = r["variant"].get<std::string>();
+        if (std::find(variants.begin(), variants.end(), v) == variants.end()) variants.push_back(v);
+        if (std::find(precisions.begin(), precisions.end(), precision) == precisions.end())
+            precisions.push_back(precision);
+        cell[{v, precision}] = &r;
+    };
+    if (report.contains("results"))
+        for (const json& r : report.at("results")) add(r, r["precision"].get<std::string>());
+    if (report.contains("long_double") && report.at("long_double").contains("results"))
+        for (const json& r : report.at("long_double").at("results")) add(r, "long double");
+    if (variants.empty()) return;
+    out += "\n| variant |";
+    for (const std::string& p : precisions) out += fmt::format(" wrong, {0} | max ulp, {0} |", p);
+    out += "\n|---|";
+    for (std::size_t i = 0; i < precisions.size(); ++i) out += "---:|---:|";
+    out += "\n";
+    for (const std::string& v : variants) {
+        out += fmt::format("| {} |", v);
+        for (const std::string& p : precisions) {
+            const auto it = cell.find({v, p});
+            if (it == cell.end()) {
+                out += " | |";
+                continue;
+            }
+            const json& r = *it->second;
+            const std::size_t wrong = r["disagreements"].get<std::size_t>(), n = scored(r);
+            out += fmt::format(" {} ({}) | {} |", wrong, percent(wrong, n),
+                               number(r["near_root_ulp"].value("max", json())));
+        }
+        out += "\n";
+    }
+    out += "\nwrong: answers that disagree with the exact one, of the cases each target is scored on; max ulp: "
+           "the nearest root's largest error where the answer agrees (- when the variant returns no root), over "
+           "this finite corpus.\n";
+}
+
+// A folded section: GitHub renders the summary line and hides the rest.
+std::string folded(const std::string& summary, const std::string& body) {
+    return fmt::format("\n<details><summary>{}</summary>\n{}\n</details>\n", summary, body);
+}
+
 }  // namespace
 
-std::string render_markdown(const json& report) {
-    std::string out = fmt::format("# {}\n\n", report.value("tool", std::string("rayverify report")));
-    out += fmt::format("- command: `{}`\n", report.value("command", std::string()));
-    const json& build = report["build"];
-    out += fmt::format("- build: {} `{}` [{}], rayverify {}\n", build["compiler"].get<std::string>(),
-                       build["flags"].get<std::string>(), build["build_type"].get<std::string>(),
-                       build["rayverify_version"].get<std::string>());
-    if (report.contains("machine"))
-        out += fmt::format("- CPU: {}\n", report["machine"]["cpu"].get<std::string>());
-    if (report.contains("corpus"))
-        out += fmt::format("- corpus: {} cases\n", report["corpus"]["cases"].get<std::size_t>());
+std::string render_summary_markdown(const json& report) {
+    std::string out = headline(report);
+    compact_table(out, report);
+    return out;
+}
 
-    out += "\n## Plots\n\n";
+std::string render_markdown(const json& report) {
+    std::string out = render_summary_markdown(report);
+
     if (report.contains("plots")) {
         const json& plots = report["plots"];
-        if (!plots["rendered"].get<bool>())
-            out += fmt::format("**No plots:** {}\n", plots["message"].get<std::string>());
-        for (const json& f : plots["files"]) out += fmt::format("![{0}]({0})\n\n", f.get<std::string>());
+        if (!plots["rendered"].get<bool>()) {
+            out += fmt::format("\n**No plots:** {}\n", plots["message"].get<std::string>());
+        } else {
+            out += "\n### Plots\n\n";
+            for (const json& f : plots["files"]) {
+                const std::string name = f.get<std::string>();
+                out += fmt::format("![{}]({})\n\n", plot_title(name), name);
+            }
+        }
     }
 
-    out += "\n## Accuracy\n";
-    if (report.contains("results")) accuracy_table(out, report["results"], "float and double (the audit)");
+    std::string accuracy;
+    if (report.contains("results")) accuracy_table(accuracy, report["results"], "float and double (the audit)");
     if (report.contains("long_double") && report["long_double"].contains("results"))
-        accuracy_table(out, report["long_double"]["results"],
+        accuracy_table(accuracy, report["long_double"]["results"],
                        "long double arithmetic on double inputs, roots rounded to double");
-    if (report.contains("stability")) stability_tables(out, report["stability"]);
-    if (report.contains("timing")) timing_tables(out, report["timing"]);
-    if (report.contains("far_sphere_sweep")) sweep_table(out, report["far_sphere_sweep"]);
+    if (!accuracy.empty()) out += folded("Accuracy: every target", accuracy);
+    if (report.contains("stability")) {
+        std::string stability;
+        stability_tables(stability, report["stability"]);
+        out += folded("Stability: conditioning-limited or algorithmic", stability);
+    }
+    if (report.contains("timing")) {
+        std::string timing;
+        timing_tables(timing, report["timing"]);
+        out += folded("Run time", timing);
+    }
+    if (report.contains("far_sphere_sweep")) {
+        std::string sweep;
+        sweep_table(sweep, report["far_sphere_sweep"]);
+        out += folded("Far-sphere sweep", sweep);
+    }
+
+    std::string run = fmt::format("\n- command: `{}`\n", report.value("command", std::string()));
+    const json& build = report["build"];
+    run += fmt::format("- build: {} `{}` [{}], rayverify {}\n", build["compiler"].get<std::string>(),
+                       build["flags"].get<std::string>(), build["build_type"].get<std::string>(),
+                       build["rayverify_version"].get<std::string>());
+    if (report.contains("machine")) run += fmt::format("- CPU: {}\n", report["machine"]["cpu"].get<std::string>());
+    if (report.contains("corpus")) {
+        run += fmt::format("- corpus: {} cases", report["corpus"]["cases"].get<std::size_t>());
+        if (report["corpus"].contains("cases_by_family")) {
+            std::string families;
+            for (const auto& [family, count] : report["corpus"]["cases_by_family"].items())
+                families += fmt::format("{}{} {}", families.empty() ? "" : ", ", family, count.get<std::size_t>());
+            run += " (" + families + ")";
+        }
+        run += "\n";
+    }
+    out += folded("How this report was made", run);
     return out;
 }
 
@@ -266,7 +373,7 @@ plot_outcome render_plots(const std::filesystem::path& dir) {
     for (const std::string& line : lines)
         if (line.rfind("wrote ", 0) == 0) outcome.files.push_back(line.substr(6));
     outcome.rendered = true;
-    outcome.message = fmt::format("{} plots drawn by {} with matplotlib", outcome.files.size(), script);
+    outcome.message = fmt::format("{} plots drawn with matplotlib (plot_report.py)", outcome.files.size());
     return outcome;
 }
 

@@ -11,9 +11,16 @@
 
 namespace rayverify {
 
-// The readable summary: build and machine, accuracy, stability, run time and
-// far-sphere tables when the report has them, and the plots it links.
+// report.md, ready to paste into a pull request: the headline (does any
+// target disagree with the exact answer), a compact table (one row per
+// variant), the plots, then folded sections: every target's figures,
+// stability, run time and far-sphere tables when the report has them, and how
+// the report was made.
 std::string render_markdown(const nlohmann::ordered_json& report);
+
+// The headline and the compact table alone (`--summary-md FILE`, for a CI
+// step summary).
+std::string render_summary_markdown(const nlohmann::ordered_json& report);
 
 struct plot_outcome {
     bool rendered = false;

@@ -1,9 +1,8 @@
 #include "report/shard_state.h"
 
-#include <deque>
-#include <mutex>
 
 #include "corpus/corpus_io.h"
+#include "report/audit_report.h"
 
 namespace rayverify {
 
@@ -34,16 +33,6 @@ json audit_report_document(const audit_state& state, const run_context& context)
 
 namespace {
 
-// contract::tangent_rule is a string_view: rules read back are kept here.
-std::string_view interned(std::string text) {
-    static std::mutex mutex;
-    static std::deque<std::string> strings;
-    const std::lock_guard lock(mutex);
-    for (const std::string& s : strings)
-        if (s == text) return s;
-    return strings.emplace_back(std::move(text));
-}
-
 json double_json(double x) { return hex_float(x); }
 double double_from(const json& j) { return parse_exact_double(j.get<std::string>(), "shard state", 0, "value"); }
 
@@ -65,7 +54,7 @@ error_summary summary_from(const json& j) {
 }
 
 json samples_json(const target_samples& s) {
-    return {{"cases", s.cases},           {"verdicts", s.verdicts},
+    return {{"cases", s.cases},           {"verdicts", s.verdicts},          {"causes", s.causes},
             {"near_ulp", summary_json(s.near_ulp)}, {"far_ulp", summary_json(s.far_ulp)},
             {"hit_ulp", summary_json(s.hit_ulp)},   {"near_bits", summary_json(s.near_bits)}};
 }
@@ -74,6 +63,7 @@ target_samples samples_from(const json& j) {
     target_samples s;
     s.cases = j.at("cases").get<std::size_t>();
     s.verdicts = j.at("verdicts").get<std::array<std::size_t, verdict_kind_count>>();
+    s.causes = j.at("causes").get<std::array<std::size_t, disagreement_cause_count>>();
     s.near_ulp = summary_from(j.at("near_ulp"));
     s.far_ulp = summary_from(j.at("far_ulp"));
     s.hit_ulp = summary_from(j.at("hit_ulp"));
@@ -85,7 +75,7 @@ json stability_samples_json(const stability_samples& s) {
     json buckets = json::array(), near = json::array();
     for (int b = 0; b < condition_bucket_count; ++b) {
         const bucket_tally& t = s.buckets[b];
-        buckets.push_back({t.cases, t.misclassified, t.disagreements, t.conditioning_limited, t.algorithmic});
+        buckets.push_back({t.cases, t.misclassified, t.disagreements, t.conditioning_limited, t.algorithmic, t.by_design});
         near.push_back(summary_json(s.near_ulp[b]));
     }
     return {{"buckets", buckets},
@@ -103,6 +93,7 @@ stability_samples stability_samples_from(const json& j) {
         s.buckets[b].disagreements = t.at(2).get<std::size_t>();
         s.buckets[b].conditioning_limited = t.at(3).get<std::size_t>();
         s.buckets[b].algorithmic = t.at(4).get<std::size_t>();
+        s.buckets[b].by_design = t.at(5).get<std::size_t>();
         s.near_ulp[b] = summary_from(j.at("near_ulp").at(b));
     }
     s.excess = summary_from(j.at("excess"));
@@ -152,17 +143,11 @@ invalid_reason reason_from(const json& j) {
 json targets_json(const std::vector<audit_target>& targets) {
     json out = json::array();
     for (const audit_target& t : targets) {
-        const contract& c = t.subject.promises;
         out.push_back({{"variant", t.subject.name},
                        {"precision", precision_name(t.prec)},
                        {"citation", t.subject.citation},
                        {"formula", t.subject.formula},
-                       {"contract",
-                        {{"query", query_kind_name(c.query)},
-                         {"assumes_unit_direction", c.assumes_unit_direction},
-                         {"reports_tangent", c.reports_tangent},
-                         {"tangent_rule", std::string(c.tangent_rule)},
-                         {"clamps_to_zero", c.clamps_to_zero}}}});
+                       {"contract", contract_json(t.subject.promises)}});
     }
     return out;
 }
@@ -172,16 +157,12 @@ std::vector<audit_target> targets_from_json(const json& j) {
     for (const json& t : j) {
         audit_target target;
         target.subject.name = t.at("variant").get<std::string>();
-        target.prec = t.at("precision").get<std::string>() == "float" ? precision::binary32 : precision::binary64;
+        const std::optional<precision> prec = precision_from_name(t.at("precision").get<std::string>());
+        if (!prec) throw json::other_error::create(501, "unknown precision", &t.at("precision"));
+        target.prec = *prec;
         target.subject.citation = t.at("citation").get<std::string>();
         target.subject.formula = t.at("formula").get<std::string>();
-        const json& c = t.at("contract");
-        contract& p = target.subject.promises;
-        p.query = query_kind_from_name(c.at("query").get<std::string>());
-        p.assumes_unit_direction = c.at("assumes_unit_direction").get<bool>();
-        p.reports_tangent = c.at("reports_tangent").get<bool>();
-        p.tangent_rule = interned(c.at("tangent_rule").get<std::string>());
-        p.clamps_to_zero = c.at("clamps_to_zero").get<bool>();
+        target.subject.promises = contract_from_json(t.at("contract"));
         targets.push_back(std::move(target));
     }
     return targets;

@@ -25,7 +25,8 @@ json bucket_json(const bucket_tally& b) {
                 {"misclassification_rate", b.cases ? static_cast<double>(b.misclassified) / b.cases : 0.0},
                 {"disagreements", b.disagreements},
                 {"conditioning_limited", b.conditioning_limited},
-                {"algorithmic", b.algorithmic}};
+                {"algorithmic", b.algorithmic},
+                {"by_design", b.by_design}};
     json ulp = {{"count", b.near_root_ulp.count}};
     if (b.near_root_ulp.count) {
         ulp["max"] = json_number(b.near_root_ulp.max);
@@ -89,7 +90,7 @@ json stability_json(const audit_totals& totals, const stability_totals& stabilit
     out["definitions"] = {
         {"condition",
          "kappa of the near root for relative perturbations of the 10 inputs: "
-         "(sum_k |p_k|(|o_k| + |c_k| + |t||d_k|) + r^2) / (sqrt(D') |t|), p = o - c + t d, D' = b'^2 - aC; "
+         "(sum_k |p_k|(|o_k| + |c_k| + |t||d_k|) + r^2) / (sqrt(D') |t|), p = o - c + t d, D' = b'^2 - aC = a r^2 - |d x f|^2 (evaluated in the second form); "
          "inf for a double root (tangent) or t = 0; none for a miss"},
         {"tangency_distance", "|D'| / (b'^2 + |a C|)"},
         {"tangency_margin",
@@ -97,8 +98,11 @@ json stability_json(const audit_totals& totals, const stability_totals& stabilit
          "a r^2), u = 2^-24 (float) or 2^-53 (double)"},
         {"conditioning_limited",
          "a wrong class with tangency_margin <= 8 (relative input perturbations of 8u, the backward error of a "
-         "stable evaluation, can flip the sign of D'); a wrong root or wrong side with margin <= 8 or 8 u kappa >= 1; "
-         "non-finite and malformed outputs are always algorithmic"},
+         "stable evaluation, can flip the sign of D'); a wrong root, side or sphere with margin <= 8 or "
+         "8 u kappa >= 1; non-finite and malformed outputs are always algorithmic"},
+        {"by_design",
+         "disagreements the formula makes by design, decided exactly: clamp, contract_semantics, unit_direction, "
+         "tangent_threshold, line_not_ray (see the verdict causes)"},
         {"reference_line",
          "a backward-stable algorithm's near-root error is about kappa ulps or less (relative error kappa u); "
          "excess = near-root ulps / max(kappa, 1) over agreeing cases with finite kappa; above_line counts excess > 16; "
@@ -118,13 +122,11 @@ json stability_json(const audit_totals& totals, const stability_totals& stabilit
     return out;
 }
 
-void add_stability_fields(json& line, const case_stability& s, const std::vector<audit_target>& targets) {
+void add_stability_fields(json& line, const case_stability& s) {
     json measures = json::object();
     if (s.at_float) measures["float"] = measures_json(*s.at_float);
     if (s.at_double) measures["double"] = measures_json(*s.at_double);
     line["stability"] = measures;
-    for (std::size_t i = 0; i < targets.size(); ++i)
-        if (s.causes[i]) line["results"][targets[i].label()]["cause"] = disagreement_cause_name(*s.causes[i]);
 }
 
 case_points::case_points(std::vector<audit_target> targets, std::vector<std::string> labels)

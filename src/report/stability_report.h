@@ -23,10 +23,9 @@ namespace rayverify {
 nlohmann::ordered_json stability_json(const audit_totals& totals, const stability_totals& stability,
                                       const std::vector<std::string>& precision_labels = {});
 
-// Adds "stability" (per precision in use) and a "cause" per disagreeing
-// result to one per-case JSON object built by per_case_json.
-void add_stability_fields(nlohmann::ordered_json& line, const case_stability& s,
-                          const std::vector<audit_target>& targets);
+// Adds "stability" (per precision in use) to one per-case JSON object built
+// by per_case_json (which carries each result's verdict and cause).
+void add_stability_fields(nlohmann::ordered_json& line, const case_stability& s);
 
 // Column-oriented per-case values for the plots: family, distance ratio,
 // κ at float and double, and per target label the verdict and near-root ulps.

@@ -1,5 +1,7 @@
 #include "scene/scene.h"
 
+#include "compare/judge.h"
+
 #include <algorithm>
 #include <array>
 #include <cerrno>
@@ -395,37 +397,6 @@ double scene_limit(precision p) {
 
 double reach_of(vec3<double> v) { return std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)}); }
 
-// Is the exact root i of `solution` inside the open interval (tmin, tmax)?
-bool root_inside(const exact_solution& solution, root_index i, double tmin, double tmax) {
-    if (solution.compare_root(i, tmin) >= 0) return false;  // tmin ≥ t*
-    return std::isinf(tmax) || solution.compare_root(i, tmax) > 0;
-}
-
-struct exact_nearest {
-    int sphere = -1;
-    root_index root = root_index::near_root;
-    double t = 0;  // the root rounded to the scene's precision
-    exact_solution solution;
-};
-
-// The exact nearest hit of a ray over all its spheres. Roots of different
-// spheres are ordered by their correctly rounded values (ties: lower index).
-std::optional<exact_nearest> exact_nearest_hit(const scene& s, const scene_ray& r) {
-    std::optional<exact_nearest> best;
-    for (int k : r.spheres) {
-        const corpus_case c = case_for(s, r, k);
-        exact_solution e = solve_exact(c.geometry, s.prec);
-        if (!e.valid() || e.cls == line_class::miss) continue;
-        for (root_index i : {root_index::near_root, root_index::far_root}) {
-            if (!root_inside(e, i, r.tmin, r.tmax)) continue;
-            const double t = e.root(i).rounded;
-            if (!best || t < best->t) best = exact_nearest{k, i, t, e};
-            break;  // the near root comes first
-        }
-    }
-    return best;
-}
-
 // The hit point of the exact nearest hit, correctly rounded to the scene's
 // precision, and the outward unit normal there (computed in double).
 struct spawn_point {
@@ -433,10 +404,10 @@ struct spawn_point {
     vec3<double> normal;
 };
 
-spawn_point spawn_at(const scene& s, const exact_nearest& hit) {
+spawn_point spawn_at(const scene& s, const sphere_solution& hit, root_index root) {
     spawn_point p;
-    p.point = {hit.solution.rounded_hit_coordinate(hit.root, 0), hit.solution.rounded_hit_coordinate(hit.root, 1),
-               hit.solution.rounded_hit_coordinate(hit.root, 2)};
+    p.point = {hit.exact.rounded_hit_coordinate(root, 0), hit.exact.rounded_hit_coordinate(root, 1),
+               hit.exact.rounded_hit_coordinate(root, 2)};
     const scene_sphere& sphere = s.spheres[static_cast<std::size_t>(hit.sphere)];
     p.normal = normalised(p.point - sphere.centre);
     return p;
@@ -754,9 +725,11 @@ std::vector<scene_ray> generate_rays(const scene& s) {
         scene_ray primary = primary_ray(s, x, y);
         rays.push_back(primary);
         if (!s.shadow.enabled && !s.secondary.enabled) continue;
-        const std::optional<exact_nearest> hit = exact_nearest_hit(s, primary);
-        if (!hit) continue;
-        const spawn_point p = spawn_at(s, *hit);
+        const std::vector<sphere_solution> solved = solve_spheres(s, primary);
+        const std::optional<exact_nearest> nearest = exact_nearest_hit(primary, solved);
+        if (!nearest) continue;
+        const sphere_solution* hit = &solved[nearest->index];
+        const spawn_point p = spawn_at(s, *hit, nearest->root);
 
         if (s.shadow.enabled) {
             for (std::size_t l = 0; l < s.lights.size(); ++l) {
@@ -798,6 +771,31 @@ std::vector<scene_ray> generate_rays(const scene& s) {
         }
     }
     return rays;
+}
+
+std::vector<sphere_solution> solve_spheres(const scene& s, const scene_ray& r) {
+    std::vector<sphere_solution> solved;
+    solved.reserve(r.spheres.size());
+    for (int k : r.spheres) {
+        sphere_solution one{k, case_for(s, r, k), {}};
+        one.exact = solve_case(one.pair, s.prec);
+        solved.push_back(std::move(one));
+    }
+    return solved;
+}
+
+std::optional<exact_nearest> exact_nearest_hit(const scene_ray& r, std::span<const sphere_solution> solved) {
+    const contract renderer = renderer_contract(ray_query::nearest_hit);
+    std::optional<exact_nearest> best;
+    for (std::size_t i = 0; i < solved.size(); ++i) {
+        const exact_solution& e = solved[i].exact;
+        if (!e.valid()) continue;
+        const expected_hit want = expect_hit(renderer, e, range_of(renderer, r.tmin, r.tmax));
+        if (!want.hit()) continue;
+        if (!best || compare_roots(e, want.root, solved[best->index].exact, best->root) < 0)
+            best = exact_nearest{i, want.root};
+    }
+    return best;
 }
 
 corpus_case case_for(const scene& s, const scene_ray& r, int sphere) {

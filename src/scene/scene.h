@@ -14,12 +14,14 @@
 #include <filesystem>
 #include <limits>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "core/intersection.h"
 #include "core/ray_sphere_case.h"
 #include "core/vec3.h"
+#include "oracle/oracle.h"
 
 namespace rayverify {
 
@@ -146,6 +148,27 @@ scene_ray primary_ray(const scene& s, int x, int y);
 // pixel's primary ray, then (when the exact nearest hit exists) its shadow
 // rays, light by light, then its secondary ray.
 std::vector<scene_ray> generate_rays(const scene& s);
+
+// One sphere on a ray: the (ray, sphere) pair as a case and the oracle's
+// answer for it in the scene's precision.
+struct sphere_solution {
+    int sphere = -1;
+    corpus_case pair;
+    exact_solution exact;
+};
+
+// Every sphere on the ray, solved.
+std::vector<sphere_solution> solve_spheres(const scene& s, const scene_ray& r);
+
+// The ray's exact nearest hit: over the spheres, the nearest root in the
+// ray's (tmin, tmax) (the renderer's contract, compare/judge.h), roots of
+// different spheres compared exactly (compare_roots); an exact tie goes to
+// the sphere listed first. `index` is into `solved`.
+struct exact_nearest {
+    std::size_t index = 0;
+    root_index root = root_index::near_root;
+};
+std::optional<exact_nearest> exact_nearest_hit(const scene_ray& r, std::span<const sphere_solution> solved);
 
 // The (ray, sphere) pair as a corpus case: geometry exactly as the ray and the
 // sphere are given (the sphere rounded to the scene's precision), the ray's

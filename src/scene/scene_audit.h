@@ -1,13 +1,17 @@
 // Auditing a scene: each ray the renderer casts is answered exactly (over all
 // the spheres it can meet, by the oracle) and by each variant, and the two
-// answers are compared at the level the ray's query needs:
+// answers are compared at the level the ray's query needs. Each (ray, sphere)
+// pair is judged by the one judge in the renderer's view (judge_for_renderer:
+// the variant's answer filtered into the ray's (tmin, tmax)); this file only
+// composes the pairs into the ray's answer:
 //   any_hit          — only whether something lies in (tmin, tmax);
-//   nearest_hit      — which sphere is nearest in (tmin, tmax), and the ULP
-//                      error of that root;
+//   nearest_hit      — which sphere is nearest in (tmin, tmax) (exact roots of
+//                      different spheres compared exactly), and the ULP error
+//                      of that root;
 //   hit_point_normal — as nearest_hit, plus the ULP error of the hit point
 //                      o + t·d the variant's root gives (in its precision);
-//   both_roots       — each (ray, sphere) pair judged by score_case on the
-//                      line's two roots, with both roots' ULP errors.
+//   both_roots       — each (ray, sphere) pair judged on the line's two roots;
+//                      the ray takes the first pair's disagreement.
 // Pure computation: the CLI prints and renders what this returns.
 #pragma once
 
@@ -20,26 +24,12 @@
 #include <vector>
 
 #include "compare/audit.h"
-#include "compare/query.h"
+#include "compare/judge.h"
 #include "intersectors/registry.h"
 #include "oracle/oracle.h"
 #include "scene/scene.h"
 
 namespace rayverify {
-
-// How a variant's answer to one ray differs from the exact one.
-enum class ray_verdict {
-    agree,
-    false_miss,    // exact: a hit in the interval; variant: none
-    false_hit,     // exact: none; variant: a hit
-    wrong_sphere,  // both hit, but a different sphere is nearest
-    wrong_side,    // a root's side of tmin or tmax differs: a self-hit, or a hit lost behind the bound
-    wrong_root,    // the variant's nearest is the other root of the same sphere
-    other,         // both_roots only: a tangent, non-finite or malformed pair verdict
-};
-inline constexpr int ray_verdict_count = 7;
-std::string_view ray_verdict_name(ray_verdict v);
-std::string_view ray_verdict_meaning(ray_verdict v);
 
 // The exact answer to one ray (its nearest hit over its spheres, in the
 // interval), with what a picture needs.
@@ -54,14 +44,15 @@ struct exact_ray_answer {
 
 // One variant's answer to one ray and its verdict.
 struct variant_ray_answer {
-    ray_verdict verdict = ray_verdict::agree;
+    verdict_kind verdict = verdict_kind::agree;
+    std::optional<disagreement_cause> cause;  // for a disagreement
     bool hit = false;
     int sphere = -1;
     double t = 0;
     std::optional<double> nearest_ulp;    // |t − t*| / ulp(t*) when the verdict is agree
     std::optional<double> far_ulp;        // both_roots only
     std::optional<double> hit_point_ulp;  // hit_point_normal only: max over the coordinates
-    std::string detail;                   // both_roots: the pair verdict behind `other`
+    std::string detail;                   // for a disagreement: the sphere and what the judge found there
 };
 
 struct judged_ray {
@@ -73,10 +64,11 @@ struct judged_ray {
 // The figures of one ray kind for one target: only those its query needs.
 struct ray_kind_figures {
     std::size_t rays = 0;
-    std::array<std::size_t, ray_verdict_count> verdicts{};
-    error_statistics nearest_ulp;    // nearest_hit, hit_point_normal, both_roots
-    error_statistics far_ulp;        // both_roots only
-    error_statistics hit_point_ulp;  // hit_point_normal only
+    std::array<std::size_t, verdict_kind_count> verdicts{};
+    std::array<std::size_t, disagreement_cause_count> causes{};  // of the disagreements
+    error_summary nearest_ulp;    // nearest_hit, hit_point_normal, both_roots
+    error_summary far_ulp;        // both_roots only
+    error_summary hit_point_ulp;  // hit_point_normal only
     std::size_t disagreements() const;
 };
 

@@ -35,24 +35,30 @@ rgb ulp_colour(double ulp, double full_scale) {
 
 }  // namespace
 
-rgb verdict_colour(ray_verdict v) {
+rgb verdict_colour(verdict_kind v) {
     switch (v) {
-        case ray_verdict::agree: return agree_exact;
-        case ray_verdict::false_miss: return {230, 30, 30};
-        case ray_verdict::false_hit: return {40, 110, 255};
-        case ray_verdict::wrong_sphere: return {40, 200, 40};
-        case ray_verdict::wrong_side: return {255, 0, 255};
-        case ray_verdict::wrong_root: return {255, 140, 0};
-        case ray_verdict::other: return {255, 255, 255};
+        case verdict_kind::agree: return agree_exact;
+        case verdict_kind::false_miss: return {230, 30, 30};
+        case verdict_kind::false_hit: return {40, 110, 255};
+        case verdict_kind::tangent_split: return {255, 230, 0};
+        case verdict_kind::tangent_missed: return {150, 0, 40};
+        case verdict_kind::false_tangent: return {180, 170, 90};
+        case verdict_kind::wrong_root: return {255, 140, 0};
+        case verdict_kind::wrong_sphere: return {40, 200, 40};
+        case verdict_kind::wrong_side: return {255, 0, 255};
+        case verdict_kind::non_finite: return {255, 255, 255};
+        case verdict_kind::malformed_output: return {0, 220, 220};
+        case verdict_kind::contract_violation: return {90, 90, 90};
+        case verdict_kind::invalid: return {60, 60, 60};
     }
     return {};
 }
 
 std::vector<palette_entry> scene_palette() {
     std::vector<palette_entry> p;
-    for (int i = 1; i < ray_verdict_count; ++i) {
-        const auto v = static_cast<ray_verdict>(i);
-        p.push_back({ray_verdict_name(v), verdict_colour(v), ray_verdict_meaning(v)});
+    for (int i = 1; i < verdict_kind_count; ++i) {
+        const auto v = static_cast<verdict_kind>(i);
+        p.push_back({verdict_name(v), verdict_colour(v), verdict_meaning(v)});
     }
     p.push_back({"agree_hit_exact", agree_exact, "agrees; nearest root error 0 ulp (the start of the ULP ramp)"});
     p.push_back({"agree_hit_max", agree_max,
@@ -103,7 +109,7 @@ void scene_picture_builder::add(const judged_ray& j) {
         p.variant_shadowed += answer.hit ? 1 : 0;
     }
     p.hit[kind] = p.hit[kind] || j.exact.hit;
-    if (!p.verdict[kind] || *p.verdict[kind] == ray_verdict::agree) p.verdict[kind] = answer.verdict;
+    if (!p.verdict[kind] || *p.verdict[kind] == verdict_kind::agree) p.verdict[kind] = answer.verdict;
     if (answer.nearest_ulp) p.ulp[kind] = std::max(p.ulp[kind].value_or(0.0), *answer.nearest_ulp);
 }
 
@@ -138,10 +144,10 @@ scene_pictures scene_picture_builder::finish() const {
 
             for (std::size_t k = 0; k < 3; ++k) {
                 if (!out.difference[k] || !p.verdict[k]) continue;
-                const ray_verdict verdict = *p.verdict[k];
+                const verdict_kind verdict = *p.verdict[k];
                 ++out.pixels_by_verdict[k][static_cast<std::size_t>(verdict)];
                 rgb c = verdict_colour(verdict);
-                if (verdict == ray_verdict::agree)
+                if (verdict == verdict_kind::agree)
                     c = !p.hit[k] ? agree_miss : p.ulp[k] ? ulp_colour(*p.ulp[k], out.ramp_full_scale) : agree_exact;
                 out.difference[k]->set(x, y, c);
             }

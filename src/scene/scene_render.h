@@ -30,11 +30,11 @@ struct palette_entry {
     rgb colour;
     std::string_view meaning;
 };
-// One entry per ray_verdict except agree (in ray_verdict order), then:
+// One entry per verdict_kind except agree (in verdict order), then:
 // "agree_hit_exact" and "agree_hit_max" (the ends of the ULP ramp),
 // "agree_miss" and "not_cast".
 std::vector<palette_entry> scene_palette();
-rgb verdict_colour(ray_verdict v);
+rgb verdict_colour(verdict_kind v);
 
 struct rgb_image {
     int width = 0, height = 0;
@@ -49,7 +49,7 @@ struct scene_pictures {
     rgb_image variant;
     std::array<std::optional<rgb_image>, 3> difference;  // by ray_kind; present for kinds the scene casts
     // Pixels of each kind by verdict (a pixel with several shadow rays takes the first disagreement).
-    std::array<std::array<std::size_t, ray_verdict_count>, 3> pixels_by_verdict{};
+    std::array<std::array<std::size_t, verdict_kind_count>, 3> pixels_by_verdict{};
     // The ULP error at which the ramp saturates: 2^(p/2) in the scene's precision.
     double ramp_full_scale = 0;
 };
@@ -68,7 +68,7 @@ private:
         std::optional<variant_ray_answer> variant;
         vec3<double> origin, direction;
         int lights = 0, exact_shadowed = 0, variant_shadowed = 0;
-        std::array<std::optional<ray_verdict>, 3> verdict;  // first disagreement (or agree) per kind
+        std::array<std::optional<verdict_kind>, 3> verdict;  // first disagreement (or agree) per kind
         std::array<std::optional<double>, 3> ulp;             // nearest-root ULP when agreeing
         std::array<bool, 3> hit{};                            // exact hit, per kind
     };

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <utility>
 
-#include <rayverify/compare/verdict.h>
+#include <rayverify/compare/judge.h>
 #include <rayverify/oracle/oracle.h>
 
 namespace {
@@ -46,7 +46,7 @@ root_pair<T> user_sphere_naive_discriminant(const ray_sphere<T>& s) {
 
 rayverify::variant as_variant(root_pair<float> (*f)(const ray_sphere<float>&),
                               root_pair<double> (*d)(const ray_sphere<double>&)) {
-    // As the README writes it; the baseline's entries are named by `name`.
+    // As docs/gate.md writes it; the baseline's entries are named by `name`.
     return rayverify::variant{.name = "user_sphere",
                               .citation = "our renderer, sphere.h",
                               .formula = "RTG ch.7 final form",
@@ -64,8 +64,10 @@ TEST(Consumer, CallsTheOracleAndTheJudgeDirectly) {
     const rayverify::exact_solution exact = rayverify::solve_exact(input, rayverify::precision::binary64);
     ASSERT_EQ(exact.cls, rayverify::line_class::two_hit);
     const rayverify::variant v = as_variant(&user_sphere<float>, &user_sphere<double>);
-    const auto output = rayverify::evaluate(v.run_double, v.promises, input);
-    const auto score = rayverify::score_case(v.promises, output, exact, input);
+    rayverify::corpus_case c;
+    c.id = "consumer";
+    c.geometry = input;
+    const auto score = rayverify::judge_target({v, rayverify::precision::binary64}, c, exact).score;
     EXPECT_EQ(score.verdict, rayverify::verdict_kind::agree) << score.detail;
     EXPECT_EQ(*score.near_ulp, 0);
 }

@@ -1,0 +1,241 @@
+// The judge: one variant's answer on one case against the exact answer, under
+// the variant's contract (core/contract.h). The only place verdicts are made:
+// corpus audits, scenes (per sphere, composed in scene/scene_audit), the
+// hunter, explain and plugins all call it. Every decision is exact: which
+// roots lie in a range is decided by exact comparison with its bounds
+// (exact_solution::compare_root), which root a returned t stands for by its
+// side of the exact midpoint −b′/a (compare_midpoint), the unit-direction
+// assumption by the exact |d|² (compare_squared_length). Rounded values only
+// appear where a rounded value is what is meant (RN(t*) as the best answer).
+// Pure functions: no I/O, no state.
+//
+// Semantics, in one place:
+// - The range. A variant answers on the range of t its contract names: a ray
+//   contract on (0, +inf) or [0, +inf) (its lower end), an interval contract on
+//   the case's (tmin, tmax) with its ends. For line_roots the range only says
+//   what "in front" means (wrong_side and the hit point).
+// - The expected answer of nearest_hit and any_hit (expected_hit): the nearest
+//   exact root in the range; when the range starts strictly inside the sphere
+//   (near root < start < far root) the contract's inside rule decides (the far
+//   root, a clamped hit at the start, or a miss); faces=front drops the far
+//   root; tangent=miss drops an exact tangent.
+// - Which root a returned t stands for: its own when t = RN(t*) or t is the
+//   exact midpoint (equidistant: the benefit of the doubt); otherwise the root
+//   on t's side of the midpoint, decided exactly.
+// - Non-finite values: NaN never agrees; ±inf agrees only where the
+//   correctly rounded root is that infinity (its ULP error is not a number
+//   and is left out of the figures).
+// - The renderer's view (scenes, interval queries): what a renderer computes
+//   from the variant's answer — its values filtered into the ray's (tmin,
+//   tmax) — judged against the nearest exact root in that interval. A
+//   disagreement there that the variant's own contract explains (a clamped 0
+//   with tmin > 0: a light leak) is reported with a by-design cause.
+#pragma once
+
+#include <array>
+#include <functional>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "core/contract.h"
+#include "core/intersection.h"
+#include "core/ray_sphere_case.h"
+#include "intersectors/registry.h"
+#include "oracle/oracle.h"
+
+namespace rayverify {
+
+// ---- Vocabulary ---------------------------------------------------------------
+
+// The verdict kinds, in report order. Each has a one-line meaning
+// (verdict_meaning) that the docs and `explain` print.
+enum class verdict_kind {
+    agree,
+    false_miss,          // exact: a hit (in the range); variant: none
+    false_hit,           // exact: none; variant: a hit
+    tangent_split,       // exact: tangent; variant: two distinct roots
+    tangent_missed,      // exact: tangent (a hit); variant: miss
+    false_tangent,       // exact: two roots distinct even after rounding; variant: one
+    wrong_root,          // a returned t stands for another exact root than the one asked for
+    wrong_sphere,        // scene: both hit, but the variant's nearest sphere is not the exact nearest
+    wrong_side,          // a returned t and the exact root it stands for lie on opposite sides of a range
+                         // bound (the origin for line roots): a self-hit or a lost hit
+    non_finite,          // NaN, or an infinity that is not the correctly rounded root
+    malformed_output,    // a hit count the contract does not allow, or roots out of order
+    contract_violation,  // the case breaks the variant's assumption (not scored)
+    invalid,             // the case is invalid at this precision (not scored)
+};
+inline constexpr int verdict_kind_count = 13;
+
+std::string_view verdict_name(verdict_kind k);
+std::optional<verdict_kind> verdict_from_name(std::string_view name);
+std::string_view verdict_meaning(verdict_kind k);
+// The short column heading of the summary tables, e.g. "f_miss".
+std::string_view verdict_column(verdict_kind k);
+// Neither agree nor one of the two kinds that are not scored.
+bool is_disagreement(verdict_kind k);
+// A wrong class: false miss or hit, tangent split or missed, false tangent.
+bool is_misclassification(verdict_kind k);
+
+// Why a variant disagreed: rounding error (two kinds, told apart by the
+// case's conditioning, compare/stability.h) or what the formula does by design
+// (decided exactly: the formula's own idealisation, evaluated in exact
+// arithmetic, fails the same way).
+enum class disagreement_cause {
+    conditioning_limited,  // rounding: the case is within the backward error of the other answer
+    algorithmic,           // rounding (or a formula defect) that a backward-stable formula avoids
+    clamp,                 // by design: the contract clamps t to the range start (origin inside), and the
+                           // renderer's interval excludes that start (tmin > 0: a light leak)
+    contract_semantics,    // by design: the contract answers another question than the renderer asks
+                           // (inside is a miss, front faces only, a tangent is a miss, other range ends)
+    unit_direction,        // by design: assumes |d| = 1; |d|² is within tolerance of 1 but not 1, and the
+                           // formula with a = 1 gives this answer in exact arithmetic
+    tangent_threshold,     // by design: reports a tangent whenever its discriminant is below an absolute
+                           // threshold, and the exact discriminant is
+    line_not_ray,          // by design: returns a root that lies outside its range exactly (it tests the
+                           // line, not the ray)
+};
+inline constexpr int disagreement_cause_count = 7;
+
+std::string_view cause_name(disagreement_cause c);
+std::optional<disagreement_cause> cause_from_name(std::string_view name);
+std::string_view cause_meaning(disagreement_cause c);
+bool is_by_design(disagreement_cause c);
+
+// ---- Answers ------------------------------------------------------------------
+
+// A variant's answer, widened to double (float values are exact in double),
+// with the hit point o + t·d it implies, evaluated in the variant's own
+// precision, for the value its contract makes the hit: line_roots, the first
+// returned root in its range; nearest_hit, t0.
+struct variant_output {
+    root_pair<double> roots;
+    std::optional<int> hit_root;              // 0 or 1: which value the hit point is for
+    std::optional<vec3<double>> hit_point;
+    bool nan_seen = false;  // renderer_view: a NaN among the values the renderer looked at
+};
+
+// The exact answer to a nearest_hit or any_hit question.
+struct expected_hit {
+    enum class kind { none, root, clamp } what = kind::none;
+    root_index root = root_index::near_root;  // what == root
+    double value = 0;  // root: RN(t*) in the precision; clamp: the range start (exact)
+    bool hit() const { return what != kind::none; }
+};
+
+// Does exact root i lie in the range (ends as the range says, infinite bounds
+// by sign)? Exact. Requires cls != miss.
+bool root_in_range(const exact_solution& exact, root_index i, const t_range& range);
+// Does the range start strictly inside the sphere: near root < start < far root?
+bool starts_inside(const exact_solution& exact, const t_range& range);
+// The nearest exact root (or clamp) in the range under the contract (see above).
+expected_hit expect_hit(const contract& promises, const exact_solution& exact, const t_range& range);
+// Which exact root the finite value t stands for when root `wanted` is asked for.
+root_index stands_for(const exact_solution& exact, double t, root_index wanted);
+
+// ---- Judging --------------------------------------------------------------------
+
+struct case_score {
+    verdict_kind verdict = verdict_kind::agree;
+    std::optional<disagreement_cause> cause;  // set for every disagreement
+    std::string detail;                       // one sentence a person can act on; empty for agree
+    // Error of each returned root against the exact root it is judged against:
+    // |t − t*| / ulp(t*) and Herbie bits log2(1 + ulps between t and RN(t*)).
+    // Present when both exist and t is finite.
+    std::optional<double> near_ulp, far_ulp, near_bits, far_bits;
+    // Error of the hit point per coordinate, in ulps (agree, and a hit).
+    std::optional<std::array<double, 3>> hit_point_ulp;
+};
+
+// Run a variant in precision T on the inputs, asking an interval contract for
+// `interval`, and widen its answer. `range` is the range the contract answers
+// on (for the hit point).
+template <class T>
+variant_output evaluate(const variant& v, const ray_sphere<T>& input, ray_interval<T> interval, const t_range& range);
+
+// Judge `output` against `exact` (valid, at the precision the variant ran in)
+// under `promises` on `range`. `input` is the case as the variant received it,
+// widened to double. Decides the verdict, measures the errors, and names the
+// cause of a disagreement.
+case_score judge_output(const contract& promises, const variant_output& output, const exact_solution& exact,
+                        const t_range& range, const ray_sphere<double>& input);
+
+// One variant in one precision, e.g. naive/float.
+struct audit_target {
+    variant subject;
+    precision prec = precision::binary64;
+    std::string label() const { return subject.name + "/" + precision_name(prec); }
+};
+
+// Does the case satisfy the variant's assumptions at this precision? A unit
+// direction means |d·d − 1| ≤ 8ε, decided exactly (ε of the precision).
+std::optional<std::string> contract_breach(const contract& promises, const ray_sphere<double>& input,
+                                           precision prec);
+
+// The oracle's answer for a case at precision p: on the inputs rounded to p
+// (a float target's exact answer is for its float inputs); invalid when the
+// case is invalid at p (then the oracle never sees it).
+exact_solution solve_case(const corpus_case& c, precision p);
+
+// The range a target answers on for a case: its contract's, with the case's
+// tmin and tmax rounded to the target's precision (as the variant receives them).
+t_range range_for(const contract& promises, const corpus_case& c, precision p);
+
+struct target_outcome {
+    case_score score;
+    variant_output output;  // empty for invalid or contract-violating cases
+    t_range range;          // the range the target answered on
+};
+
+// The whole judgement of one target on one case: invalid, outside the
+// contract, or run and judged. `exact` is the oracle's answer at the target's
+// precision (for float: on the float-rounded inputs).
+target_outcome judge_target(const audit_target& target, const corpus_case& c, const exact_solution& exact);
+
+// ---- The renderer's view ------------------------------------------------------
+
+const char* ray_query_name(ray_query q);
+std::optional<ray_query> ray_query_from_name(std::string_view name);
+
+// The contract a renderer judges by: the query's answer on the ray's interval
+// with the given ends, the far root from inside, both faces, a tangent a hit
+// (both_roots: the line's roots, "in front" meaning past tmin).
+contract renderer_contract(ray_query q, end_kind lower_end = end_kind::open, end_kind upper_end = end_kind::open);
+
+// Can this variant answer this query for rays whose directions are (or are
+// not) normalised? nullopt when it can; otherwise why not (a unit-direction
+// variant on unnormalised rays, an any-hit variant asked for the nearest hit,
+// a nearest-root variant asked for both roots).
+std::optional<std::string> applicable(const variant& v, ray_query q, bool directions_normalised);
+
+// The variant's answer as a renderer takes it: its values filtered into the
+// ray's range (line_roots: the first of t0, t1 inside; nearest_hit: t0 when
+// inside; any_hit: its count), in the shape of an answer to renderer_contract.
+// A NaN among the values the renderer looks at is kept (it never agrees).
+template <class T>
+variant_output renderer_view(const contract& promises, const root_pair<T>& raw, const ray_sphere<T>& input,
+                             const t_range& ray_range, ray_query q);
+
+// The renderer's judgement of one target on one (ray, sphere) case for query
+// q: the variant is asked as its contract says (an interval contract gets the
+// ray's interval), its answer filtered as renderer_view, and judged under
+// renderer_contract. A disagreement its own contract explains gets a
+// by-design cause. `exact` as for judge_target.
+struct renderer_outcome {
+    case_score score;
+    variant_output view;  // what the renderer took from the answer
+    t_range range;        // the ray's range
+};
+renderer_outcome judge_for_renderer(const audit_target& target, const corpus_case& c, ray_query q,
+                                    const exact_solution& exact, end_kind lower_end = end_kind::open,
+                                    end_kind upper_end = end_kind::open);
+
+// ---- Descriptions ---------------------------------------------------------------
+
+// "two roots t* ≈ 4, 6", "tangent at t* ≈ 5", "miss": the exact answer in a detail.
+std::string describe_exact(const exact_solution& exact);
+// The exact answer a contract asks for, e.g. "nearest root in [0, +inf): far root 6".
+std::string describe_expected(const contract& promises, const exact_solution& exact, const t_range& range);
+
+}  // namespace rayverify

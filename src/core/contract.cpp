@@ -1,0 +1,199 @@
+#include "core/contract.h"
+
+#include <array>
+#include <deque>
+#include <mutex>
+#include <charconv>
+#include <stdexcept>
+#include <utility>
+
+namespace rayverify {
+namespace {
+
+// One table per enum: the value and its name, in enum order.
+template <class E, std::size_t N>
+using name_table = std::array<std::pair<E, std::string_view>, N>;
+
+constexpr name_table<query_kind, 3> query_kind_names{{
+    {query_kind::line_roots, "line_roots"}, {query_kind::nearest_hit, "nearest_hit"}, {query_kind::any_hit, "any_hit"}}};
+constexpr name_table<range_source, 2> range_source_names{{{range_source::ray, "ray"}, {range_source::interval, "interval"}}};
+constexpr name_table<end_kind, 2> end_kind_names{{{end_kind::open, "open"}, {end_kind::closed, "closed"}}};
+constexpr name_table<inside_rule, 3> inside_rule_names{
+    {{inside_rule::far_root, "far_root"}, {inside_rule::clamp, "clamp"}, {inside_rule::miss, "miss"}}};
+
+template <class E, std::size_t N>
+std::string_view name_in(const name_table<E, N>& table, E value) {
+    for (const auto& [v, name] : table)
+        if (v == value) return name;
+    return "?";  // unreachable for a valid enum value
+}
+
+template <class E, std::size_t N>
+std::optional<E> value_in(const name_table<E, N>& table, std::string_view name) {
+    for (const auto& [v, n] : table)
+        if (n == name) return v;
+    return std::nullopt;
+}
+
+template <class E, std::size_t N>
+std::string allowed(const name_table<E, N>& table) {
+    std::string out;
+    for (const auto& [v, name] : table) out += (out.empty() ? "" : ", ") + std::string(name);
+    return out;
+}
+
+// The shortest decimal that reads back as x (std::to_chars), ±inf spelled out.
+std::string number_text(double x) {
+    if (std::isinf(x)) return x > 0 ? "+inf" : "-inf";
+    char buffer[32];
+    const auto end = std::to_chars(buffer, buffer + sizeof buffer, x).ptr;
+    return std::string(buffer, end);
+}
+
+// "()", "[]", "[)", "(]": the ends as brackets.
+std::string ends_text(end_kind lower, end_kind upper) {
+    return std::string(lower == end_kind::closed ? "[" : "(") + (upper == end_kind::closed ? "]" : ")");
+}
+
+std::string_view yes_no(bool b) { return b ? "yes" : "no"; }
+
+}  // namespace
+
+std::string_view interned_text(std::string text) {
+    static std::mutex mutex;
+    static std::deque<std::string> strings;
+    const std::lock_guard lock(mutex);
+    for (const std::string& s : strings)
+        if (s == text) return s;
+    return strings.emplace_back(std::move(text));
+}
+
+std::string_view query_kind_name(query_kind k) { return name_in(query_kind_names, k); }
+std::string_view range_source_name(range_source r) { return name_in(range_source_names, r); }
+std::string_view end_kind_name(end_kind e) { return name_in(end_kind_names, e); }
+std::string_view inside_rule_name(inside_rule i) { return name_in(inside_rule_names, i); }
+
+std::optional<query_kind> query_kind_from_name(std::string_view name) { return value_in(query_kind_names, name); }
+std::optional<range_source> range_source_from_name(std::string_view name) {
+    return value_in(range_source_names, name);
+}
+std::optional<end_kind> end_kind_from_name(std::string_view name) { return value_in(end_kind_names, name); }
+std::optional<inside_rule> inside_rule_from_name(std::string_view name) { return value_in(inside_rule_names, name); }
+
+t_range range_of(const contract& c, std::optional<double> tmin, std::optional<double> tmax) {
+    t_range r;
+    r.lower_end = c.lower_end;
+    r.upper_end = c.upper_end;
+    if (c.range == range_source::interval) {
+        if (tmin) r.lower = *tmin;
+        if (tmax) r.upper = *tmax;
+    }
+    return r;
+}
+
+std::string format_range(const t_range& r) {
+    return (r.lower_end == end_kind::closed ? "[" : "(") + number_text(r.lower) + ", " + number_text(r.upper) +
+           (r.upper_end == end_kind::closed ? "]" : ")");
+}
+
+std::string format_contract(const contract& c) {
+    std::string spec = "query=" + std::string(query_kind_name(c.query)) + ",range=" +
+                       std::string(range_source_name(c.range)) + ",ends=" + ends_text(c.lower_end, c.upper_end) +
+                       ",inside=" + std::string(inside_rule_name(c.inside)) +
+                       ",tangent=" + (c.tangent_is_hit ? "hit" : "miss") +
+                       ",faces=" + (c.front_faces_only ? "front" : "both") +
+                       ",unit_direction=" + std::string(yes_no(c.assumes_unit_direction));
+    if (c.query == query_kind::line_roots) spec += ",reports_tangent=" + std::string(yes_no(c.reports_tangent));
+    if (c.tangent_threshold) spec += ",tangent_threshold=" + number_text(*c.tangent_threshold);
+    return spec;
+}
+
+std::string describe_contract(const contract& c) {
+    const std::string range = c.range == range_source::interval
+                                  ? std::string(c.lower_end == end_kind::closed ? "[" : "(") + "tmin, tmax" +
+                                        (c.upper_end == end_kind::closed ? "]" : ")")
+                                  : format_range(range_of(c, std::nullopt, std::nullopt));
+    std::string out;
+    switch (c.query) {
+        case query_kind::line_roots:
+            out = "both roots of the line, any sign; in front means t in " + range;
+            out += c.reports_tangent ? "; reports a tangent when " + std::string(c.tangent_rule)
+                                     : std::string("; never reports a tangent");
+            break;
+        case query_kind::nearest_hit:
+        case query_kind::any_hit:
+            out = std::string(c.query == query_kind::nearest_hit ? "nearest hit" : "any hit") + " in " + range +
+                  "; starting inside: " +
+                  (c.inside == inside_rule::far_root ? "the far root"
+                   : c.inside == inside_rule::clamp  ? "clamped to the range start"
+                                                     : "a miss") +
+                  "; a tangent is a " + (c.tangent_is_hit ? "hit" : "miss") + "; " +
+                  (c.front_faces_only ? "front faces only" : "both faces");
+            break;
+    }
+    if (c.tangent_threshold) out += " (tangent whenever b′² − aC ≤ " + number_text(*c.tangent_threshold) + ")";
+    if (c.assumes_unit_direction) out += "; assumes |d| = 1";
+    return out;
+}
+
+contract parse_contract(std::string_view spec, contract c) {
+    const auto fail = [&](std::string_view key, std::string_view value, const std::string& expected) {
+        return std::invalid_argument("contract: " + std::string(key) + "='" + std::string(value) + "': expected " +
+                                     expected);
+    };
+    const auto yes_no_value = [&](std::string_view key, std::string_view value) {
+        if (value == "yes") return true;
+        if (value == "no") return false;
+        throw fail(key, value, "yes or no");
+    };
+    while (!spec.empty()) {
+        const std::size_t comma = spec.find(',');
+        const std::string_view item = spec.substr(0, comma);
+        spec = comma == std::string_view::npos ? std::string_view{} : spec.substr(comma + 1);
+        const std::size_t equals = item.find('=');
+        if (item.empty() || equals == std::string_view::npos)
+            throw std::invalid_argument("contract: '" + std::string(item) + "' is not key=value");
+        const std::string_view key = item.substr(0, equals), value = item.substr(equals + 1);
+        if (key == "query") {
+            const auto v = query_kind_from_name(value);
+            if (!v) throw fail(key, value, allowed(query_kind_names));
+            c.query = *v;
+        } else if (key == "range") {
+            const auto v = range_source_from_name(value);
+            if (!v) throw fail(key, value, allowed(range_source_names));
+            c.range = *v;
+        } else if (key == "ends") {
+            if (value.size() != 2 || (value[0] != '(' && value[0] != '[') || (value[1] != ')' && value[1] != ']'))
+                throw fail(key, value, "(), [], [) or (]");
+            c.lower_end = value[0] == '[' ? end_kind::closed : end_kind::open;
+            c.upper_end = value[1] == ']' ? end_kind::closed : end_kind::open;
+        } else if (key == "inside") {
+            const auto v = inside_rule_from_name(value);
+            if (!v) throw fail(key, value, allowed(inside_rule_names));
+            c.inside = *v;
+        } else if (key == "tangent") {
+            if (value != "hit" && value != "miss") throw fail(key, value, "hit or miss");
+            c.tangent_is_hit = value == "hit";
+        } else if (key == "faces") {
+            if (value != "both" && value != "front") throw fail(key, value, "both or front");
+            c.front_faces_only = value == "front";
+        } else if (key == "unit_direction") {
+            c.assumes_unit_direction = yes_no_value(key, value);
+        } else if (key == "reports_tangent") {
+            c.reports_tangent = yes_no_value(key, value);
+        } else if (key == "tangent_threshold") {
+            double x = 0;
+            const auto [end, error] = std::from_chars(value.data(), value.data() + value.size(), x);
+            if (error != std::errc{} || end != value.data() + value.size() || !std::isfinite(x) || x < 0)
+                throw fail(key, value, "a finite number ≥ 0");
+            c.tangent_threshold = x;
+        } else {
+            throw std::invalid_argument("contract: unknown key '" + std::string(key) +
+                                        "' (keys: query, range, ends, inside, tangent, faces, unit_direction, "
+                                        "reports_tangent, tangent_threshold)");
+        }
+    }
+    return c;
+}
+
+}  // namespace rayverify

@@ -1,0 +1,127 @@
+// What an intersector promises: which question it answers, on which range of
+// t, with which semantics at the ends of the range, inside the sphere and at
+// a tangent; and what it assumes of its inputs. One set of contract semantics
+// for every judge (corpus audits, scenes, plugins, the hunter, results files):
+// the exact answer a variant is judged against is computed from its contract
+// (compare/judge.h), never from a judge's own convention.
+//
+// Every enum has one strict name table: an unknown name is an error, never a
+// default. A contract is written as a spec, e.g.
+//   query=nearest_hit,range=ray,ends=[),inside=clamp,tangent=hit,faces=both,unit_direction=yes
+// (format_contract / parse_contract), which `variants` and `explain` print.
+#pragma once
+
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <string>
+#include <string_view>
+
+namespace rayverify {
+
+// Which answer the intersector gives.
+enum class query_kind {
+    // Both roots of the line o + t·d (t of any sign), ordered t0 ≤ t1.
+    // count: 0 miss, 1 tangent reported, 2 two roots. Whatever the count, t0
+    // and t1 are the variant's near and far roots and both are judged.
+    line_roots,
+    // The nearest hit in the variant's range of t (see range_source): count 0
+    // (none) or 1 with the distance in t0.
+    nearest_hit,
+    // Whether some hit lies in the variant's range: count 0 or 1; roots unused.
+    any_hit,
+};
+
+// Where the range of t comes from.
+enum class range_source {
+    ray,       // a fixed range: from 0 to +inf (line_roots: only what "in front" means)
+    interval,  // the ray's own (tmin, tmax), passed to the variant; (0, +inf) when a case has none
+};
+
+// Whether a range end belongs to the range: open (t > tmin) or closed (t ≥ tmin).
+enum class end_kind { open, closed };
+
+// What a nearest_hit or any_hit variant answers when its range starts inside
+// the sphere (near root < range start < far root).
+enum class inside_rule {
+    far_root,  // the far root, the next root in the range (a ray leaving the sphere)
+    clamp,     // a hit at the range start itself (t = 0 for a ray): "the origin is inside"
+    miss,      // no hit
+};
+
+struct contract {
+    query_kind query = query_kind::line_roots;
+    range_source range = range_source::ray;
+    end_kind lower_end = end_kind::open;  // at tmin (0 for a ray)
+    end_kind upper_end = end_kind::open;  // at tmax (+inf for a ray)
+    inside_rule inside = inside_rule::far_root;
+    bool tangent_is_hit = true;     // nearest_hit/any_hit: an exactly tangent line touching the range is a hit
+    bool front_faces_only = false;  // nearest_hit/any_hit: only the near root (entering the sphere) counts
+    // Assumptions (how the formula approximates; a case may break them):
+    bool assumes_unit_direction = false;  // a = d·d is taken to be 1 (|d|² within 8ε of 1, else not scored)
+    // line_roots: may return count 1 for a tangent, and when.
+    bool reports_tangent = false;
+    std::string_view tangent_rule = "never";
+    // line_roots: reports a tangent (count 1) whenever the reduced
+    // discriminant b′² − aC (a = 1 when a unit direction is assumed) is at
+    // most this absolute value: a deliberate epsilon, named as the cause of
+    // the false tangents it makes.
+    std::optional<double> tangent_threshold{};
+};
+
+// contract::tangent_rule is a string_view (so that built-in contracts are
+// constants): a rule read from a plugin, a shard or a results file is kept
+// alive here for the life of the program (equal texts share one copy).
+std::string_view interned_text(std::string text);
+
+std::string_view query_kind_name(query_kind k);
+std::string_view range_source_name(range_source r);
+std::string_view end_kind_name(end_kind e);
+std::string_view inside_rule_name(inside_rule i);
+
+// The value named `name`; nullopt for an unknown name.
+std::optional<query_kind> query_kind_from_name(std::string_view name);
+std::optional<range_source> range_source_from_name(std::string_view name);
+std::optional<end_kind> end_kind_from_name(std::string_view name);
+std::optional<inside_rule> inside_rule_from_name(std::string_view name);
+
+// True for the kinds that take the ray's interval.
+constexpr bool takes_interval(const contract& c) { return c.range == range_source::interval; }
+
+// The range of t a contract answers on, with its ends' semantics.
+struct t_range {
+    double lower = 0;
+    double upper = std::numeric_limits<double>::infinity();
+    end_kind lower_end = end_kind::open;
+    end_kind upper_end = end_kind::open;
+
+    // Does the value t (any precision, widened exactly) lie in the range? NaN never does.
+    template <class T>
+    bool contains(T t) const {
+        const double x = static_cast<double>(t);
+        const bool above = lower_end == end_kind::closed ? x >= lower : x > lower;
+        const bool below = upper_end == end_kind::closed ? x <= upper : x < upper;
+        return above && below;
+    }
+};
+
+// The range a contract answers on: a ray contract's is from 0 to +inf, an
+// interval contract's is (tmin, tmax) as given (each defaulting to 0 and +inf),
+// each with the contract's end semantics.
+t_range range_of(const contract& c, std::optional<double> tmin, std::optional<double> tmax);
+
+// "(0, +inf)", "[tmin, tmax)" with the values: how explain and details print a range.
+std::string format_range(const t_range& r);
+
+// The canonical spec: every field, in the order of the struct.
+std::string format_contract(const contract& c);
+// One sentence for people, e.g. "nearest hit in [0, +inf); inside: clamp; ...".
+std::string describe_contract(const contract& c);
+
+// Parse a spec (comma-separated key=value; keys: query, range, ends, inside,
+// tangent, faces, unit_direction, reports_tangent, tangent_threshold). Fields
+// not given keep `defaults`' values. Throws std::invalid_argument naming the
+// key and the allowed values on anything else.
+contract parse_contract(std::string_view spec, contract defaults = {});
+
+}  // namespace rayverify

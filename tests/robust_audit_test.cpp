@@ -79,26 +79,49 @@ std::string direct_check(const corpus_case& c) {
     return "";
 }
 
-void expect_no_disagreement(const audit_totals& totals) {
-    for (std::size_t t = 0; t < totals.targets.size(); ++t) {
-        EXPECT_EQ(totals.overall[t].disagreements(), 0u) << totals.targets[t].label();
-        for (const auto& [family, tallies] : totals.by_family)
-            EXPECT_EQ(tallies[t].disagreements(), 0u) << totals.targets[t].label() << " on " << family;
+// The judge's known gap (reported to its owners): a root whose RN(t*) is
+// +inf, or a positive root whose RN(t*) is +0, has no representable answer
+// that passes its side and root checks in every case: +inf is not inside
+// (0, +inf), the largest finite value may lie past the roots' midpoint, and
+// +0 is not in front. There the direct check against the oracle decides.
+bool judge_gap(const exact_solution& e) {
+    if (e.cls == line_class::miss) return false;
+    for (root_index i : {root_index::near_root, root_index::far_root})
+        if (std::isinf(e.root(i).rounded) || (e.root(i).sign > 0 && e.root(i).rounded == 0)) return true;
+    return false;
+}
+
+// Every target agrees on every case, or the case is in the judge's gap and
+// the direct check passes (direct_check runs on every case anyway).
+void expect_agreement(const std::vector<corpus_case>& cases) {
+    const std::vector<audit_target> targets = robust_targets();
+    int failures = 0, gaps = 0;
+    for (const corpus_case& c : cases) {
+        const audited_case a = audit_case(c, targets);
+        for (std::size_t t = 0; t < targets.size(); ++t) {
+            const case_score& s = a.outcomes[t].score;
+            if (!is_disagreement(s.verdict)) continue;
+            if (judge_gap(a.exact_for(targets[t].prec))) {
+                ++gaps;
+                continue;
+            }
+            if (failures++ < 5)
+                ADD_FAILURE() << targets[t].label() << " on " << c.id << " (" << c.source
+                              << "): " << verdict_name(s.verdict) << ": " << s.detail;
+        }
+        for (const std::string& why : {direct_check<float>(c), direct_check<double>(c)})
+            if (!why.empty() && failures++ < 5) ADD_FAILURE() << c.id << " (" << c.source << "): " << why;
     }
+    std::printf("%zu cases: %d verdicts in the judge's overflow/underflow gap, checked directly\n", cases.size(),
+                gaps);
 }
 
 TEST(RobustAudit, NoDisagreementOnEveryShippedCorpusFileAndEdgeFamily) {
     for (const fs::path& dir : {fs::path(RAYVERIFY_CORPUS_DIR), fs::path(RAYVERIFY_CORPUS_DIR) / "edge"}) {
         const std::vector<fs::path> files = corpus_files(dir);
         ASSERT_FALSE(files.empty()) << dir;
-        const std::vector<corpus_case> cases = read_corpus(files);
         SCOPED_TRACE(dir.string());
-        expect_no_disagreement(run_audit(cases, robust_targets()));
-        int failures = 0;
-        for (const corpus_case& c : cases) {
-            for (const std::string& why : {direct_check<float>(c), direct_check<double>(c)})
-                if (!why.empty() && failures++ < 5) ADD_FAILURE() << c.id << " (" << c.source << "): " << why;
-        }
+        expect_agreement(read_corpus(files));
     }
 }
 
@@ -157,9 +180,14 @@ TEST(LongSweepRobustAudit, MisclassificationHuntFindsNothing) {
                     static_cast<unsigned long long>(r.evaluations), static_cast<unsigned long long>(r.starts),
                     r.seconds);
         EXPECT_GT(r.evaluations, 0u);
-        for (const hunt_find& f : r.finds)
-            ADD_FAILURE() << t.label() << ": " << f.found_eval.detail << "\n  "
-                          << format_case_line({"hunt", "", f.found, {}, {}, ""});
+        for (const hunt_find& f : r.finds) {
+            const corpus_case c{"hunt", "", f.found, {}, {}, ""};
+            if (judge_gap(solve_case(c, t.prec)) && direct_check<float>(c).empty() && direct_check<double>(c).empty()) {
+                std::printf("  in the judge's gap, checked directly: %s\n", format_case_line(c).c_str());
+                continue;
+            }
+            ADD_FAILURE() << t.label() << ": " << f.found_eval.detail << "\n  " << format_case_line(c);
+        }
     }
 }
 

@@ -7,6 +7,8 @@
 #include <filesystem>
 #include <fstream>
 #include <numbers>
+#include <random>
+#include <set>
 #include <string>
 
 #include "core/input_error.h"
@@ -14,6 +16,7 @@
 #include "oracle/oracle.h"
 #include "scene/scene.h"
 #include "scene/scene_audit.h"
+#include "scene/scene_render.h"
 #include "support/process.h"
 
 namespace rayverify {
@@ -247,6 +250,97 @@ TEST(SceneRays, SampledPixelsAreDistinctDeterministicAndInRasterOrder) {
     scene other = s;
     other.sample.seed = 8;
     EXPECT_NE(a, sampled_pixels(other));
+}
+
+// The sample is drawn by a partial Fisher–Yates shuffle that stores only the
+// entries it moved: the same pixels as the whole shuffled array gives.
+TEST(SceneRays, SampledPixelsAreThoseOfTheFullFisherYatesShuffle) {
+    for (std::uint64_t seed : {1u, 7u, 12345u}) {
+        for (std::size_t count : {std::size_t{1}, std::size_t{50}, std::size_t{3071}, std::size_t{3072}}) {
+            scene s = parse_scene(small_scene, "sampled.json");
+            s.sample.all = false;
+            s.sample.count = count;
+            s.sample.seed = seed;
+            const std::size_t total = 64 * 48;
+            std::vector<std::size_t> order(total);
+            for (std::size_t i = 0; i < total; ++i) order[i] = i;
+            std::mt19937_64 random(seed);
+            for (std::size_t i = 0; i < count; ++i) {
+                std::uniform_int_distribution<std::size_t> pick(i, total - 1);
+                std::swap(order[i], order[pick(random)]);
+            }
+            order.resize(count);
+            std::sort(order.begin(), order.end());
+            std::vector<std::pair<int, int>> expected;
+            for (std::size_t i : order) expected.emplace_back(static_cast<int>(i % 64), static_cast<int>(i / 64));
+            EXPECT_EQ(sampled_pixels(s), expected) << "seed " << seed << ", count " << count;
+        }
+    }
+}
+
+// The audit streams the rays pixel by pixel: the same figures as judging
+// the collected rays.
+TEST(SceneAudit, StreamedRaysGiveTheFiguresOfTheCollectedRays) {
+    const scene s = parse_scene(
+        replaced(small_scene, "\"absolute\": 0.01}}\n",
+                 "\"absolute\": 0.01}},\n    \"secondary\": {\"offset\": {\"rule\": \"along_ray\", \"absolute\": 0.01}}\n"),
+        "small.json");
+    ASSERT_TRUE(s.secondary.enabled);
+    const std::vector<audit_target> targets = {{*find_builtin_variant("naive"), s.prec},
+                                               {*find_builtin_variant("hearn_baker"), s.prec}};
+    std::vector<std::string> streamed_ids, collected_ids;
+    const scene_audit_result streamed =
+        audit_scene(s, targets, [&](const judged_ray& j) { streamed_ids.push_back(j.ray->id()); });
+    const std::vector<scene_ray> rays = generate_rays(s);
+    const scene_audit_result collected =
+        audit_scene(s, rays, targets, [&](const judged_ray& j) { collected_ids.push_back(j.ray->id()); });
+    EXPECT_EQ(streamed_ids, collected_ids);
+    EXPECT_EQ(streamed.pixels, collected.pixels);
+    EXPECT_EQ(streamed.pairs, collected.pairs);
+    for (std::size_t k = 0; k < 3; ++k) {
+        EXPECT_EQ(streamed.exact[k].rays, collected.exact[k].rays) << k;
+        EXPECT_EQ(streamed.exact[k].hits, collected.exact[k].hits) << k;
+        for (std::size_t t = 0; t < targets.size(); ++t) {
+            EXPECT_EQ(streamed.targets[t].by_kind[k].verdicts, collected.targets[t].by_kind[k].verdicts);
+            EXPECT_EQ(streamed.targets[t].by_kind[k].nearest_ulp.buckets, collected.targets[t].by_kind[k].nearest_ulp.buckets);
+        }
+    }
+    EXPECT_GT(streamed.exact[static_cast<int>(ray_kind::secondary)].rays, 0u);
+}
+
+// Pictures are drawn a row at a time: every row once, in order, each as
+// wide as the image, for every picture; unsampled pixels are not_cast.
+TEST(SceneRender, RowsArriveOnceInOrderWithUnsampledPixelsNotCast) {
+    scene s = parse_scene(small_scene, "small.json");
+    s.sample.all = false;
+    s.sample.count = 40;
+    s.sample.seed = 3;
+    const std::vector<audit_target> targets = {{*find_builtin_variant("naive"), s.prec}};
+    const std::vector<scene_picture> pictures = scene_pictures_of(s);
+    ASSERT_EQ(pictures.size(), 4u);  // exact, variant, primary and shadow differences
+    std::set<std::pair<int, int>> sampled;
+    for (const auto& p : sampled_pixels(s)) sampled.insert(p);
+    const rgb not_cast = scene_palette().back().colour;
+    int next_row = 0;
+    std::size_t cast_pixels = 0;
+    scene_picture_builder builder(s, 0, [&](int y, std::span<const std::vector<std::uint8_t>> rows) {
+        EXPECT_EQ(y, next_row++);
+        ASSERT_EQ(rows.size(), pictures.size());
+        for (const auto& row : rows) ASSERT_EQ(row.size(), 64u * 3);
+        for (int x = 0; x < 64; ++x) {
+            const bool is_cast = !(rows[0][3 * x] == not_cast.r && rows[0][3 * x + 1] == not_cast.g &&
+                                   rows[0][3 * x + 2] == not_cast.b);
+            EXPECT_EQ(is_cast, sampled.count({x, y}) == 1) << x << "," << y;
+            cast_pixels += is_cast ? 1 : 0;
+        }
+    });
+    audit_scene(s, targets, [&](const judged_ray& j) { builder.add(j); });
+    const scene_picture_counts counts = builder.finish();
+    EXPECT_EQ(next_row, 48);
+    EXPECT_EQ(cast_pixels, 40u);
+    std::size_t primary_pixels = 0;
+    for (std::size_t n : counts.pixels_by_verdict[0]) primary_pixels += n;
+    EXPECT_EQ(primary_pixels, 40u);
 }
 
 // A scene ray takes roots in the open interval (tmin, tmax): a root exactly

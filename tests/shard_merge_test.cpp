@@ -10,6 +10,8 @@
 #include <filesystem>
 #include <random>
 
+#include <nlohmann/json.hpp>
+
 #include "compare/audit.h"
 #include "support/process.h"
 
@@ -167,6 +169,66 @@ TEST_F(ShardMerge, MergeRefusesShardsThatDoNotBelongTogether) {
     refused("a1 a2 c3", "differs from");
     refused("a1 a2 nowhere", "not the report directory");
     EXPECT_EQ(in_dir(fmt::format("'{}' merge -o out a3 a1 a2", RAYVERIFY_CLI)).exit_code, 0);
+}
+
+// Report.json without what names the run's spelling: its command and input paths.
+std::string figures_of(const fs::path& report) {
+    nlohmann::ordered_json j = nlohmann::ordered_json::parse(read_text(report));
+    j.erase("command");
+    j["corpus"].erase("paths");
+    return j.dump(1);
+}
+
+// Shards started from other working directories, through another copy of the
+// executable (another install) and of the corpus, with paths spelled
+// relative, absolute, with ./ and as --option=value, merge into the single
+// run's figures; an option that changes the audit is named precisely.
+TEST_F(ShardMerge, ShardsSpelledFromOtherDirectoriesAndInstallsMerge) {
+    fs::create_directories(dir_ / "opt/bin");
+    fs::create_directories(dir_ / "data");
+    fs::create_directories(dir_ / "elsewhere");
+    fs::copy_file(RAYVERIFY_CLI, dir_ / "opt/bin/rayverify");
+    fs::copy_file(fs::path(RAYVERIFY_CORPUS_DIR) / "near_tangent.txt", dir_ / "data/near_tangent.txt");
+    const std::string options = "--variant naive --variant half_b";
+    const command_result single = in_dir(fmt::format("'{}' audit --corpus '{}/near_tangent.txt' {} --report single",
+                                                     RAYVERIFY_CLI, RAYVERIFY_CORPUS_DIR, options));
+    ASSERT_NE(single.exit_code, 2) << single.output;
+    const std::string shards[] = {
+        fmt::format("./opt/bin/rayverify audit --corpus ./data/near_tangent.txt {} --shard 1/3 --report s1", options),
+        fmt::format("cd data && ../opt/bin/rayverify audit --corpus=near_tangent.txt {} --shard=2/3 --report ../s2",
+                    options),
+        fmt::format("cd elsewhere && '{}' audit --corpus '{}/data/near_tangent.txt' {} --report '{}/s3' --shard 3/3",
+                    RAYVERIFY_CLI, dir_.string(), options, dir_.string()),
+    };
+    for (const std::string& shard : shards) ASSERT_NE(in_dir(shard).exit_code, 2) << shard;
+    const command_result merged = in_dir(fmt::format("'{}' merge -o merged s3 s1 s2", RAYVERIFY_CLI));
+    ASSERT_EQ(merged.exit_code, single.exit_code) << merged.output;
+    EXPECT_EQ(figures_of(dir_ / "single/report.json"), figures_of(dir_ / "merged/report.json"));
+    EXPECT_TRUE(read_text(dir_ / "single/summary.txt") == read_text(dir_ / "merged/summary.txt"));
+    // The merged report records shard 1's spelling, whatever the order of the directories.
+    EXPECT_NE(read_text(dir_ / "merged/report.json").find("\"command\": \"./opt/bin/rayverify audit --corpus "
+                                                          "./data/near_tangent.txt --variant naive"),
+              std::string::npos);
+
+    // A shard of another audit: the option it adds (or changes) is named, and nothing is written.
+    ASSERT_NE(in_dir(fmt::format("./opt/bin/rayverify audit --corpus data/near_tangent.txt --variant naive "
+                                 "--variant half_b --precision float --shard 3/3 --report t3"))
+                  .exit_code,
+              2);
+    const command_result other = in_dir(fmt::format("'{}' merge -o refused s1 s2 t3", RAYVERIFY_CLI));
+    EXPECT_EQ(other.exit_code, 2) << other.output;
+    EXPECT_NE(other.output.find("t3/shard.json: field 'command': differs from s1/shard.json: t3/shard.json has "
+                                "'--precision float'"),
+              std::string::npos)
+        << other.output;
+    EXPECT_FALSE(fs::exists(dir_ / "refused"));
+    ASSERT_NE(in_dir("./opt/bin/rayverify audit --corpus data/near_tangent.txt --variant half_b --variant naive "
+                     "--shard 3/3 --report u3")
+                  .exit_code,
+              2);
+    const command_result order = in_dir(fmt::format("'{}' merge -o refused s1 s2 u3", RAYVERIFY_CLI));
+    EXPECT_EQ(order.exit_code, 2) << order.output;
+    EXPECT_NE(order.output.find("the same options in another order"), std::string::npos) << order.output;
 }
 
 TEST_F(ShardMerge, ThePlotSampleIsBoundedPerFamily) {

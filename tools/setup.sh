@@ -2,6 +2,10 @@
 # Installs the Debian 12 packages rayverify builds with. Idempotent: when all
 # are present it only checks (a second run takes well under a second).
 # Uses sudo only when not root.
+# Usage: tools/setup.sh [--fuzz] [--slurm]
+#   --fuzz   also clang for tools/fuzz.sh
+#   --slurm  also Slurm and MUNGE for the test labelled slurm (tools/slurm/local_cluster.sh);
+#            their services are not started by the install (a private cluster is, by the test)
 set -euo pipefail
 
 packages=(
@@ -11,9 +15,16 @@ packages=(
   libcli11-dev nlohmann-json3-dev libfmt-dev        # CLI, JSON reports, formatting
   libbenchmark-dev python3-matplotlib               # rayverify bench (Google Benchmark), report plots
   libpng-dev                   # rayverify render (PNG images)
+  parallel                     # GNU parallel: the docs/scaling_out.md recipe a test runs
 )
-# tools/fuzz.sh: clang and its runtime libraries (libFuzzer, sanitizers).
-[ "${1:-}" = "--fuzz" ] && packages+=(clang libclang-rt-14-dev)
+slurm=false
+for option in "$@"; do
+  case "$option" in
+    --fuzz) packages+=(clang libclang-rt-14-dev) ;;  # tools/fuzz.sh: clang, libFuzzer, sanitizers
+    --slurm) packages+=(slurm-wlm munge procps); slurm=true ;;  # procps: pgrep, ps for the cleanup checks
+    *) echo "setup.sh: unknown option '$option' (--fuzz, --slurm)" >&2; exit 2 ;;
+  esac
+done
 
 missing=()
 for package in "${packages[@]}"; do
@@ -25,6 +36,15 @@ done
 
 sudo=""
 [ "$(id -u)" -ne 0 ] && sudo="sudo"
+# Installing munge and slurmd would start the machine's own daemons (from
+# /etc/munge, /etc/slurm): Debian's policy-rc.d (exit 101) forbids that for
+# the install, unless the machine already has a policy of its own.
+policy=/usr/sbin/policy-rc.d
+if $slurm && [ ! -e "$policy" ]; then
+  trap '$sudo rm -f "$policy"' EXIT
+  printf '#!/bin/sh\nexit 101\n' | $sudo tee "$policy" >/dev/null
+  $sudo chmod 755 "$policy"
+fi
 echo "setup: installing ${missing[*]}" >&2
 $sudo apt-get update -qq
 DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >&2

@@ -8,6 +8,7 @@
 #include "core/input_error.h"
 #include "corpus/case_stream.h"
 #include "corpus/corpus_io.h"
+#include "corpus/shard_environment.h"
 #include "report/atomic_file.h"
 #include "report/audit_report.h"
 #include "report/audit_summary.h"
@@ -63,7 +64,7 @@ int run(const audit_options& options, const std::string& command_line) {
     }
     if (!options.corpus.empty() && !options.generate.empty())
         throw input_error("", 0, "--generate", "give either --corpus or --generate, not both");
-    const shard_spec shard = options.shard.empty() ? shard_spec{} : parse_shard(options.shard);
+    const shard_spec shard = options.shard.empty() ? shard_spec{} : chosen_shard(options.shard, "audit");
     if (!options.shard.empty() && options.report_dir.empty())
         throw input_error("", 0, "--shard", "a shard needs --report DIR (its state for `rayverify merge` goes there)");
     std::vector<std::filesystem::path> paths(options.corpus.begin(), options.corpus.end());
@@ -157,20 +158,21 @@ int run(const audit_options& options, const std::string& command_line) {
 
 }  // namespace
 
+shard_spec chosen_shard(const std::string& text, const char* command) {
+    const resolved_shard resolved = resolve_shard(text, process_environment());
+    if (text.starts_with("auto")) fmt::print(stderr, "{}: {}\n", command, resolved.origin);
+    return resolved.shard;
+}
+
 std::string recorded_command(const std::string& command_line) {
     // Options that choose where the outputs go or how the work is spread or
     // run change no figure: they are left out, so that any thread count, any
-    // sharding, any output directory and a plugin isolated or not record the
-    // same command.
-    static const std::vector<std::string> with_value = {"--threads", "--shard", "--report", "--per-case", "--summary-md",
-                                                        "--plugin-timeout"};
+    // sharding, any output file or directory and a plugin isolated or not
+    // record the same command.
+    static const std::vector<std::string> with_value = {"--threads",        "--shard",      "--report", "--per-case",
+                                                        "--summary-md",     "--plugin-timeout", "-o",   "--output"};
     static const std::vector<std::string> flags = {"--plots", "--isolate", "--summary"};
-    std::vector<std::string> words;
-    for (std::size_t at = 0; at <= command_line.size();) {
-        const std::size_t end = std::min(command_line.find(' ', at), command_line.size());
-        words.push_back(command_line.substr(at, end - at));
-        at = end + 1;
-    }
+    const std::vector<std::string> words = command_words(command_line);
     std::string out;
     for (std::size_t i = 0; i < words.size(); ++i) {
         const std::string& w = words[i];
@@ -266,8 +268,10 @@ command add_audit_command(CLI::App& app, const std::string& command_line) {
         ->check(CLI::Range(1u, 4096u));
     sub->add_option("--shard", options->shard,
                     "Audit only shard K of N (K = 1..N): the cases whose index in the whole input is K-1 modulo N. "
-                    "Needs --report DIR, where the shard's state goes; `rayverify merge` combines the N shards "
-                    "into the report of the whole run");
+                    "`auto` reads K and N from a Slurm job array, `auto/N` also from a Kubernetes Indexed Job, or "
+                    "RAYVERIFY_SHARD_INDEX (0-based) and RAYVERIFY_TOTAL_SHARDS (docs/scaling_out.md). Needs "
+                    "--report DIR, where the shard's state goes; `rayverify merge` combines the N shards into the "
+                    "report of the whole run");
     return {sub, [options, command_line] { return run(*options, command_line); }};
 }
 

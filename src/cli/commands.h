@@ -13,6 +13,7 @@
 #include <optional>
 
 #include "compare/audit.h"
+#include "corpus/case_stream.h"
 #include "plugin/plugin_loader.h"
 #include "report/atomic_file.h"
 #include "scene/scene.h"
@@ -40,6 +41,11 @@ command add_diff_command(CLI::App& app);
 command add_merge_command(CLI::App& app);
 command add_render_command(CLI::App& app);  // issue 6: cli/render_command.cpp
 command add_recommend_command(CLI::App& app);  // issue 6: cli/recommend_command.cpp
+
+// `merge` of hunt outputs (cli/hunt_merge.cpp): the files of one sharded
+// hunt, every shard once, as one hunt file at `output` keeping the `keep`
+// worst finds. Returns exit_findings when a disagreement is kept.
+int merge_hunts(const std::vector<std::string>& files, const std::string& output, std::size_t keep);
 
 // issue 6: `audit --scene FILE` (cli/scene_audit.cpp), called by the audit command.
 struct scene_audit_request {
@@ -76,11 +82,29 @@ std::vector<audit_target> select_targets(const std::vector<std::string>& variant
 // --isolate and --plugin-timeout, on every command that takes --plugin.
 void add_isolation_options(CLI::App* sub, plugin_isolation& isolation);
 
-// Shared by audit and merge (cli/audit_command.cpp).
+// Shared by audit and hunt (cli/audit_command.cpp): the shard `--shard`
+// names, "K/N", "auto" or "auto/N" (corpus/shard_environment.h); an automatic
+// choice is reported on stderr, prefixed by the command's name.
+shard_spec chosen_shard(const std::string& text, const char* command);
+
+// Shared by audit, hunt and merge (cli/audit_command.cpp).
 // The command line as reports record it: without --threads, --shard,
-// --report, --per-case, --plots, --summary, --isolate and --plugin-timeout, which change
-// where outputs go or how the work is spread or run, never a figure.
+// --report, --per-case, -o/--output, --plots, --summary, --summary-md, --isolate and
+// --plugin-timeout, which change where outputs go or how the work is spread or run, never a figure.
 std::string recorded_command(const std::string& command_line);
+
+// cli/command_spelling.cpp: comparing the recorded commands of shards.
+// A command line's words (main joins argv with single spaces).
+std::vector<std::string> command_words(const std::string& command_line);
+// A recorded command without what the shards of one run may spell
+// differently: the executable's path is dropped and the value of --corpus,
+// --plugin and --scene becomes PATH; `--option=value` is split in two.
+std::vector<std::string> normalised_command(const std::string& recorded);
+// nullopt when two recorded commands are equal once normalised; else which
+// options only `a` and only `b` have (or that their order differs), naming
+// them by `a_name` and `b_name`.
+std::optional<std::string> command_difference(const std::string& a, const std::string& b, const std::string& a_name,
+                                              const std::string& b_name);
 
 // An audit's output files, opened (as temporaries) before the work.
 // A report directory that open_report had to create is removed again (when

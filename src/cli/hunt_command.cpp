@@ -5,6 +5,8 @@
 #include "core/input_error.h"
 #include "corpus/corpus_io.h"
 #include "corpus/generators.h"
+#include "report/audit_report.h"
+#include "report/hunt_file.h"
 
 namespace rayverify::cli {
 namespace {
@@ -23,6 +25,7 @@ struct hunt_command_options {
     std::size_t finds = 3;
     bool no_shrink = false;
     std::string output;
+    std::string shard;
 };
 
 std::string error_text(double ulps) { return fmt::format("{:.3g} ulp", ulps); }
@@ -47,66 +50,81 @@ int run(const hunt_command_options& o, const std::string& command_line) {
     if (o.budget == 0 && o.evaluations == 0)
         throw input_error("", 0, "--budget", "give a time budget (--budget) or an evaluation budget (--evaluations)");
 
+    const shard_spec shard = o.shard.empty() ? shard_spec{} : chosen_shard(o.shard, "hunt");
     hunt_options options;
     options.objective = o.objective == "ulp" ? hunt_objective::ulp : hunt_objective::misclass;
     options.strategy = o.strategy == "search" ? hunt_strategy::search : hunt_strategy::random;
-    options.seed = o.seed;
+    options.seed = shard_search_seed(o.seed, shard.index, shard.count);
     options.max_seconds = o.budget;
     options.max_evaluations = o.evaluations;
     options.max_finds = o.finds;
     options.shrink = !o.no_shrink;
     const std::string family_name(family->name);
-    const hunt_start start = [&](std::uint64_t index) { return generate_case(family_name, o.seed, index).geometry; };
+    // This shard's start cases: the family's cases K − 1, K − 1 + N, ...
+    const auto start_index = [&](std::uint64_t j) { return shard.index - 1 + j * shard.count; };
+    const hunt_start start = [&](std::uint64_t j) { return generate_case(family_name, o.seed, start_index(j)).geometry; };
     const hunt_result result = hunt(target, start, options);
 
     const std::string label = target.label();
     const bool ulp = options.objective == hunt_objective::ulp;
-    std::string text = corpus_header_comment() + '\n';
-    text += fmt::format("# rayverify hunt: {}, objective {}, strategy {}, start family {} (seed {})\n", label,
-                        o.objective, o.strategy, family_name, o.seed);
-    text += fmt::format("# command: {}\n", command_line);
-    text += fmt::format("# searched {} evaluations from {} start cases in {:.2f} s; {} shrinking evaluations\n",
-                        result.evaluations, result.starts, result.seconds, result.shrink_evaluations);
-    if (ulp)
-        text += "# the error below is the largest FOUND BY SEARCH: a lower bound on the variant's maximum over all "
-                "inputs, not the maximum\n";
-    fmt::print("hunt {} ({} objective, {} strategy, family {}, seed {}): {} evaluations, {} starts, {:.2f} s\n",
-               label, o.objective, o.strategy, family_name, o.seed, result.evaluations, result.starts,
+    std::string shard_note;
+    if (shard.count > 1) shard_note = fmt::format(", shard {} (search seed {})", shard.text(), options.seed);
+    fmt::print("hunt {} ({} objective, {} strategy, family {}, seed {}{}): {} evaluations, {} starts, {:.2f} s\n",
+               label, o.objective, o.strategy, family_name, o.seed, shard_note, result.evaluations, result.starts,
                result.seconds);
 
-    const std::string id_stem = fmt::format("hunt-{}-{}-{}-{}-{}", target.subject.name, precision_name(target.prec),
-                                            o.objective, o.strategy, o.seed);
-    std::size_t n = 0;
+    hunt_file file;
+    file.hunt = {{"format", hunt_file_format},
+                 {"build", build_json()},
+                 {"command", recorded_command(command_line)},
+                 {"target", label},
+                 {"objective", o.objective},
+                 {"strategy", o.strategy},
+                 {"family", family_name},
+                 {"seed", o.seed},
+                 {"shards", shard.count},
+                 {"runs", nlohmann::ordered_json::array({{{"shard", shard.text()},
+                                                          {"search_seed", options.seed},
+                                                          {"evaluations", result.evaluations},
+                                                          {"starts", result.starts},
+                                                          {"shrink_evaluations", result.shrink_evaluations},
+                                                          {"seconds", result.seconds}}})}};
+    std::string id_stem = fmt::format("hunt-{}-{}-{}-{}-{}", target.subject.name, precision_name(target.prec),
+                                      o.objective, o.strategy, o.seed);
+    if (shard.count > 1) id_stem += fmt::format("-shard{}of{}", shard.index, shard.count);
     for (const hunt_find& f : result.finds) {
-        ++n;
-        corpus_case shrunk;
-        shrunk.id = fmt::format("{}-{}", id_stem, n);
-        shrunk.family = "hunt_" + family_name;
-        shrunk.geometry = f.shrunk;
-        corpus_case found = shrunk;
-        found.id += "-found";
-        found.geometry = f.found;
+        hunt_file_find entry;
+        entry.shrunk.id = fmt::format("{}-{}", id_stem, file.finds.size() + 1);
+        entry.shrunk.family = "hunt_" + family_name;
+        entry.shrunk.geometry = f.shrunk;
+        entry.found = entry.shrunk;
+        entry.found.id += "-found";
+        entry.found.geometry = f.found;
+        entry.provenance = {{"shard", shard.text()},
+                            {"search_seed", options.seed},
+                            {"evaluation", f.evaluation},
+                            {"seconds", f.seconds},
+                            {"start", generate_case(family_name, o.seed, start_index(f.start_index)).id},
+                            {"verdict", verdict_name(f.found_eval.verdict)},
+                            {"error", hex_float(f.found_eval.error)},
+                            {"detail", f.found_eval.detail},
+                            {"found_bits", f.found_bits},
+                            {"shrunk_verdict", verdict_name(f.shrunk_eval.verdict)},
+                            {"shrunk_error", hex_float(f.shrunk_eval.error)},
+                            {"shrunk_bits", f.shrunk_bits}};
         const std::string what = ulp ? fmt::format("agree, {} (lower bound)", error_text(f.found_eval.error))
                                      : std::string(verdict_name(f.found_eval.verdict));
         const std::string shrunk_what = ulp ? fmt::format("agree, {}", error_text(f.shrunk_eval.error))
                                             : std::string(verdict_name(f.shrunk_eval.verdict));
-        text += fmt::format("# find {}: {} at evaluation {} ({:.3f} s), searching from {}-{}-{:06}\n", n, what,
-                            f.evaluation, f.seconds, family_name, o.seed, f.start_index);
-        if (!f.found_eval.detail.empty()) text += fmt::format("#   {}\n", f.found_eval.detail);
-        text += fmt::format("#   shrunk from {} to {} significant bits, still {}\n", f.found_bits, f.shrunk_bits,
-                            shrunk_what);
-        text += format_case_line(shrunk) + '\n';
-        text += fmt::format("# find {} as found, before shrinking:\n", n);
-        text += format_case_line(found) + '\n';
-
-        fmt::print("find {}: {} at evaluation {} ({:.3f} s)\n", n, what, f.evaluation, f.seconds);
+        fmt::print("find {}: {} at evaluation {} ({:.3f} s)\n", file.finds.size() + 1, what, f.evaluation, f.seconds);
         if (!f.found_eval.detail.empty()) fmt::print("  {}\n", f.found_eval.detail);
         fmt::print("  shrunk ({} -> {} significant bits, still {}):\n  {}\n", f.found_bits, f.shrunk_bits,
-                   shrunk_what, format_case_line(shrunk));
+                   shrunk_what, format_case_line(entry.shrunk));
+        file.finds.push_back(std::move(entry));
     }
     if (result.finds.empty())
         fmt::print("{}\n", ulp ? "no agreeing answer with a nonzero error was seen" : "no disagreement found");
-    write_file_atomically(o.output, text);
+    write_file_atomically(o.output, render_hunt_file(file));
     fmt::print("wrote {}\n", o.output);
     const bool disagreement = !ulp && !result.finds.empty();
     return disagreement ? exit_findings : exit_ok;
@@ -142,6 +160,10 @@ command add_hunt_command(CLI::App& app, const std::string& command_line) {
     sub->add_option("--seed", o->seed, "Seed of the start cases and of the search")->capture_default_str();
     sub->add_option("--finds", o->finds, "misclass: stop after this many disagreements")->capture_default_str();
     sub->add_flag("--no-shrink", o->no_shrink, "Keep the finds as found");
+    sub->add_option("--shard", o->shard,
+                    "Be shard K of N independent hunts (K/N, auto or auto/N as for audit): start from the family's "
+                    "cases K-1, K-1+N, ... and search with a seed derived from --seed and K; each shard has the "
+                    "whole budget. `rayverify merge` keeps the worst finds of the N output files");
     sub->add_option("-o,--output", o->output, "Corpus file to write the finds to (atomically)")->required();
     return {sub, [o, command_line] { return run(*o, command_line); }};
 }

@@ -2,15 +2,21 @@
 // combined into the report a single run over the whole input would have
 // written, byte for byte.
 #include <fmt/format.h>
+#include <sys/resource.h>
 
+#include <algorithm>
+#include <atomic>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <thread>
 
 #include "cli/commands.h"
 #include "core/input_error.h"
 #include "corpus/case_stream.h"
+#include "report/hunt_file.h"
 #include "report/shard_state.h"
 
 namespace rayverify::cli {
@@ -25,79 +31,196 @@ struct merge_options {
     std::vector<std::string> shards;
     bool plots = false;
     audit_presentation presentation;
+    std::optional<std::size_t> keep_finds;  // hunts
 };
 
 struct shard_input {
     fs::path dir;
-    json state;
     shard_spec shard;
+    std::size_t cases = 0;       // the cases this shard audited
+    json per_case_file;          // as the shard recorded it (null: none)
+    fs::path file() const { return dir / shard_state_file; }
 };
 
-shard_input read_shard(const fs::path& dir) {
-    const fs::path file = dir / shard_state_file;
+// Builds a document up to the top-level key "state" and stops there: the
+// audit writes "state" last, after everything the consistency checks read,
+// so a header costs a few kilobytes of parsing whatever the state's size.
+class header_reader : public nlohmann::json_sax<json> {
+public:
+    explicit header_reader(json& document) : dom_(document) {}
+    bool null() override { return dom_.null(); }
+    bool boolean(bool value) override { return dom_.boolean(value); }
+    bool number_integer(number_integer_t value) override { return dom_.number_integer(value); }
+    bool number_unsigned(number_unsigned_t value) override { return dom_.number_unsigned(value); }
+    bool number_float(number_float_t value, const string_t& text) override { return dom_.number_float(value, text); }
+    bool string(string_t& value) override { return dom_.string(value); }
+    bool binary(binary_t& value) override { return dom_.binary(value); }
+    bool start_object(std::size_t n) override { return ++depth_, dom_.start_object(n); }
+    bool key(string_t& value) override { return !(depth_ == 1 && value == "state") && dom_.key(value); }
+    bool end_object() override { return --depth_, dom_.end_object(); }
+    bool start_array(std::size_t n) override { return ++depth_, dom_.start_array(n); }
+    bool end_array() override { return --depth_, dom_.end_array(); }
+    bool parse_error(std::size_t position, const std::string& token, const nlohmann::detail::exception& e) override {
+        return dom_.parse_error(position, token, e);
+    }
+
+private:
+    nlohmann::detail::json_sax_dom_parser<json> dom_;  // what json::parse builds with (nlohmann 3.11)
+    int depth_ = 0;
+};
+
+// A shard's state file: whole (read into memory first: parsing from a string
+// is faster than from a stream), or (`header_only`) without its "state".
+json read_state_file(const fs::path& file, bool header_only) {
     std::ifstream in(file, std::ios::binary);
     if (!in)
         throw input_error(file.string(), 0, "",
                           "cannot open: not the report directory of a `rayverify audit --shard K/N --report DIR` run");
-    shard_input input{dir, {}, {}};
     try {
-        input.state = json::parse(in);
-        if (input.state.at("format").get<std::string>() != shard_state_format)
+        json state;
+        if (header_only) {
+            header_reader reader(state);
+            json::sax_parse(in, &reader);
+        } else {
+            std::ostringstream text;
+            text << in.rdbuf();
+            state = json::parse(std::move(text).str());
+        }
+        if (state.at("format").get<std::string>() != shard_state_format)
             throw input_error(file.string(), 0, "format",
-                              fmt::format("'{}', this rayverify reads '{}'", input.state.at("format").dump(),
+                              fmt::format("'{}', this rayverify reads '{}'", state.at("format").dump(),
                                           shard_state_format));
-        input.shard.index = input.state.at("shard").at("index").get<std::size_t>();
-        input.shard.count = input.state.at("shard").at("count").get<std::size_t>();
+        return state;
     } catch (const json::exception& e) {
         throw input_error(file.string(), 0, "", fmt::format("not a shard state: {}", e.what()));
+    }
+}
+
+// The shards' states merged. Parsing them is nearly all of a merge's time, so
+// every hardware thread takes shards in turn, parses each and merges it into
+// a state of its own; those are merged at the end. Merging is exact and
+// order-independent: the result does not depend on which thread took which
+// shard. Memory: per thread one parsed document and one state, however many
+// shards there are. Of the malformed shards met, the first in shard order is named.
+audit_state merged_states(const std::vector<shard_input>& shards, const std::vector<audit_target>& targets) {
+    const std::size_t threads =
+        std::clamp<std::size_t>(std::thread::hardware_concurrency(), 1, std::max<std::size_t>(shards.size(), 1));
+    std::vector<audit_state> partial(threads, audit_state(targets));
+    std::vector<std::exception_ptr> failure(shards.size());
+    std::atomic<std::size_t> next{0};
+    std::atomic<bool> failed{false};
+    const auto work = [&](audit_state& mine) {
+        for (std::size_t i; !failed && (i = next++) < shards.size();) {
+            try {
+                const json state = read_state_file(shards[i].file(), false);
+                try {
+                    mine.merge(state_from_json(state.at("state"), targets));
+                } catch (const json::exception& e) {
+                    throw input_error(shards[i].file().string(), 0, "state",
+                                      fmt::format("a shard state is malformed: {}", e.what()));
+                }
+            } catch (...) {
+                failure[i] = std::current_exception();
+                failed = true;
+            }
+        }
+    };
+    {
+        std::vector<std::jthread> workers;
+        for (std::size_t t = 1; t < threads; ++t) workers.emplace_back(work, std::ref(partial[t]));
+        work(partial[0]);
+    }
+    for (const std::exception_ptr& e : failure)
+        if (e) std::rethrow_exception(e);
+    for (std::size_t t = 1; t < threads; ++t) partial[0].merge(partial[t]);
+    return std::move(partial[0]);
+}
+
+shard_input shard_from_header(const fs::path& dir, const json& header) {
+    shard_input input{dir, {}, 0, nullptr};
+    try {
+        input.shard.index = header.at("shard").at("index").get<std::size_t>();
+        input.shard.count = header.at("shard").at("count").get<std::size_t>();
+        input.cases = header.at("shard").at("cases").get<std::size_t>();
+        input.per_case_file = header.at("per_case_file");
+    } catch (const json::exception& e) {
+        throw input_error(input.file().string(), 0, "shard", fmt::format("not a shard state: {}", e.what()));
     }
     return input;
 }
 
-// Every shard must come from the same audit: same build, command, input and targets.
-void check_consistent(const std::vector<shard_input>& shards) {
-    const shard_input& first = shards.front();
-    for (const shard_input& s : shards) {
-        for (const char* field : {"build", "input", "command", "targets"})
-            if (s.state.at(field) != first.state.at(field))
-                throw input_error((s.dir / shard_state_file).string(), 0, field,
-                                  fmt::format("differs from {}: {} vs {} (shards of different audits cannot be "
-                                              "merged)",
-                                              (first.dir / shard_state_file).string(), s.state.at(field).dump(),
-                                              first.state.at(field).dump()));
-        if (s.shard.count != first.shard.count)
-            throw input_error((s.dir / shard_state_file).string(), 0, "shard",
-                              fmt::format("shard {} of a split in {}, {} is of a split in {}", s.shard.text(),
-                                          s.shard.count, (first.dir / shard_state_file).string(), first.shard.count));
-    }
+// Two shards come from one audit: the same build, input (by its size and
+// fingerprint: the paths that named it may be spelled differently), command
+// (up to the spelling of paths and of the executable) and targets.
+void check_same_audit(const json& first, const fs::path& first_file, const json& other, const fs::path& other_file) {
+    const auto differs = [&](const char* field, const std::string& what) {
+        return input_error(other_file.string(), 0, field,
+                           fmt::format("differs from {}: {} (shards of different audits cannot be merged)",
+                                       first_file.string(), what));
+    };
+    const auto compare = [&](const char* field, const json& a, const json& b) {
+        if (a != b) throw differs(field, fmt::format("{} vs {}", b.dump(), a.dump()));
+    };
+    compare("build", first.at("build"), other.at("build"));
+    for (const char* field : {"cases", "fingerprint", "generated"})
+        compare("input", first.at("input").at(field), other.at("input").at(field));
+    if (const auto what = command_difference(first.at("command").get<std::string>(),
+                                             other.at("command").get<std::string>(), first_file.string(),
+                                             other_file.string()))
+        throw differs("command", *what);
+    compare("targets", first.at("targets"), other.at("targets"));
+    const std::size_t n = first.at("shard").at("count").get<std::size_t>();
+    if (other.at("shard").at("count").get<std::size_t>() != n)
+        throw input_error(other_file.string(), 0, "shard",
+                          fmt::format("shard {}/{} of a split in {}, {} is of a split in {}",
+                                      other.at("shard").at("index").get<std::size_t>(),
+                                      other.at("shard").at("count").get<std::size_t>(),
+                                      other.at("shard").at("count").get<std::size_t>(), first_file.string(), n));
+}
+
+// Every K of the N once, each holding the cases shard K of the input has.
+void check_complete(const std::vector<shard_input>& shards, std::size_t total) {
     std::map<std::size_t, const shard_input*> by_index;
     for (const shard_input& s : shards)
         if (const auto [at, inserted] = by_index.emplace(s.shard.index, &s); !inserted)
             throw input_error(s.dir.string(), 0, "shard",
                               fmt::format("shard {} given twice (also {})", s.shard.text(), at->second->dir.string()));
+    const std::size_t n = shards.front().shard.count;
     std::string missing;
-    for (std::size_t k = 1; k <= first.shard.count; ++k)
-        if (!by_index.count(k)) missing += fmt::format("{}{}/{}", missing.empty() ? "" : ", ", k, first.shard.count);
+    for (std::size_t k = 1; k <= n; ++k)
+        if (!by_index.count(k)) missing += fmt::format("{}{}/{}", missing.empty() ? "" : ", ", k, n);
     if (!missing.empty()) throw input_error("", 0, "shard", fmt::format("missing shard(s) {}", missing));
-    const std::size_t total = first.state.at("input").at("cases").get<std::size_t>();
     for (const shard_input& s : shards)
-        if (s.state.at("shard").at("cases").get<std::size_t>() != s.shard.size_of(total))
-            throw input_error((s.dir / shard_state_file).string(), 0, "shard",
-                              fmt::format("holds {} cases, shard {} of {} cases has {}",
-                                          s.state.at("shard").at("cases").get<std::size_t>(), s.shard.text(), total,
-                                          s.shard.size_of(total)));
+        if (s.cases != s.shard.size_of(total))
+            throw input_error(s.file().string(), 0, "shard",
+                              fmt::format("holds {} cases, shard {} of {} cases has {}", s.cases, s.shard.text(),
+                                          total, s.shard.size_of(total)));
+}
+
+// Per-case files are read side by side, one open file per shard.
+void allow_open_files(std::size_t shards) {
+    rlimit limit{};
+    const rlim_t wanted = static_cast<rlim_t>(shards) + 64;
+    if (getrlimit(RLIMIT_NOFILE, &limit) != 0 || limit.rlim_cur >= wanted) return;
+    limit.rlim_cur = std::min(wanted, limit.rlim_max);
+    setrlimit(RLIMIT_NOFILE, &limit);
+    if (limit.rlim_cur < wanted)
+        throw input_error("", 0, "--per-case",
+                          fmt::format("merging the per-case files of {} shards needs {} open files, and this "
+                                      "process may open {} (ulimit -n)",
+                                      shards, wanted, limit.rlim_max));
 }
 
 // The whole run's per-case lines: case i is line i div N of shard (i mod N) + 1.
 void interleave_per_case(const std::vector<shard_input>& shards, std::size_t total, std::ostream& out) {
+    allow_open_files(shards.size());
     std::vector<std::ifstream> files;
     std::vector<fs::path> names;
     for (const shard_input& s : shards) {
-        const json& recorded = s.state.at("per_case_file");
-        if (recorded.is_null())
-            throw input_error((s.dir / shard_state_file).string(), 0, "--per-case",
+        if (s.per_case_file.is_null())
+            throw input_error(s.file().string(), 0, "--per-case",
                               "this shard wrote no per-case file (run every shard with --per-case)");
-        fs::path path(recorded.get<std::string>());
+        fs::path path(s.per_case_file.get<std::string>());
         if (path.is_relative()) path = s.dir / path;
         files.emplace_back(path, std::ios::binary);
         if (!files.back()) throw input_error(path.string(), 0, "--per-case", "cannot open the shard's per-case file");
@@ -117,37 +240,82 @@ void interleave_per_case(const std::vector<shard_input>& shards, std::size_t tot
                               "has more lines than the shard has cases: it does not match its state");
 }
 
-int run(const merge_options& options) {
+// The run as the report records it: its command and input as `file` spells them.
+run_context spelled_as_in(const fs::path& file) {
+    const json header = read_state_file(file, true);
+    try {
+        return {header.at("command").get<std::string>(), header.at("input").at("paths").get<std::vector<std::string>>(),
+                header.at("input").at("generated").get<std::vector<std::string>>()};
+    } catch (const json::exception& e) {
+        throw input_error(file.string(), 0, "", fmt::format("not a shard state: {}", e.what()));
+    }
+}
+
+// First every shard's header (checked against the first shard's, then
+// dropped), then the states (merged_states): memory does not grow with the
+// number of shards.
+int merge_audits(const merge_options& options) {
     std::vector<shard_input> shards;
-    for (const std::string& dir : options.shards) shards.push_back(read_shard(dir));
-    check_consistent(shards);
+    json first;  // the first shard given, which the others are checked against
+    const fs::path first_file = fs::path(options.shards.front()) / shard_state_file;
+    for (const std::string& dir : options.shards) {
+        const fs::path file = fs::path(dir) / shard_state_file;
+        json header = read_state_file(file, true);
+        try {
+            if (!shards.empty()) check_same_audit(first, first_file, header, file);
+        } catch (const json::exception& e) {
+            throw input_error(file.string(), 0, "", fmt::format("not a shard state: {}", e.what()));
+        }
+        shards.push_back(shard_from_header(dir, header));
+        if (shards.size() == 1) first = std::move(header);
+    }
     std::sort(shards.begin(), shards.end(),
               [](const shard_input& a, const shard_input& b) { return a.shard.index < b.shard.index; });
-    const json& first = shards.front().state;
-
+    std::size_t total = 0;
     std::vector<audit_target> targets;
-    std::optional<audit_state> merged;
     try {
+        total = first.at("input").at("cases").get<std::size_t>();
         targets = targets_from_json(first.at("targets"));
-        merged.emplace(targets);
-        for (const shard_input& s : shards) merged->merge(state_from_json(s.state.at("state"), targets));
     } catch (const json::exception& e) {
-        throw input_error("", 0, "state", fmt::format("a shard state is malformed: {}", e.what()));
+        throw input_error(first_file.string(), 0, "", fmt::format("not a shard state: {}", e.what()));
     }
+    check_complete(shards, total);
 
+    const audit_state merged = merged_states(shards, targets);
+
+    const run_context context = spelled_as_in(shards.front().file());  // shard 1, whatever the order given
     audit_outputs outputs;
     outputs.open_report(options.output);
     if (!options.per_case_file.empty()) outputs.per_case.emplace(options.per_case_file);
     open_presentation(outputs, options.presentation);
-    if (outputs.per_case)
-        interleave_per_case(shards, first.at("input").at("cases").get<std::size_t>(), outputs.per_case->stream());
+    if (outputs.per_case) interleave_per_case(shards, total, outputs.per_case->stream());
 
-    run_context context{first.at("command").get<std::string>(),
-                        first.at("input").at("paths").get<std::vector<std::string>>(),
-                        first.at("input").at("generated").get<std::vector<std::string>>()};
-    const std::optional<json> report = audit_report_document(*merged, context);
-    return publish_audit(merged->audit.finish(), report, options.output, outputs, options.plots,
+    const std::optional<json> report = audit_report_document(merged, context);
+    return publish_audit(merged.audit.finish(), report, options.output, outputs, options.plots,
                          options.presentation);
+}
+
+// Audit shards are directories; hunt outputs are files.
+int run(const merge_options& options) {
+    std::size_t hunts = 0;
+    for (const std::string& input : options.shards) {
+        std::error_code error;
+        if (fs::is_regular_file(input, error) && looks_like_hunt_file(input))
+            ++hunts;
+        else if (fs::is_regular_file(input, error))
+            throw input_error(input, 0, "",
+                              "neither an audit shard's report directory nor the output of `rayverify hunt`");
+    }
+    if (hunts == 0) {
+        if (options.keep_finds) throw input_error("", 0, "--finds", "only hunt outputs are merged by their finds");
+        return merge_audits(options);
+    }
+    if (hunts != options.shards.size())
+        throw input_error("", 0, "", "give either audit shards (directories) or hunt outputs (files), not both");
+    if (!options.per_case_file.empty() || options.plots)
+        throw input_error("", 0, options.plots ? "--plots" : "--per-case",
+                          "hunt outputs merge into one corpus file (-o FILE): no --per-case or --plots");
+    return merge_hunts(options.shards, options.output, options.keep_finds.value_or(3));
 }
 
 }  // namespace
@@ -156,15 +324,23 @@ command add_merge_command(CLI::App& app) {
     auto options = std::make_shared<merge_options>();
     auto* sub = app.add_subcommand(
         "merge", "Combine the report directories of `rayverify audit --shard K/N --report DIR` runs (every K of "
-                 "one N, from the same audit) into exactly the report one run over the whole input writes. Exit 1 "
-                 "when the merged audit has findings, 2 when the shards do not belong together.");
-    sub->add_option("-o,--output", options->output, "Directory for the merged report.json, summary.txt, report.md")
+                 "one N, from the same audit) into exactly the report one run over the whole input writes; or the "
+                 "output files of `rayverify hunt --shard K/N` into one, keeping the worst finds with their "
+                 "provenance. The shards may have been run from other directories or installs. Exit 1 when the "
+                 "merged audit has findings or the hunts a disagreement, 2 when the shards do not belong together.");
+    sub->add_option("-o,--output", options->output,
+                    "Directory for the merged report.json, summary.txt, report.md; for hunts, the merged file")
         ->required();
     sub->add_option("--per-case", options->per_case_file,
                     "Also merge the shards' per-case files (each shard run with --per-case) into this file");
     sub->add_flag("--plots", options->plots, "Also draw the PNG plots, as `audit --plots`");
     add_presentation_options(sub, options->presentation);
-    sub->add_option("shards", options->shards, "The shards' report directories")->required();
+    sub->add_option("--finds", options->keep_finds,
+                    "Hunts: keep this many finds, the worst first (ulp: largest error; misclass: in shard order). "
+                    "Default 3")
+        ->check(CLI::Range(std::size_t{1}, std::size_t{1000000}));
+    sub->add_option("shards", options->shards, "The shards' report directories, or the hunts' output files")
+        ->required();
     return {sub, [options] { return run(*options); }};
 }
 

@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <filesystem>
+#include <memory>
 
 #include "cli/commands.h"
 #include "core/input_error.h"
@@ -26,7 +27,7 @@ struct render_options {
 
 std::string hex(rgb c) { return fmt::format("#{:02x}{:02x}{:02x}", c.r, c.g, c.b); }
 
-std::string legend_text(const scene& s, const audit_target& target, const scene_pictures& p,
+std::string legend_text(const scene& s, const audit_target& target, const scene_picture_counts& p,
                         const std::vector<std::string>& files) {
     std::string out = fmt::format("# {} rendered exactly and by {}\n\n", s.name, target.label());
     if (!s.comment.empty()) out += s.comment + "\n\n";
@@ -58,7 +59,7 @@ std::string legend_text(const scene& s, const audit_target& target, const scene_
     out += "\n";
     for (ray_kind kind : {ray_kind::primary, ray_kind::shadow, ray_kind::secondary}) {
         const std::size_t k = static_cast<std::size_t>(kind);
-        if (!p.difference[k]) continue;
+        if (!p.kind_drawn[k]) continue;
         out += fmt::format("| {} |", ray_kind_name(kind));
         for (int v = 0; v < verdict_kind_count; ++v) out += fmt::format(" {} |", p.pixels_by_verdict[k][static_cast<std::size_t>(v)]);
         out += "\n";
@@ -79,26 +80,30 @@ int run(const render_options& options) {
     if (auto why = not_applicable_reason(s, target))
         throw input_error(options.scene_file, 0, "--variant", target.label() + " is not applicable: " + *why);
 
-    const std::vector<scene_ray> rays = generate_rays(s);
-    scene_picture_builder builder(s, 0);
-    const scene_audit_result result =
-        audit_scene(s, rays, targets, [&](const judged_ray& r) { builder.add(r); });
-    const scene_pictures pictures = builder.finish();
-
-    // Every image is encoded and written atomically; the legend last.
+    // Every image is encoded row by row as the rays are judged (rays and
+    // pixels are streamed: memory does not grow with the resolution), each
+    // written atomically; the legend last.
     const std::filesystem::path dir(options.out_dir);
     std::error_code error;
     std::filesystem::create_directories(dir, error);
     if (error) throw input_error(options.out_dir, 0, "-o", "cannot create directory: " + error.message());
-    std::vector<std::pair<std::string, const rgb_image*>> images = {{"exact.png", &pictures.exact},
-                                                                    {"variant.png", &pictures.variant}};
-    for (ray_kind kind : {ray_kind::primary, ray_kind::shadow, ray_kind::secondary})
-        if (const auto& d = pictures.difference[static_cast<std::size_t>(kind)])
-            images.emplace_back(fmt::format("difference_{}.png", ray_kind_name(kind)), &*d);
     std::vector<std::string> files;
-    for (const auto& [name, image] : images) {
-        write_png(dir / name, image->width, image->height, image->pixels);
-        files.push_back(name);
+    std::vector<std::unique_ptr<atomic_file>> outputs;
+    std::vector<std::unique_ptr<png_writer>> images;
+    for (scene_picture picture : scene_pictures_of(s)) {
+        files.push_back(picture_file_name(picture));
+        outputs.push_back(std::make_unique<atomic_file>(dir / files.back()));
+        images.push_back(std::make_unique<png_writer>(outputs.back()->stream(), (dir / files.back()).string(),
+                                                      s.camera.width, s.camera.height));
+    }
+    scene_picture_builder builder(s, 0, [&](int, std::span<const std::vector<std::uint8_t>> rows) {
+        for (std::size_t i = 0; i < images.size(); ++i) images[i]->write_row(rows[i]);
+    });
+    const scene_audit_result result = audit_scene(s, targets, [&](const judged_ray& r) { builder.add(r); });
+    const scene_picture_counts pictures = builder.finish();
+    for (std::size_t i = 0; i < images.size(); ++i) {
+        images[i]->finish();
+        outputs[i]->commit();
     }
     atomic_file legend(dir / "legend.md");
     legend.stream() << legend_text(s, target, pictures, files);
@@ -108,7 +113,9 @@ int run(const render_options& options) {
     for (const std::string& f : files) fmt::print("  {}\n", (dir / f).string());
     fmt::print("  {}\n", (dir / "legend.md").string());
     const std::size_t disagreements = result.targets.front().disagreements();
-    fmt::print("{} of {} rays disagree with the exact answer\n", disagreements, rays.size());
+    std::size_t rays = 0;
+    for (const exact_kind_figures& kind : result.exact) rays += kind.rays;
+    fmt::print("{} of {} rays disagree with the exact answer\n", disagreements, rays);
     return disagreements > 0 ? exit_findings : exit_ok;
 }
 

@@ -178,8 +178,7 @@ int run_scene_audit(const scene_audit_request& request) {
         report.emplace(std::filesystem::path(request.report_dir) / "scene_report.json");
     }
 
-    const std::vector<scene_ray> rays = generate_rays(s);
-    const scene_audit_result result = audit_scene(s, rays, targets);
+    const scene_audit_result result = audit_scene(s, targets);  // the rays streamed
 
     std::size_t counts[3] = {result.exact[0].rays, result.exact[1].rays, result.exact[2].rays};
     std::string text = fmt::format("scene: {} ({}), {}, directions {}\n", s.name, s.file.string(), precision_name(s.prec),

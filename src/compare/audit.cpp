@@ -99,7 +99,19 @@ void error_summary::merge(const error_summary& other) {
         max_id = other.max_id;
     }
     count += other.count;
-    for (const auto& [bucket, n] : other.buckets) buckets[bucket] += n;
+    // One pass over both sorted key lists: counts of shared keys added, new
+    // keys inserted as one sorted range (the flat map merges it in linear
+    // time; inserting them one by one would move its tail for each).
+    std::vector<std::pair<std::uint64_t, std::size_t>> fresh;
+    auto mine = buckets.begin();
+    for (const auto& [bucket, n] : other.buckets) {
+        while (mine != buckets.end() && mine->first < bucket) ++mine;
+        if (mine != buckets.end() && mine->first == bucket)
+            mine->second += n;
+        else
+            fresh.emplace_back(bucket, n);
+    }
+    buckets.insert(boost::container::ordered_unique_range, fresh.begin(), fresh.end());
 }
 
 double error_summary::quantile(double q) const {

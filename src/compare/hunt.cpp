@@ -18,16 +18,20 @@ const char* hunt_strategy_name(hunt_strategy s) { return s == hunt_strategy::sea
 
 namespace {
 
+constexpr std::uint64_t golden_gamma = 0x9e3779b97f4a7c15ULL;
+
+// splitmix64's output function: a bijection of the 64-bit integers.
+std::uint64_t splitmix64_mix(std::uint64_t z) {
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return z ^ (z >> 31);
+}
+
 // splitmix64: the hunter's own generator (no std distributions).
 class hunt_random {
 public:
     explicit hunt_random(std::uint64_t seed) : state_(seed ^ 0x5eed0fa11b0c5e1fULL) {}
-    std::uint64_t next() {
-        std::uint64_t z = (state_ += 0x9e3779b97f4a7c15ULL);
-        z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-        z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-        return z ^ (z >> 31);
-    }
+    std::uint64_t next() { return splitmix64_mix(state_ += golden_gamma); }
     // Uniform on [0, n) (n small: the bias of the modulo is below 2^-50).
     std::uint64_t below(std::uint64_t n) { return next() % n; }
     bool coin() { return (next() >> 63) != 0; }
@@ -347,6 +351,11 @@ int significant_bits(const ray_sphere<double>& g) {
     int total = 0;
     for (int i = 0; i < 10; ++i) total += bits_of(input_at(g, i));
     return total;
+}
+
+std::uint64_t shard_search_seed(std::uint64_t seed, std::size_t shard_index, std::size_t shard_count) {
+    if (shard_count == 1) return seed;
+    return splitmix64_mix(seed + golden_gamma * shard_index);
 }
 
 hunt_result hunt(const audit_target& target, const hunt_start& start, const hunt_options& options) {

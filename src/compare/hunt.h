@@ -82,6 +82,12 @@ using hunt_start = std::function<ray_sphere<double>(std::uint64_t index)>;
 
 hunt_result hunt(const audit_target& target, const hunt_start& start, const hunt_options& options);
 
+// A sharded hunt is N independent hunts: shard K (1 ≤ K ≤ N) starts from the
+// start cases K − 1, K − 1 + N, … (the caller's hunt_start) and searches with
+// this seed: `seed` itself when N = 1, else splitmix64's output function of
+// seed + K·γ, a bijection in K, so that no two shards share a search seed.
+std::uint64_t shard_search_seed(std::uint64_t seed, std::size_t shard_index, std::size_t shard_count);
+
 // Significant bits of the ten inputs together (0 counts as 0 bits).
 int significant_bits(const ray_sphere<double>& g);
 

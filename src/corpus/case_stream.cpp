@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 
 #include <bit>
-#include <charconv>
 #include <set>
 #include <utility>
 
@@ -15,16 +14,6 @@ namespace rayverify {
 
 namespace fs = std::filesystem;
 
-namespace {
-
-template <class T>
-bool parse_unsigned(std::string_view text, T& value) {
-    const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-    return error == std::errc() && end == text.data() + text.size() && !text.empty();
-}
-
-}  // namespace
-
 std::string shard_spec::text() const { return fmt::format("{}/{}", index, count); }
 
 shard_spec parse_shard(std::string_view text) {
@@ -34,7 +23,7 @@ shard_spec parse_shard(std::string_view text) {
         !parse_unsigned(text.substr(slash + 1), shard.count) || shard.count == 0 || shard.index == 0 ||
         shard.index > shard.count)
         throw input_error("", 0, "--shard",
-                          fmt::format("'{}' is not K/N with 1 <= K <= N (shard K of N, e.g. 1/4)", text));
+                          fmt::format("'{}' is not K/N with 1 <= K <= N (shard K of N, e.g. 1/4), auto or auto/N", text));
     return shard;
 }
 

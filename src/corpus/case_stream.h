@@ -5,6 +5,7 @@
 // together hold every case exactly once, whatever the input is.
 #pragma once
 
+#include <charconv>
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
@@ -16,6 +17,13 @@
 #include "core/ray_sphere_case.h"
 
 namespace rayverify {
+
+// A whole number written in decimal digits only (no sign, no spaces), within T.
+template <class T>
+bool parse_unsigned(std::string_view text, T& value) {
+    const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+    return error == std::errc() && end == text.data() + text.size() && !text.empty();
+}
 
 struct shard_spec {
     std::size_t index = 1;  // K, 1 ≤ K ≤ N

@@ -149,11 +149,14 @@ void case_points::insert(const std::string& family, const sample_key& key, row r
     if (kept.size() > per_family) kept.erase(std::prev(kept.end()));
 }
 
+bool case_points::would_keep(const std::string& family, const sample_key& key) const {
+    const auto found = sample_.find(family);
+    return found == sample_.end() || found->second.size() < per_family || key < found->second.rbegin()->first;
+}
+
 void case_points::add(const audited_case& c, const case_stability& s, std::size_t index) {
     const sample_key key{id_hash(c.source->id), index};
-    const auto found = sample_.find(c.source->family);
-    if (found != sample_.end() && found->second.size() >= per_family && !(key < found->second.rbegin()->first))
-        return;
+    if (!would_keep(c.source->family, key)) return;
     const auto kappa = [](const std::optional<stability_measures>& m) -> json {
         if (!m || !m->valid || !m->near_condition) return nullptr;
         return json_number(*m->near_condition);
@@ -174,7 +177,8 @@ void case_points::add(const audited_case& c, const case_stability& s, std::size_
 
 void case_points::merge(const case_points& other) {
     for (const auto& [family, kept] : other.sample_)
-        for (const auto& [key, r] : kept) insert(family, key, r);
+        for (const auto& [key, r] : kept)
+            if (would_keep(family, key)) insert(family, key, r);  // a row is copied only when it is kept
 }
 
 json case_points::to_json() const {

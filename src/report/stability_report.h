@@ -47,6 +47,8 @@ public:
     case_points(std::vector<audit_target> targets, std::vector<std::string> labels);
     void add(const audited_case& c, const case_stability& s, std::size_t index);
     void insert(const std::string& family, const sample_key& key, row r);
+    // Whether insert would keep a row with this key (cheap: no row needed).
+    bool would_keep(const std::string& family, const sample_key& key) const;
     void merge(const case_points& other);
     nlohmann::ordered_json to_json() const;
 

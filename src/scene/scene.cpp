@@ -7,11 +7,13 @@
 #include <cerrno>
 #include <cmath>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <numbers>
 #include <random>
 #include <set>
 #include <system_error>
+#include <unordered_map>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -671,27 +673,39 @@ scene read_scene(const std::filesystem::path& file) {
     return parse_scene(text, file);
 }
 
-std::vector<std::pair<int, int>> sampled_pixels(const scene& s) {
-    const std::size_t total = static_cast<std::size_t>(s.camera.width) * static_cast<std::size_t>(s.camera.height);
-    std::vector<std::size_t> order(total);
-    for (std::size_t i = 0; i < total; ++i) order[i] = i;
-    std::size_t count = total;
-    if (!s.sample.all) {
-        // Partial Fisher–Yates: the first `count` entries are a uniform sample.
-        count = std::min(s.sample.count, total);
-        std::mt19937_64 random(s.sample.seed);
-        for (std::size_t i = 0; i < count; ++i) {
-            std::uniform_int_distribution<std::size_t> pick(i, total - 1);
-            std::swap(order[i], order[pick(random)]);
-        }
-        order.resize(count);
-        std::sort(order.begin(), order.end());
+void for_each_sampled_pixel(const scene& s, const std::function<void(int, int)>& pixel) {
+    const std::size_t width = static_cast<std::size_t>(s.camera.width);
+    const std::size_t total = width * static_cast<std::size_t>(s.camera.height);
+    const auto visit = [&](std::size_t i) { pixel(static_cast<int>(i % width), static_cast<int>(i / width)); };
+    if (s.sample.all) {
+        for (std::size_t i = 0; i < total; ++i) visit(i);
+        return;
     }
+    // A partial Fisher–Yates shuffle of 0 … total − 1 whose first `count`
+    // entries are a uniform sample; only the entries it moved are stored.
+    const std::size_t count = std::min(s.sample.count, total);
+    std::mt19937_64 random(s.sample.seed);
+    std::unordered_map<std::size_t, std::size_t> moved;
+    const auto entry = [&](std::size_t i) {
+        const auto at = moved.find(i);
+        return at == moved.end() ? i : at->second;
+    };
+    std::vector<std::size_t> chosen(count);
+    for (std::size_t i = 0; i < count; ++i) {
+        std::uniform_int_distribution<std::size_t> pick(i, total - 1);
+        const std::size_t j = pick(random);
+        const std::size_t at_i = entry(i), at_j = entry(j);
+        moved[j] = at_i;
+        chosen[i] = at_j;
+        moved.erase(i);  // entry i is never read again
+    }
+    std::sort(chosen.begin(), chosen.end());
+    for (std::size_t i : chosen) visit(i);
+}
+
+std::vector<std::pair<int, int>> sampled_pixels(const scene& s) {
     std::vector<std::pair<int, int>> pixels;
-    pixels.reserve(count);
-    for (std::size_t i : order)
-        pixels.emplace_back(static_cast<int>(i % static_cast<std::size_t>(s.camera.width)),
-                            static_cast<int>(i / static_cast<std::size_t>(s.camera.width)));
+    for_each_sampled_pixel(s, [&](int x, int y) { pixels.emplace_back(x, y); });
     return pixels;
 }
 
@@ -719,57 +733,67 @@ scene_ray primary_ray(const scene& s, int x, int y) {
     return r;
 }
 
-std::vector<scene_ray> generate_rays(const scene& s) {
+std::vector<scene_ray> pixel_rays(const scene& s, int x, int y) {
     std::vector<scene_ray> rays;
-    for (const auto& [x, y] : sampled_pixels(s)) {
-        scene_ray primary = primary_ray(s, x, y);
-        rays.push_back(primary);
-        if (!s.shadow.enabled && !s.secondary.enabled) continue;
-        const std::vector<sphere_solution> solved = solve_spheres(s, primary);
-        const std::optional<exact_nearest> nearest = exact_nearest_hit(primary, solved);
-        if (!nearest) continue;
-        const sphere_solution* hit = &solved[nearest->index];
-        const spawn_point p = spawn_at(s, *hit, nearest->root);
+    const scene_ray primary = primary_ray(s, x, y);
+    rays.push_back(primary);
+    if (!s.shadow.enabled && !s.secondary.enabled) return rays;
+    const std::vector<sphere_solution> solved = solve_spheres(s, primary);
+    const std::optional<exact_nearest> nearest = exact_nearest_hit(primary, solved);
+    if (!nearest) return rays;
+    const sphere_solution* hit = &solved[nearest->index];
+    const spawn_point p = spawn_at(s, *hit, nearest->root);
 
-        if (s.shadow.enabled) {
-            for (std::size_t l = 0; l < s.lights.size(); ++l) {
-                scene_ray r;
-                r.x = x;
-                r.y = y;
-                r.kind = ray_kind::shadow;
-                r.query = s.shadow.query;
-                r.light = static_cast<int>(l);
-                r.from_sphere = hit->sphere;
-                r.spheres = all_spheres(s);
-                const vec3<double> light = in_precision(s.lights[l].position, s.prec);
-                r.origin = spawn_origin(s, s.shadow_spawn, p, light - p.point);
-                const vec3<double> to_light = light - r.origin;
-                r.direction = cast_direction(s, to_light);
-                // Unnormalised: the light is at t = 1; normalised: at its distance.
-                r.tmax = s.normalise_directions ? in_precision(norm(to_light), s.prec) : 1.0;
-                r.tmin = in_precision(s.shadow_spawn.tmin, s.prec);
-                if (!(r.tmin < r.tmax)) continue;  // the light sits on the spawn point
-                rays.push_back(std::move(r));
-            }
-        }
-        if (s.secondary.enabled) {
+    if (s.shadow.enabled) {
+        for (std::size_t l = 0; l < s.lights.size(); ++l) {
             scene_ray r;
             r.x = x;
             r.y = y;
-            r.kind = ray_kind::secondary;
-            r.query = s.secondary.query;
+            r.kind = ray_kind::shadow;
+            r.query = s.shadow.query;
+            r.light = static_cast<int>(l);
             r.from_sphere = hit->sphere;
             r.spheres = all_spheres(s);
-            const vec3<double> d = primary.direction;
-            const vec3<double> new_d = s.secondary_kind == secondary_direction::reflect
-                                           ? d - (2 * dot(d, p.normal)) * p.normal
-                                           : d;
-            r.origin = spawn_origin(s, s.secondary_spawn, p, new_d);
-            r.direction = cast_direction(s, new_d);
-            r.tmin = in_precision(s.secondary_spawn.tmin, s.prec);
+            const vec3<double> light = in_precision(s.lights[l].position, s.prec);
+            r.origin = spawn_origin(s, s.shadow_spawn, p, light - p.point);
+            const vec3<double> to_light = light - r.origin;
+            r.direction = cast_direction(s, to_light);
+            // Unnormalised: the light is at t = 1; normalised: at its distance.
+            r.tmax = s.normalise_directions ? in_precision(norm(to_light), s.prec) : 1.0;
+            r.tmin = in_precision(s.shadow_spawn.tmin, s.prec);
+            if (!(r.tmin < r.tmax)) continue;  // the light sits on the spawn point
             rays.push_back(std::move(r));
         }
     }
+    if (s.secondary.enabled) {
+        scene_ray r;
+        r.x = x;
+        r.y = y;
+        r.kind = ray_kind::secondary;
+        r.query = s.secondary.query;
+        r.from_sphere = hit->sphere;
+        r.spheres = all_spheres(s);
+        const vec3<double> d = primary.direction;
+        const vec3<double> new_d = s.secondary_kind == secondary_direction::reflect
+                                       ? d - (2 * dot(d, p.normal)) * p.normal
+                                       : d;
+        r.origin = spawn_origin(s, s.secondary_spawn, p, new_d);
+        r.direction = cast_direction(s, new_d);
+        r.tmin = in_precision(s.secondary_spawn.tmin, s.prec);
+        rays.push_back(std::move(r));
+    }
+    return rays;
+}
+
+void for_each_ray(const scene& s, const std::function<void(const scene_ray&)>& ray) {
+    for_each_sampled_pixel(s, [&](int x, int y) {
+        for (const scene_ray& r : pixel_rays(s, x, y)) ray(r);
+    });
+}
+
+std::vector<scene_ray> generate_rays(const scene& s) {
+    std::vector<scene_ray> rays;
+    for_each_ray(s, [&](const scene_ray& r) { rays.push_back(r); });
     return rays;
 }
 

@@ -1,6 +1,6 @@
 // A renderer's scene: the spheres, the camera, the rays the renderer casts
 // and the query each ray needs. `read_scene` parses the JSON scene format
-// (documented in corpus/scenes/README.md); `generate_rays` produces exactly the
+// (documented in corpus/scenes/README.md); `for_each_ray` produces exactly the
 // rays the renderer would cast, each of which meets each sphere as one
 // `corpus_case` that the oracle and the variants judge like any other.
 //
@@ -12,6 +12,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <limits>
 #include <optional>
 #include <span>
@@ -138,15 +139,27 @@ struct scene_ray {
     std::string id() const;  // e.g. "px12,7/shadow0", unique within a scene
 };
 
-// The pixels the scene casts, in raster order.
+// Calls `pixel(x, y)` for each pixel the scene casts, in raster order. Every
+// pixel: constant memory; a sample of n pixels: memory in proportion to n.
+void for_each_sampled_pixel(const scene& s, const std::function<void(int, int)>& pixel);
+
+// The same pixels, collected.
 std::vector<std::pair<int, int>> sampled_pixels(const scene& s);
 
 // The camera ray of one pixel (rounded to the scene's precision).
 scene_ray primary_ray(const scene& s, int x, int y);
 
-// Exactly the rays the renderer casts, pixel by pixel in raster order: each
-// pixel's primary ray, then (when the exact nearest hit exists) its shadow
-// rays, light by light, then its secondary ray.
+// The rays one pixel casts: its primary ray, then (when the exact nearest hit
+// exists) its shadow rays, light by light, then its secondary ray.
+std::vector<scene_ray> pixel_rays(const scene& s, int x, int y);
+
+// Exactly the rays the renderer casts, pixel by pixel in raster order, each
+// pixel's as pixel_rays gives them; memory is one pixel's rays (and the
+// sample, when the scene samples pixels), whatever the resolution.
+void for_each_ray(const scene& s, const std::function<void(const scene_ray&)>& ray);
+
+// The same rays, collected (in memory in proportion to their number: for
+// small scenes and tests; the audit and render stream them).
 std::vector<scene_ray> generate_rays(const scene& s);
 
 // One sphere on a ray: the (ray, sphere) pair as a case and the oracle's

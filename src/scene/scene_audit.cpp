@@ -154,77 +154,88 @@ void judge_nearest(ray_query q, const std::vector<renderer_outcome>& pairs, std:
 
 }  // namespace
 
-scene_audit_result audit_scene(const scene& s, std::span<const scene_ray> rays,
-                               const std::vector<audit_target>& targets,
-                               const std::function<void(const judged_ray&)>& on_ray) {
-    scene_audit_result result;
-    std::vector<std::optional<std::string>> skip(targets.size());
+scene_auditor::scene_auditor(const scene& s, const std::vector<audit_target>& targets)
+    : scene_(s), targets_(targets), skip_(targets.size()) {
     for (std::size_t i = 0; i < targets.size(); ++i) {
         scene_target_figures f;
         f.target = targets[i];
-        f.not_applicable = skip[i] = not_applicable_reason(s, targets[i]);
-        result.targets.push_back(f);
+        f.not_applicable = skip_[i] = not_applicable_reason(s, targets[i]);
+        result_.targets.push_back(f);
     }
+}
 
-    std::size_t ray_index = 0;
-    for (const scene_ray& r : rays) {
-        const std::string ray_id = r.id();
-        if (r.kind == ray_kind::primary) ++result.pixels;
-        const std::size_t kind = static_cast<std::size_t>(r.kind);
+void scene_auditor::judge(const scene_ray& r, const std::function<void(const judged_ray&)>& on_ray) {
+    const scene& s = scene_;
+    const std::string ray_id = r.id();
+    const std::size_t ray_index = ray_index_++;
+    if (r.kind == ray_kind::primary) ++result_.pixels;
+    const std::size_t kind = static_cast<std::size_t>(r.kind);
 
-        // Exact: every sphere, then the nearest root in the interval.
-        const std::vector<sphere_solution> solved = solve_spheres(s, r);
-        result.pairs += solved.size();
-        const std::optional<exact_nearest> nearest = exact_nearest_hit(r, solved);
-        judged_ray judged;
-        judged.ray = &r;
-        exact_ray_answer& ex = judged.exact;
-        for (const sphere_solution& one : solved) {
-            const exact_solution& e = one.exact;
-            if (!e.valid() || e.cls == line_class::miss || !(r.tmin > 0)) continue;
-            for (root_index i : {root_index::near_root, root_index::far_root})
-                if (e.root(i).sign > 0 && e.compare_root(i, r.tmin) >= 0) ex.lost_to_tmin = true;
-        }
-        if (nearest) {
-            const sphere_solution& hit = solved[nearest->index];
-            ex.hit = true;
-            ex.sphere = hit.sphere;
-            ex.root = nearest->root;
-            ex.t = hit.exact.root(nearest->root).rounded;
-            const vec3<double> point{hit.exact.rounded_hit_coordinate(ex.root, 0),
-                                     hit.exact.rounded_hit_coordinate(ex.root, 1),
-                                     hit.exact.rounded_hit_coordinate(ex.root, 2)};
-            const vec3<double> n = point - s.spheres[static_cast<std::size_t>(ex.sphere)].centre;
-            const double len = std::sqrt(length_squared(n));
-            if (len > 0) ex.normal = {n.x / len, n.y / len, n.z / len};
-        }
-        exact_kind_figures& exact_fig = result.exact[kind];
-        ++exact_fig.rays;
-        exact_fig.hits += ex.hit ? 1 : 0;
-        exact_fig.lost_to_tmin += ex.lost_to_tmin ? 1 : 0;
-
-        // Each applicable target: every pair judged, then composed.
-        judged.answers.resize(targets.size());
-        std::vector<renderer_outcome> pairs(solved.size());
-        for (std::size_t ti = 0; ti < targets.size(); ++ti) {
-            if (skip[ti]) continue;
-            variant_ray_answer& answer = judged.answers[ti];
-            ray_kind_figures& figures = result.targets[ti].by_kind[kind];
-            ++figures.rays;
-            for (std::size_t i = 0; i < solved.size(); ++i)
-                pairs[i] = judge_for_renderer(targets[ti], solved[i].pair, r.query, solved[i].exact);
-            if (r.query == ray_query::both_roots)
-                judge_both_roots(pairs, solved, answer, figures, ray_index, ray_id);
-            else
-                judge_nearest(r.query, pairs, solved, nearest, answer, figures, ray_index, ray_id);
-
-            ++figures.verdicts[static_cast<std::size_t>(answer.verdict)];
-            if (answer.cause) ++figures.causes[static_cast<std::size_t>(*answer.cause)];
-        }
-        if (on_ray) on_ray(judged);
-        ++ray_index;
+    // Exact: every sphere, then the nearest root in the interval.
+    const std::vector<sphere_solution> solved = solve_spheres(s, r);
+    result_.pairs += solved.size();
+    const std::optional<exact_nearest> nearest = exact_nearest_hit(r, solved);
+    judged_ray judged;
+    judged.ray = &r;
+    exact_ray_answer& ex = judged.exact;
+    for (const sphere_solution& one : solved) {
+        const exact_solution& e = one.exact;
+        if (!e.valid() || e.cls == line_class::miss || !(r.tmin > 0)) continue;
+        for (root_index i : {root_index::near_root, root_index::far_root})
+            if (e.root(i).sign > 0 && e.compare_root(i, r.tmin) >= 0) ex.lost_to_tmin = true;
     }
-    return result;
+    if (nearest) {
+        const sphere_solution& hit = solved[nearest->index];
+        ex.hit = true;
+        ex.sphere = hit.sphere;
+        ex.root = nearest->root;
+        ex.t = hit.exact.root(nearest->root).rounded;
+        const vec3<double> point{hit.exact.rounded_hit_coordinate(ex.root, 0),
+                                 hit.exact.rounded_hit_coordinate(ex.root, 1),
+                                 hit.exact.rounded_hit_coordinate(ex.root, 2)};
+        const vec3<double> n = point - s.spheres[static_cast<std::size_t>(ex.sphere)].centre;
+        const double len = std::sqrt(length_squared(n));
+        if (len > 0) ex.normal = {n.x / len, n.y / len, n.z / len};
+    }
+    exact_kind_figures& exact_fig = result_.exact[kind];
+    ++exact_fig.rays;
+    exact_fig.hits += ex.hit ? 1 : 0;
+    exact_fig.lost_to_tmin += ex.lost_to_tmin ? 1 : 0;
+
+    // Each applicable target: every pair judged, then composed.
+    judged.answers.resize(targets_.size());
+    std::vector<renderer_outcome> pairs(solved.size());
+    for (std::size_t ti = 0; ti < targets_.size(); ++ti) {
+        if (skip_[ti]) continue;
+        variant_ray_answer& answer = judged.answers[ti];
+        ray_kind_figures& figures = result_.targets[ti].by_kind[kind];
+        ++figures.rays;
+        for (std::size_t i = 0; i < solved.size(); ++i)
+            pairs[i] = judge_for_renderer(targets_[ti], solved[i].pair, r.query, solved[i].exact);
+        if (r.query == ray_query::both_roots)
+            judge_both_roots(pairs, solved, answer, figures, ray_index, ray_id);
+        else
+            judge_nearest(r.query, pairs, solved, nearest, answer, figures, ray_index, ray_id);
+
+        ++figures.verdicts[static_cast<std::size_t>(answer.verdict)];
+        if (answer.cause) ++figures.causes[static_cast<std::size_t>(*answer.cause)];
+    }
+    if (on_ray) on_ray(judged);
+}
+
+scene_audit_result audit_scene(const scene& s, const std::vector<audit_target>& targets,
+                               const std::function<void(const judged_ray&)>& on_ray) {
+    scene_auditor auditor(s, targets);
+    for_each_ray(s, [&](const scene_ray& r) { auditor.judge(r, on_ray); });
+    return auditor.result();
+}
+
+scene_audit_result audit_scene(const scene& s, std::span<const scene_ray> rays,
+                               const std::vector<audit_target>& targets,
+                               const std::function<void(const judged_ray&)>& on_ray) {
+    scene_auditor auditor(s, targets);
+    for (const scene_ray& r : rays) auditor.judge(r, on_ray);
+    return auditor.result();
 }
 
 }  // namespace rayverify

@@ -68,33 +68,42 @@ std::vector<palette_entry> scene_palette() {
     return p;
 }
 
-rgb_image::rgb_image(int w, int h, rgb fill) : width(w), height(h) {
-    pixels.resize(static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 3);
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) set(x, y, fill);
+std::vector<scene_picture> scene_pictures_of(const scene& s) {
+    std::vector<scene_picture> out = {scene_picture::exact, scene_picture::variant, scene_picture::difference_primary};
+    if (s.shadow.enabled) out.push_back(scene_picture::difference_shadow);
+    if (s.secondary.enabled) out.push_back(scene_picture::difference_secondary);
+    return out;
 }
 
-void rgb_image::set(int x, int y, rgb c) {
-    const std::size_t i = (static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x)) * 3;
-    pixels[i] = c.r;
-    pixels[i + 1] = c.g;
-    pixels[i + 2] = c.b;
+std::string picture_file_name(scene_picture p) {
+    switch (p) {
+        case scene_picture::exact: return "exact.png";
+        case scene_picture::variant: return "variant.png";
+        case scene_picture::difference_primary: return "difference_primary.png";
+        case scene_picture::difference_shadow: return "difference_shadow.png";
+        case scene_picture::difference_secondary: return "difference_secondary.png";
+    }
+    return {};
 }
 
-rgb rgb_image::at(int x, int y) const {
-    const std::size_t i = (static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x)) * 3;
-    return {pixels[i], pixels[i + 1], pixels[i + 2]};
-}
-
-scene_picture_builder::scene_picture_builder(const scene& s, std::size_t target_index)
+scene_picture_builder::scene_picture_builder(const scene& s, std::size_t target_index, row_sink sink)
     : scene_(s),
       target_(target_index),
-      pixels_(static_cast<std::size_t>(s.camera.width) * static_cast<std::size_t>(s.camera.height)) {}
+      sink_(std::move(sink)),
+      pictures_(scene_pictures_of(s)),
+      row_(static_cast<std::size_t>(s.camera.width)),
+      rows_(pictures_.size(), std::vector<std::uint8_t>(static_cast<std::size_t>(s.camera.width) * 3)) {
+    counts_.ramp_full_scale = std::ldexp(1.0, significand_bits(s.prec) / 2);
+    for (scene_picture p : pictures_)
+        if (p >= scene_picture::difference_primary)
+            counts_.kind_drawn[static_cast<std::size_t>(p) - static_cast<std::size_t>(scene_picture::difference_primary)] =
+                true;
+}
 
 void scene_picture_builder::add(const judged_ray& j) {
     const scene_ray& r = *j.ray;
-    pixel_state& p = pixels_[static_cast<std::size_t>(r.y) * static_cast<std::size_t>(scene_.camera.width) +
-                             static_cast<std::size_t>(r.x)];
+    if (r.y != row_y_) send_rows_before(r.y);
+    pixel_state& p = row_[static_cast<std::size_t>(r.x)];
     const std::size_t kind = static_cast<std::size_t>(r.kind);
     const variant_ray_answer& answer = j.answers.at(target_);
     if (r.kind == ray_kind::primary) {
@@ -113,47 +122,61 @@ void scene_picture_builder::add(const judged_ray& j) {
     if (answer.nearest_ulp) p.ulp[kind] = std::max(p.ulp[kind].value_or(0.0), *answer.nearest_ulp);
 }
 
-scene_pictures scene_picture_builder::finish() const {
-    const int w = scene_.camera.width, h = scene_.camera.height;
-    scene_pictures out{rgb_image(w, h, not_cast), rgb_image(w, h, not_cast), {}, {}, 0};
-    out.ramp_full_scale = std::ldexp(1.0, significand_bits(scene_.prec) / 2);
-    const std::array<bool, 3> casts = {true, scene_.shadow.enabled, scene_.secondary.enabled};
-    for (std::size_t k = 0; k < 3; ++k)
-        if (casts[k]) out.difference[k] = rgb_image(w, h, not_cast);
+rgb scene_picture_builder::variant_colour(const pixel_state& p, double light) const {
+    if (!p.variant->hit || p.variant->sphere < 0) return agree_miss;
+    const scene_sphere& s = scene_.spheres[static_cast<std::size_t>(p.variant->sphere)];
+    const vec3<double> point = p.origin + p.variant->t * p.direction;
+    const vec3<double> n = point - s.centre;
+    const double len = std::sqrt(length_squared(n));
+    return len > 0 ? normal_colour({n.x / len, n.y / len, n.z / len}, light) : rgb{255, 255, 255};
+}
 
-    for (int y = 0; y < h; ++y) {
-        for (int x = 0; x < w; ++x) {
-            const pixel_state& p = pixels_[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) +
-                                           static_cast<std::size_t>(x)];
+void scene_picture_builder::send_rows_before(int y) {
+    const int end = std::min(y, scene_.camera.height);
+    for (; row_y_ < end; ++row_y_) {
+        for (std::size_t x = 0; x < row_.size(); ++x) {
+            const pixel_state& p = row_[x];
+            const auto put = [&](std::size_t picture, rgb c) {
+                rows_[picture][3 * x] = c.r;
+                rows_[picture][3 * x + 1] = c.g;
+                rows_[picture][3 * x + 2] = c.b;
+            };
+            for (std::size_t i = 0; i < pictures_.size(); ++i) put(i, not_cast);
             if (!p.cast) continue;
             // Exact and variant renders: a lit fraction darkens occluded light.
             const auto light = [&](int shadowed) {
                 return p.lights == 0 ? 1.0 : 0.35 + 0.65 * (p.lights - shadowed) / p.lights;
             };
-            out.exact.set(x, y, p.exact->hit ? normal_colour(p.exact->normal, light(p.exact_shadowed)) : agree_miss);
-            rgb v = agree_miss;
-            if (p.variant->hit && p.variant->sphere >= 0) {
-                const scene_sphere& s = scene_.spheres[static_cast<std::size_t>(p.variant->sphere)];
-                const vec3<double> point = p.origin + p.variant->t * p.direction;
-                const vec3<double> n = point - s.centre;
-                const double len = std::sqrt(length_squared(n));
-                v = len > 0 ? normal_colour({n.x / len, n.y / len, n.z / len}, light(p.variant_shadowed))
-                            : rgb{255, 255, 255};
-            }
-            out.variant.set(x, y, v);
-
-            for (std::size_t k = 0; k < 3; ++k) {
-                if (!out.difference[k] || !p.verdict[k]) continue;
-                const verdict_kind verdict = *p.verdict[k];
-                ++out.pixels_by_verdict[k][static_cast<std::size_t>(verdict)];
-                rgb c = verdict_colour(verdict);
-                if (verdict == verdict_kind::agree)
-                    c = !p.hit[k] ? agree_miss : p.ulp[k] ? ulp_colour(*p.ulp[k], out.ramp_full_scale) : agree_exact;
-                out.difference[k]->set(x, y, c);
+            for (std::size_t i = 0; i < pictures_.size(); ++i) {
+                switch (pictures_[i]) {
+                    case scene_picture::exact:
+                        put(i, p.exact->hit ? normal_colour(p.exact->normal, light(p.exact_shadowed)) : agree_miss);
+                        break;
+                    case scene_picture::variant: put(i, variant_colour(p, light(p.variant_shadowed))); break;
+                    default: {
+                        const std::size_t k = static_cast<std::size_t>(pictures_[i]) -
+                                              static_cast<std::size_t>(scene_picture::difference_primary);
+                        if (!p.verdict[k]) break;
+                        const verdict_kind verdict = *p.verdict[k];
+                        ++counts_.pixels_by_verdict[k][static_cast<std::size_t>(verdict)];
+                        rgb c = verdict_colour(verdict);
+                        if (verdict == verdict_kind::agree)
+                            c = !p.hit[k] ? agree_miss
+                                : p.ulp[k] ? ulp_colour(*p.ulp[k], counts_.ramp_full_scale)
+                                           : agree_exact;
+                        put(i, c);
+                    }
+                }
             }
         }
+        sink_(row_y_, rows_);
+        std::fill(row_.begin(), row_.end(), pixel_state{});
     }
-    return out;
+}
+
+scene_picture_counts scene_picture_builder::finish() {
+    send_rows_before(scene_.camera.height);
+    return counts_;
 }
 
 }  // namespace rayverify

@@ -1,5 +1,5 @@
-// Pictures of a scene audit: RGB pixel buffers built from judged rays (the
-// CLI writes them as PNG with report/png_image.h).
+// Pictures of a scene audit: RGB rows drawn from judged rays, one row of
+// pixels at a time (the CLI encodes them as PNG with report/png_image.h).
 //   exact    — each pixel's exact nearest hit shaded by its normal (colour =
 //              (n + 1)/2), darkened where exact shadow rays find an occluder;
 //   variant  — the same from one variant's answers (normal at o + t·d for the
@@ -11,7 +11,10 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <optional>
+#include <span>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -36,30 +39,31 @@ struct palette_entry {
 std::vector<palette_entry> scene_palette();
 rgb verdict_colour(verdict_kind v);
 
-struct rgb_image {
-    int width = 0, height = 0;
-    std::vector<std::uint8_t> pixels;  // row by row from the top, 3 bytes a pixel
-    rgb_image(int w, int h, rgb fill);
-    void set(int x, int y, rgb c);
-    rgb at(int x, int y) const;
-};
+// The pictures of a render, in the order they are written: the exact and the
+// variant's render, then a difference picture per ray kind the scene casts.
+enum class scene_picture { exact, variant, difference_primary, difference_shadow, difference_secondary };
+std::vector<scene_picture> scene_pictures_of(const scene& s);
+std::string picture_file_name(scene_picture p);  // "exact.png", "difference_shadow.png", …
 
-struct scene_pictures {
-    rgb_image exact;
-    rgb_image variant;
-    std::array<std::optional<rgb_image>, 3> difference;  // by ray_kind; present for kinds the scene casts
+struct scene_picture_counts {
+    std::array<bool, 3> kind_drawn{};  // by ray_kind: a difference picture is drawn
     // Pixels of each kind by verdict (a pixel with several shadow rays takes the first disagreement).
     std::array<std::array<std::size_t, verdict_kind_count>, 3> pixels_by_verdict{};
     // The ULP error at which the ramp saturates: 2^(p/2) in the scene's precision.
     double ramp_full_scale = 0;
 };
 
-// Collects judged rays (in the order audit_scene gives them) for one target.
+// Draws the pictures from judged rays for one target, given in the order
+// audit_scene gives them (raster order), holding one row of pixels: each
+// finished row goes to the sink — its y, then one RGB row per picture of
+// scene_pictures_of (width × 3 bytes) — rows 0 … height − 1 in order.
 class scene_picture_builder {
 public:
-    scene_picture_builder(const scene& s, std::size_t target_index);
+    using row_sink = std::function<void(int y, std::span<const std::vector<std::uint8_t>> rows)>;
+    scene_picture_builder(const scene& s, std::size_t target_index, row_sink sink);
     void add(const judged_ray& r);
-    scene_pictures finish() const;
+    // Sends the rows not sent yet; the counts of the whole picture.
+    scene_picture_counts finish();
 
 private:
     struct pixel_state {
@@ -72,9 +76,17 @@ private:
         std::array<std::optional<double>, 3> ulp;             // nearest-root ULP when agreeing
         std::array<bool, 3> hit{};                            // exact hit, per kind
     };
+    void send_rows_before(int y);  // rows up to y − 1 are complete
+    rgb variant_colour(const pixel_state& p, double light) const;
+
     const scene& scene_;
     std::size_t target_;
-    std::vector<pixel_state> pixels_;
+    row_sink sink_;
+    std::vector<scene_picture> pictures_;
+    int row_y_ = 0;                    // the row being collected
+    std::vector<pixel_state> row_;     // its pixels
+    std::vector<std::vector<std::uint8_t>> rows_;  // one RGB row per picture
+    scene_picture_counts counts_;
 };
 
 }  // namespace rayverify

@@ -2,6 +2,8 @@
 // each line's best and worst member, hand-built tallies.
 #include <gtest/gtest.h>
 
+#include <sstream>
+
 #include "report/audit_summary.h"
 #include "support/process.h"
 
@@ -77,7 +79,12 @@ TEST(AuditSummary, CommandPrintsTheSummaryAndWritesTheSameReport) {
     const auto brief = test_support::run_cli("audit --summary --corpus " + corpus + " --report " + (dir / "b").string());
     EXPECT_EQ(brief.exit_code, full.exit_code);
     EXPECT_EQ(brief.exit_code, 1) << brief.output;
-    EXPECT_NE(brief.output.find("hearn_baker              6  "), std::string::npos) << brief.output;
+    const std::size_t hearn_baker = brief.output.find("\nhearn_baker ");
+    ASSERT_NE(hearn_baker, std::string::npos) << brief.output;
+    std::istringstream row(brief.output.substr(hearn_baker + 1));
+    std::string family, members;
+    row >> family >> members;
+    EXPECT_EQ(members, "6") << brief.output;
     EXPECT_EQ(brief.output.find("med_ulp"), std::string::npos) << "not the full table";
     EXPECT_EQ(test_support::read_text(dir / "a" / "report.json"), test_support::read_text(dir / "b" / "report.json"))
         << "--summary changes what is printed, not the report";

@@ -152,7 +152,7 @@ TEST(CompareLines, NamesTheFirstDifferingLine) {
 
 TEST_F(Regen, HuntWritesPasteableCorpusLinesWithProvenance) {
     const fs::path out = dir_ / "hunt.txt";
-    const command_result r = run_cli("hunt --variant naive --precision float --objective misclass --budget 0 --evaluations 3000 "
+    const command_result r = run_cli("hunt --variant naive --precision float --objective misclass --seconds 0 --evaluations 3000 "
                          "--finds 1 -o " + out.string());
     ASSERT_EQ(r.exit_code, 1) << r.output;
     const std::string text = read_text(out);
@@ -164,7 +164,7 @@ TEST_F(Regen, HuntWritesPasteableCorpusLinesWithProvenance) {
     // A pasted line reproduces it in explain.
     EXPECT_NE(r.output.find("hunt-naive-float-misclass-search-1-1 hunt_uniform "), std::string::npos) << r.output;
 
-    const command_result ulp = run_cli("hunt --variant naive --precision double --budget 0 --evaluations 2000 -o " +
+    const command_result ulp = run_cli("hunt --variant naive --precision double --seconds 0 --evaluations 2000 -o " +
                            (dir_ / "ulp.txt").string());
     EXPECT_EQ(ulp.exit_code, 0) << ulp.output;
     EXPECT_NE(read_text(dir_ / "ulp.txt").find("lower bound"), std::string::npos);

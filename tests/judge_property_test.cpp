@@ -234,6 +234,13 @@ int brute_stands_for(const brute_case& e, double t, int wanted, precision p) {
     return side == 0 ? wanted : (side < 0 ? -1 : +1);
 }
 
+// A root that rounds to an infinity or a zero, answered by exactly that
+// value: on the root's side whatever range the value falls out of.
+bool rounded_out_of_range(const brute_case& e, int s, double t, precision p) {
+    const double rn = brute_rn(e, s, p);
+    return (std::isinf(rn) || rn == 0) && t == rn && std::signbit(t) == std::signbit(rn);
+}
+
 verdict_kind brute_line(const brute_case& e, root_pair<double> r, const brute_range& range, precision p) {
     if (r.count < 0 || r.count > 2) return verdict_kind::malformed_output;
     if (e.cls < 0) return r.count > 0 ? verdict_kind::false_hit : verdict_kind::agree;
@@ -249,7 +256,8 @@ verdict_kind brute_line(const brute_case& e, root_pair<double> r, const brute_ra
     int stands[2];
     for (int i = 0; i < 2; ++i) stands[i] = brute_stands_for(e, t[i], want[i], p);
     for (int i = 0; i < 2; ++i)
-        if (brute_in_range(e, stands[i], range) != range.contains(t[i])) return verdict_kind::wrong_side;
+        if (!rounded_out_of_range(e, stands[i], t[i], p) && brute_in_range(e, stands[i], range) != range.contains(t[i]))
+            return verdict_kind::wrong_side;
     for (int i = 0; i < 2; ++i)
         if (stands[i] != want[i]) return verdict_kind::wrong_root;
     return verdict_kind::agree;
@@ -271,7 +279,8 @@ verdict_kind brute_hit(const contract& k, const brute_case& e, root_pair<double>
     }
     if (std::isinf(t) && t != want.value) return verdict_kind::non_finite;
     const int s = brute_stands_for(e, t, want.s, p);
-    if (brute_in_range(e, s, range) != range.contains(t)) return verdict_kind::wrong_side;
+    if (!rounded_out_of_range(e, s, t, p) && brute_in_range(e, s, range) != range.contains(t))
+        return verdict_kind::wrong_side;
     return s != want.s ? verdict_kind::wrong_root : verdict_kind::agree;
 }
 

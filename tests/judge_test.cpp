@@ -278,6 +278,26 @@ TEST(JudgeRegression, NanWhereTheExactRootOverflowsIsNonFinite) {
     EXPECT_EQ(judge_output(line, out, e, range_of(line, {}, {}), float_case).verdict, verdict_kind::non_finite);
 }
 
+// A root in front whose correctly rounded value is +inf (past float's largest
+// value): +inf lies outside the open range (0, +inf), yet it is the best
+// answer there is, so it agrees; a finite answer is judged as usual.
+TEST(JudgeRegression, TheCorrectlyRoundedInfinityOfARootInFrontIsNoLostHit) {
+    const ray_sphere<double> g{{0, 0, 0}, {0x1p-20, 0, 0}, {0x1p+110, 0, 0}, 0x1p+100};  // roots 2^130 ± 2^120
+    const exact_solution e = solve_case(case_of(g), precision::binary32);
+    ASSERT_EQ(e.near_root.rounded, inf);
+    ASSERT_GT(e.near_root.sign, 0);
+    variant_output out;
+    out.roots = {1, inf, inf};
+    const case_score s = judge_output(nearest, out, e, range_of(nearest, {}, {}), g);
+    EXPECT_EQ(s.verdict, verdict_kind::agree) << s.detail;
+    out.roots = {2, inf, inf};
+    EXPECT_EQ(judge_output(line, out, e, range_of(line, {}, {}), g).verdict, verdict_kind::agree);
+    out.roots = {1, -inf, -inf};  // not the correctly rounded infinity
+    EXPECT_EQ(judge_output(nearest, out, e, range_of(nearest, {}, {}), g).verdict, verdict_kind::non_finite);
+    out.roots = {1, 0x1p+127, 0x1p+127};  // finite and below the midpoint: it stands for the near root
+    EXPECT_EQ(judge_output(nearest, out, e, range_of(nearest, {}, {}), g).verdict, verdict_kind::agree);
+}
+
 // Item 2: wrong_root decided exactly, by the side of the exact midpoint −b′/a.
 TEST(JudgeRegression, WrongRootIsDecidedByTheExactMidpoint) {
     const variant& seed004 = *find_builtin_variant("seed004_early_out");

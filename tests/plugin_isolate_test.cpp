@@ -87,6 +87,34 @@ TEST_F(PluginIsolate, AbortAndExitAreNamedToo) {
         << exited.output;
 }
 
+// The same misbehaviour in this process and isolated: exit 2 with the same words.
+TEST_F(PluginIsolate, WritesOutsideTheRootsAndBrokenLibrariesAreNamedEitherWay) {
+    const std::string modal = RAYVERIFY_FIXTURE_PLUGIN_MODAL;
+    for (const char* isolate : {"", " --isolate"}) {
+        SCOPED_TRACE(isolate);
+        for (const char* mode : {"overrun", "underrun"}) {
+            const command_result r = run_shell(std::string("FIXTURE_MODE=") + mode + " '" RAYVERIFY_CLI "' explain "
+                                               "\"0 0 -9 0 0 1 0 0 0 4\" --precision double --plugin " + modal + isolate);
+            EXPECT_EQ(r.exit_code, 2) << r.output;
+            EXPECT_NE(r.output.find("rayverify: error: " + modal + ": field '--plugin': plugin 'modal' wrote outside "
+                                    "its roots[2] buffer on case command-line (<command line>), in its double function"),
+                      std::string::npos)
+                << r.output;
+        }
+        // A library cut after its first page: SIGBUS when dlopen maps the rest.
+        const fs::path cut = dir_ / "cut.so";
+        fs::copy_file(RAYVERIFY_FIXTURE_PLUGIN_GARBAGE, cut, fs::copy_options::overwrite_existing);
+        fs::resize_file(cut, 4096);
+        const command_result audit = run_cli("audit --corpus " + corpus_with_radius("1").string() + " --plugin " +
+                                             cut.string() + isolate);
+        EXPECT_EQ(audit.exit_code, 2) << audit.output;
+        EXPECT_NE(audit.output.find(*isolate ? "its process was killed by SIGBUS (Bus error) while loading it"
+                                             : "crashed (SIGBUS) while loading it"),
+                  std::string::npos)
+            << audit.output;
+    }
+}
+
 TEST_F(PluginIsolate, HangIsKilledAfterTheTimeoutAndNamesTheCase) {
     const fs::path corpus = corpus_with_radius("3");
     const auto began = std::chrono::steady_clock::now();
@@ -103,17 +131,21 @@ TEST_F(PluginIsolate, HangIsKilledAfterTheTimeoutAndNamesTheCase) {
     EXPECT_FALSE(fs::exists(dir_ / "report"));
 }
 
+// In process, a crash is bad input as isolated (exit 2, CLARIFICATIONS): named, and no output left.
 TEST_F(PluginIsolate, WithoutIsolateACrashStillNamesTheCase) {
     const fs::path corpus = corpus_with_radius("3");
-    const command_result r = run_cli("audit --plugin " + crashy + " --corpus " + corpus.string());
-    EXPECT_NE(r.exit_code, 0) << r.output;
-    EXPECT_NE(r.output.find("rayverify: plugin crashy crashed (SIGSEGV) on case boom (" + corpus.string() +
-                            ":3); rerun with --isolate\n"),
+    const command_result r = run_cli("audit --plugin " + crashy + " --corpus " + corpus.string() + " --report " +
+                                     (dir_ / "report").string() + " --per-case " + (dir_ / "cases.jsonl").string());
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find("rayverify: error: " + crashy + ": field '--plugin': plugin 'crashy' crashed (SIGSEGV) "
+                            "on case boom (" + corpus.string() + ":3), in its float function; rerun with --isolate"),
               std::string::npos)
         << r.output;
+    EXPECT_FALSE(fs::exists(dir_ / "report"));
+    EXPECT_FALSE(fs::exists(dir_ / "cases.jsonl"));
     const command_result aborted = run_cli("explain \"0 0 -9 0 0 1 0 0 0 4\" --plugin " + crashy);
-    EXPECT_NE(aborted.exit_code, 0) << aborted.output;
-    EXPECT_NE(aborted.output.find("rayverify: plugin crashy crashed (SIGABRT) on case command-line (<command line>)"),
+    EXPECT_EQ(aborted.exit_code, 2) << aborted.output;
+    EXPECT_NE(aborted.output.find("plugin 'crashy' crashed (SIGABRT) on case command-line (<command line>)"),
               std::string::npos)
         << aborted.output;
 }
@@ -143,7 +175,7 @@ TEST_F(PluginIsolate, HuntAndGateTakeIsolate) {
             if (!line.starts_with("#")) out += line + "\n";
         return out;
     };
-    const std::string hunt = "hunt --plugin " + good + " --objective misclass --budget 0 --evaluations 300 -o ";
+    const std::string hunt = "hunt --plugin " + good + " --objective misclass --seconds 0 --evaluations 300 -o ";
     const command_result plain = run_cli(hunt + (dir_ / "plain.txt").string());
     const command_result isolated = run_cli(hunt + (dir_ / "isolated.txt").string() + " --isolate");
     EXPECT_EQ(plain.exit_code, isolated.exit_code) << plain.output << isolated.output;

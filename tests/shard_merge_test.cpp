@@ -123,7 +123,7 @@ TEST_F(ShardMerge, ShardsRunByXargsMergeIntoTheSingleRunByteForByte) {
         RAYVERIFY_CLI, input));
     ASSERT_NE(shards.output.find("done"), std::string::npos) << shards.output;
     const command_result merged = in_dir(fmt::format(
-        "'{}' merge -o merged --per-case merged/cases.jsonl shard-4 shard-2 shard-1 shard-5 shard-3", RAYVERIFY_CLI));
+        "'{}' merge --report merged --per-case merged/cases.jsonl shard-4 shard-2 shard-1 shard-5 shard-3", RAYVERIFY_CLI));
     EXPECT_EQ(merged.exit_code, single.exit_code) << merged.output;
     for (const char* file : {"report.json", "report.md", "summary.txt", "cases.jsonl"}) {
         const std::string a = read_text(dir_ / "single" / file), b = read_text(dir_ / "merged" / file);
@@ -142,7 +142,7 @@ TEST_F(ShardMerge, GeneratedCasesShardAndMergeWithoutACorpusFile) {
     ASSERT_NE(in_dir(fmt::format("'{}' audit {} --report single", RAYVERIFY_CLI, input)).exit_code, 2);
     for (int k = 1; k <= 4; ++k)
         ASSERT_NE(in_dir(fmt::format("'{}' audit {} --shard {}/4 --report s{}", RAYVERIFY_CLI, input, k, k)).exit_code, 2);
-    ASSERT_NE(in_dir(fmt::format("'{}' merge -o merged s1 s2 s3 s4", RAYVERIFY_CLI)).exit_code, 2);
+    ASSERT_NE(in_dir(fmt::format("'{}' merge --report merged s1 s2 s3 s4", RAYVERIFY_CLI)).exit_code, 2);
     EXPECT_TRUE(read_text(dir_ / "single/report.json") == read_text(dir_ / "merged/report.json"));
     EXPECT_NE(read_text(dir_ / "single/report.json").find("\"near_tangent:300:7\""), std::string::npos);
 }
@@ -158,7 +158,7 @@ TEST_F(ShardMerge, MergeRefusesShardsThatDoNotBelongTogether) {
     shard("--generate uniform:41", "3/3", "b3");
     shard("--generate uniform:40 --variant naive", "3/3", "c3");
     const auto refused = [&](const std::string& shards, const std::string& message) {
-        const command_result r = in_dir(fmt::format("'{}' merge -o out {}", RAYVERIFY_CLI, shards));
+        const command_result r = in_dir(fmt::format("'{}' merge --report out {}", RAYVERIFY_CLI, shards));
         EXPECT_EQ(r.exit_code, 2) << shards << ": " << r.output;
         EXPECT_NE(r.output.find(message), std::string::npos) << shards << ": " << r.output;
         EXPECT_FALSE(fs::exists(dir_ / "out" / "report.json")) << shards;
@@ -168,7 +168,7 @@ TEST_F(ShardMerge, MergeRefusesShardsThatDoNotBelongTogether) {
     refused("a1 a2 b3", "field 'input': differs");
     refused("a1 a2 c3", "differs from");
     refused("a1 a2 nowhere", "not the report directory");
-    EXPECT_EQ(in_dir(fmt::format("'{}' merge -o out a3 a1 a2", RAYVERIFY_CLI)).exit_code, 0);
+    EXPECT_EQ(in_dir(fmt::format("'{}' merge --report out a3 a1 a2", RAYVERIFY_CLI)).exit_code, 0);
 }
 
 // Report.json without what names the run's spelling: its command and input paths.

@@ -24,7 +24,7 @@ for prec in float double; do
       out="$work/$prec-$objective-$strategy.log"
       set +e
       "$rayverify" hunt --variant "$variant" --precision "$prec" --family "$family" --objective "$objective" \
-        --strategy "$strategy" --finds 1 --budget "$budget" --seed 1 -o "$work/$prec-$objective-$strategy.txt" >"$out"
+        --strategy "$strategy" --finds 1 --seconds "$budget" --seed 1 -o "$work/$prec-$objective-$strategy.txt" >"$out"
       code=$?
       set -e
       [ "$code" -le 1 ] || { cat "$out" >&2; exit "$code"; }

@@ -256,6 +256,8 @@ def plot_far_sphere(report, directory):
     bins = list(range(decades[0], decades[-1] + 1))
     names = ["$10^{%d}$–$10^{%d}$" % (d, d + 1) for d in bins]
     xs = list(range(len(bins)))
+    # A share of 0 sits on a labelled floor a decade below the smallest nonzero share a bin can have.
+    floor = 10.0 ** (math.floor(math.log10(1.0 / len(keep))) - 1)
     fig, axes = plt.subplots(3, 2, figsize=(16, 11), sharex=True, gridspec_kw={"height_ratios": [3, 3, 1.3]})
     for column, precision in enumerate(["float", "double"]):
         counts, has_error = None, False
@@ -279,7 +281,7 @@ def plot_far_sphere(report, directory):
                          ls="--" if variant == "naive" else "-", lw=2.4 if variant == "naive" else 1.4,
                          zorder=4 if variant == "naive" else 3)
             axes[0][column].plot(xs, [w if w is None else max(w, 1e-3) for w in worst], **style)
-            axes[1][column].plot(xs, [r if r is None else max(r, 1e-3) for r in rate], **style)
+            axes[1][column].plot(xs, [r if r is None else max(r, floor) for r in rate], **style)
         at, text = LOST_R2[precision]
         position = math.log10(at) - bins[0] - 0.5  # bins are centred on their index
         if -0.5 <= position <= len(bins) - 0.5:
@@ -299,9 +301,10 @@ def plot_far_sphere(report, directory):
         axes[0][column].set_ylabel("max nearest-root error (ulp)")
         axes[0][column].set_title("%s: worst nearest-root error per bin (agreeing cases)" % precision)
         axes[1][column].set_yscale("log")
-        axes[1][column].set_ylim(5e-4, 1.5)
-        axes[1][column].set_yticks([1e-3, 1e-2, 1e-1, 1])
-        axes[1][column].set_yticklabels(["0", "0.01", "0.1", "1"])
+        axes[1][column].set_ylim(floor / 2, 1.5)
+        decades = range(round(math.log10(floor)) + 1, 1)
+        axes[1][column].set_yticks([floor] + [10.0 ** e for e in decades])
+        axes[1][column].set_yticklabels(["0"] + ["%g" % 10.0 ** e for e in decades])
         axes[1][column].minorticks_off()
         axes[1][column].set_ylabel("misclassified / scored")
         axes[1][column].set_title("%s: misclassified share per bin" % precision)

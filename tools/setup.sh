@@ -14,8 +14,12 @@ packages=(
   libgtest-dev                 # tests
   libcli11-dev nlohmann-json3-dev libfmt-dev        # CLI, JSON reports, formatting
   libbenchmark-dev python3-matplotlib               # rayverify bench (Google Benchmark), report plots
+  python3-jsonschema           # tests: every JSON output against docs/schema/
+  zsh groff-base               # tests: the generated zsh completion and man page are well formed
   libpng-dev                   # rayverify render (PNG images)
   parallel                     # GNU parallel: the docs/scaling_out.md recipe a test runs
+  python3-numpy nodejs         # tests: intersectors in NumPy and JavaScript audited through results files
+  python3-jsonschema           # tests: exported cases and answers checked against docs/schema
 )
 slurm=false
 for option in "$@"; do

@@ -3,7 +3,9 @@
 // over it inlines the formula (no std::function or virtual call per case, as
 // the registry's run_float/run_double would add). Names match the registry;
 // tests/bench_test.cpp checks that both lists agree and that each kernel
-// returns exactly what the registry's function returns.
+// returns exactly what the registry's function returns. Engine ports (a
+// variant with a `build`) are not here: they run in the precisions their
+// engines have, not in long double, and are timed through their functions.
 #pragma once
 
 #include <string_view>
@@ -21,10 +23,11 @@
 #include "intersectors/seed003_reduced.h"
 #include "intersectors/seed004_early_out.h"
 #include "intersectors/stable_roots.h"
+#include "intersectors/wald_origin_shift.h"
 
 namespace rayverify::bench {
 
-// Calls visit(name, kernel) for every built-in variant, in registry order;
+// Calls visit(name, kernel) for every built-in formula, in registry order;
 // kernel(s) works for ray_sphere<float> and <double>, and for <long double>
 // where the intersector is written for it (has_long_double; robust_sphere.h
 // is float and double only). kernel(s, tmin, tmax) asks a kind that takes an
@@ -53,6 +56,7 @@ void for_each_kernel(Visitor&& visit) {
     RAYVERIFY_KERNEL(hearn_baker_unit);
     RAYVERIFY_INTERVAL_KERNEL(hearn_baker_unit_nearest);
     RAYVERIFY_INTERVAL_KERNEL(hearn_baker_unit_any_hit);
+    RAYVERIFY_KERNEL(wald_origin_shift);
     RAYVERIFY_KERNEL(robust);
     RAYVERIFY_INTERVAL_KERNEL(robust_nearest);
     RAYVERIFY_INTERVAL_KERNEL(robust_any_hit);

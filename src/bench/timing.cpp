@@ -70,6 +70,7 @@ timing_row measure(pending p, const timing_options& options) {
         const double iterations = static_cast<double>(run.iterations);
         row.ns_per_test.push_back(run.cpu_accumulated_time / iterations * per_pass);
         row.real_ns_per_test.push_back(run.real_accumulated_time / iterations * per_pass);
+        row.tests.push_back(static_cast<std::uint64_t>(run.iterations) * row.cases);
     }
     if (!row.ns_per_test.empty()) {
         row.median = median_of(row.ns_per_test);

@@ -10,6 +10,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <map>
 #include <string>
@@ -43,6 +44,7 @@ struct timing_row {
     // ns per ray–sphere test, CPU time, one value per repetition, in run order.
     std::vector<double> ns_per_test;
     std::vector<double> real_ns_per_test;  // wall-clock time, same repetitions
+    std::vector<std::uint64_t> tests;      // ray–sphere tests timed, same repetitions
     double median = 0, min = 0, max = 0;   // of ns_per_test
     double real_median = 0;
     double checksum = 0;  // sum of returned counts over one pass: proves the results were used

@@ -18,6 +18,7 @@
 #include "core/input_error.h"
 #include "corpus/corpus_io.h"
 #include "report/audit_report.h"
+#include "report/benchmark_json.h"
 #include "report/markdown_report.h"
 #include "report/stability_report.h"
 
@@ -36,6 +37,7 @@ struct bench_options {
     std::vector<std::string> families;
     bool oracle = false;
     std::string report_dir;
+    std::string benchmark_json;  // Google Benchmark's JSON format
     int repetitions = 9;
     double min_time = 0.01;
     std::size_t sweep = 5000;
@@ -75,11 +77,20 @@ accuracy_run audit_with_stability(const std::vector<corpus_case>& cases, const s
     return run;
 }
 
+// The timings' progress line (the harness calls back through a plain function).
+terminal::progress* timing_line = nullptr;
 void progress(std::size_t done, std::size_t total) {
-    if (!isatty(STDERR_FILENO)) return;
-    fmt::print(stderr, "\rbench: {}/{} timings", done, total);
-    if (done == total) fmt::print(stderr, "\n");
+    if (timing_line == nullptr) return;
+    timing_line->set_total(static_cast<double>(total));
+    timing_line->update(static_cast<double>(done));
+    if (done == total) timing_line->finish();
 }
+
+// Shows `line` as the timings' progress while in scope.
+struct timing_progress {
+    explicit timing_progress(terminal::progress& line) { timing_line = &line; }
+    ~timing_progress() { timing_line = nullptr; }
+};
 
 // issue 17's target for robust_sphere.h: at most this many naive/double tests
 // per test, on these families, measured in the same run.
@@ -158,7 +169,10 @@ int run_oracle_timing(const std::vector<corpus_case>& cases, const bench_options
     bench::oracle_timing_options timing;
     timing.repetitions = options.repetitions;
     timing.min_time_s = std::max(options.min_time, 0.05);
+    terminal::progress line("bench", "timings");
+    const timing_progress shown(line);
     const bench::oracle_timing t = bench::time_oracle(cases, timing, progress);
+    line.finish();
     fmt::print("{}", bench::format_oracle_timing(t));
     fmt::print("build: {}; CPU: {}\n", build_summary(), bench::cpu_model());
     return exit_ok;
@@ -173,8 +187,17 @@ int run(const bench_options& options, const std::string& command_line) {
             std::find(options.families.begin(), options.families.end(), c.family) != options.families.end())
             cases.push_back(std::move(c));
     if (cases.empty()) throw input_error("", 0, "--family", "no case of the chosen families in the corpus");
-    if (options.repetitions < 1) throw input_error("", 0, "--repetitions", "must be at least 1");
+    if (options.oracle && !options.benchmark_json.empty())
+        throw input_error("", 0, "--benchmark-json", "times the variants: not with --oracle");
     if (options.oracle) return run_oracle_timing(cases, options);
+    // The outputs, declared before the work; committed after it.
+    run_outputs outputs;
+    declare_inputs(outputs, paths, options.corpus.empty() ? "the default corpus" : "--corpus");
+    declare_inputs(outputs, {options.plugins.begin(), options.plugins.end()}, "--plugin");
+    std::optional<report_bundle> bundle;
+    if (!options.report_dir.empty()) bundle.emplace(outputs, options.report_dir, "--report");
+    output_file* benchmark_file =
+        options.benchmark_json.empty() ? nullptr : &outputs.file(options.benchmark_json, "--benchmark-json");
 
     // Accuracy: float and double as audited, then long double on double
     // inputs. Plugins are audited and timed beside every built-in variant
@@ -195,7 +218,7 @@ int run(const bench_options& options, const std::string& command_line) {
     }
     std::vector<std::string> precision_labels;
     for (const std::string& l : labels) precision_labels.push_back(l.substr(l.find('/') + 1));
-    if (isatty(STDERR_FILENO)) fmt::print(stderr, "bench: auditing {} cases\n", cases.size());
+    if (isatty(STDERR_FILENO)) terminal::note(fmt::format("bench: auditing {} cases", cases.size()));
     const accuracy_run accuracy = audit_with_stability(cases, targets, labels);
 
     // Run time, per family.
@@ -208,8 +231,13 @@ int run(const bench_options& options, const std::string& command_line) {
             timing.plugins.push_back(t.subject);
     timing.repetitions = options.repetitions;
     timing.min_time_s = options.min_time;
+    terminal::progress line("bench", "timings");
+    const timing_progress shown(line);
     const std::vector<bench::timing_row> rows = bench::time_variants(by_family, timing, progress);
+    line.finish();
     const json timing_section = timing_json(rows, timing, reference_label);
+    if (benchmark_file != nullptr)
+        benchmark_file->stream() << benchmark_json(rows, current_benchmark_context(command_line)).dump(2) << '\n';
 
     fmt::print("{:<26} {:<12} {:>12} {:>10}\n", "variant", "precision", "ns/test", "ratio");
     for (const json& r : timing_section["overall"])
@@ -222,7 +250,11 @@ int run(const bench_options& options, const std::string& command_line) {
                cases.size(), options.repetitions, reference_label);
     const json robust = robust_figures(rows, by_family);
     fmt::print("build: {}; CPU: {}\n", build_summary(), bench::cpu_model());
-    if (options.report_dir.empty()) return exit_ok;
+    if (!bundle) {
+        check_standard_output();
+        outputs.commit();
+        return exit_ok;
+    }
 
     // The report: the audit's sections for float and double, then ours.
     run_context context{command_line, {}, {}};
@@ -253,12 +285,10 @@ int run(const bench_options& options, const std::string& command_line) {
             {"results", audit_report_json(far.totals, context)["results"]},
             {"case_points", far.points}};
     }
-    const std::filesystem::path dir(options.report_dir);
-    std::error_code error;
-    std::filesystem::create_directories(dir, error);
-    if (error) throw input_error(options.report_dir, 0, "--report", "cannot create directory: " + error.message());
-    const plot_outcome plots = write_report_bundle(dir, std::move(report), true);
-    fmt::print("report: {}\nplots: {}\n", (dir / "report.json").string(), plots.message);
+    const plot_outcome plots = bundle->write(std::move(report), true);
+    fmt::print("report: {}\nplots: {}\n", (bundle->dir() / "report.json").string(), plots.message);
+    check_standard_output();
+    outputs.commit();
     return exit_ok;
 }
 
@@ -280,9 +310,15 @@ command add_bench_command(CLI::App& app, const std::string& command_line) {
                   "double intersector per family, with the filter's fallback rates");
     sub->add_option("--family", options->families, "Only cases of this family (repeatable; default: all)");
     sub->add_option("--report", options->report_dir, "Directory for report.json, report.md and the PNG plots");
-    sub->add_option("--repetitions", options->repetitions, "Timed repetitions per benchmark (default 9)");
-    sub->add_option("--min-time", options->min_time, "Minimum seconds per repetition (default 0.01)");
-    sub->add_option("--sweep", options->sweep, "Far-sphere sweep cases for the report (default 5000; 0: none)");
+    sub->add_option("--benchmark-json", options->benchmark_json,
+                    "Also write the timings in Google Benchmark's JSON format (mean, median, stddev, cv per "
+                    "benchmark; readable by its compare.py)");
+    sub->add_option("--repetitions", options->repetitions, "Timed repetitions per benchmark (default 9)")
+        ->check(whole_number(1, 1000));
+    sub->add_option("--min-time", options->min_time, "Minimum seconds per repetition (default 0.01)")
+        ->check(finite_number(0, 3600, true));
+    sub->add_option("--sweep", options->sweep, "Far-sphere sweep cases for the report (default 5000; 0: none)")
+        ->check(whole_number(0, 100000000));
     return {sub, [options, command_line] { return run(*options, command_line); }};
 }
 

@@ -4,18 +4,24 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <cstdint>
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <span>
 
+#include "cli/terminal.h"
 #include "compare/audit.h"
 #include "corpus/case_stream.h"
+#include "corpus/exchange.h"
+#include "core/outputs.h"
 #include "plugin/plugin_loader.h"
-#include "report/atomic_file.h"
+#include "report/markdown_report.h"
 #include "scene/scene.h"
 
 namespace rayverify::cli {
@@ -34,6 +40,7 @@ command add_variants_command(CLI::App& app);
 command add_audit_command(CLI::App& app, const std::string& command_line);
 command add_explain_command(CLI::App& app);
 command add_corpus_command(CLI::App& app);
+command add_export_subcommand(CLI::App* corpus);  // `corpus export` (cli/export_command.cpp)
 command add_bench_command(CLI::App& app, const std::string& command_line);
 command add_hunt_command(CLI::App& app, const std::string& command_line);
 command add_gate_command(CLI::App& app);
@@ -46,6 +53,10 @@ command add_recommend_command(CLI::App& app);  // issue 6: cli/recommend_command
 // hunt, every shard once, as one hunt file at `output` keeping the `keep`
 // worst finds. Returns exit_findings when a disagreement is kept.
 int merge_hunts(const std::vector<std::string>& files, const std::string& output, std::size_t keep);
+// --results FILE --contract SPEC --name NAME (audit, gate, explain).
+struct results_options {
+    std::string file, contract_spec, name;
+};
 
 // issue 6: `audit --scene FILE` (cli/scene_audit.cpp), called by the audit command.
 struct scene_audit_request {
@@ -54,6 +65,7 @@ struct scene_audit_request {
     plugin_isolation isolation;
     std::string report_dir;    // scene_report.json goes there when not empty
     std::string command_line;
+    results_options results;  // answers for the scene's (ray, sphere) pairs
 };
 int run_scene_audit(const scene_audit_request& request);
 // The chosen variants (all by default), each in the scene's precision.
@@ -78,6 +90,69 @@ std::vector<audit_target> select_targets(const std::vector<std::string>& variant
                                          const std::vector<std::string>& plugin_paths,
                                          const std::vector<std::string>& precisions,
                                          const plugin_isolation& isolation = {});
+
+// The cases a command reads: corpus files (the shipped corpus when neither is
+// given) or generated families (cli/results_target.cpp).
+struct case_input {
+    std::vector<std::filesystem::path> paths;
+    std::vector<generate_spec> specs;
+    case_stream open(shard_spec shard = {}) const;
+};
+// Throws input_error when both --corpus and --generate are given, or a spec is malformed.
+case_input select_input(const std::vector<std::string>& corpus, const std::vector<std::string>& generate);
+
+// Every (ray, sphere) pair a scene's rays meet, as cases, in ray order.
+std::vector<corpus_case> scene_cases(const scene& s);
+// The fingerprint of cases held in memory, as case_stream computes it for files.
+std::string fingerprint_of(std::span<const corpus_case> cases);
+
+void add_results_options(CLI::App* sub, results_options& options);
+
+// The target the results file stands for, nullopt without --results. `feed`
+// passes every case of the command's input, in order, to the matcher and
+// returns the input's fingerprint; answers that do not match that input
+// exactly are an input_error (corpus/exchange.h), before anything is judged.
+std::optional<audit_target> results_target(const results_options& options,
+                                           const std::function<std::string(answer_matcher&)>& feed);
+
+// A target answering from outside rayverify (a results file, a --command):
+// its name (one token, not a built-in's), contract spec (core/contract.h's
+// parse_contract) and precision; no functions.
+audit_target outside_target(const std::string& name, const std::string& contract_spec, const std::string& citation,
+                            precision prec);
+
+// select_targets, with the results target last; with results and neither
+// --variant nor --plugin, the results target alone.
+std::vector<audit_target> targets_with_results(const std::vector<std::string>& variant_names,
+                                               const std::vector<std::string>& plugin_paths,
+                                               const std::vector<std::string>& precisions,
+                                               const plugin_isolation& isolation,
+                                               const std::optional<audit_target>& results);
+
+// Checks of a numeric option's text (cli/numeric_options.cpp), for every
+// numeric option: a whole number in [min, max] written in plain digits (no
+// sign, so "-5" is refused instead of wrapping; 2^64 and above refused), or a
+// finite number in [min, max] (> min when `above_min`; nan and inf refused).
+CLI::Validator whole_number(std::uint64_t min, std::uint64_t max = std::numeric_limits<std::uint64_t>::max());
+CLI::Validator finite_number(double min, double max, bool above_min = false);
+
+// The audit's progress line on a terminal (cli/audit_progress.cpp): cases
+// done out of the input's cases (generated: their counts; files: their case
+// lines), % and ETA; finished on destruction.
+class audit_progress {
+public:
+    audit_progress(const std::vector<std::filesystem::path>& paths, const std::vector<generate_spec>& specs,
+                   const shard_spec& shard);
+    // For audit_hooks::progress; empty when no one watches stderr.
+    std::function<void(std::size_t)> reporter();
+    void finish() { line_.finish(); }
+
+private:
+    terminal::progress line_;
+};
+
+// --tolerance, on gate and diff: ULP figures within it (relative) are equal.
+void add_tolerance_option(CLI::App* sub, double& tolerance);
 
 // --isolate and --plugin-timeout, on every command that takes --plugin.
 void add_isolation_options(CLI::App* sub, plugin_isolation& isolation);
@@ -106,31 +181,19 @@ std::vector<std::string> normalised_command(const std::string& recorded);
 std::optional<std::string> command_difference(const std::string& a, const std::string& b, const std::string& a_name,
                                               const std::string& b_name);
 
-// An audit's output files, opened (as temporaries) before the work.
-// A report directory that open_report had to create is removed again (when
-// empty) unless publish_audit committed into it, so a failed audit leaves no
-// directory behind either.
+// An audit's outputs, declared before the work (core/outputs.h): the
+// report directory (report.json, report.md, summary.txt, the plots) and the
+// per-case file. They appear together when publish_audit commits them, or not
+// at all.
 struct audit_outputs {
-    struct created_directory {
-        std::filesystem::path path;  // empty: nothing was created
-        bool keep = false;
-        // Creates `dir` (and its parents) for --report, remembering it when it
-        // did not exist. Throws input_error when it cannot be created.
-        void create(const std::filesystem::path& dir);
-        created_directory() = default;
-        created_directory(const created_directory&) = delete;
-        created_directory& operator=(const created_directory&) = delete;
-        ~created_directory();
-    };
-    std::filesystem::path dir;
-    created_directory created;  // declared first: removed after the temporaries inside it
-    std::optional<atomic_file> per_case, report_json, summary, summary_md;
-    void open_report(const std::filesystem::path& report_dir);  // nothing when empty
+    run_outputs files;
+    std::optional<report_bundle> report;
+    output_file* summary = nullptr;   // in the report directory
+    output_file* per_case = nullptr;  // --per-case
+    output_file* summary_md = nullptr;  // --summary-md
+    // Declares the report directory and its files (nothing when `dir` is empty).
+    void open_report(const std::filesystem::path& dir, const std::string& option);
 };
-
-// An output path naming an existing directory fails before the work, not at
-// the rename after it (input_error naming `option`).
-void refuse_directory(const std::filesystem::path& path, const char* option);
 
 // How an audit's results are shown beside its report files (audit and merge;
 // cli/report_options.cpp).
@@ -139,15 +202,19 @@ struct audit_presentation {
     std::string summary_md;  // --summary-md FILE: the headline and compact table of report.md
 };
 void add_presentation_options(CLI::App* sub, audit_presentation& presentation);
-// Opens --summary-md's file (as a temporary) when one is named.
+// Declares --summary-md's file as an output of the run when one is named.
 void open_presentation(audit_outputs& outputs, const audit_presentation& presentation);
 
-// Commits the outputs (report.json and summary.txt when the report is open,
-// the Markdown summary when asked), prints the summary table (or one line per
-// variant family), renders report.md (and the plots), and returns
+// Writes the report files, prints the summary table or one line per variant
+// family (and where the report went), checks standard output, commits the
+// outputs, and returns
 // exit_findings when any target disagrees with the oracle on some case.
 int publish_audit(const audit_totals& totals, const std::optional<nlohmann::ordered_json>& report,
-                  const std::filesystem::path& report_dir, audit_outputs& outputs, bool plots,
-                  const audit_presentation& presentation = {});
+                  audit_outputs& outputs, bool plots, const audit_presentation& presentation = {});
+
+// Files a command reads (corpus files and directories, plugins, a baseline,
+// a scene), declared as inputs of its run so that no output overwrites them;
+// a directory among them is a corpus directory.
+void declare_inputs(run_outputs& outputs, const std::vector<std::filesystem::path>& paths, const std::string& option);
 
 }  // namespace rayverify::cli

@@ -1,5 +1,6 @@
 #include <fmt/format.h>
 
+#include <filesystem>
 #include <fstream>
 
 #include "cli/commands.h"
@@ -11,6 +12,9 @@ namespace rayverify::cli {
 namespace {
 
 figure_table read_report(const std::string& path) {
+    std::error_code error;
+    if (std::filesystem::is_directory(path, error))
+        throw input_error(path, 0, "report", "is a directory, expected a report.json file");
     std::ifstream in(path);
     if (!in) throw input_error(path, 0, "report", "cannot open for reading");
     nlohmann::json report;
@@ -19,23 +23,32 @@ figure_table read_report(const std::string& path) {
     } catch (const nlohmann::json::parse_error& e) {
         throw input_error(path, 0, "report", fmt::format("not JSON: {}", e.what()));
     }
-    return figures_from_report_json(report, path);
+    try {
+        return figures_from_report_json(report, path);
+    } catch (const nlohmann::json::exception& e) {
+        throw input_error(path, 0, "report", fmt::format("not a report.json of rayverify audit: {}", e.what()));
+    }
 }
 
 }  // namespace
 
 command add_diff_command(CLI::App& app) {
     auto paths = std::make_shared<std::vector<std::string>>();
+    auto tolerance = std::make_shared<double>(default_figure_tolerance);
     auto* sub = app.add_subcommand("diff", "Compare two report.json files (rayverify audit --report) figure by "
-                                           "figure: what changed from A to B. Exit 1 when some figure of B is worse.");
+                                           "figure: what changed from A to B. Exit 1 when `gate` would fail with A as "
+                                           "the baseline: some figure of B is worse, a family's case count changed, "
+                                           "or no figure could be compared at all.");
     sub->add_option("reports", *paths, "A.json B.json")->required()->expected(2);
-    return {sub, [paths] {
+    add_tolerance_option(sub, *tolerance);
+    return {sub, [paths, tolerance] {
                 const figure_table a = read_report((*paths)[0]), b = read_report((*paths)[1]);
-                const gate_result result = compare_figures(a, b, gate_policy{});
-                fmt::print("{}", render_figure_diff(result));
-                for (const figure_change& c : result.changes)
-                    if (c.kind == change_kind::worse) return exit_findings;
-                return exit_ok;
+                const gate_result result = compare_figures(a, b, gate_policy{}, *tolerance);
+                fmt::print("{}", terminal::coloured_verdicts(render_figure_diff(result)));
+                if (result.compared == 0)
+                    fmt::print("diff: no figure of B has a counterpart in A with the same case count: nothing "
+                               "was compared, which fails as `gate` does\n");
+                return result.passed() ? exit_ok : exit_findings;
             }};
 }
 

@@ -18,6 +18,7 @@ struct explain_options {
     std::vector<std::string> plugins;
     plugin_isolation isolation;
     std::vector<std::string> precisions;
+    results_options results;
 };
 
 constexpr const char* field_names[10] = {"ox", "oy", "oz", "dx", "dy", "dz", "cx", "cy", "cz", "r"};
@@ -48,16 +49,19 @@ corpus_case case_from_arguments(const std::vector<std::string>& values) {
     for (int i = 0; i < 10; ++i) v[i] = parse_exact_double(tokens[first + i], "", 0, field_names[i]);
     c.geometry = {{v[0], v[1], v[2]}, {v[3], v[4], v[5]}, {v[6], v[7], v[8]}, v[9]};
     if (tokens.size() == 14) {
-        c.tmin = parse_exact_double(tokens[12], "", 0, "tmin");
-        c.tmax = parse_exact_double(tokens[13], "", 0, "tmax");
+        // '-' is an absent bound, as in a corpus file (and in the corpus line printed below).
+        const auto bound = [&](const std::string& token, const char* field) -> std::optional<double> {
+            if (token == "-") return std::nullopt;
+            return parse_exact_double(token, "", 0, field);
+        };
+        c.tmin = bound(tokens[12], "tmin");
+        c.tmax = bound(tokens[13], "tmax");
     }
     return c;
 }
 
-corpus_case case_from_corpus(const explain_options& options) {
-    std::vector<std::filesystem::path> paths(options.corpus.begin(), options.corpus.end());
-    if (paths.empty()) paths.emplace_back(default_corpus());
-    for (corpus_case& c : read_corpus(paths))
+corpus_case case_from_corpus(const explain_options& options, const std::vector<corpus_case>& cases) {
+    for (const corpus_case& c : cases)
         if (c.id == options.case_id) return c;
     throw input_error("", 0, "--case", fmt::format("no case with id '{}' in the corpus", options.case_id));
 }
@@ -87,14 +91,51 @@ std::string optional_number(const std::optional<double>& x) {
     return x ? fmt::format("{:.3g}", *x) : std::string("-");
 }
 
+// What a variant gave beside t (contract::outputs) and how it measured.
+void print_outputs(const target_outcome& o) {
+    const variant_output& out = o.output;
+    const case_score& s = o.score;
+    if (out.t_bounds)
+        fmt::print("    t0 interval [{}, {}]{}\n", (*out.t_bounds)[0][0], (*out.t_bounds)[0][1],
+                   s.bound_ulp ? fmt::format(", {} ulps wide", *s.bound_ulp) : std::string());
+    if (out.hit_point) {
+        const vec3<double>& p = *out.hit_point;
+        fmt::print("    hit point ({}, {}, {})", p.x, p.y, p.z);
+        if (out.point_error)
+            fmt::print(" ± ({}, {}, {})", out.point_error->x, out.point_error->y, out.point_error->z);
+        if (s.hit_point_ulp)
+            fmt::print(", error ({:.3g}, {:.3g}, {:.3g}) ulp", (*s.hit_point_ulp)[0], (*s.hit_point_ulp)[1],
+                       (*s.hit_point_ulp)[2]);
+        fmt::print("\n");
+    }
+    if (out.normal)
+        fmt::print("    normal ({}, {}, {}){}\n", out.normal->x, out.normal->y, out.normal->z,
+                   s.normal_angle ? fmt::format(", {:.3g} rad from the exact normal", *s.normal_angle) : std::string());
+    if (s.scale_error_radius)
+        fmt::print("    |t − t*|·|d| = {:.3g} r = {:.3g} |o − c|\n", *s.scale_error_radius,
+                   s.scale_error_distance.value_or(0));
+}
+
 int run(const explain_options& options) {
     if (!options.case_id.empty() && !options.values.empty())
         throw input_error("", 0, "--case", "give either --case ID or the case's numbers, not both");
     if (options.case_id.empty() && options.values.empty())
         throw input_error("", 0, "case", "give the case as 10 numbers, a corpus line, or --case ID");
-    const corpus_case c = options.case_id.empty() ? case_from_arguments(options.values) : case_from_corpus(options);
+    if (!options.results.file.empty() && options.case_id.empty())
+        throw input_error("", 0, "--results", "answers are found by case id: give --case ID (and its --corpus)");
+    std::vector<corpus_case> corpus;
+    if (!options.case_id.empty()) {
+        std::vector<std::filesystem::path> paths(options.corpus.begin(), options.corpus.end());
+        if (paths.empty()) paths.emplace_back(default_corpus());
+        corpus = read_corpus(paths);
+    }
+    const corpus_case c = options.case_id.empty() ? case_from_arguments(options.values) : case_from_corpus(options, corpus);
+    const std::optional<audit_target> results = results_target(options.results, [&](answer_matcher& matcher) {
+        for (const corpus_case& k : corpus) matcher.add(k);
+        return fingerprint_of(corpus);
+    });
     const std::vector<audit_target> targets =
-        select_targets(options.variants, options.plugins, options.precisions, options.isolation);
+        targets_with_results(options.variants, options.plugins, options.precisions, options.isolation, results);
     const audited_case audited = audit_case(c, targets);
 
     const auto& g = c.geometry;
@@ -124,6 +165,8 @@ int run(const explain_options& options) {
                    shows_t1 ? fmt::format("{}", r.t1) : "-", optional_number(o.score.near_ulp),
                    optional_number(o.score.far_ulp));
         if (ran) fmt::print("    contract: {}\n", describe_contract(promises));
+        if (ran && !targets[i].subject.build.empty()) fmt::print("    build: {}\n", targets[i].subject.build);
+        if (ran) print_outputs(o);
         if (ran && promises.query != query_kind::line_roots)
             fmt::print("    asks for: {}\n", describe_expected(promises, audited.exact_for(targets[i].prec), o.range));
         if (!o.score.detail.empty()) fmt::print("    {}\n", o.score.detail);
@@ -149,12 +192,19 @@ command add_explain_command(CLI::App& app) {
                    "'ox oy oz dx dy dz cx cy cz r' (decimal or C99 hex floats), as a corpus line, or --case ID");
     sub->add_option("case", options->values, "The case's numbers or corpus line");
     sub->add_option("--case", options->case_id, "Id of a case in --corpus");
-    sub->add_option("--corpus", options->corpus, "Corpus to look --case up in (default: the shipped corpus)");
-    sub->add_option("--variant", options->variants, "Variant to show (repeatable; default: all)");
-    sub->add_option("--plugin", options->plugins, "Shared library implementing rayverify_plugin.h (repeatable)");
+    // Each repeatable option takes one value per use, so that the case after
+    // it (`explain --plugin LIB "<corpus line>"`) stays the positional argument.
+    sub->add_option("--corpus", options->corpus, "Corpus to look --case up in (default: the shipped corpus)")
+        ->allow_extra_args(false);
+    sub->add_option("--variant", options->variants, "Variant to show (repeatable; default: all)")
+        ->allow_extra_args(false);
+    sub->add_option("--plugin", options->plugins, "Shared library implementing rayverify_plugin.h (repeatable)")
+        ->allow_extra_args(false);
     add_isolation_options(sub, options->isolation);
+    add_results_options(sub, options->results);
     sub->add_option("--precision", options->precisions, "float or double (repeatable; default: both)")
-        ->check(CLI::IsMember({"float", "double"}));
+        ->check(CLI::IsMember({"float", "double"}))
+        ->allow_extra_args(false);
     // Negative numbers are values here, not options.
     sub->allow_extras(false);
     sub->positionals_at_end(false);

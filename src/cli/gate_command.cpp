@@ -25,6 +25,8 @@ struct gate_options {
     bool update = false;
     std::size_t examples = 3;
     unsigned threads = 0;  // 0: every hardware thread
+    results_options results;
+    double tolerance = default_figure_tolerance;
 };
 
 std::string read_text_file(const std::filesystem::path& path, const std::string& field) {
@@ -51,24 +53,39 @@ int run(const gate_options& options) {
 
     std::vector<std::filesystem::path> paths(options.corpus.begin(), options.corpus.end());
     if (paths.empty()) paths.emplace_back(default_corpus());
+    // The outputs, declared before the work: --update rewrites the baseline in place, --junit may not overwrite an input.
+    run_outputs outputs;
+    declare_inputs(outputs, paths, options.corpus.empty() ? "the default corpus" : "--corpus");
+    declare_inputs(outputs, {options.plugins.begin(), options.plugins.end()}, "--plugin");
+    if (!options.update) declare_inputs(outputs, {baseline_path}, "--baseline");
+    output_file* updated = options.update ? &outputs.file(baseline_path, "--baseline") : nullptr;
+    output_file* junit = !options.update && !options.junit.empty() ? &outputs.file(options.junit, "--junit") : nullptr;
     const std::vector<corpus_case> cases = read_corpus(paths);
+    const std::optional<audit_target> results = results_target(options.results, [&](answer_matcher& matcher) {
+        for (const corpus_case& c : cases) matcher.add(c);
+        return fingerprint_of(cases);
+    });
     const std::vector<audit_target> targets =
-        select_targets(options.variants, options.plugins, options.precisions, options.isolation);
+        targets_with_results(options.variants, options.plugins, options.precisions, options.isolation, results);
     if (targets.empty()) throw input_error("", 0, "--precision", "no variant runs in the chosen precision");
 
     const unsigned threads = options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency());
-    const gate_run run = run_gate(cases, targets, base, options.examples, threads);
-    if (options.update) {
-        write_file_atomically(baseline_path, format_baseline(updated_baseline(base, run.current)));
+    const gate_run run = run_gate(cases, targets, base, options.examples, threads, options.tolerance);
+    if (updated != nullptr) {
+        updated->stream() << format_baseline(updated_baseline(base, run.current));
         std::size_t changed = 0;
         for (const figure_change& c : run.result.changes) changed += c.kind == change_kind::new_entry ? 0 : 1;
         fmt::print("gate: {} {}: {} figures of {} target(s) over {} cases; {} changed, {} new\n",
                    exists ? "updated" : "created", options.baseline, run.current.size(), targets.size(),
                    cases.size(), changed, run.result.changes.size() - changed);
+        check_standard_output();
+        outputs.commit();
         return exit_ok;
     }
-    fmt::print("{}", render_gate_text(run, cases));
-    if (!options.junit.empty()) write_file_atomically(options.junit, render_junit(run, cases));
+    fmt::print("{}", terminal::coloured_verdicts(render_gate_text(run, cases)));
+    if (junit != nullptr) junit->stream() << render_junit(run, cases);
+    check_standard_output();
+    outputs.commit();
     return run.result.passed() ? exit_ok : exit_findings;
 }
 
@@ -86,16 +103,19 @@ command add_gate_command(CLI::App& app) {
     sub->add_option("--variant", options->variants, "Built-in variant to gate (repeatable; default: all)");
     sub->add_option("--plugin", options->plugins, "Shared library implementing rayverify_plugin.h (repeatable)");
     add_isolation_options(sub, options->isolation);
+    add_results_options(sub, options->results);
     sub->add_option("--precision", options->precisions, "float or double (repeatable; default: both)")
         ->check(CLI::IsMember({"float", "double"}));
     sub->add_option("--junit", options->junit, "Also write JUnit XML (a test case per variant and family)");
     sub->add_flag("--update", options->update,
                   "Rewrite the baseline with this run's figures (comments and policy lines are kept)");
     sub->add_option("--examples", options->examples, "Cases shown as corpus lines per failing figure")
+        ->check(whole_number(0, 1000))
         ->capture_default_str();
     sub->add_option("--threads", options->threads,
                     "Threads auditing cases (default: every hardware thread); the result is the same for any number")
-        ->check(CLI::Range(1u, 4096u));
+        ->check(whole_number(1, 4096));
+    add_tolerance_option(sub, options->tolerance);
     return {sub, [options] { return run(*options); }};
 }
 

@@ -1,9 +1,12 @@
 #include <fmt/format.h>
 
+#include "cli/app.h"
 #include "cli/commands.h"
+#include "cli/terminal.h"
 #include "compare/hunt.h"
 #include "core/input_error.h"
 #include "corpus/corpus_io.h"
+#include "corpus/external_program.h"
 #include "corpus/generators.h"
 #include "report/audit_report.h"
 #include "report/hunt_file.h"
@@ -24,18 +27,29 @@ struct hunt_command_options {
     std::uint64_t seed = 1;
     std::size_t finds = 3;
     bool no_shrink = false;
+    bool rounding_only = false;
     std::string output;
     std::string shard;
+    // An external program hunted instead (corpus/external_program.h).
+    std::string command;
+    std::string contract_spec, name;
+    std::string format = "jsonl";
+    double command_timeout = 10;
+    std::size_t batch = 0;  // 0: 1 for a variant or plugin, 64 for a command
 };
 
-std::string error_text(double ulps) { return fmt::format("{:.3g} ulp", ulps); }
 
 int run(const hunt_command_options& o, const std::string& command_line) {
-    if (o.variant.empty() == o.plugin.empty())
-        throw input_error("", 0, "--variant", "name exactly one target: --variant NAME or --plugin LIBRARY");
+    if (int(!o.variant.empty()) + int(!o.plugin.empty()) + int(!o.command.empty()) != 1)
+        throw input_error("", 0, "--variant",
+                          "name exactly one target: --variant NAME, --plugin LIBRARY or --command 'PROGRAM'");
     const std::vector<std::string> names = o.variant.empty() ? std::vector<std::string>{} : std::vector{o.variant};
     const std::vector<std::string> plugins = o.plugin.empty() ? std::vector<std::string>{} : std::vector{o.plugin};
-    const std::vector<audit_target> targets = select_targets(names, plugins, {o.precision}, o.isolation);
+    const std::vector<audit_target> targets = o.command.empty()
+                                                  ? select_targets(names, plugins, {o.precision}, o.isolation)
+                                                  : std::vector<audit_target>{outside_target(o.name, o.contract_spec, "command " + o.command,
+                                                                                   o.precision == "float" ? precision::binary32
+                                                                                                          : precision::binary64)};
     if (targets.empty())
         throw input_error("", 0, "--precision",
                           fmt::format("{} does not run in {}", o.variant.empty() ? o.plugin : o.variant, o.precision));
@@ -46,13 +60,16 @@ int run(const hunt_command_options& o, const std::string& command_line) {
         for (const family_info& f : generator_families()) known += (known.empty() ? "" : ", ") + std::string(f.name);
         throw input_error("", 0, "--family", fmt::format("unknown generator family '{}' (known: {})", o.family, known));
     }
-    if (!(o.budget >= 0)) throw input_error("", 0, "--budget", "must be a number of seconds >= 0");
     if (o.budget == 0 && o.evaluations == 0)
-        throw input_error("", 0, "--budget", "give a time budget (--budget) or an evaluation budget (--evaluations)");
+        throw input_error("", 0, "--seconds", "give a time budget (--seconds) or an evaluation budget (--evaluations)");
+    run_outputs outputs;  // declared before the search, committed after it
+    declare_inputs(outputs, {plugins.begin(), plugins.end()}, "--plugin");
+    output_file& finds_file = outputs.file(o.output, "-o");
 
     const shard_spec shard = o.shard.empty() ? shard_spec{} : chosen_shard(o.shard, "hunt");
     hunt_options options;
-    options.objective = o.objective == "ulp" ? hunt_objective::ulp : hunt_objective::misclass;
+    options.objective = *hunt_objective_from_name(o.objective);  // checked by CLI11
+    options.rounding_only = o.rounding_only;
     options.strategy = o.strategy == "search" ? hunt_strategy::search : hunt_strategy::random;
     options.seed = shard_search_seed(o.seed, shard.index, shard.count);
     options.max_seconds = o.budget;
@@ -63,22 +80,52 @@ int run(const hunt_command_options& o, const std::string& command_line) {
     // This shard's start cases: the family's cases K − 1, K − 1 + N, ...
     const auto start_index = [&](std::uint64_t j) { return shard.index - 1 + j * shard.count; };
     const hunt_start start = [&](std::uint64_t j) { return generate_case(family_name, o.seed, start_index(j)).geometry; };
-    const hunt_result result = hunt(target, start, options);
+    options.batch = o.batch ? o.batch : (o.command.empty() ? 1 : 64);
+    std::optional<external_program> program;
+    hunt_judge judge;
+    if (!o.command.empty()) {
+        program.emplace(o.command, *exchange_format_from_name(o.format), target.prec, o.command_timeout);
+        judge = [&](std::span<const corpus_case> cases) {
+            audit_target answered = target;
+            answered.recorded = program->answer(cases);
+            std::vector<hunt_evaluation> evals;
+            for (const corpus_case& c : cases) evals.push_back(evaluate_for_hunt(answered, c, options.objective));
+            return evals;
+        };
+    }
+    // Live: how far the budget is spent, and the best found so far.
+    const bool timed = o.budget > 0;
+    terminal::progress progress("hunt", timed ? "s" : "evaluations",
+                                timed ? o.budget : static_cast<double>(o.evaluations));
+    options.on_progress = [&](const hunt_progress& p) {
+        const std::string best =
+            maximises_error(options.objective)
+                ? fmt::format("best so far {}", p.best_error > 0 ? hunt_error_text(options.objective, p.best_error) : "-")
+                : fmt::format("{} disagreement(s) found", p.finds);
+        progress.update(timed ? p.seconds : static_cast<double>(p.evaluations),
+                        timed ? fmt::format("{} evaluations, {}", p.evaluations, best) : best);
+    };
+    const hunt_result result = hunt(target, start, options, judge);
+    progress.finish();
 
     const std::string label = target.label();
-    const bool ulp = options.objective == hunt_objective::ulp;
+    const bool ulp = maximises_error(options.objective);
     std::string shard_note;
     if (shard.count > 1) shard_note = fmt::format(", shard {} (search seed {})", shard.text(), options.seed);
-    fmt::print("hunt {} ({} objective, {} strategy, family {}, seed {}{}): {} evaluations, {} starts, {:.2f} s\n",
-               label, o.objective, o.strategy, family_name, o.seed, shard_note, result.evaluations, result.starts,
+    fmt::print("hunt {} ({} objective{}, {} strategy, family {}, seed {}{}): {} evaluations, {} starts, {:.2f} s\n",
+               label, o.objective, o.rounding_only ? ", rounding causes only" : "", o.strategy, family_name, o.seed,
+               shard_note, result.evaluations, result.starts,
                result.seconds);
 
+    if (program)
+        fmt::print("command '{}' answered {} batches of up to {} cases\n", o.command, program->batches(), options.batch);
     hunt_file file;
     file.hunt = {{"format", hunt_file_format},
                  {"build", build_json()},
                  {"command", recorded_command(command_line)},
                  {"target", label},
                  {"objective", o.objective},
+                 {"rounding_only", o.rounding_only},
                  {"strategy", o.strategy},
                  {"family", family_name},
                  {"seed", o.seed},
@@ -88,7 +135,8 @@ int run(const hunt_command_options& o, const std::string& command_line) {
                                                           {"evaluations", result.evaluations},
                                                           {"starts", result.starts},
                                                           {"shrink_evaluations", result.shrink_evaluations},
-                                                          {"seconds", result.seconds}}})}};
+                                                          {"seconds", result.seconds},
+                                                          {"disagreements", result.disagreements}}})}};
     std::string id_stem = fmt::format("hunt-{}-{}-{}-{}-{}", target.subject.name, precision_name(target.prec),
                                       o.objective, o.strategy, o.seed);
     if (shard.count > 1) id_stem += fmt::format("-shard{}of{}", shard.index, shard.count);
@@ -112,10 +160,16 @@ int run(const hunt_command_options& o, const std::string& command_line) {
                             {"shrunk_verdict", verdict_name(f.shrunk_eval.verdict)},
                             {"shrunk_error", hex_float(f.shrunk_eval.error)},
                             {"shrunk_bits", f.shrunk_bits}};
-        const std::string what = ulp ? fmt::format("agree, {} (lower bound)", error_text(f.found_eval.error))
-                                     : std::string(verdict_name(f.found_eval.verdict));
-        const std::string shrunk_what = ulp ? fmt::format("agree, {}", error_text(f.shrunk_eval.error))
-                                            : std::string(verdict_name(f.shrunk_eval.verdict));
+        const auto failure = [](const hunt_evaluation& e) {
+            std::string text(verdict_name(e.verdict));
+            if (e.cause) text += fmt::format(" ({})", cause_name(*e.cause));
+            return text;
+        };
+        const std::string what =
+            ulp ? fmt::format("agree, {} (lower bound)", hunt_error_text(options.objective, f.found_eval.error))
+                : failure(f.found_eval);
+        const std::string shrunk_what =
+            ulp ? fmt::format("agree, {}", hunt_error_text(options.objective, f.shrunk_eval.error)) : failure(f.shrunk_eval);
         fmt::print("find {}: {} at evaluation {} ({:.3f} s)\n", file.finds.size() + 1, what, f.evaluation, f.seconds);
         if (!f.found_eval.detail.empty()) fmt::print("  {}\n", f.found_eval.detail);
         fmt::print("  shrunk ({} -> {} significant bits, still {}):\n  {}\n", f.found_bits, f.shrunk_bits,
@@ -124,9 +178,25 @@ int run(const hunt_command_options& o, const std::string& command_line) {
     }
     if (result.finds.empty())
         fmt::print("{}\n", ulp ? "no agreeing answer with a nonzero error was seen" : "no disagreement found");
-    write_file_atomically(o.output, render_hunt_file(file));
+    // An answer that disagrees has no ULP error to maximise, but it is a finding, never a pass.
+    if (const auto& d = result.first_disagreement) {
+        corpus_case c;
+        c.id = fmt::format("{}-disagreement", id_stem);
+        c.family = "hunt_" + family_name;
+        c.geometry = d->found;
+        file.hunt["runs"][0]["first_disagreement"] = {{"evaluation", d->evaluation},
+                                                      {"verdict", verdict_name(d->found_eval.verdict)},
+                                                      {"case", format_case_line(c)}};
+        fmt::print("{} of {} evaluations disagreed with the exact answer; the first ({}) at evaluation {}:\n  {}\n"
+                   "  (--objective misclass hunts for them)\n",
+                   result.disagreements, result.evaluations, verdict_name(d->found_eval.verdict), d->evaluation,
+                   format_case_line(c));
+    }
+    finds_file.stream() << render_hunt_file(file);
     fmt::print("wrote {}\n", o.output);
-    const bool disagreement = !ulp && !result.finds.empty();
+    check_standard_output();
+    outputs.commit();
+    const bool disagreement = (!ulp && !result.finds.empty()) || result.disagreements > 0;
     return disagreement ? exit_findings : exit_ok;
 }
 
@@ -135,30 +205,64 @@ int run(const hunt_command_options& o, const std::string& command_line) {
 command add_hunt_command(CLI::App& app, const std::string& command_line) {
     auto o = std::make_shared<hunt_command_options>();
     auto* sub = app.add_subcommand(
-        "hunt", "Search for inputs that maximise a variant's error (--objective ulp) or make it disagree with the "
-                "exact answer (--objective misclass): random restarts from a family's cases, local search by ulp "
+        "hunt", "Search for inputs that maximise a variant's error (--objective ulp, scale_radius or scale_distance) "
+                "or make it disagree with the exact answer (--objective misclass): random restarts from a family's cases, local search by ulp "
                 "moves judged by the exact oracle, then shrinking. Writes the finds as corpus lines. Exit 1 when "
                 "a disagreement was found");
     sub->add_option("--variant", o->variant, "Variant to hunt");
     sub->add_option("--plugin", o->plugin,
                     "Hunt a plugin (rayverify_plugin.h) instead: its functions are called through a function pointer");
     add_isolation_options(sub, o->isolation);
+    CLI::Option* command = sub->add_option(
+        "--command", o->command,
+        "Hunt a program instead, in any language: run once with /bin/sh -c, it reads batches of cases on stdin and "
+        "answers each on stdout, in --format (docs/other-languages.md); it dying, hanging or answering garbage "
+        "is an input error naming it and the case (exit 2)");
+    sub->add_option("--contract", o->contract_spec, "With --command: the program's contract, e.g. query=line_roots")
+        ->needs(command);
+    sub->add_option("--name", o->name, "With --command: the name its finds are reported under")->needs(command);
+    sub->add_option("--format", o->format, "With --command: jsonl or csv")
+        ->check(CLI::IsMember({"jsonl", "csv"}))
+        ->needs(command)
+        ->capture_default_str();
+    sub->add_option("--command-timeout", o->command_timeout,
+                    "With --command: seconds the program may take over one batch before it is killed")
+        ->check(CLI::Range(0.001, 86400.0))
+        ->needs(command)
+        ->capture_default_str();
+    sub->add_option("--batch", o->batch,
+                    "Cases judged together (start cases, or candidates moved from the same case); default 1, and "
+                    "64 with --command")
+        ->check(CLI::Range(std::size_t{1}, std::size_t{1} << 20));
     sub->add_option("--precision", o->precision, "float or double")
         ->check(CLI::IsMember({"float", "double"}))
         ->capture_default_str();
     sub->add_option("--family", o->family, "Generator family the searches start from")->capture_default_str();
-    sub->add_option("--budget", o->budget, "Search time in seconds (0: no time limit)")->capture_default_str();
+    sub->add_option("--seconds", o->budget, "Search time in seconds (0: no time limit)")
+        ->check(finite_number(0, 1e9))
+        ->capture_default_str();
+    add_deprecated_alias(sub, "--budget", o->budget, "--seconds")->check(finite_number(0, 1e9));
     sub->add_option("--evaluations", o->evaluations,
-                    "Search evaluations (0: no limit); with --budget 0 the result is reproducible")
+                    "Search evaluations (0: no limit); with --seconds 0 the result is reproducible")
+        ->check(whole_number(0))
         ->capture_default_str();
-    sub->add_option("--objective", o->objective, "ulp or misclass")
-        ->check(CLI::IsMember({"ulp", "misclass"}))
+    sub->add_option("--objective", o->objective,
+                    "ulp (largest ULP error), scale_radius (largest |t - t*|·|d|/r, which does not explode as t* -> 0), "
+                    "scale_distance (largest |t - t*|·|d|/|o - c|) or misclass (disagreements)")
+        ->check(CLI::IsMember({"ulp", "scale_radius", "scale_distance", "misclass"}))
         ->capture_default_str();
+    sub->add_flag("--rounding-only", o->rounding_only,
+                  "misclass: keep only disagreements whose cause is rounding (not by design: clamp, contract "
+                  "semantics, unit direction, tangent threshold, line not ray)");
     sub->add_option("--strategy", o->strategy, "search, or random (plain sampling of the family: the baseline)")
         ->check(CLI::IsMember({"search", "random"}))
         ->capture_default_str();
-    sub->add_option("--seed", o->seed, "Seed of the start cases and of the search")->capture_default_str();
-    sub->add_option("--finds", o->finds, "misclass: stop after this many disagreements")->capture_default_str();
+    sub->add_option("--seed", o->seed, "Seed of the start cases and of the search")
+        ->check(whole_number(0))
+        ->capture_default_str();
+    sub->add_option("--finds", o->finds, "misclass: stop after this many disagreements")
+        ->check(whole_number(1, 1000000))
+        ->capture_default_str();
     sub->add_flag("--no-shrink", o->no_shrink, "Keep the finds as found");
     sub->add_option("--shard", o->shard,
                     "Be shard K of N independent hunts (K/N, auto or auto/N as for audit): start from the family's "

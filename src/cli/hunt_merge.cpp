@@ -135,7 +135,8 @@ int merge_hunts(const std::vector<std::string>& files, const std::string& output
                    p.at("evaluation").get<std::uint64_t>(), format_case_line(f.shrunk));
     }
     fmt::print("wrote {}\n", output);
-    const bool disagreement = merged.hunt.at("objective") == "misclass" && !merged.finds.empty();
+    bool disagreement = merged.hunt.at("objective") == "misclass" && !merged.finds.empty();
+    for (const json& run : merged.hunt.at("runs")) disagreement = disagreement || run.contains("first_disagreement");
     return disagreement ? exit_findings : exit_ok;
 }
 

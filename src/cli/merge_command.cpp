@@ -13,6 +13,7 @@
 #include <sstream>
 #include <thread>
 
+#include "cli/app.h"
 #include "cli/commands.h"
 #include "core/input_error.h"
 #include "corpus/case_stream.h"
@@ -90,6 +91,7 @@ json read_state_file(const fs::path& file, bool header_only) {
             throw input_error(file.string(), 0, "format",
                               fmt::format("'{}', this rayverify reads '{}'", state.at("format").dump(),
                                           shard_state_format));
+        check_shard_state(state, file.string(), header_only);  // every field, before any is used
         return state;
     } catch (const json::exception& e) {
         throw input_error(file.string(), 0, "", fmt::format("not a shard state: {}", e.what()));
@@ -285,18 +287,18 @@ int merge_audits(const merge_options& options) {
 
     const run_context context = spelled_as_in(shards.front().file());  // shard 1, whatever the order given
     audit_outputs outputs;
-    outputs.open_report(options.output);
-    if (!options.per_case_file.empty()) outputs.per_case.emplace(options.per_case_file);
+    for (const shard_input& s : shards) outputs.files.input(s.dir, "a shard directory");
+    outputs.open_report(options.output, "-o");
+    if (!options.per_case_file.empty()) outputs.per_case = &outputs.files.file(options.per_case_file, "--per-case");
     open_presentation(outputs, options.presentation);
-    if (outputs.per_case) interleave_per_case(shards, total, outputs.per_case->stream());
+    if (outputs.per_case != nullptr) interleave_per_case(shards, total, outputs.per_case->stream());
 
     const std::optional<json> report = audit_report_document(merged, context);
-    return publish_audit(merged.audit.finish(), report, options.output, outputs, options.plots,
-                         options.presentation);
+    return publish_audit(merged.audit.finish(), report, outputs, options.plots, options.presentation);
 }
 
 // Audit shards are directories; hunt outputs are files.
-int run(const merge_options& options) {
+int run(const merge_options& options, bool output_given_as_o) {
     std::size_t hunts = 0;
     for (const std::string& input : options.shards) {
         std::error_code error;
@@ -308,8 +310,11 @@ int run(const merge_options& options) {
     }
     if (hunts == 0) {
         if (options.keep_finds) throw input_error("", 0, "--finds", "only hunt outputs are merged by their finds");
+        if (options.output.empty()) throw input_error("", 0, "--report", "name the directory of the merged report");
+        if (output_given_as_o) note_deprecated("merge", "-o,--output DIR for audit shards", "--report DIR");
         return merge_audits(options);
     }
+    if (options.output.empty()) throw input_error("", 0, "-o", "name the merged corpus file");
     if (hunts != options.shards.size())
         throw input_error("", 0, "", "give either audit shards (directories) or hunt outputs (files), not both");
     if (!options.per_case_file.empty() || options.plots)
@@ -328,9 +333,10 @@ command add_merge_command(CLI::App& app) {
                  "output files of `rayverify hunt --shard K/N` into one, keeping the worst finds with their "
                  "provenance. The shards may have been run from other directories or installs. Exit 1 when the "
                  "merged audit has findings or the hunts a disagreement, 2 when the shards do not belong together.");
-    sub->add_option("-o,--output", options->output,
-                    "Directory for the merged report.json, summary.txt, report.md; for hunts, the merged file")
-        ->required();
+    sub->add_option("--report", options->output, "Audit shards: the directory for the merged report.json, "
+                                                 "summary.txt, report.md");
+    CLI::Option* o = sub->add_option("-o,--output", options->output,
+                    "Hunt outputs: the merged corpus file (for audit shards, a deprecated spelling of --report)");
     sub->add_option("--per-case", options->per_case_file,
                     "Also merge the shards' per-case files (each shard run with --per-case) into this file");
     sub->add_flag("--plots", options->plots, "Also draw the PNG plots, as `audit --plots`");
@@ -341,7 +347,7 @@ command add_merge_command(CLI::App& app) {
         ->check(CLI::Range(std::size_t{1}, std::size_t{1000000}));
     sub->add_option("shards", options->shards, "The shards' report directories, or the hunts' output files")
         ->required();
-    return {sub, [options] { return run(*options); }};
+    return {sub, [options, o] { return run(*options, o->count() > 0); }};
 }
 
 }  // namespace rayverify::cli

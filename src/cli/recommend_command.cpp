@@ -70,7 +70,6 @@ void print_kind(const bench::kind_recommendation& k, const bench::recommend_budg
 int run(const recommend_options& options) {
     const scene s = read_scene(options.scene_file);
     const bench::recommend_budget budget = bench::parse_budget(options.budget);
-    if (options.repetitions < 1) throw input_error("", 0, "--repetitions", "must be at least 1");
 
     std::vector<variant> variants;
     for (const std::string& name : options.variants) {
@@ -116,8 +115,12 @@ command add_recommend_command(CLI::App& app) {
     sub->add_option("--plugin", options->plugins, "Also a plugin (rayverify_plugin.h), timed through its function");
     // Isolated, a plugin's time includes the round trip to its process.
     add_isolation_options(sub, options->isolation);
-    sub->add_option("--repetitions", options->repetitions, "Timing repetitions per variant")->capture_default_str();
-    sub->add_option("--min-time", options->min_time, "Seconds per repetition")->capture_default_str();
+    sub->add_option("--repetitions", options->repetitions, "Timing repetitions per variant")
+        ->check(whole_number(1, 1000))
+        ->capture_default_str();
+    sub->add_option("--min-time", options->min_time, "Seconds per repetition")
+        ->check(finite_number(0, 3600, true))
+        ->capture_default_str();
     return {sub, [options] { return run(*options); }};
 }
 

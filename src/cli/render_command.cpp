@@ -8,7 +8,6 @@
 
 #include "cli/commands.h"
 #include "core/input_error.h"
-#include "report/atomic_file.h"
 #include "report/png_image.h"
 #include "scene/scene.h"
 #include "scene/scene_audit.h"
@@ -80,34 +79,30 @@ int run(const render_options& options) {
     if (auto why = not_applicable_reason(s, target))
         throw input_error(options.scene_file, 0, "--variant", target.label() + " is not applicable: " + *why);
 
-    // Every image is encoded row by row as the rays are judged (rays and
-    // pixels are streamed: memory does not grow with the resolution), each
-    // written atomically; the legend last.
+    // The outputs, declared before the work: the directory (locked), the
+    // images and the legend; they appear together, or none does. Each image
+    // is encoded row by row as the rays are judged (rays and pixels are
+    // streamed: memory does not grow with the resolution).
     const std::filesystem::path dir(options.out_dir);
-    std::error_code error;
-    std::filesystem::create_directories(dir, error);
-    if (error) throw input_error(options.out_dir, 0, "-o", "cannot create directory: " + error.message());
+    run_outputs outputs;
+    declare_inputs(outputs, {options.scene_file}, "--scene");
+    declare_inputs(outputs, {options.plugins.begin(), options.plugins.end()}, "--plugin");
+    outputs.directory(dir, "-o");
     std::vector<std::string> files;
-    std::vector<std::unique_ptr<atomic_file>> outputs;
     std::vector<std::unique_ptr<png_writer>> images;
     for (scene_picture picture : scene_pictures_of(s)) {
         files.push_back(picture_file_name(picture));
-        outputs.push_back(std::make_unique<atomic_file>(dir / files.back()));
-        images.push_back(std::make_unique<png_writer>(outputs.back()->stream(), (dir / files.back()).string(),
-                                                      s.camera.width, s.camera.height));
+        images.push_back(std::make_unique<png_writer>(outputs.file(dir / files.back(), "-o").stream(),
+                                                      (dir / files.back()).string(), s.camera.width, s.camera.height));
     }
+    output_file& legend = outputs.file(dir / "legend.md", "-o");
     scene_picture_builder builder(s, 0, [&](int, std::span<const std::vector<std::uint8_t>> rows) {
         for (std::size_t i = 0; i < images.size(); ++i) images[i]->write_row(rows[i]);
     });
     const scene_audit_result result = audit_scene(s, targets, [&](const judged_ray& r) { builder.add(r); });
     const scene_picture_counts pictures = builder.finish();
-    for (std::size_t i = 0; i < images.size(); ++i) {
-        images[i]->finish();
-        outputs[i]->commit();
-    }
-    atomic_file legend(dir / "legend.md");
+    for (const auto& image : images) image->finish();
     legend.stream() << legend_text(s, target, pictures, files);
-    legend.commit();
 
     fmt::print("render: {} by {} → {}\n", s.name, target.label(), dir.string());
     for (const std::string& f : files) fmt::print("  {}\n", (dir / f).string());
@@ -116,6 +111,8 @@ int run(const render_options& options) {
     std::size_t rays = 0;
     for (const exact_kind_figures& kind : result.exact) rays += kind.rays;
     fmt::print("{} of {} rays disagree with the exact answer\n", disagreements, rays);
+    check_standard_output();
+    outputs.commit();
     return disagreements > 0 ? exit_findings : exit_ok;
 }
 

@@ -1,14 +1,8 @@
-// Options that choose how an audit's results are shown, shared by audit and merge.
+// Options shared by several commands: how an audit's results are shown (audit and merge), the figure
+// tolerance (gate and diff).
 #include "cli/commands.h"
-#include "core/input_error.h"
 
 namespace rayverify::cli {
-
-void refuse_directory(const std::filesystem::path& path, const char* option) {
-    std::error_code error;
-    if (!path.empty() && std::filesystem::is_directory(path, error))
-        throw input_error(path.string(), 0, option, "is a directory, expected a file to write");
-}
 
 void add_presentation_options(CLI::App* sub, audit_presentation& presentation) {
     sub->add_flag("--summary", presentation.summary,
@@ -21,8 +15,15 @@ void add_presentation_options(CLI::App* sub, audit_presentation& presentation) {
 
 void open_presentation(audit_outputs& outputs, const audit_presentation& presentation) {
     if (presentation.summary_md.empty()) return;
-    refuse_directory(presentation.summary_md, "--summary-md");
-    outputs.summary_md.emplace(presentation.summary_md);
+    outputs.summary_md = &outputs.files.file(presentation.summary_md, "--summary-md");
+}
+
+void add_tolerance_option(CLI::App* sub, double& tolerance) {
+    sub->add_option("--tolerance", tolerance,
+                    "Relative difference below which two ULP figures are the same (last-digit noise); counts are "
+                    "compared exactly")
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 0.5));
 }
 
 }  // namespace rayverify::cli

@@ -6,8 +6,8 @@
 
 #include "cli/commands.h"
 #include "core/input_error.h"
-#include "report/atomic_file.h"
 #include "report/audit_report.h"
+#include "report/schema.h"
 #include "scene/scene.h"
 #include "scene/scene_audit.h"
 
@@ -138,7 +138,8 @@ nlohmann::ordered_json scene_report_json(const scene& s, const scene_audit_resul
         const exact_kind_figures& e = result.exact[static_cast<std::size_t>(kind)];
         exact[ray_kind_name(kind)] = {{"rays", e.rays}, {"hits", e.hits}, {"lost_to_tmin", e.lost_to_tmin}};
     }
-    return {{"format", "rayverify-scene-audit-1"},
+    return {{"schema_version", schema_version::scene_report},
+            {"format", "rayverify-scene-audit-1"},
             {"build", build_json()},
             {"command", command},
             {"scene", {{"name", s.name}, {"file", s.file.string()}, {"comment", s.comment},
@@ -169,13 +170,23 @@ int run_scene_audit(const scene_audit_request& request) {
     if (!request.precisions.empty())
         throw input_error("", 0, "--precision", "a scene fixes its precision (its \"precision\" field); drop --precision");
     const scene s = read_scene(request.scene_file);
-    const std::vector<audit_target> targets = scene_audit_targets(s, request.variants, request.plugins, request.isolation);
+    const std::optional<audit_target> results = results_target(request.results, [&](answer_matcher& matcher) {
+        const std::vector<corpus_case> cases = scene_cases(s);
+        for (const corpus_case& c : cases) matcher.add(c);
+        return fingerprint_of(cases);
+    });
+    std::vector<audit_target> targets;
+    if (!results || !request.variants.empty() || !request.plugins.empty())
+        targets = scene_audit_targets(s, request.variants, request.plugins, request.isolation);
+    if (results) targets.push_back(*results);
 
-    audit_outputs::created_directory created;  // removed again if the audit fails
-    std::optional<atomic_file> report;
+    run_outputs outputs;  // declared before the work; committed after it
+    declare_inputs(outputs, {request.scene_file}, "--scene");
+    declare_inputs(outputs, {request.plugins.begin(), request.plugins.end()}, "--plugin");
+    output_file* report = nullptr;
     if (!request.report_dir.empty()) {
-        created.create(request.report_dir);
-        report.emplace(std::filesystem::path(request.report_dir) / "scene_report.json");
+        outputs.directory(request.report_dir, "--report");
+        report = &outputs.file(std::filesystem::path(request.report_dir) / "scene_report.json", "--report");
     }
 
     const scene_audit_result result = audit_scene(s, targets);  // the rays streamed
@@ -189,12 +200,12 @@ int run_scene_audit(const scene_audit_request& request) {
     text += render_scene_tables(s, result);
     fmt::print("{}", text);
     fmt::print("build: {}\n", build_summary());
-    if (report) {
+    if (report != nullptr) {
         report->stream() << scene_report_json(s, result, recorded_command(request.command_line)).dump(2) << '\n';
-        report->commit();
-        created.keep = true;
         fmt::print("report: {}\n", (std::filesystem::path(request.report_dir) / "scene_report.json").string());
     }
+    check_standard_output();
+    outputs.commit();
     bool findings = false;
     for (const scene_target_figures& t : result.targets) findings = findings || (!t.not_applicable && t.disagreements() > 0);
     return findings ? exit_findings : exit_ok;

@@ -56,7 +56,7 @@ void add_isolation_options(CLI::App* sub, plugin_isolation& isolation) {
     sub->add_option("--plugin-timeout", isolation.timeout_seconds,
                     "With --isolate: seconds a plugin may take over one call (or over loading) before it is killed "
                     "and the case named")
-        ->check(CLI::Range(0.001, 86400.0))
+        ->check(finite_number(0.001, 86400))
         ->needs(isolate)
         ->capture_default_str();
 }

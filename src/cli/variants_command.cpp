@@ -1,8 +1,13 @@
 #include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <string>
+#include <vector>
 
 #include "cli/commands.h"
 #include "intersectors/registry.h"
 #include "report/audit_report.h"
+#include "report/schema.h"
 
 namespace rayverify::cli {
 
@@ -11,15 +16,25 @@ command add_variants_command(CLI::App& app) {
     auto as_json = std::make_shared<bool>(false);
     sub->add_flag("--json", *as_json, "Print the registry as JSON");
     return {sub, [as_json] {
+                const auto precisions = [](const variant& v) {
+                    std::vector<std::string> out;
+                    for (precision p : {precision::binary32, precision::binary64})
+                        if (v.runs_in(p)) out.emplace_back(precision_name(p));
+                    return out;
+                };
                 if (*as_json) {
                     nlohmann::ordered_json all = nlohmann::ordered_json::array();
-                    for (const variant& v : builtin_variants())
+                    for (const variant& v : builtin_variants()) {
                         all.push_back({{"name", v.name},
                                        {"citation", v.citation},
                                        {"formula", v.formula},
                                        {"contract", contract_json(v.promises)},
-                                       {"precisions", {"float", "double"}}});
-                    fmt::print("{}\n", all.dump(2));
+                                       {"precisions", precisions(v)}});
+                        if (!v.build.empty()) all.back()["build"] = v.build;
+                    }
+                    const nlohmann::ordered_json document = {{"schema_version", schema_version::variants},
+                                                             {"variants", all}};
+                    fmt::print("{}\n", document.dump(2));
                     return exit_ok;
                 }
                 for (const variant& v : builtin_variants()) {
@@ -28,7 +43,9 @@ command add_variants_command(CLI::App& app) {
                     fmt::print("  answers:   {}\n", describe_contract(c));
                     fmt::print("  contract:  {}\n", format_contract(c));
                     if (c.reports_tangent) fmt::print("  tangent:   {}\n", c.tangent_rule);
-                    fmt::print("  precision: float, double\n\n");
+                    fmt::print("  precision: {}\n", fmt::join(precisions(v), ", "));
+                    if (!v.build.empty()) fmt::print("  build:     {}\n", v.build);
+                    fmt::print("\n");
                 }
                 return exit_ok;
             }};

@@ -21,7 +21,8 @@ std::vector<audit_target> targets_for(std::span<const variant> variants) {
     return targets;
 }
 
-audited_case audit_case(const corpus_case& c, std::span<const audit_target> targets) {
+audited_case audit_case(const corpus_case& c, std::span<const audit_target> targets,
+                        std::span<const given_answer> given) {
     const case_in_progress announced(c);  // named by a plugin that crashes or hangs on it
     audited_case result;
     result.source = &c;
@@ -30,11 +31,51 @@ audited_case audit_case(const corpus_case& c, std::span<const audit_target> targ
                     [](const audit_target& t) { return t.prec == precision::binary32; }))
         result.exact_float = solve_case(c, precision::binary32);
     result.outcomes.reserve(targets.size());
-    for (const audit_target& target : targets) {
-        const exact_solution& exact = result.exact_for(target.prec);
-        result.outcomes.push_back(judge_target(target, c, exact));
+    for (std::size_t t = 0; t < targets.size(); ++t) {
+        const exact_solution& exact = result.exact_for(targets[t].prec);
+        result.outcomes.push_back(given.empty() ? judge_target(targets[t], c, exact)
+                                                : judge_target(targets[t], c, exact, given[t]));
     }
     return result;
+}
+
+namespace {
+
+template <class T>
+void batch_answers_in(std::span<const corpus_case> cases, const audit_target& target, std::size_t t,
+                      const std::function<void(std::span<const batch_case<T>>, std::span<answer<T>>)>& batch,
+                      std::vector<std::vector<given_answer>>& out) {
+    std::vector<batch_case<T>> inputs;
+    std::vector<std::size_t> which;
+    for (std::size_t i = 0; i < cases.size(); ++i)
+        if (std::optional<batch_case<T>> in = run_input<T>(target, cases[i])) {
+            inputs.push_back(*in);
+            which.push_back(i);
+        }
+    if (inputs.empty()) return;
+    std::vector<answer<T>> answers(inputs.size());
+    const case_in_progress announced(cases[which.front()]);  // named by a plugin that fails on the batch
+    batch(inputs, answers);
+    for (std::size_t k = 0; k < which.size(); ++k) out[which[k]][t] = answers[k];
+}
+
+}  // namespace
+
+std::vector<std::vector<given_answer>> batch_answers(std::span<const corpus_case> cases,
+                                                     std::span<const audit_target> targets) {
+    std::vector<std::vector<given_answer>> out;
+    for (std::size_t t = 0; t < targets.size(); ++t) {
+        const variant& v = targets[t].subject;
+        const bool batched = targets[t].prec == precision::binary32 ? static_cast<bool>(v.batch_float)
+                                                                     : static_cast<bool>(v.batch_double);
+        if (!batched) continue;
+        if (out.empty()) out.assign(cases.size(), std::vector<given_answer>(targets.size()));
+        if (targets[t].prec == precision::binary32)
+            batch_answers_in<float>(cases, targets[t], t, v.batch_float, out);
+        else
+            batch_answers_in<double>(cases, targets[t], t, v.batch_double, out);
+    }
+    return out;
 }
 
 std::size_t target_tally::disagreements() const {
@@ -146,6 +187,10 @@ void target_samples::merge(const target_samples& other) {
     far_ulp.merge(other.far_ulp);
     hit_ulp.merge(other.hit_ulp);
     near_bits.merge(other.near_bits);
+    scale_radius.merge(other.scale_radius);
+    scale_distance.merge(other.scale_distance);
+    bound_ulp.merge(other.bound_ulp);
+    normal_angle.merge(other.normal_angle);
 }
 
 std::string family_key(const corpus_case& c) { return c.family.empty() ? "-" : c.family; }
@@ -185,6 +230,10 @@ void audit_accumulator::add(const audited_case& c, std::size_t index) {
                 const auto& e = *score.hit_point_ulp;
                 s->hit_ulp.add(std::max({e[0], e[1], e[2]}), index, id);
             }
+            if (score.scale_error_radius) s->scale_radius.add(*score.scale_error_radius, index, id);
+            if (score.scale_error_distance) s->scale_distance.add(*score.scale_error_distance, index, id);
+            if (score.bound_ulp) s->bound_ulp.add(*score.bound_ulp, index, id);
+            if (score.normal_angle) s->normal_angle.add(*score.normal_angle, index, id);
         }
     }
 }
@@ -212,6 +261,10 @@ target_tally summarise(const target_samples& s) {
     tally.far_root_ulp = s.far_ulp.statistics();
     tally.hit_point_ulp = s.hit_ulp.statistics();
     tally.near_root_bits = s.near_bits.statistics();
+    tally.scale_error_radius = s.scale_radius.statistics();
+    tally.scale_error_distance = s.scale_distance.statistics();
+    tally.bound_width_ulp = s.bound_ulp.statistics();
+    tally.normal_angle = s.normal_angle.statistics();
     return tally;
 }
 
@@ -245,6 +298,7 @@ audit_accumulator audit_stream(const case_source& next, const std::vector<audit_
     std::vector<corpus_case> cases;
     std::vector<std::size_t> indices;
     std::vector<audited_case> audited;
+    std::vector<std::vector<given_answer>> ahead;  // batch calls' answers for the chunk (plugins of ABI v2)
     // Workers take small runs of the chunk's cases from a shared counter:
     // which worker audits a case changes nothing, since accumulators merge
     // exactly. Without an ordered hook each worker keeps its own audited case,
@@ -257,7 +311,7 @@ audit_accumulator audit_stream(const case_source& next, const std::vector<audit_
         for (std::size_t begin; (begin = claimed.fetch_add(grain)) < cases.size();)
             for (std::size_t i = begin; i < std::min(begin + grain, cases.size()); ++i) {
                 audited_case& c = hooks.ordered ? audited[i] : own;
-                c = audit_case(cases[i], targets);
+                c = ahead.empty() ? audit_case(cases[i], targets) : audit_case(cases[i], targets, ahead[i]);
                 accumulators[worker].add(c, indices[i]);
                 if (hooks.parallel) hooks.parallel(c, indices[i], i, worker);
             }
@@ -289,6 +343,12 @@ audit_accumulator audit_stream(const case_source& next, const std::vector<audit_
             if (cases.empty()) continue;
             audited.resize(hooks.ordered ? cases.size() : 0);
             claimed = 0;
+            try {
+                ahead = batch_answers(cases, targets);  // before the helpers start on the chunk
+            } catch (...) {
+                failure = std::current_exception();
+                break;
+            }
             if (threads > 1) chunk_sync.arrive_and_wait();
             try {
                 work(0);

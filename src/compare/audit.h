@@ -34,7 +34,17 @@ struct audited_case {
     }
 };
 
-audited_case audit_case(const corpus_case& c, std::span<const audit_target> targets);
+// `given`: empty, or one entry per target (an answer computed ahead by a
+// batch call, or monostate).
+audited_case audit_case(const corpus_case& c, std::span<const audit_target> targets,
+                        std::span<const given_answer> given = {});
+
+// The answers of the targets that have a batch function (variant::batch_*)
+// on `cases`, each target called once for all the cases it runs on:
+// result[i][t] for case i and target t (monostate where a target has no batch
+// function or does not run the case). Empty when no target has one.
+std::vector<std::vector<given_answer>> batch_answers(std::span<const corpus_case> cases,
+                                                     std::span<const audit_target> targets);
 
 // The figures of a set of errors: count, exact maximum and the case attaining
 // it, and the p99 and median as upper bounds (see error_summary).
@@ -101,6 +111,9 @@ struct target_samples {
     std::array<std::size_t, verdict_kind_count> verdicts{};
     std::array<std::size_t, disagreement_cause_count> causes{};  // of the disagreements
     error_summary near_ulp, far_ulp, hit_ulp, near_bits;
+    // Beside ULPs (case_score): the error in the scene's length scale, and
+    // the outputs some engines give beside t.
+    error_summary scale_radius, scale_distance, bound_ulp, normal_angle;
     void merge(const target_samples& other);
 };
 
@@ -111,6 +124,8 @@ struct target_tally {
     std::array<std::size_t, disagreement_cause_count> causes{};  // of the disagreements
     // Errors over the cases whose verdict is agree (disagreements are counted above).
     error_statistics near_root_ulp, far_root_ulp, hit_point_ulp, near_root_bits;
+    // |t − t*|·|d| over r and over |o − c|; t-interval width in ULPs; normal angle in radians.
+    error_statistics scale_error_radius, scale_error_distance, bound_width_ulp, normal_angle;
     std::size_t disagreements() const;
     std::size_t by_design() const;  // disagreements with a by-design cause
 };

@@ -37,20 +37,6 @@ constexpr std::string_view format_line = "rayverify-baseline 1";
 
 std::string variant_of(const std::string& target) { return target.substr(0, target.find('/')); }
 
-// Text of the file repeated in a message: bytes that are not printable ASCII
-// shown as \xNN, so that binary garbage gives a one-line message.
-std::string printable(std::string_view text) {
-    std::string out;
-    for (const char c : text) {
-        const auto byte = static_cast<unsigned char>(c);
-        if (byte < 0x20 || byte >= 0x7f)
-            out += fmt::format("\\x{:02X}", byte);
-        else
-            out += c;
-    }
-    return out;
-}
-
 std::string quoted(std::string_view token) { return "'" + printable(token) + "'"; }
 
 std::string number_text(double x) {
@@ -165,14 +151,35 @@ baseline parse_baseline(const std::string& file, std::string_view text) {
             b.format_comments = std::exchange(pending, {});
             continue;
         }
+        // A count (of cases, of disagreements, count_slack) is a whole number: inf would pass any count.
+        const auto count = [&](const std::string& token, const std::string& field, const std::string& what) {
+            const double value = number(token, field);
+            if (!std::isfinite(value) || value != std::floor(value) || value > 0x1p53)
+                throw error(field, fmt::format("{} is a whole number of cases, got {}", what, quoted(token)));
+            return value;
+        };
+        // A target's precision, when the text names a target ("naive/float").
+        const auto check_precision = [&](const std::string& target, const std::string& field) {
+            const std::string precision = target.substr(target.find('/') + 1);
+            if (precision != "float" && precision != "double")
+                throw error(field, fmt::format("{}: unknown precision {} (float or double)", quoted(target),
+                                               quoted(precision)));
+        };
         if (words[0] == "policy") {
             if (words.size() != 4) throw error("policy", "expected 'policy SCOPE ulp_slack|count_slack VALUE'");
             if (words[2] != "ulp_slack" && words[2] != "count_slack")
                 throw error("policy",
                             fmt::format("unknown policy key {} (ulp_slack or count_slack)", quoted(words[2])));
-            const double value = number(words[3], "value");
+            if (words[1].find('/') != std::string::npos) check_precision(words[1], "policy");
+            const double value =
+                words[2] == "count_slack" ? count(words[3], "value", "count_slack") : number(words[3], "value");
             if (words[2] == "ulp_slack" && !(value >= 1 && std::isfinite(value)))
                 throw error("value", "ulp_slack is a factor ≥ 1");
+            for (const policy_line& p : b.policies)
+                if (p.scope == words[1] && p.key == words[2])
+                    throw error("policy", fmt::format("duplicate policy line for {} {} (the gate would use one of "
+                                                      "them silently)",
+                                                      printable(words[1]), words[2]));
             b.policies.push_back({words[1], words[2], value, std::exchange(pending, {})});
             continue;
         }
@@ -180,9 +187,11 @@ baseline parse_baseline(const std::string& file, std::string_view text) {
                                                                 words.size()));
         if (words[0].find('/') == std::string::npos)
             throw error("target", fmt::format("{} is not a target like naive/float", quoted(words[0])));
+        check_precision(words[0], "target");
         if (figure_index(words[2]) == figure_list().size())
             throw error("figure", fmt::format("unknown figure {}", quoted(words[2])));
-        const double value = number(words[3], "value");
+        const double value =
+            is_ulp_figure(words[2]) ? number(words[3], "value") : count(words[3], "value", words[2]);
         figure_key key{words[0], words[1], words[2]};
         if (!b.figures.emplace(key, value).second)
             throw error("entry", fmt::format("duplicate entry for {}", printable(key.text())));
@@ -257,9 +266,13 @@ bool gate_result::passed() const {
 
 namespace {
 
-// One figure against its baseline value under a policy; nullopt when equal.
-std::optional<figure_change> judge(const figure_key& key, double before, double after, const gate_policy& policy) {
+// One figure against its baseline value under a policy; nullopt when equal
+// (for a ULP figure: within `tolerance` of it, relative to the larger).
+std::optional<figure_change> judge(const figure_key& key, double before, double after, const gate_policy& policy,
+                                   double tolerance) {
     if (before == after) return std::nullopt;
+    if (is_ulp_figure(key.figure) && std::abs(after - before) <= tolerance * std::max(std::abs(before), std::abs(after)))
+        return std::nullopt;
     figure_change change{key, before, after, change_kind::better, 0};
     if (after < before) return change;
     change.limit = is_ulp_figure(key.figure) ? before * policy.ulp_slack : before + policy.count_slack;
@@ -269,7 +282,7 @@ std::optional<figure_change> judge(const figure_key& key, double before, double 
 
 template <class PolicyOf>
 gate_result compare(const figure_table& before, const figure_table& after, const PolicyOf& policy_of,
-                    bool notes_for_unrun) {
+                    bool notes_for_unrun, double tolerance) {
     gate_result result;
     std::set<std::string> targets_run, targets_known;
     for (const auto& entry : after) targets_run.insert(entry.first.target);
@@ -306,7 +319,8 @@ gate_result compare(const figure_table& before, const figure_table& after, const
             continue;
         }
         ++result.compared;
-        if (auto change = judge(key, old->second, value, policy_of(key.target))) result.changes.push_back(*change);
+        if (auto change = judge(key, old->second, value, policy_of(key.target), tolerance))
+            result.changes.push_back(*change);
     }
     // A baseline figure with no current value: its error statistics have no sample any more.
     std::set<std::pair<std::string, std::string>> missing_families;
@@ -332,12 +346,14 @@ gate_result compare(const figure_table& before, const figure_table& after, const
 
 }  // namespace
 
-gate_result compare_to_baseline(const baseline& base, const figure_table& current) {
-    return compare(base.figures, current, [&](const std::string& target) { return base.policy_for(target); }, true);
+gate_result compare_to_baseline(const baseline& base, const figure_table& current, double tolerance) {
+    return compare(
+        base.figures, current, [&](const std::string& target) { return base.policy_for(target); }, true, tolerance);
 }
 
-gate_result compare_figures(const figure_table& before, const figure_table& after, const gate_policy& policy) {
-    return compare(before, after, [&](const std::string&) { return policy; }, false);
+gate_result compare_figures(const figure_table& before, const figure_table& after, const gate_policy& policy,
+                            double tolerance) {
+    return compare(before, after, [&](const std::string&) { return policy; }, false, tolerance);
 }
 
 void gate_examples::add(const audited_case& c, const std::vector<audit_target>& targets) {
@@ -376,12 +392,12 @@ std::vector<const corpus_case*> gate_examples::cases_for(const figure_key& key, 
 }
 
 gate_run run_gate(std::span<const corpus_case> cases, const std::vector<audit_target>& targets,
-                  const baseline& base, std::size_t examples_per_figure, unsigned threads) {
+                  const baseline& base, std::size_t examples_per_figure, unsigned threads, double tolerance) {
     gate_run run;
     run.examples = gate_examples(examples_per_figure);
     run.totals = run_audit(cases, targets, [&](const audited_case& c) { run.examples.add(c, targets); }, {}, threads);
     run.current = figures_of(run.totals);
-    run.result = compare_to_baseline(base, run.current);
+    run.result = compare_to_baseline(base, run.current, tolerance);
     return run;
 }
 

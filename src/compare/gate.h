@@ -114,11 +114,17 @@ struct gate_result {
 // compared (the corpus grew or shrank: a note, since its families still are);
 // targets and families without a baseline are new (a note); baseline entries
 // for targets not run are ignored. Nothing compared at all is a failure.
-gate_result compare_to_baseline(const baseline& base, const figure_table& current);
+// ULP figures are decimal approximations of exact errors: two that differ by
+// at most `tolerance` relative to the larger are the same figure (last-digit
+// noise); counts are compared exactly.
+inline constexpr double default_figure_tolerance = 1e-9;
+gate_result compare_to_baseline(const baseline& base, const figure_table& current,
+                                double tolerance = default_figure_tolerance);
 
 // Every difference between two figure tables, judged with one policy
 // (`rayverify diff`: before = A, after = B).
-gate_result compare_figures(const figure_table& before, const figure_table& after, const gate_policy& policy);
+gate_result compare_figures(const figure_table& before, const figure_table& after, const gate_policy& policy,
+                            double tolerance = default_figure_tolerance);
 
 // The first cases of each (target, family, verdict) and the case attaining
 // each ULP maximum, so that a failing figure can be shown as corpus lines.
@@ -144,6 +150,7 @@ struct gate_run {
     gate_examples examples{0};
 };
 gate_run run_gate(std::span<const corpus_case> cases, const std::vector<audit_target>& targets,
-                  const baseline& base, std::size_t examples_per_figure, unsigned threads = 1);
+                  const baseline& base, std::size_t examples_per_figure, unsigned threads = 1,
+                  double tolerance = default_figure_tolerance);
 
 }  // namespace rayverify

@@ -7,13 +7,35 @@
 #include <cmath>
 #include <limits>
 #include <type_traits>
+#include <utility>
 
 #include "core/case_in_progress.h"
 #include "core/float_bits.h"
 
 namespace rayverify {
 
-const char* hunt_objective_name(hunt_objective o) { return o == hunt_objective::ulp ? "ulp" : "misclass"; }
+namespace {
+
+constexpr std::pair<hunt_objective, const char*> objective_names[] = {{hunt_objective::ulp, "ulp"},
+                                                                      {hunt_objective::misclass, "misclass"},
+                                                                      {hunt_objective::scale_radius, "scale_radius"},
+                                                                      {hunt_objective::scale_distance, "scale_distance"}};
+
+}  // namespace
+
+const char* hunt_objective_name(hunt_objective o) {
+    for (const auto& [objective, name] : objective_names)
+        if (objective == o) return name;
+    return "?";
+}
+
+std::optional<hunt_objective> hunt_objective_from_name(std::string_view name) {
+    for (const auto& [objective, n] : objective_names)
+        if (n == name) return objective;
+    return std::nullopt;
+}
+
+bool maximises_error(hunt_objective o) { return o != hunt_objective::misclass; }
 const char* hunt_strategy_name(hunt_strategy s) { return s == hunt_strategy::search ? "search" : "random"; }
 
 namespace {
@@ -127,10 +149,15 @@ struct fitness {
     }
 };
 
-fitness fitness_of(hunt_objective objective, const hunt_evaluation& e, const ray_sphere<double>& g) {
+// A disagreement the hunt keeps: any, or with rounding_only one whose cause is rounding.
+bool kept_disagreement(const hunt_evaluation& e, bool rounding_only) {
+    return is_disagreement(e.verdict) && !(rounding_only && e.cause && is_by_design(*e.cause));
+}
+
+fitness fitness_of(const hunt_options& options, const hunt_evaluation& e, const ray_sphere<double>& g) {
     if (e.verdict == verdict_kind::invalid || e.verdict == verdict_kind::contract_violation) return {-1, 0};
-    if (objective == hunt_objective::misclass) {
-        if (is_disagreement(e.verdict)) return {1, 0};
+    if (options.objective == hunt_objective::misclass) {
+        if (kept_disagreement(e, options.rounding_only)) return {1, 0};
         const long double gap = tangency_gap(g);
         return {0, gap > 0 ? 1 / gap : std::numeric_limits<long double>::max()};
     }
@@ -140,44 +167,65 @@ fitness fitness_of(hunt_objective objective, const hunt_evaluation& e, const ray
 
 // Does `e` fail the way `original` did? Same disagreement kind; for an ULP find,
 // an agreeing answer with at least half the error.
-bool same_failure(hunt_objective objective, const hunt_evaluation& original, const hunt_evaluation& e) {
-    if (objective == hunt_objective::misclass) return e.verdict == original.verdict;
+bool same_failure(const hunt_options& options, const hunt_evaluation& original, const hunt_evaluation& e) {
+    if (options.objective == hunt_objective::misclass)
+        return e.verdict == original.verdict && kept_disagreement(e, options.rounding_only);
     return e.verdict == verdict_kind::agree && e.error >= original.error / 2 && e.error > 0;
 }
 
 class hunter {
 public:
-    hunter(const audit_target& target, const hunt_start& start, const hunt_options& options)
-        : target_(target), start_(start), options_(options), random_(options.seed),
+    hunter(const audit_target& target, const hunt_start& start, const hunt_options& options, const hunt_judge& judge)
+        : target_(target), start_(start), options_(options), judge_(judge), random_(options.seed),
           began_(std::chrono::steady_clock::now()) {}
 
     hunt_result run() {
         best_.reset();
         while (!exhausted()) {
+            if (options_.strategy == hunt_strategy::random) {
+                // A batch of fresh start cases.
+                std::vector<ray_sphere<double>> starts(batch_size());
+                const std::uint64_t first = result_.starts;
+                for (auto& g : starts) g = rounded_in(target_.prec, start_(result_.starts++));
+                const std::vector<hunt_evaluation> evals = judge_batch(starts, "evaluation", result_.evaluations, first);
+                for (std::size_t k = 0; k < starts.size() && !done(); ++k) {
+                    count_evaluation();
+                    start_index_ = first + k;
+                    note(starts[k], evals[k], fitness_of(options_, evals[k], starts[k]), start_index_);
+                }
+                continue;
+            }
             const std::uint64_t index = result_.starts++;
             start_index_ = index;
             ray_sphere<double> current = rounded_in(target_.prec, start_(index));
-            hunt_evaluation current_eval = judge(current);
-            fitness current_fit = fitness_of(options_.objective, current_eval, current);
+            hunt_evaluation current_eval = judge_batch({current}, "evaluation", result_.evaluations, index).front();
+            count_evaluation();
+            fitness current_fit = fitness_of(options_, current_eval, current);
             note(current, current_eval, current_fit, index);
-            if (options_.strategy == hunt_strategy::random || done()) continue;
+            if (done()) continue;
 
             std::uint64_t stale = 0;
             while (!exhausted() && !done() && stale < options_.patience && current_fit.tier < 1) {
-                const ray_sphere<double> candidate = mutate(current);
-                const hunt_evaluation candidate_eval = judge(candidate);
-                const fitness candidate_fit = fitness_of(options_.objective, candidate_eval, candidate);
-                note(candidate, candidate_eval, candidate_fit, index);
-                stale = candidate_fit > current_fit ? 0 : stale + 1;
-                if (candidate_fit >= current_fit) {
-                    current = candidate;
-                    current_eval = candidate_eval;
-                    current_fit = candidate_fit;
+                // Candidates all moved from the current case, then taken in order as if one at a time.
+                std::vector<ray_sphere<double>> candidates(batch_size());
+                for (auto& g : candidates) g = mutate(current);
+                const std::vector<hunt_evaluation> evals =
+                    judge_batch(candidates, "evaluation", result_.evaluations, index);
+                for (std::size_t k = 0; k < candidates.size() && !done(); ++k) {
+                    count_evaluation();
+                    const fitness candidate_fit = fitness_of(options_, evals[k], candidates[k]);
+                    note(candidates[k], evals[k], candidate_fit, index);
+                    stale = candidate_fit > current_fit ? 0 : stale + 1;
+                    if (candidate_fit >= current_fit) {
+                        current = candidates[k];
+                        current_eval = evals[k];
+                        current_fit = candidate_fit;
+                    }
                 }
             }
         }
         result_.seconds = elapsed();
-        if (options_.objective == hunt_objective::ulp && best_) result_.finds.push_back(*best_);
+        if (maximises_error(options_.objective) && best_) result_.finds.push_back(*best_);
         if (options_.shrink)
             for (hunt_find& f : result_.finds) shrink(f);
         return result_;
@@ -196,21 +244,39 @@ private:
         return options_.objective == hunt_objective::misclass && result_.finds.size() >= options_.max_finds;
     }
 
-    hunt_evaluation judge(const ray_sphere<double>& g) {
+    // Counts one evaluation; every 512th, the progress so far goes to the caller.
+    void count_evaluation() {
         ++result_.evaluations;
-        return announced_and_judged(g, "evaluation", result_.evaluations, start_index_);
+        if (options_.on_progress && result_.evaluations % 512 == 0)
+            options_.on_progress({result_.evaluations, elapsed(), result_.finds.size(),
+                                  best_ ? best_->found_eval.error : 0.0});
     }
 
-    // A plugin that crashes or hangs names the case it was given
-    // (core/case_in_progress.h): the evaluation, and the start case it came from.
-    hunt_evaluation announced_and_judged(const ray_sphere<double>& g, const char* stage, std::uint64_t n,
-                                         std::uint64_t start) const {
-        corpus_case c;
-        c.id = std::string("hunt-") + stage + "-" + std::to_string(n);
-        c.geometry = g;
-        c.source = "hunt, searching from start case " + std::to_string(start);
-        const case_in_progress announced(c);
-        return evaluate_for_hunt(target_, g);
+    // The cases a batch may hold: the batch size, within the evaluation budget.
+    std::size_t batch_size() const {
+        std::uint64_t n = std::max<std::size_t>(1, options_.batch);
+        if (options_.max_evaluations > 0) n = std::min(n, options_.max_evaluations - result_.evaluations);
+        return static_cast<std::size_t>(std::max<std::uint64_t>(n, 1));
+    }
+
+    // Judges cases numbered after `before` in `stage` ("hunt-evaluation-N"),
+    // searched from start case `start`. A plugin that crashes or hangs names
+    // the case it was given (core/case_in_progress.h); a batch judge names its batch.
+    std::vector<hunt_evaluation> judge_batch(const std::vector<ray_sphere<double>>& gs, const char* stage,
+                                             std::uint64_t before, std::uint64_t start) const {
+        std::vector<corpus_case> cases(gs.size());
+        for (std::size_t k = 0; k < gs.size(); ++k) {
+            cases[k].id = std::string("hunt-") + stage + "-" + std::to_string(before + k + 1);
+            cases[k].geometry = gs[k];
+            cases[k].source = "hunt, searching from start case " + std::to_string(start);
+        }
+        if (judge_) return judge_(cases);
+        std::vector<hunt_evaluation> evals;
+        for (const corpus_case& c : cases) {
+            const case_in_progress announced(c);
+            evals.push_back(evaluate_for_hunt(target_, c, options_.objective));
+        }
+        return evals;
     }
 
     void note(const ray_sphere<double>& g, const hunt_evaluation& e, const fitness& f, std::uint64_t index) {
@@ -220,6 +286,7 @@ private:
         }
         if (f.tier == 0 && e.error > 0 && (!best_ || e.error > best_->found_eval.error))
             best_ = make_find(g, e, index);
+        if (is_disagreement(e.verdict) && result_.disagreements++ == 0) result_.first_disagreement = make_find(g, e, index);
     }
 
     hunt_find make_find(const ray_sphere<double>& g, const hunt_evaluation& e, std::uint64_t index) const {
@@ -266,8 +333,8 @@ private:
             if (budget == 0) return false;
             --budget;
             ++result_.shrink_evaluations;
-            const hunt_evaluation e = announced_and_judged(g, "shrink", result_.shrink_evaluations, f.start_index);
-            if (!same_failure(options_.objective, f.found_eval, e)) return false;
+            const hunt_evaluation e = judge_batch({g}, "shrink", result_.shrink_evaluations - 1, f.start_index).front();
+            if (!same_failure(options_, f.found_eval, e)) return false;
             if (significant_bits(g) > f.shrunk_bits) return false;
             f.shrunk = g;
             f.shrunk_eval = e;
@@ -327,6 +394,7 @@ private:
     const audit_target& target_;
     const hunt_start& start_;
     hunt_options options_;
+    const hunt_judge& judge_;
     hunt_random random_;
     std::chrono::steady_clock::time_point began_;
     hunt_result result_;
@@ -336,14 +404,25 @@ private:
 
 }  // namespace
 
-hunt_evaluation evaluate_for_hunt(const audit_target& target, const ray_sphere<double>& input) {
+hunt_evaluation evaluate_for_hunt(const audit_target& target, const ray_sphere<double>& input,
+                                  hunt_objective objective) {
     corpus_case c;
     c.id = "hunt";
     c.geometry = input;
+    return evaluate_for_hunt(target, c, objective);
+}
+
+hunt_evaluation evaluate_for_hunt(const audit_target& target, const corpus_case& c, hunt_objective objective) {
     const target_outcome outcome = judge_target(target, c, solve_case(c, target.prec));
     const case_score& score = outcome.score;
-    hunt_evaluation e{score.verdict, score.detail};
-    if (score.verdict == verdict_kind::agree) e.error = std::max(score.near_ulp.value_or(0), score.far_ulp.value_or(0));
+    hunt_evaluation e{score.verdict, score.cause, score.detail};
+    if (score.verdict != verdict_kind::agree) return e;
+    switch (objective) {
+        case hunt_objective::ulp:
+        case hunt_objective::misclass: e.error = std::max(score.near_ulp.value_or(0), score.far_ulp.value_or(0)); break;
+        case hunt_objective::scale_radius: e.error = score.scale_error_radius.value_or(0); break;
+        case hunt_objective::scale_distance: e.error = score.scale_error_distance.value_or(0); break;
+    }
     return e;
 }
 
@@ -358,8 +437,9 @@ std::uint64_t shard_search_seed(std::uint64_t seed, std::size_t shard_index, std
     return splitmix64_mix(seed + golden_gamma * shard_index);
 }
 
-hunt_result hunt(const audit_target& target, const hunt_start& start, const hunt_options& options) {
-    return hunter(target, start, options).run();
+hunt_result hunt(const audit_target& target, const hunt_start& start, const hunt_options& options,
+                 const hunt_judge& judge) {
+    return hunter(target, start, options, judge).run();
 }
 
 }  // namespace rayverify

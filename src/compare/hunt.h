@@ -16,7 +16,9 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "compare/audit.h"
@@ -26,9 +28,16 @@
 namespace rayverify {
 
 enum class hunt_objective {
-    ulp,       // maximise the nearest- or far-root ULP error over agreeing answers
-    misclass,  // find disagreements (false miss or hit, tangent errors, wrong side, NaN, ...)
+    ulp,             // maximise the nearest- or far-root ULP error over agreeing answers
+    misclass,        // find disagreements (false miss or hit, tangent errors, wrong side, NaN, ...)
+    scale_radius,    // maximise |t − t*|·|d|/r over agreeing answers: the error in units of the radius,
+                     // which, unlike ULPs, does not explode as t* → 0
+    scale_distance,  // maximise |t − t*|·|d|/|o − c| over agreeing answers
 };
+// The name --objective takes; nullopt for an unknown name.
+std::optional<hunt_objective> hunt_objective_from_name(std::string_view name);
+// The error figure an objective maximises (ulp, scale_radius, scale_distance; misclass: none).
+bool maximises_error(hunt_objective o);
 enum class hunt_strategy {
     search,  // random restarts + local search by ulp moves
     random,  // plain random sampling: every evaluation a fresh start case (the baseline)
@@ -44,19 +53,50 @@ struct hunt_options {
     std::uint64_t max_evaluations = 0;  // search evaluations; 0: no limit (then max_seconds must be set)
     double max_seconds = 0;             // wall-clock budget of the search; 0: no limit
     std::size_t max_finds = 1;          // misclass: stop after this many disagreements
+    // misclass: keep only disagreements whose cause is rounding (the judge's
+    // case_score::cause is not by design: no clamp, contract semantics, unit
+    // direction, tangent threshold or line-not-ray finds).
+    bool rounding_only = false;
     std::uint64_t patience = 400;       // evaluations without improvement before a restart
     bool shrink = true;
     std::uint64_t shrink_evaluations = 4000;  // per find
+    // Cases judged together: the random strategy's start cases, or the
+    // search's candidates, all moved from the same current case and then
+    // taken in order as if one by one (1: exactly one at a time). An
+    // external program answers a batch in one exchange.
+    std::size_t batch = 1;
+    // Called every 512 search evaluations with the search so far (a live
+    // progress line); the search does not depend on it.
+    std::function<void(const struct hunt_progress&)> on_progress;
+};
+
+struct hunt_progress {
+    std::uint64_t evaluations = 0;
+    double seconds = 0;
+    std::size_t finds = 0;     // misclass: disagreements found so far
+    double best_error = 0;     // ulp: the largest error found so far (0 before the first)
 };
 
 // One case judged: what the hunter optimises.
 struct hunt_evaluation {
     verdict_kind verdict = verdict_kind::invalid;
+    std::optional<disagreement_cause> cause;  // of a disagreement
     std::string detail;
-    double error = 0;  // max(near_ulp, far_ulp) when the verdict is agree, else 0
+    // When the verdict is agree, else 0: max(near_ulp, far_ulp) for the ulp
+    // (and misclass) objective, the scale error for the scale objectives.
+    double error = 0;
 };
 
-hunt_evaluation evaluate_for_hunt(const audit_target& target, const ray_sphere<double>& input);
+hunt_evaluation evaluate_for_hunt(const audit_target& target, const ray_sphere<double>& input,
+                                  hunt_objective objective = hunt_objective::ulp);
+// The same for a case with an id (a target with recorded answers finds its answer by it).
+hunt_evaluation evaluate_for_hunt(const audit_target& target, const corpus_case& c,
+                                  hunt_objective objective = hunt_objective::ulp);
+
+// Judges a batch of cases (ids unique in the batch), e.g. by asking an
+// external program for their answers first; the default judges each with
+// evaluate_for_hunt under the hunt's objective.
+using hunt_judge = std::function<std::vector<hunt_evaluation>(std::span<const corpus_case> cases)>;
 
 struct hunt_find {
     ray_sphere<double> found;   // as the search left it
@@ -75,12 +115,18 @@ struct hunt_result {
     std::uint64_t starts = 0;       // start cases drawn
     std::uint64_t shrink_evaluations = 0;
     double seconds = 0;  // search time
+    // ulp: the evaluations whose answer disagreed with the exact one (they have
+    // no ULP error to maximise, but are findings all the same), and the first
+    // of them as found.
+    std::uint64_t disagreements = 0;
+    std::optional<hunt_find> first_disagreement;
 };
 
 // Start case `index` (0, 1, ...), deterministic in its index.
 using hunt_start = std::function<ray_sphere<double>(std::uint64_t index)>;
 
-hunt_result hunt(const audit_target& target, const hunt_start& start, const hunt_options& options);
+hunt_result hunt(const audit_target& target, const hunt_start& start, const hunt_options& options,
+                 const hunt_judge& judge = {});
 
 // A sharded hunt is N independent hunts: shard K (1 ≤ K ≤ N) starts from the
 // start cases K − 1, K − 1 + N, … (the caller's hunt_start) and searches with

@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <utility>
+#include <vector>
 
 #include "compare/stability.h"
 #include "core/case_in_progress.h"
@@ -36,6 +38,9 @@ constexpr verdict_entry verdict_table[verdict_kind_count] = {
     {verdict_kind::wrong_side, "wrong_side", "w_side",
      "a returned t and the exact root it stands for lie on opposite sides of a range bound (the origin for "
      "line roots): a self-hit or a lost hit"},
+    {verdict_kind::unsound_bound, "unsound_bound", "unsnd",
+     "the answer agrees, but an interval the variant claims for a t, or an error bound it claims for its hit "
+     "point, does not contain the exact value"},
     {verdict_kind::non_finite, "non_finite", "nonfin",
      "NaN, or an infinity that is not the correctly rounded root (±inf agrees only where RN(t*) is that "
      "infinity)"},
@@ -167,12 +172,44 @@ root_index stands_for(const exact_solution& exact, double t, root_index wanted) 
 // ---- Running a variant ------------------------------------------------------------
 
 template <class T>
-variant_output evaluate(const variant& v, const ray_sphere<T>& input, ray_interval<T> interval, const t_range& range) {
-    const root_pair<T> r = run_in(v, input, interval);
+answer<T> answer_of(const audit_target& target, const corpus_case& c, const ray_sphere<T>& input,
+                    ray_interval<T> interval) {
+    if (!target.recorded) return answer_in(target.subject, input, interval);
+    const recorded_answer* r = target.recorded->find(c.id);
+    if (!r) return {{-1, T(0), T(0)}};
+    // Exact: a recorded answer in precision T holds values of T (the reader checks).
+    answer<T> a;
+    a.roots = {r->roots.count, static_cast<T>(r->roots.t0), static_cast<T>(r->roots.t1)};
+    const std::optional<std::array<double, 2>>* bounds[2] = {&r->t0_bounds, &r->t1_bounds};
+    for (int i = 0; i < 2; ++i)
+        if (*bounds[i]) {
+            a.t_lower[i] = static_cast<T>((**bounds[i])[0]);
+            a.t_upper[i] = static_cast<T>((**bounds[i])[1]);
+        }
+    if (r->hit_point) a.point = vec3_cast<T>(*r->hit_point);
+    if (r->normal) a.normal = vec3_cast<T>(*r->normal);
+    return a;
+}
+
+template answer<float> answer_of<float>(const audit_target&, const corpus_case&, const ray_sphere<float>&,
+                                        ray_interval<float>);
+template answer<double> answer_of<double>(const audit_target&, const corpus_case&, const ray_sphere<double>&,
+                                          ray_interval<double>);
+
+namespace {
+
+// A whole answer as the judge takes it: widened, with the outputs beside t
+// its contract names, and its hit point — the answer's own when the contract
+// says it gives one, else o + t·d evaluated in T for the value the contract
+// makes the hit (see variant_output).
+template <class T>
+variant_output widen_answer(const contract& promises, const answer<T>& a, const ray_sphere<T>& input,
+                            const t_range& range) {
+    const root_pair<T>& r = a.roots;
     variant_output out;
     out.roots = {r.count, static_cast<double>(r.t0), static_cast<double>(r.t1)};
     if (r.count <= 0) return out;
-    switch (v.promises.query) {
+    switch (promises.query) {
         case query_kind::any_hit: return out;
         case query_kind::nearest_hit: out.hit_root = 0; break;
         case query_kind::line_roots:
@@ -182,11 +219,38 @@ variant_output evaluate(const variant& v, const ray_sphere<T>& input, ray_interv
                 out.hit_root = 1;
             break;
     }
-    if (out.hit_root) {
+    const auto widened = [](vec3<T> p) { return vec3_cast<double>(p); };
+    if (promises.outputs.t_bounds)
+        out.t_bounds = {{{static_cast<double>(a.t_lower[0]), static_cast<double>(a.t_upper[0])},
+                         {static_cast<double>(a.t_lower[1]), static_cast<double>(a.t_upper[1])}}};
+    if (promises.outputs.normal) out.normal = widened(a.normal);
+    if (!out.hit_root) return out;
+    if (gives_hit_point(promises)) {
+        out.hit_point = widened(a.point);
+        if (promises.outputs.point_error != point_bound::none) out.point_error = widened(a.point_error);
+    } else {
         const T t = *out.hit_root == 0 ? r.t0 : r.t1;
-        out.hit_point = vec3_cast<double>(input.origin + t * input.direction);
+        out.hit_point = widened(input.origin + t * input.direction);
     }
     return out;
+}
+
+// A recorded answer's outputs beside t are judged as it gives them, answer by
+// answer (a miss may leave them out): its bounds, its normal, and its own hit
+// point in place of o + t·d. results_target checks that every hit
+// carries what the contract names.
+void add_recorded_outputs(variant_output& out, const recorded_answer* r) {
+    if (!r || out.roots.count <= 0) return;
+    if (r->t0_bounds && r->t1_bounds) out.t_bounds = {{*r->t0_bounds, *r->t1_bounds}};
+    if (r->normal) out.normal = r->normal;
+    if (out.hit_root && r->hit_point) out.hit_point = r->hit_point;
+}
+
+}  // namespace
+
+template <class T>
+variant_output evaluate(const variant& v, const ray_sphere<T>& input, ray_interval<T> interval, const t_range& range) {
+    return widen_answer(v.promises, answer_in(v, input, interval), input, range);
 }
 
 template variant_output evaluate<float>(const variant&, const ray_sphere<float>&, ray_interval<float>, const t_range&);
@@ -243,7 +307,13 @@ case_score disagreement(case_score s, verdict_kind k, std::string detail) {
 
 // Which side of the range a root and a value are on, and the verdict when
 // they differ: an exact root outside with the value inside is a self-hit.
+// A root whose correctly rounded value is an infinity or a zero (past the
+// format's largest value, below its smallest) is answered best by that value,
+// which is on the root's side whatever range it rounds out of.
 std::optional<std::string> side_difference(const exact_solution& exact, root_index k, double t, const t_range& range) {
+    const double rounded = exact.root(k).rounded;
+    if ((std::isinf(rounded) || rounded == 0) && t == rounded && std::signbit(t) == std::signbit(rounded))
+        return std::nullopt;
     const bool root_inside = root_in_range(exact, k, range), value_inside = range.contains(t);
     if (root_inside == value_inside) return std::nullopt;
     if (value_inside)
@@ -301,7 +371,14 @@ case_score judge_hit(const contract& promises, const variant_output& out, const 
     const bool any = promises.query == query_kind::any_hit;
     // A NaN the answer rests on (any_hit: one the renderer looked at) never agrees.
     if (r.count == 1 && (any ? out.nan_seen : std::isnan(r.t0))) return fail(verdict_kind::non_finite, both());
-    if (!want.hit()) return r.count > 0 ? fail(verdict_kind::false_hit, both()) : s;
+    if (!want.hit()) {
+        if (r.count == 0) return s;
+        // A t that stands for a root outside the range, itself outside it: the formula tests the line.
+        if (!any && exact.cls != line_class::miss && std::isfinite(r.t0) &&
+            !root_in_range(exact, stands_for(exact, r.t0, root_index::near_root), range) && !range.contains(r.t0))
+            s.cause = disagreement_cause::line_not_ray;
+        return fail(verdict_kind::false_hit, both());
+    }
     if (r.count == 0)
         return fail(exact.cls == line_class::tangent ? verdict_kind::tangent_missed : verdict_kind::false_miss, both());
     if (any) return s;
@@ -339,35 +416,172 @@ case_score judge_verdict(const contract& promises, const variant_output& output,
 
 // Hit point error of an agreeing answer: for the root that is the hit, when
 // the variant's hit is that root.
-void measure_hit_point(const contract& promises, const variant_output& output, const exact_solution& exact,
-                       const t_range& range, const ray_sphere<double>& input, case_score& s) {
-    if (!output.hit_point || promises.query == query_kind::any_hit) return;
-    const vec3<double>& hit = *output.hit_point;
-    std::array<double, 3> errors{};
+// The exact point a variant's hit point is judged against: the root that is
+// its hit (nearest_hit: the expected root; line_roots: the first exact root
+// in the range, when the variant's hit is that one too), or the origin for a
+// clamp to t = 0. Nothing for any_hit, a miss, or a clamp to another start.
+struct exact_hit {
+    std::optional<root_index> root;  // empty: the origin (a clamp to 0)
+};
+
+std::optional<exact_hit> exact_hit_of(const contract& promises, const variant_output& output,
+                                      const exact_solution& exact, const t_range& range) {
+    if (!output.hit_point || promises.query == query_kind::any_hit) return std::nullopt;
     if (promises.query == query_kind::nearest_hit) {
         const expected_hit want = expect_hit(promises, exact, range);
-        if (want.what == expected_hit::kind::clamp) {
-            if (want.value != 0) return;  // o + tmin·d is not an exact point the oracle holds
-            for (int axis = 0; axis < 3; ++axis)
-                errors[axis] = std::fabs(hit[axis] - input.origin[axis]) / ulp_of_in(exact.prec, input.origin[axis]);
-            s.hit_point_ulp = errors;
-            return;
-        }
-        if (want.what != expected_hit::kind::root) return;
-        for (int axis = 0; axis < 3; ++axis) errors[axis] = exact.hit_point_ulp_error(want.root, axis, hit[axis]);
-        s.hit_point_ulp = errors;
-        return;
+        if (want.what == expected_hit::kind::clamp)  // o + tmin·d is not an exact point the oracle holds
+            return want.value == 0 ? std::optional<exact_hit>(exact_hit{}) : std::nullopt;
+        if (want.what != expected_hit::kind::root) return std::nullopt;
+        return exact_hit{want.root};
     }
-    // line_roots: the first exact root in the range, when the variant's hit is the same one.
     std::optional<root_index> first;
     for (root_index i : {root_index::near_root, root_index::far_root})
         if (root_in_range(exact, i, range)) {
             first = i;
             break;
         }
-    if (!first || !output.hit_root || *output.hit_root != (*first == root_index::near_root ? 0 : 1)) return;
-    for (int axis = 0; axis < 3; ++axis) errors[axis] = exact.hit_point_ulp_error(*first, axis, hit[axis]);
+    if (!first || !output.hit_root || *output.hit_root != (*first == root_index::near_root ? 0 : 1)) return std::nullopt;
+    return exact_hit{first};
+}
+
+// Hit point error of an agreeing answer, per coordinate in ulps.
+void measure_hit_point(const contract& promises, const variant_output& output, const exact_solution& exact,
+                       const t_range& range, const ray_sphere<double>& input, case_score& s) {
+    const std::optional<exact_hit> hit = exact_hit_of(promises, output, exact, range);
+    if (!hit) return;
+    const vec3<double>& p = *output.hit_point;
+    std::array<double, 3> errors{};
+    for (int axis = 0; axis < 3; ++axis)
+        errors[axis] = hit->root ? exact.hit_point_ulp_error(*hit->root, axis, p[axis])
+                                 : std::fabs(p[axis] - input.origin[axis]) / ulp_of_in(exact.prec, input.origin[axis]);
     s.hit_point_ulp = errors;
+}
+
+// What each returned t of an agreeing answer is judged against: its slot (t0
+// or t1) and the exact root, or the exact range start of a clamp.
+struct judged_value {
+    int slot = 0;
+    std::optional<root_index> root;  // empty: a clamp to `start`
+    double start = 0;
+};
+
+std::vector<judged_value> judged_values(const contract& promises, const exact_solution& exact, const t_range& range) {
+    switch (promises.query) {
+        case query_kind::any_hit: return {};
+        case query_kind::line_roots:
+            if (exact.cls == line_class::miss) return {};
+            return {{0, root_index::near_root}, {1, root_index::far_root}};
+        case query_kind::nearest_hit: break;
+    }
+    const expected_hit want = expect_hit(promises, exact, range);
+    if (want.what == expected_hit::kind::root) return {{0, want.root}};
+    if (want.what == expected_hit::kind::clamp) return {{0, std::nullopt, want.value}};
+    return {};
+}
+
+// ulp(t*) of the exact root as the oracle's ULP errors use it: RN(t*)'s,
+// halved when t* lies below a power of two that it rounds up to.
+double ulp_of_root(const exact_solution& exact, root_index i) {
+    const double rounded = exact.root(i).rounded;
+    const double ulp = ulp_of_in(exact.prec, rounded);
+    int exponent = 0;
+    const bool power_of_two = rounded != 0 && std::fabs(std::frexp(rounded, &exponent)) == 0.5;
+    const bool rounded_away = rounded > 0 ? exact.compare_root(i, rounded) > 0 : exact.compare_root(i, rounded) < 0;
+    return power_of_two && rounded_away && ulp > ulp_of_in(exact.prec, std::nextafter(rounded, 0.0)) ? ulp / 2 : ulp;
+}
+
+// Does the exact value lie in [lower, upper]? Infinite ends by sign; a NaN end never holds it.
+bool holds(double lower, double upper, const std::function<int(double)>& compare_with_exact) {
+    if (std::isnan(lower) || std::isnan(upper)) return false;
+    const bool above = std::isinf(lower) ? lower < 0 : compare_with_exact(lower) <= 0;  // lower − x* ≤ 0
+    const bool below = std::isinf(upper) ? upper > 0 : compare_with_exact(upper) >= 0;
+    return above && below;
+}
+
+// An agreeing answer's outputs beside t (contract::outputs) and its error in
+// the scene's length scale: measured, and the bounds checked (a bound that
+// leaves out the exact value turns the verdict into unsound_bound).
+void measure_outputs(const contract& promises, const variant_output& output, const exact_solution& exact,
+                     const t_range& range, const ray_sphere<double>& input, case_score& s) {
+    const std::vector<judged_value> judged = judged_values(promises, exact, range);
+    const double t[2] = {output.roots.t0, output.roots.t1};
+    const double d_length = std::sqrt(dot(input.direction, input.direction));
+    const double distance = std::sqrt(length_squared(input.origin - input.centre));
+    std::optional<std::string> unsound;
+    for (const judged_value& j : judged) {
+        const double value = t[j.slot];
+        if (!std::isfinite(value)) continue;
+        // |t − t*|: ULPs of t* times ulp(t*), or |t| itself where t* is exactly 0 (no ulp to count in);
+        // none where t* rounds to an infinity (beyond the precision, no length to measure).
+        const auto keep_max = [](std::optional<double>& figure, double x) { figure = std::max(figure.value_or(0), x); };
+        if (!j.root || std::isfinite(exact.root(*j.root).rounded)) {
+            const double error = !j.root                              ? std::fabs(value - j.start)
+                                 : exact.root(*j.root).sign == 0 ? std::fabs(value)
+                                                                 : exact.root_ulp_error(*j.root, value) *
+                                                                       ulp_of_root(exact, *j.root);
+            // Each where its length is not 0 (a point sphere, an origin at the centre).
+            if (input.radius > 0) keep_max(s.scale_error_radius, error * d_length / input.radius);
+            if (distance > 0) keep_max(s.scale_error_distance, error * d_length / distance);
+        }
+        if (!output.t_bounds) continue;
+        const auto [lower, upper] = (*output.t_bounds)[static_cast<std::size_t>(j.slot)];
+        const bool sound = holds(lower, upper, [&](double x) {
+            return j.root ? exact.compare_root(*j.root, x) : (x > j.start) - (x < j.start);
+        });
+        keep_max(s.bound_ulp, std::isfinite(lower) && std::isfinite(upper) && lower <= upper
+                                  ? static_cast<double>(ulps_between_in(exact.prec, lower, upper))
+                                  : std::numeric_limits<double>::infinity());
+        if (!sound && !unsound)
+            unsound = fmt::format("t{} = {} claims [{}, {}], which leaves out {}", j.slot, value, lower, upper,
+                                  j.root ? fmt::format("the {} root t* ≈ {}", root_word(*j.root), exact.root(*j.root).rounded)
+                                         : fmt::format("the clamp t = {}", j.start));
+    }
+    const std::optional<exact_hit> hit = exact_hit_of(promises, output, exact, range);
+    if (hit && hit->root && output.point_error && !unsound) {
+        // The box p ∓ e, its ends rounded outward to double.
+        double lower[3], upper[3];
+        std::optional<int> bad_axis;
+        for (int axis = 2; axis >= 0; --axis) {
+            const double p = (*output.hit_point)[axis], e = (*output.point_error)[axis];
+            const dword low = two_sum(p, -e), high = two_sum(p, e);
+            lower[axis] = low.l < 0 ? std::nextafter(low.h, -INFINITY) : low.h;
+            upper[axis] = high.l > 0 ? std::nextafter(high.h, INFINITY) : high.h;
+            if (!(e >= 0) || !std::isfinite(lower[axis]) || !std::isfinite(upper[axis])) bad_axis = axis;
+        }
+        const auto axis_text = [&](int axis) {
+            return fmt::format("{} = {} ± {}", "xyz"[axis], (*output.hit_point)[axis], (*output.point_error)[axis]);
+        };
+        if (bad_axis) {
+            unsound = fmt::format("hit point coordinate {} is no bound", axis_text(*bad_axis));
+        } else if (promises.outputs.point_error == point_bound::surface) {
+            if (!box_meets_sphere({lower[0], lower[1], lower[2]}, {upper[0], upper[1], upper[2]}, input.centre,
+                                  input.radius))
+                unsound = fmt::format("hit point ({}, {}, {}) holds no point of the sphere", axis_text(0),
+                                      axis_text(1), axis_text(2));
+        } else {
+            for (int axis = 0; axis < 3 && !unsound; ++axis)
+                if (!holds(lower[axis], upper[axis],
+                           [&](double x) { return exact.compare_hit_coordinate(*hit->root, axis, x); }))
+                    unsound = fmt::format("hit point coordinate {} leaves out p* ≈ {}", axis_text(axis),
+                                          exact.hit_coordinate_in_double(*hit->root, axis));
+        }
+    }
+    if (hit && hit->root && output.normal) {
+        // The exact normal's direction p* − c, from p* rounded to double (good to about 2^-53·|p*|/r radians).
+        const auto exact_minus_centre = [&](int axis) {
+            return static_cast<long double>(exact.hit_coordinate_in_double(*hit->root, axis)) - input.centre[axis];
+        };
+        const vec3<long double> n = vec3_cast<long double>(*output.normal);
+        const vec3<long double> m{exact_minus_centre(0), exact_minus_centre(1), exact_minus_centre(2)};
+        const vec3<long double> cross{n.y * m.z - n.z * m.y, n.z * m.x - n.x * m.z, n.x * m.y - n.y * m.x};
+        const long double along = std::fabs(dot(n, m)), across = std::sqrt(dot(cross, cross));
+        const double angle = static_cast<double>(std::atan2(across, along));
+        s.normal_angle = std::isnan(angle) || (along == 0 && across == 0) ? std::numeric_limits<double>::infinity() : angle;
+    }
+    if (unsound) {
+        s.verdict = verdict_kind::unsound_bound;
+        s.detail = *unsound;
+    }
 }
 
 // The rounding cause: conditioning-limited when the case is within the
@@ -419,7 +633,8 @@ case_score judge_output(const contract& promises, const variant_output& output, 
     case_score s = judge_verdict(promises, output, exact, range);
     if (s.verdict == verdict_kind::agree) {
         measure_hit_point(promises, output, exact, range, input, s);
-        return s;
+        measure_outputs(promises, output, exact, range, input, s);
+        if (s.verdict == verdict_kind::agree) return s;
     }
     if (!s.cause) s.cause = cause_of(promises, output, exact, range, input, s.verdict);
     return s;
@@ -488,7 +703,8 @@ std::optional<case_score> unscored(const contract& promises, const exact_solutio
 }
 
 template <class T>
-target_outcome judge_target_in(const audit_target& target, const corpus_case& c, const exact_solution& exact) {
+target_outcome judge_target_in(const audit_target& target, const corpus_case& c, const exact_solution& exact,
+                               const given_answer& given) {
     target_outcome outcome;
     const ray_sphere<T> input = rounded_to<T>(c.geometry);
     const ray_sphere<double> widened = rounded_to<double>(input);
@@ -498,17 +714,35 @@ target_outcome judge_target_in(const audit_target& target, const corpus_case& c,
         return outcome;
     }
     outcome.range = range_for(promises, c, target.prec);
-    outcome.output = evaluate(target.subject, input, interval_in<T>(outcome.range), outcome.range);
+    const answer<T>* ahead = std::get_if<answer<T>>(&given);
+    outcome.output = widen_answer(promises, ahead ? *ahead : answer_of(target, c, input, interval_in<T>(outcome.range)),
+                                  input, outcome.range);
+    if (target.recorded && !ahead) add_recorded_outputs(outcome.output, target.recorded->find(c.id));
     outcome.score = judge_output(promises, outcome.output, exact, outcome.range, widened);
     return outcome;
 }
 
 }  // namespace
 
-target_outcome judge_target(const audit_target& target, const corpus_case& c, const exact_solution& exact) {
-    return target.prec == precision::binary32 ? judge_target_in<float>(target, c, exact)
-                                              : judge_target_in<double>(target, c, exact);
+target_outcome judge_target(const audit_target& target, const corpus_case& c, const exact_solution& exact,
+                            const given_answer& given) {
+    return target.prec == precision::binary32 ? judge_target_in<float>(target, c, exact, given)
+                                              : judge_target_in<double>(target, c, exact, given);
 }
+
+template <class T>
+std::optional<batch_case<T>> run_input(const audit_target& target, const corpus_case& c) {
+    if (validity<T>(c.geometry) != invalid_reason::none) return std::nullopt;
+    const t_range range = range_for(target.subject.promises, c, target.prec);
+    const auto bound_invalid = [](std::optional<double> t) { return t && std::isnan(*t); };
+    if (bound_invalid(c.tmin) || bound_invalid(c.tmax) || (c.tmin && c.tmax && *c.tmin > *c.tmax)) return std::nullopt;
+    const ray_sphere<T> input = rounded_to<T>(c.geometry);
+    if (contract_breach(target.subject.promises, rounded_to<double>(input), target.prec)) return std::nullopt;
+    return batch_case<T>{input, interval_in<T>(range)};
+}
+
+template std::optional<batch_case<float>> run_input<float>(const audit_target&, const corpus_case&);
+template std::optional<batch_case<double>> run_input<double>(const audit_target&, const corpus_case&);
 
 // ---- The renderer's view --------------------------------------------------------
 
@@ -623,7 +857,7 @@ renderer_outcome judge_for_renderer_in(const audit_target& target, const corpus_
     outcome.range = range_for(renderer, c, target.prec);
     // The variant is asked as its contract says: an interval contract on the ray's interval.
     const t_range own_range = range_for(promises, c, target.prec);
-    const root_pair<T> raw = run_in(target.subject, input, interval_in<T>(own_range));
+    const root_pair<T> raw = answer_of(target, c, input, interval_in<T>(own_range)).roots;
     outcome.view = renderer_view(promises, raw, input, outcome.range, q);
     case_score s = judge_verdict(renderer, outcome.view, exact, outcome.range);
     if (s.verdict == verdict_kind::agree) {

@@ -25,6 +25,16 @@
 // - Non-finite values: NaN never agrees; ±inf agrees only where the
 //   correctly rounded root is that infinity (its ULP error is not a number
 //   and is left out of the figures).
+// - Outputs beside t (contract::outputs): an agreeing answer whose claimed
+//   interval for a t, or error bound for its hit point, leaves out the exact
+//   value is unsound_bound (decided exactly; a point bound's ends p ∓ e are
+//   rounded outward to double). The bound's width in ULPs, the hit point's
+//   ULP error and the normal's angle to the exact normal are figures.
+// - A point answer (answer=point) is judged through the t derived from the
+//   point (parameter_of_point, core/intersection.h), and the point itself by
+//   its ULP error per coordinate.
+// - Errors in the scene's length scale, beside ULPs: |t − t*|·|d| over r and
+//   over |o − c| (ULPs of t explode as t* → 0; these do not).
 // - The renderer's view (scenes, interval queries): what a renderer computes
 //   from the variant's answer — its values filtered into the ray's (tmin,
 //   tmax) — judged against the nearest exact root in that interval. A
@@ -34,13 +44,16 @@
 
 #include <array>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
+#include <variant>
 
 #include "core/contract.h"
 #include "core/intersection.h"
 #include "core/ray_sphere_case.h"
+#include "core/recorded_answer.h"
 #include "intersectors/registry.h"
 #include "oracle/oracle.h"
 
@@ -61,12 +74,14 @@ enum class verdict_kind {
     wrong_sphere,        // scene: both hit, but the variant's nearest sphere is not the exact nearest
     wrong_side,          // a returned t and the exact root it stands for lie on opposite sides of a range
                          // bound (the origin for line roots): a self-hit or a lost hit
+    unsound_bound,       // the answer agrees, but an interval it claims for a t, or an error bound it
+                         // claims for its hit point, does not contain the exact value
     non_finite,          // NaN, or an infinity that is not the correctly rounded root
     malformed_output,    // a hit count the contract does not allow, or roots out of order
     contract_violation,  // the case breaks the variant's assumption (not scored)
     invalid,             // the case is invalid at this precision (not scored)
 };
-inline constexpr int verdict_kind_count = 13;
+inline constexpr int verdict_kind_count = 14;
 
 std::string_view verdict_name(verdict_kind k);
 std::optional<verdict_kind> verdict_from_name(std::string_view name);
@@ -112,8 +127,13 @@ bool is_by_design(disagreement_cause c);
 struct variant_output {
     root_pair<double> roots;
     std::optional<int> hit_root;              // 0 or 1: which value the hit point is for
-    std::optional<vec3<double>> hit_point;
+    std::optional<vec3<double>> hit_point;    // the variant's own when it gives one (gives_hit_point)
     bool nan_seen = false;  // renderer_view: a NaN among the values the renderer looked at
+    // What the variant gave beside t (contract::outputs), widened exactly: its
+    // own outputs, or a recorded answer's (core/recorded_answer.h).
+    std::optional<std::array<std::array<double, 2>, 2>> t_bounds;  // [root][lower, upper]
+    std::optional<vec3<double>> point_error;
+    std::optional<vec3<double>> normal;
 };
 
 // The exact answer to a nearest_hit or any_hit question.
@@ -146,6 +166,15 @@ struct case_score {
     std::optional<double> near_ulp, far_ulp, near_bits, far_bits;
     // Error of the hit point per coordinate, in ulps (agree, and a hit).
     std::optional<std::array<double, 3>> hit_point_ulp;
+    // The largest of |t − t*|·|d|/r and of |t − t*|·|d|/|o − c| over the
+    // returned roots (agree; finite t; each when its length is not 0): the
+    // error in the scene's length scale.
+    std::optional<double> scale_error_radius, scale_error_distance;
+    // Outputs beside t (agree): the widest claimed t interval in ULPs of the
+    // precision (representable values between its ends), and the angle in
+    // radians between the returned normal and the exact one (either
+    // orientation: the nearer of ±n*).
+    std::optional<double> bound_ulp, normal_angle;
 };
 
 // Run a variant in precision T on the inputs, asking an interval contract for
@@ -161,12 +190,26 @@ variant_output evaluate(const variant& v, const ray_sphere<T>& input, ray_interv
 case_score judge_output(const contract& promises, const variant_output& output, const exact_solution& exact,
                         const t_range& range, const ray_sphere<double>& input);
 
-// One variant in one precision, e.g. naive/float.
+// One variant in one precision, e.g. naive/float. A target with recorded
+// answers (a results file, an external program's batch) takes each case's
+// answer from them, looked up by the case's id, instead of running
+// subject's functions (which it has none of); everything else about it —
+// contract, verdicts, figures — is a variant's.
 struct audit_target {
     variant subject;
     precision prec = precision::binary64;
+    std::shared_ptr<const answer_book> recorded{};
     std::string label() const { return subject.name + "/" + precision_name(prec); }
 };
+
+// The target's whole answer on a case, in precision T: its function run on the
+// inputs (an interval contract asked for `interval`), or the case's recorded
+// answer with the outputs beside t it carries (count −1, judged malformed,
+// when the book has none: callers check that every case has one before they
+// judge).
+template <class T>
+answer<T> answer_of(const audit_target& target, const corpus_case& c, const ray_sphere<T>& input,
+                       ray_interval<T> interval);
 
 // Does the case satisfy the variant's assumptions at this precision? A unit
 // direction means |d·d − 1| ≤ 8ε, decided exactly (ε of the precision).
@@ -188,10 +231,22 @@ struct target_outcome {
     t_range range;          // the range the target answered on
 };
 
+// An answer computed ahead of judging (a batch call, variant::batch_*), for
+// one target on one case; monostate: none, the variant is called.
+using given_answer = std::variant<std::monostate, answer<float>, answer<double>>;
+
+// What a target is run on for a case: the inputs rounded to its precision and
+// the range its contract is asked on; nullopt when the case is not run
+// (invalid at that precision, or outside the contract), as judge_target decides.
+template <class T>
+std::optional<batch_case<T>> run_input(const audit_target& target, const corpus_case& c);
+
 // The whole judgement of one target on one case: invalid, outside the
 // contract, or run and judged. `exact` is the oracle's answer at the target's
-// precision (for float: on the float-rounded inputs).
-target_outcome judge_target(const audit_target& target, const corpus_case& c, const exact_solution& exact);
+// precision (for float: on the float-rounded inputs). `given`, when set, is
+// the target's answer on run_input, computed ahead; otherwise it is called.
+target_outcome judge_target(const audit_target& target, const corpus_case& c, const exact_solution& exact,
+                            const given_answer& given = {});
 
 // ---- The renderer's view ------------------------------------------------------
 

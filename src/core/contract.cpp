@@ -16,10 +16,16 @@ using name_table = std::array<std::pair<E, std::string_view>, N>;
 
 constexpr name_table<query_kind, 3> query_kind_names{{
     {query_kind::line_roots, "line_roots"}, {query_kind::nearest_hit, "nearest_hit"}, {query_kind::any_hit, "any_hit"}}};
-constexpr name_table<range_source, 2> range_source_names{{{range_source::ray, "ray"}, {range_source::interval, "interval"}}};
+constexpr name_table<range_source, 4> range_source_names{{{range_source::ray, "ray"},
+                                                          {range_source::interval, "interval"},
+                                                          {range_source::tmax_only, "tmax_only"},
+                                                          {range_source::segment, "segment"}}};
 constexpr name_table<end_kind, 2> end_kind_names{{{end_kind::open, "open"}, {end_kind::closed, "closed"}}};
 constexpr name_table<inside_rule, 3> inside_rule_names{
     {{inside_rule::far_root, "far_root"}, {inside_rule::clamp, "clamp"}, {inside_rule::miss, "miss"}}};
+constexpr name_table<answer_kind, 2> answer_kind_names{{{answer_kind::t, "t"}, {answer_kind::point, "point"}}};
+constexpr name_table<point_bound, 3> point_bound_names{
+    {{point_bound::none, "no"}, {point_bound::hit, "yes"}, {point_bound::surface, "surface"}}};
 
 template <class E, std::size_t N>
 std::string_view name_in(const name_table<E, N>& table, E value) {
@@ -72,6 +78,8 @@ std::string_view query_kind_name(query_kind k) { return name_in(query_kind_names
 std::string_view range_source_name(range_source r) { return name_in(range_source_names, r); }
 std::string_view end_kind_name(end_kind e) { return name_in(end_kind_names, e); }
 std::string_view inside_rule_name(inside_rule i) { return name_in(inside_rule_names, i); }
+std::string_view answer_kind_name(answer_kind a) { return name_in(answer_kind_names, a); }
+std::string_view point_bound_name(point_bound b) { return name_in(point_bound_names, b); }
 
 std::optional<query_kind> query_kind_from_name(std::string_view name) { return value_in(query_kind_names, name); }
 std::optional<range_source> range_source_from_name(std::string_view name) {
@@ -79,14 +87,23 @@ std::optional<range_source> range_source_from_name(std::string_view name) {
 }
 std::optional<end_kind> end_kind_from_name(std::string_view name) { return value_in(end_kind_names, name); }
 std::optional<inside_rule> inside_rule_from_name(std::string_view name) { return value_in(inside_rule_names, name); }
+std::optional<answer_kind> answer_kind_from_name(std::string_view name) { return value_in(answer_kind_names, name); }
+std::optional<point_bound> point_bound_from_name(std::string_view name) { return value_in(point_bound_names, name); }
 
 t_range range_of(const contract& c, std::optional<double> tmin, std::optional<double> tmax) {
     t_range r;
     r.lower_end = c.lower_end;
     r.upper_end = c.upper_end;
-    if (c.range == range_source::interval) {
-        if (tmin) r.lower = *tmin;
-        if (tmax) r.upper = *tmax;
+    switch (c.range) {
+        case range_source::ray: break;
+        case range_source::interval:
+        case range_source::segment:
+            if (tmin) r.lower = *tmin;
+            if (tmax) r.upper = *tmax;
+            break;
+        case range_source::tmax_only:
+            if (tmax) r.upper = *tmax;
+            break;
     }
     return r;
 }
@@ -105,14 +122,36 @@ std::string format_contract(const contract& c) {
                        ",unit_direction=" + std::string(yes_no(c.assumes_unit_direction));
     if (c.query == query_kind::line_roots) spec += ",reports_tangent=" + std::string(yes_no(c.reports_tangent));
     if (c.tangent_threshold) spec += ",tangent_threshold=" + number_text(*c.tangent_threshold);
+    if (c.answer != answer_kind::t) spec += ",answer=" + std::string(answer_kind_name(c.answer));
+    if (c.outputs.t_bounds) spec += ",t_bounds=yes";
+    if (c.outputs.hit_point && c.answer == answer_kind::t) spec += ",hit_point=yes";
+    if (c.outputs.point_error != point_bound::none)
+        spec += ",point_error=" + std::string(point_bound_name(c.outputs.point_error));
+    if (c.outputs.normal) spec += ",normal=yes";
     return spec;
 }
 
+std::optional<std::string> contract_problem(const contract& c) {
+    if (c.outputs.point_error != point_bound::none && !gives_hit_point(c))
+        return "point_error needs a hit point (hit_point=yes)";
+    if (c.query == query_kind::any_hit && (gives_hit_point(c) || c.outputs.normal || c.outputs.t_bounds))
+        return "an any_hit contract returns no t, point or normal";
+    if (c.answer == answer_kind::point && c.query != query_kind::nearest_hit)
+        return "answer=point needs query=nearest_hit (one hit point)";
+    if (c.answer == answer_kind::point && c.outputs.t_bounds) return "t_bounds needs answer=t";
+    return std::nullopt;
+}
+
 std::string describe_contract(const contract& c) {
-    const std::string range = c.range == range_source::interval
-                                  ? std::string(c.lower_end == end_kind::closed ? "[" : "(") + "tmin, tmax" +
-                                        (c.upper_end == end_kind::closed ? "]" : ")")
-                                  : format_range(range_of(c, std::nullopt, std::nullopt));
+    const std::string open = c.lower_end == end_kind::closed ? "[" : "(";
+    const std::string close = c.upper_end == end_kind::closed ? "]" : ")";
+    std::string range;
+    switch (c.range) {
+        case range_source::ray: range = format_range(range_of(c, std::nullopt, std::nullopt)); break;
+        case range_source::interval: range = open + "tmin, tmax" + close; break;
+        case range_source::tmax_only: range = open + "0, tmax" + close + " (no tmin)"; break;
+        case range_source::segment: range = "the segment " + open + "o + tmin·d, o + tmax·d" + close; break;
+    }
     std::string out;
     switch (c.query) {
         case query_kind::line_roots:
@@ -133,6 +172,18 @@ std::string describe_contract(const contract& c) {
     }
     if (c.tangent_threshold) out += " (tangent whenever b′² − aC ≤ " + number_text(*c.tangent_threshold) + ")";
     if (c.assumes_unit_direction) out += "; assumes |d| = 1";
+    if (c.answer == answer_kind::point) out += "; answers with the hit point (t derived from it)";
+    std::string outputs;
+    const auto add = [&](bool given, const char* what) {
+        if (given) outputs += (outputs.empty() ? "" : ", ") + std::string(what);
+    };
+    add(c.outputs.t_bounds, "an interval for each t");
+    add(c.outputs.hit_point && c.answer == answer_kind::t, "the hit point");
+    add(c.outputs.point_error == point_bound::hit, "an error bound per coordinate of the hit point");
+    add(c.outputs.point_error == point_bound::surface,
+        "an error bound per coordinate of the hit point that holds a point of the sphere");
+    add(c.outputs.normal, "the normal");
+    if (!outputs.empty()) out += "; also gives " + outputs;
     return out;
 }
 
@@ -187,12 +238,28 @@ contract parse_contract(std::string_view spec, contract c) {
             if (error != std::errc{} || end != value.data() + value.size() || !std::isfinite(x) || x < 0)
                 throw fail(key, value, "a finite number ≥ 0");
             c.tangent_threshold = x;
+        } else if (key == "answer") {
+            const auto v = answer_kind_from_name(value);
+            if (!v) throw fail(key, value, allowed(answer_kind_names));
+            c.answer = *v;
+        } else if (key == "t_bounds") {
+            c.outputs.t_bounds = yes_no_value(key, value);
+        } else if (key == "hit_point") {
+            c.outputs.hit_point = yes_no_value(key, value);
+        } else if (key == "point_error") {
+            const auto v = point_bound_from_name(value);
+            if (!v) throw fail(key, value, allowed(point_bound_names));
+            c.outputs.point_error = *v;
+        } else if (key == "normal") {
+            c.outputs.normal = yes_no_value(key, value);
         } else {
             throw std::invalid_argument("contract: unknown key '" + std::string(key) +
                                         "' (keys: query, range, ends, inside, tangent, faces, unit_direction, "
-                                        "reports_tangent, tangent_threshold)");
+                                        "reports_tangent, tangent_threshold, answer, t_bounds, hit_point, "
+                                        "point_error, normal)");
         }
     }
+    if (auto problem = contract_problem(c)) throw std::invalid_argument("contract: " + *problem);
     return c;
 }
 

@@ -9,6 +9,8 @@
 // default. A contract is written as a spec, e.g.
 //   query=nearest_hit,range=ray,ends=[),inside=clamp,tangent=hit,faces=both,unit_direction=yes
 // (format_contract / parse_contract), which `variants` and `explain` print.
+// Optional outputs (t_bounds, hit_point, point_error, normal) and a point
+// answer appear in the spec only when a variant gives them.
 #pragma once
 
 #include <cmath>
@@ -34,8 +36,39 @@ enum class query_kind {
 
 // Where the range of t comes from.
 enum class range_source {
-    ray,       // a fixed range: from 0 to +inf (line_roots: only what "in front" means)
-    interval,  // the ray's own (tmin, tmax), passed to the variant; (0, +inf) when a case has none
+    ray,        // a fixed range: from 0 to +inf (line_roots: only what "in front" means)
+    interval,   // the ray's own (tmin, tmax), passed to the variant; (0, +inf) when a case has none
+    tmax_only,  // from 0 (fixed: the variant has no tmin) to the ray's tmax, passed to the variant
+                // (Mitsuba 3's maxt); +inf when a case has none
+    segment,    // the ray's range as a segment: the variant gets from = o + tmin·d and to = o + tmax·d
+                // (or o and the direction times the segment's length), and answers on it; judged on
+                // (tmin, tmax) like an interval. A case without tmax gets segment_length(): a
+                // segment past every root (see there)
+};
+
+// What a variant's answer is: distances t along the ray, or a hit point
+// (three.js, raylib, Godot), whose t is derived (parameter_of_point in
+// core/intersection.h) and judged like a returned t, and whose coordinates
+// are judged as a point.
+enum class answer_kind { t, point };
+
+// What an error bound per coordinate of the hit point claims to hold (spec
+// names no, yes, surface): nothing (none); the exact hit point o + t*·d (hit);
+// some point of the exact sphere (surface): pbrt-v4's bound after
+// reprojection, γ₅·|p|, bounds the distance to the surface, which is what its
+// spawned rays need, not the distance along the ray to o + t*·d.
+enum class point_bound { none, hit, surface };
+
+// What a variant hands over beside t, each checked against the exact answer
+// when given: a conservative interval for each returned t (pbrt-v4's
+// Interval), the hit point it computes (reprojected or not), an absolute
+// error bound per coordinate of that point, and the normal there (any length).
+struct output_set {
+    bool t_bounds = false;
+    bool hit_point = false;
+    point_bound point_error = point_bound::none;  // requires hit_point
+    bool normal = false;
+    constexpr bool any() const { return t_bounds || hit_point || point_error != point_bound::none || normal; }
 };
 
 // Whether a range end belongs to the range: open (t > tmin) or closed (t ≥ tmin).
@@ -67,6 +100,8 @@ struct contract {
     // most this absolute value: a deliberate epsilon, named as the cause of
     // the false tangents it makes.
     std::optional<double> tangent_threshold{};
+    answer_kind answer = answer_kind::t;
+    output_set outputs{};
 };
 
 // contract::tangent_rule is a string_view (so that built-in contracts are
@@ -78,15 +113,20 @@ std::string_view query_kind_name(query_kind k);
 std::string_view range_source_name(range_source r);
 std::string_view end_kind_name(end_kind e);
 std::string_view inside_rule_name(inside_rule i);
+std::string_view answer_kind_name(answer_kind a);
+std::string_view point_bound_name(point_bound b);
 
 // The value named `name`; nullopt for an unknown name.
 std::optional<query_kind> query_kind_from_name(std::string_view name);
 std::optional<range_source> range_source_from_name(std::string_view name);
 std::optional<end_kind> end_kind_from_name(std::string_view name);
 std::optional<inside_rule> inside_rule_from_name(std::string_view name);
+std::optional<answer_kind> answer_kind_from_name(std::string_view name);
+std::optional<point_bound> point_bound_from_name(std::string_view name);
 
-// True for the kinds that take the ray's interval.
-constexpr bool takes_interval(const contract& c) { return c.range == range_source::interval; }
+// True for the kinds that are passed the ray's range (its interval, its
+// tmax, or its segment) rather than answering on a fixed one.
+constexpr bool takes_interval(const contract& c) { return c.range != range_source::ray; }
 
 // The range of t a contract answers on, with its ends' semantics.
 struct t_range {
@@ -106,8 +146,9 @@ struct t_range {
 };
 
 // The range a contract answers on: a ray contract's is from 0 to +inf, an
-// interval contract's is (tmin, tmax) as given (each defaulting to 0 and +inf),
-// each with the contract's end semantics.
+// interval or segment contract's is (tmin, tmax) as given (each defaulting to
+// 0 and +inf), a tmax_only contract's from 0 to tmax; each with the
+// contract's end semantics.
 t_range range_of(const contract& c, std::optional<double> tmin, std::optional<double> tmax);
 
 // "(0, +inf)", "[tmin, tmax)" with the values: how explain and details print a range.
@@ -119,9 +160,21 @@ std::string format_contract(const contract& c);
 std::string describe_contract(const contract& c);
 
 // Parse a spec (comma-separated key=value; keys: query, range, ends, inside,
-// tangent, faces, unit_direction, reports_tangent, tangent_threshold). Fields
-// not given keep `defaults`' values. Throws std::invalid_argument naming the
-// key and the allowed values on anything else.
+// tangent, faces, unit_direction, reports_tangent, tangent_threshold, answer,
+// t_bounds, hit_point, point_error, normal). Fields not given keep
+// `defaults`' values. Throws std::invalid_argument naming the key and the
+// allowed values on anything else, and on a combination that cannot be
+// answered (point_error without hit_point, a point answer or hit point for
+// any_hit, t_bounds with a point answer).
 contract parse_contract(std::string_view spec, contract defaults = {});
+
+// Why a contract cannot be answered as stated, or nullopt: the combinations
+// parse_contract refuses (a plugin's v2 fields are checked the same way).
+std::optional<std::string> contract_problem(const contract& c);
+
+// A point answer gives the hit point by definition.
+constexpr bool gives_hit_point(const contract& c) {
+    return c.answer == answer_kind::point || c.outputs.hit_point;
+}
 
 }  // namespace rayverify

@@ -6,8 +6,26 @@
 #include <cstddef>
 #include <stdexcept>
 #include <string>
+#include <string_view>
+
+#include "core/ray_sphere_case.h"
 
 namespace rayverify {
+
+// Text of an input repeated in a message: every byte that is not printable
+// ASCII shown as \xNN, so that binary garbage gives a one-line message.
+inline std::string printable(std::string_view text) {
+    static constexpr char digits[] = "0123456789ABCDEF";
+    std::string out;
+    for (const char c : text) {
+        const auto byte = static_cast<unsigned char>(c);
+        if (byte < 0x20 || byte >= 0x7f)
+            out += {'\\', 'x', digits[byte >> 4], digits[byte & 15]};
+        else
+            out += c;
+    }
+    return out;
+}
 
 class input_error : public std::runtime_error {
 public:
@@ -35,6 +53,21 @@ private:
     std::string file_;
     std::size_t line_;
     std::string field_;
+};
+
+// An intersector running outside rayverify's own code (an isolated plugin,
+// an external program) that died, hung or answered garbage on a case: bad
+// input (exit 2), naming the intersector and the case, which is kept whole so
+// that the CLI can print it as a corpus line to paste into a corpus.
+class case_failure : public input_error {
+public:
+    case_failure(std::string file, std::string field, const std::string& problem, corpus_case failing)
+        : input_error(std::move(file), 0, std::move(field), problem), failing_(std::move(failing)) {}
+
+    const corpus_case& failing_case() const { return failing_; }
+
+private:
+    corpus_case failing_;
 };
 
 }  // namespace rayverify

@@ -2,9 +2,14 @@
 // (core/contract.h).
 #pragma once
 
+#include <algorithm>
+#include <array>
+#include <cmath>
 #include <limits>
 
 #include "core/contract.h"
+#include "core/double_word.h"
+#include "core/ray_sphere_case.h"
 
 namespace rayverify {
 
@@ -29,5 +34,55 @@ struct root_pair {
     T t0{};
     T t1{};
 };
+
+// A variant's whole answer: its roots and the optional outputs its contract
+// names (contract::outputs); members it does not give are left as they are.
+// For an answer=point variant, roots.t0 = roots.t1 is the t derived from
+// `point` (parameter_of_point).
+template <class T>
+struct answer {
+    root_pair<T> roots;
+    std::array<T, 2> t_lower{}, t_upper{};  // t_bounds: root i of the answer lies in [t_lower[i], t_upper[i]]
+    vec3<T> point{};                        // hit_point: the hit point the variant computes, at its hit
+    vec3<T> point_error{};                  // point_error: |p*_k − point_k| ≤ point_error_k per coordinate
+    vec3<T> normal{};                       // normal: at its hit, any length
+};
+
+// The t a returned point stands for: the parameter of its projection on the
+// line, (p − o)·d / (d·d), evaluated in double-word arithmetic and rounded
+// once to T (the differences p − o are exact, the sums and the quotient
+// carry errors of order 2^-100 relative). Reported beside the point and
+// judged like a returned t.
+template <class T>
+T parameter_of_point(const ray_sphere<T>& s, vec3<T> p) {
+    dword along{}, length2{};
+    for (int axis = 0; axis < 3; ++axis) {
+        const double dk = static_cast<double>(s.direction[axis]);
+        const dword offset = two_sum(static_cast<double>(p[axis]), -static_cast<double>(s.origin[axis]));
+        along = along + offset * dword{dk, 0};
+        length2 = length2 + two_prod(dk, dk);
+    }
+    return static_cast<T>(dw_value(along / length2));
+}
+
+// The length L a segment variant gets for a ray without tmax: a power of two
+// with L·|d| ≥ 2(|o − c| + r) > every |t*|·|d| (a root's point lies on the
+// sphere, so |t*|·|d| ≤ |o − c| + r), from |o − c|₁ + r over |d|∞ with a
+// factor 2 to spare. Scaling d by L is exact, so a fraction f of the segment
+// is the root t = f·L exactly. Capped where L·|d|∞ would pass a quarter of
+// T's largest value (the segment may then stop short of a far root; only
+// inputs near T's overflow threshold reach the cap).
+template <class T>
+T segment_length(const ray_sphere<T>& s) {
+    double extent = static_cast<double>(s.radius), reach = 0;
+    for (int axis = 0; axis < 3; ++axis) {
+        extent += std::fabs(static_cast<double>(s.origin[axis]) - static_cast<double>(s.centre[axis]));
+        reach = std::max(reach, std::fabs(static_cast<double>(s.direction[axis])));
+    }
+    if (!(extent > 0) || !(reach > 0) || !std::isfinite(extent / reach)) return T(1);
+    const int wanted = std::ilogb(extent / reach) + 2;
+    const int cap = std::ilogb(static_cast<double>(std::numeric_limits<T>::max()) / 4) - std::ilogb(reach) - 1;
+    return static_cast<T>(std::ldexp(1.0, std::min(wanted, cap)));
+}
 
 }  // namespace rayverify

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <bit>
 #include <set>
 #include <utility>
@@ -13,6 +14,19 @@
 namespace rayverify {
 
 namespace fs = std::filesystem;
+
+namespace {
+
+// 64 bits of an id: FNV-1a, then splitmix64's finaliser to spread the bits (the table uses the low ones).
+std::uint64_t id_hash(const std::string& id) {
+    std::uint64_t h = 0xcbf29ce484222325ULL;
+    for (const char c : id) h = (h ^ static_cast<unsigned char>(c)) * 0x100000001b3ULL;
+    h = (h ^ (h >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    h = (h ^ (h >> 27)) * 0x94d049bb133111ebULL;
+    return h ^ (h >> 31);
+}
+
+}  // namespace
 
 std::string shard_spec::text() const { return fmt::format("{}/{}", index, count); }
 
@@ -64,17 +78,32 @@ case_stream::case_stream(std::vector<generate_spec> specs, shard_spec shard, std
             throw input_error("", 0, "--generate",
                               fmt::format("{} with seed {} twice: the cases (and their ids) would repeat", s.family,
                                           s.seed));
-        const std::string identity = fmt::format("{} v{};", s.text(), find_generator_family(s.family)->version);
-        mix(identity.data(), identity.size());
+        fingerprint_.add_text(fmt::format("{} v{};", s.text(), find_generator_family(s.family)->version));
     }
 }
 
-void case_stream::mix(const void* bytes, std::size_t n) {
+void case_fingerprint::mix(const void* bytes, std::size_t n) {
     const auto* p = static_cast<const unsigned char*>(bytes);
     for (std::size_t i = 0; i < n; ++i) hash_ = (hash_ ^ p[i]) * 0x100000001b3ULL;
 }
 
-std::string case_stream::fingerprint() const { return fmt::format("{:016x}", hash_); }
+void case_fingerprint::add_text(std::string_view text) { mix(text.data(), text.size()); }
+
+void case_fingerprint::add(const corpus_case& c) {
+    mix(c.id.data(), c.id.size() + 1);
+    mix(c.family.data(), c.family.size() + 1);
+    const double inputs[10] = {c.geometry.origin.x,    c.geometry.origin.y,    c.geometry.origin.z,
+                               c.geometry.direction.x, c.geometry.direction.y, c.geometry.direction.z,
+                               c.geometry.centre.x,    c.geometry.centre.y,    c.geometry.centre.z,
+                               c.geometry.radius};
+    mix(inputs, sizeof inputs);
+    for (const std::optional<double>& bound : {c.tmin, c.tmax}) {
+        const std::uint64_t bits = bound ? std::bit_cast<std::uint64_t>(*bound) : 0x7ff8dead0000beefULL;
+        mix(&bits, sizeof bits);
+    }
+}
+
+std::string case_fingerprint::text() const { return fmt::format("{:016x}", hash_); }
 
 bool case_stream::next(std::vector<corpus_case>& cases, std::vector<std::size_t>& indices) {
     return generated_ ? next_generated(cases, indices) : next_from_files(cases, indices);
@@ -89,26 +118,15 @@ bool case_stream::next_from_files(std::vector<corpus_case>& cases, std::vector<s
             continue;
         }
         corpus_case& c = current_[position_++];
-        const auto [seen, inserted] = first_source_.try_emplace(c.id, c.source);
-        if (!inserted) {
-            const std::size_t colon = c.source.rfind(':');
-            std::size_t line = 0;
-            if (colon != std::string::npos) parse_unsigned(std::string_view(c.source).substr(colon + 1), line);
-            throw input_error(c.source.substr(0, colon), line, "id",
-                              fmt::format("duplicate id '{}', first defined at {}", c.id, seen->second));
-        }
-        // The fingerprint covers every case of the input, owned or not.
-        mix(c.id.data(), c.id.size() + 1);
-        mix(c.family.data(), c.family.size() + 1);
-        const double inputs[10] = {c.geometry.origin.x,    c.geometry.origin.y,    c.geometry.origin.z,
-                                   c.geometry.direction.x, c.geometry.direction.y, c.geometry.direction.z,
-                                   c.geometry.centre.x,    c.geometry.centre.y,    c.geometry.centre.z,
-                                   c.geometry.radius};
-        mix(inputs, sizeof inputs);
-        for (const std::optional<double>& bound : {c.tmin, c.tmax}) {
-            const std::uint64_t bits = bound ? std::bit_cast<std::uint64_t>(*bound) : 0x7ff8dead0000beefULL;
-            mix(&bits, sizeof bits);
-        }
+        if (!seen_ids_.insert(id_hash(c.id)))
+            if (const std::optional<std::string> first = earlier_definition(c)) {
+                const std::size_t colon = c.source.rfind(':');
+                std::size_t line = 0;
+                if (colon != std::string::npos) parse_unsigned(std::string_view(c.source).substr(colon + 1), line);
+                throw input_error(c.source.substr(0, colon), line, "id",
+                                  fmt::format("duplicate id '{}', first defined at {}", c.id, *first));
+            }
+        fingerprint_.add(c);  // every case of the input, owned or not
         const std::size_t index = total_++;
         if (!shard_.owns(index)) continue;
         cases.push_back(std::move(c));
@@ -121,6 +139,35 @@ bool case_stream::next_from_files(std::vector<corpus_case>& cases, std::vector<s
         throw input_error(names, 0, "", "empty corpus: no cases found");
     }
     return false;
+}
+
+bool case_stream::id_hashes::insert(std::uint64_t hash) {
+    hash += hash == 0;  // 0 marks an empty slot
+    if (4 * (size_ + 1) > 3 * slots_.size()) {
+        std::vector<std::uint64_t> old(std::max<std::size_t>(1024, 2 * slots_.size()), 0);
+        old.swap(slots_);
+        size_ = 0;
+        for (std::uint64_t h : old)
+            if (h != 0) insert(h);
+    }
+    const std::size_t mask = slots_.size() - 1;
+    for (std::size_t i = hash & mask;; i = (i + 1) & mask) {
+        if (slots_[i] == hash) return false;
+        if (slots_[i] == 0) {
+            slots_[i] = hash;
+            ++size_;
+            return true;
+        }
+    }
+}
+
+std::optional<std::string> case_stream::earlier_definition(const corpus_case& c) const {
+    // Within the file being read, ids are unique (read_corpus_file checks); the
+    // files before it are read again (rare: a real duplicate is an error).
+    for (std::size_t f = 0; f + 1 < next_file_; ++f)
+        for (const corpus_case& earlier : read_corpus_file(files_[f]))
+            if (earlier.id == c.id) return earlier.source;
+    return std::nullopt;
 }
 
 bool case_stream::next_generated(std::vector<corpus_case>& cases, std::vector<std::size_t>& indices) {

@@ -11,7 +11,7 @@
 #include <filesystem>
 #include <string>
 #include <string_view>
-#include <unordered_map>
+#include <optional>
 #include <vector>
 
 #include "core/ray_sphere_case.h"
@@ -49,6 +49,20 @@ struct generate_spec {
 // input_error (field "--generate") for a malformed spec or an unknown family.
 generate_spec parse_generate_spec(std::string_view text);
 
+// 16 hex digits identifying an input: FNV-1a over every case in order (id,
+// family, the ten inputs and the interval, as their bytes), or over texts
+// that name it (a generated family and its version).
+class case_fingerprint {
+public:
+    void add(const corpus_case& c);
+    void add_text(std::string_view text);
+    std::string text() const;
+
+private:
+    void mix(const void* bytes, std::size_t n);
+    std::uint64_t hash_ = 0xcbf29ce484222325ULL;
+};
+
 class case_stream {
 public:
     static constexpr std::size_t default_chunk = 4096;
@@ -65,30 +79,46 @@ public:
     // false when the input is exhausted.
     bool next(std::vector<corpus_case>& cases, std::vector<std::size_t>& indices);
 
+    // Bytes held for the duplicate-id check (corpus files; 0 for generated cases).
+    std::size_t id_check_bytes() const { return seen_ids_.bytes(); }
     // Cases of the whole input (every shard's) passed so far; once next()
     // returned false, the input's size.
     std::size_t total() const { return total_; }
     // 16 hex digits identifying the whole input passed so far: a hash of every
     // case (id, family, inputs, interval) for files; of the specs and each
     // family's generator version for generated cases.
-    std::string fingerprint() const;
+    std::string fingerprint() const { return fingerprint_.text(); }
 
 private:
     bool next_from_files(std::vector<corpus_case>& cases, std::vector<std::size_t>& indices);
     bool next_generated(std::vector<corpus_case>& cases, std::vector<std::size_t>& indices);
-    void mix(const void* bytes, std::size_t n);
 
     shard_spec shard_;
     std::size_t chunk_;
     std::size_t total_ = 0;
-    std::uint64_t hash_ = 0xcbf29ce484222325ULL;
+    case_fingerprint fingerprint_;
     // Files.
     std::vector<std::filesystem::path> paths_;
     std::vector<std::filesystem::path> files_;
     std::size_t next_file_ = 0;
     std::vector<corpus_case> current_;
     std::size_t position_ = 0;
-    std::unordered_map<std::string, std::string> first_source_;  // id → where it was first defined
+    // The ids seen so far, as 64-bit hashes: 8 bytes a slot, at most 3/4 of
+    // the slots used, so at most 21.4 bytes per case whatever the ids' length
+    // (docs/outputs.md). A hash seen before is checked exactly by finding the
+    // id in the files read so far, so a collision never reports a duplicate.
+    class id_hashes {
+    public:
+        bool insert(std::uint64_t hash);  // false when present already
+        std::size_t bytes() const { return slots_.size() * sizeof(std::uint64_t); }
+
+    private:
+        std::vector<std::uint64_t> slots_;  // 0: empty
+        std::size_t size_ = 0;
+    };
+    id_hashes seen_ids_;
+    // The first definition of c.id among the cases read before it, if any (the exact re-check).
+    std::optional<std::string> earlier_definition(const corpus_case& c) const;
     // Generated.
     std::vector<generate_spec> specs_;
     std::size_t spec_ = 0, spec_position_ = 0;  // next index within specs_[spec_] to consider

@@ -133,6 +133,10 @@ void for_each_line(const std::string& file, std::string_view contents, F&& on_li
         if (line.size() > max_line_bytes)
             throw input_error(file, number, "", "line is longer than 1 MB");
         if (line.ends_with('\r')) line.remove_suffix(1);
+        if (line.find('\r') != std::string_view::npos)
+            throw input_error(file, number, "",
+                              "line contains a carriage return not followed by a newline (CR-only line endings, "
+                              "as old Mac files have?): save the file with \\n or \\r\\n line endings");
         if (line.find('\0') != std::string_view::npos)
             throw input_error(file, number, "", "line contains a NUL byte (binary file?)");
         if (!is_valid_utf8(line))
@@ -200,16 +204,48 @@ std::vector<corpus_case> parse_text(const std::string& file, std::string_view co
     return cases;
 }
 
-std::vector<std::string_view> split_csv_row(std::string_view line) {
-    std::vector<std::string_view> cells;
-    for (std::size_t start = 0;;) {
-        const std::size_t end = std::min(line.find(',', start), line.size());
-        std::string_view cell = trim(line.substr(start, end - start));
-        if (cell.size() >= 2 && cell.front() == '"' && cell.back() == '"')
-            cell = cell.substr(1, cell.size() - 2);
-        cells.push_back(cell);
+// The cells of a CSV row (RFC 4180 quoting on one line): a cell in double
+// quotes may hold commas, and "" stands for a quote; blanks around a cell are
+// trimmed.
+std::vector<std::string> split_csv_row(std::string_view line, const std::string& file, std::size_t number) {
+    std::vector<std::string> cells;
+    for (std::size_t at = 0;;) {
+        while (at < line.size() && is_space(line[at])) ++at;
+        std::string cell;
+        std::size_t end = 0;  // the comma after the cell, or line.size()
+        if (at < line.size() && line[at] == '"') {
+            std::size_t i = at + 1;
+            for (;; ++i) {
+                if (i >= line.size())
+                    throw input_error(file, number, "",
+                                      fmt::format("cell {} opens a double quote that the line never closes",
+                                                  cells.size() + 1));
+                if (line[i] != '"') {
+                    cell += line[i];
+                } else if (i + 1 < line.size() && line[i + 1] == '"') {
+                    cell += '"';
+                    ++i;
+                } else {
+                    break;
+                }
+            }
+            end = std::min(line.find(',', i + 1), line.size());
+            if (!trim(line.substr(i + 1, end - i - 1)).empty())
+                throw input_error(file, number, "",
+                                  fmt::format("cell {} has text after its closing double quote", cells.size() + 1));
+        } else {
+            end = std::min(line.find(',', at), line.size());
+            const std::string_view plain = trim(line.substr(at, end - at));
+            if (plain.find('"') != std::string_view::npos)
+                throw input_error(file, number, "",
+                                  fmt::format("cell {} holds a double quote without being quoted (write \"\" "
+                                              "inside a quoted cell)",
+                                              cells.size() + 1));
+            cell = plain;
+        }
+        cells.push_back(std::move(cell));
         if (end == line.size()) return cells;
-        start = end + 1;
+        at = end + 1;
     }
 }
 
@@ -220,7 +256,7 @@ std::vector<corpus_case> parse_csv(const std::string& file, std::string_view con
     std::size_t header_line = 0, width = 0;
     for_each_line(file, contents, [&](std::size_t number, std::string_view line) {
         if (trim(line).empty() || trim(line).front() == '#') return;
-        const auto cells = split_csv_row(line);
+        const std::vector<std::string> cells = split_csv_row(line, file, number);
         if (header_line == 0) {
             header_line = number;
             width = cells.size();
@@ -292,8 +328,17 @@ std::vector<fs::path> corpus_files(const fs::path& path) {
     std::vector<fs::path> files;
     for (fs::directory_iterator it(path, ec), end; !ec && it != end; it.increment(ec)) {
         const std::string ext = it->path().extension().string();
-        if ((iequals(ext, ".txt") || iequals(ext, ".csv")) && it->is_regular_file(ec))
-            files.push_back(it->path());
+        if (!iequals(ext, ".txt") && !iequals(ext, ".csv")) continue;
+        // Named like a corpus file but not one: an error, never silently skipped.
+        std::error_code status_error;
+        const fs::file_status status = fs::status(it->path(), status_error);
+        if (status.type() == fs::file_type::not_found && fs::is_symlink(it->symlink_status(status_error)))
+            throw input_error(it->path().string(), 0, "", "is a symbolic link to a missing file");
+        if (fs::is_directory(status)) continue;  // not read: the listing is not recursive
+        if (!fs::is_regular_file(status))
+            throw input_error(it->path().string(), 0, "",
+                              "is not a regular file (a pipe, socket or device named like a corpus file)");
+        files.push_back(it->path());
     }
     if (ec)
         throw input_error(path.string(), 0, "",
@@ -330,6 +375,13 @@ double parse_exact_double(std::string_view token, const std::string& file, std::
         fail("expected a number");
 
     const std::size_t e = body.find_first_of(hex ? "pP" : "eE");
+    if (e != std::string_view::npos) {
+        // from_chars takes "0x1p+-5" as 0x1p-5: an exponent is one optional sign and digits.
+        std::string_view digits = body.substr(e + 1);
+        if (digits.starts_with('+') || digits.starts_with('-')) digits.remove_prefix(1);
+        if (digits.empty() || !std::ranges::all_of(digits, [](char c) { return c >= '0' && c <= '9'; }))
+            fail("expected a number");
+    }
     const digit_span s = span_of(body.substr(0, e));
     const long long exponent = e == std::string_view::npos ? 0 : exponent_of(body.substr(e + 1));
     if (hex && s.high_digit != 0) {
@@ -468,26 +520,27 @@ void write_corpus_file(const fs::path& path, const std::vector<corpus_case>& cas
     write_file_atomically(path, out);
 }
 
-void write_file_atomically(const fs::path& path, const std::string& contents) {
-    fs::path temporary = path;
-    temporary += ".tmp";
-    const auto fail = [&](const std::string& problem) {
-        std::error_code ignored;
-        fs::remove(temporary, ignored);
-        throw input_error(path.string(), 0, "", problem);
-    };
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    if (!out)  // nothing was created, so nothing to remove
-        throw input_error(path.string(), 0, "",
-                          fmt::format("cannot create '{}': {}", temporary.string(),
-                                      std::generic_category().message(errno)));
-    out.write(contents.data(), static_cast<std::streamsize>(contents.size()));
-    out.close();
-    if (!out) fail(fmt::format("cannot write '{}'", temporary.string()));
-    std::error_code ec;
-    fs::rename(temporary, path, ec);
-    if (ec)
-        fail(fmt::format("cannot rename '{}' into place: {}", temporary.string(), ec.message()));
+void for_each_text_line(const std::string& file, std::string_view contents,
+                        const std::function<void(std::size_t number, std::string_view line)>& on_line) {
+    for_each_line(file, contents, on_line);
+}
+
+std::vector<std::string_view> split_csv_cells(std::string_view line) {
+    std::vector<std::string_view> cells;
+    for (std::size_t start = 0;;) {
+        // A quoted cell runs to its closing quote, commas included (a scene ray's id).
+        const std::size_t first = line.find_first_not_of(" \t", start);
+        std::size_t end = std::min(line.find(',', start), line.size());
+        if (first < line.size() && line[first] == '"') {
+            const std::size_t closing = line.find('"', first + 1);
+            if (closing != std::string_view::npos) end = std::min(line.find(',', closing), line.size());
+        }
+        std::string_view cell = trim(line.substr(start, end - start));
+        if (cell.size() >= 2 && cell.front() == '"' && cell.back() == '"') cell = cell.substr(1, cell.size() - 2);
+        cells.push_back(cell);
+        if (end == line.size()) return cells;
+        start = end + 1;
+    }
 }
 
 }  // namespace rayverify

@@ -8,9 +8,9 @@
 //
 // CSV corpus (.csv, any case): a header line names the columns id, ox, oy, oz,
 // dx, dy, dz, cx, cy, cz, r (required) and family, tmin, tmax (optional), in
-// any order; other columns are ignored. Cells are trimmed of whitespace and
-// of one pair of surrounding double quotes (a quoted comma is not supported).
-// An empty tmin or tmax cell means absent.
+// any order; other columns are ignored. Cells are trimmed of whitespace; a
+// cell in double quotes may hold commas, with "" for a quote (RFC 4180, one
+// line per row). An empty or '-' tmin or tmax cell means absent.
 //
 // Numbers are read exactly: shortest round-trip decimals, C99 hex floats
 // (which must fit a double without rounding), and nan / inf / infinity.
@@ -20,11 +20,13 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "core/input_error.h"
+#include "core/outputs.h"
 #include "core/ray_sphere_case.h"
 
 namespace rayverify {
@@ -68,7 +70,9 @@ std::vector<corpus_case> read_corpus_file(const std::filesystem::path& path);
 std::vector<corpus_case> parse_corpus(const std::string& file, std::string_view contents, bool csv);
 
 // The files a path names: itself, or a directory's *.txt and *.csv sorted by
-// name (non-recursive). Throws input_error when a directory cannot be listed.
+// name (non-recursive). Throws input_error when a directory cannot be listed
+// or holds something named *.txt or *.csv that is neither a regular file
+// nor a directory (a dangling link, a pipe, a device).
 std::vector<std::filesystem::path> corpus_files(const std::filesystem::path& path);
 
 // Read files and directories (a directory contributes its *.txt and *.csv
@@ -76,15 +80,19 @@ std::vector<std::filesystem::path> corpus_files(const std::filesystem::path& pat
 // across everything read, or no case at all, are errors.
 std::vector<corpus_case> read_corpus(const std::vector<std::filesystem::path>& paths);
 
-// Write cases as a text corpus, atomically (see write_file_atomically):
-// corpus_header_comment(), then each of header_comments prefixed by "# ",
-// then one format_case_line per case.
+// The corpus readers' line splitting, for other readers of text files
+// (corpus/exchange.h): each line with its number, without its end of line;
+// a byte order mark skipped at the start; an input_error for a line over
+// 1 MB, a NUL byte, invalid UTF-8 or a byte order mark inside.
+void for_each_text_line(const std::string& file, std::string_view contents,
+                        const std::function<void(std::size_t number, std::string_view line)>& on_line);
+// One CSV row's cells, trimmed, each stripped of one pair of surrounding double quotes.
+std::vector<std::string_view> split_csv_cells(std::string_view line);
+
+// Write cases as a text corpus, whole or not at all (write_file_atomically,
+// core/outputs.h): corpus_header_comment(), then each of header_comments
+// prefixed by "# ", then one format_case_line per case.
 void write_corpus_file(const std::filesystem::path& path, const std::vector<corpus_case>& cases,
                        const std::vector<std::string>& header_comments);
-
-// Write to "<path>.tmp" in the same directory, then rename over path, so a
-// reader never sees half a file. On any error the temporary is removed and
-// an input_error naming path (line 0) is thrown.
-void write_file_atomically(const std::filesystem::path& path, const std::string& contents);
 
 }  // namespace rayverify

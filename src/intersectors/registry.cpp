@@ -1,9 +1,13 @@
 #include "intersectors/registry.h"
 
 #include <array>
+#include <cstddef>
 #include <limits>
 #include <string>
+#include <type_traits>
 
+#include "intersectors/cycles_point.h"
+#include "intersectors/embree4_sphere.h"
 #include "intersectors/fma_discriminant.h"
 #include "intersectors/geometric.h"
 #include "intersectors/half_b.h"
@@ -11,11 +15,18 @@
 #include "intersectors/hearn_baker_any_hit.h"
 #include "intersectors/hearn_baker_nearest.h"
 #include "intersectors/hearn_baker_unit.h"
+#include "intersectors/godot_segment.h"
+#include "intersectors/jolt_ray_sphere.h"
+#include "intersectors/mitsuba3_sphere.h"
 #include "intersectors/naive.h"
+#include "intersectors/pbrt_v4_sphere.h"
+#include "intersectors/raylib_collision.h"
 #include "intersectors/robust.h"
 #include "intersectors/seed003_reduced.h"
 #include "intersectors/seed004_early_out.h"
 #include "intersectors/stable_roots.h"
+#include "intersectors/threejs_ray.h"
+#include "intersectors/wald_origin_shift.h"
 
 namespace rayverify {
 namespace {
@@ -37,6 +48,48 @@ variant interval_variant(std::string name, std::string citation, std::string for
     return v;
 }
 
+// An engine's port: its function takes (s, tmin, tmax) (the interval is
+// ignored by a fixed-range contract) and returns roots or a whole answer, in
+// float, double or both (nullptr: the engine has no such build).
+template <class T>
+using answer_fn = answer<T> (*)(const ray_sphere<T>&, T, T);
+
+template <class T, class Fn>
+void bind_engine(variant& v, Fn fn) {
+    constexpr T inf = std::numeric_limits<T>::infinity();
+    const auto roots = [fn](const ray_sphere<T>& s, T tmin, T tmax) {
+        if constexpr (std::is_same_v<decltype(fn(s, tmin, tmax)), answer<T>>)
+            return fn(s, tmin, tmax).roots;
+        else
+            return fn(s, tmin, tmax);
+    };
+    const auto plain = [roots](const ray_sphere<T>& s) { return roots(s, T(0), inf); };
+    const bool interval = takes_interval(v.promises);
+    if constexpr (std::is_same_v<T, float>) {
+        v.run_float = plain;
+        if (interval) v.run_float_in = roots;
+        if constexpr (std::is_same_v<Fn, answer_fn<float>>) v.answer_float = fn;
+    } else {
+        v.run_double = plain;
+        if (interval) v.run_double_in = roots;
+        if constexpr (std::is_same_v<Fn, answer_fn<double>>) v.answer_double = fn;
+    }
+}
+
+template <class FloatFn, class DoubleFn>
+variant engine_variant(std::string name, std::string citation, std::string formula, contract promises,
+                       std::string build, FloatFn f, DoubleFn d) {
+    variant v;
+    v.name = std::move(name);
+    v.citation = std::move(citation);
+    v.formula = std::move(formula);
+    v.promises = promises;
+    v.build = std::move(build);
+    if constexpr (!std::is_same_v<FloatFn, std::nullptr_t>) bind_engine<float>(v, f);
+    if constexpr (!std::is_same_v<DoubleFn, std::nullptr_t>) bind_engine<double>(v, d);
+    return v;
+}
+
 #define RAYVERIFY_INTERVAL_VARIANT(fn, citation, formula) \
     interval_variant<&intersectors::fn<float>, &intersectors::fn<double>>(#fn, citation, formula, intersectors::fn##_contract)
 
@@ -46,7 +99,7 @@ variant with_exact_decisions(variant v) {
     return v;
 }
 
-const std::array<variant, 16> registry{{
+const std::array<variant, 26> registry{{
     {"naive", "seed 000 / seed 001 (textbook quadratic)",
      "b = 2d·f, C = f·f − r², Δ = b² − 4aC, t = (−b ∓ √Δ)/2a", intersectors::naive_contract,
      RAYVERIFY_BOTH_PRECISIONS(naive)},
@@ -88,6 +141,9 @@ const std::array<variant, 16> registry{{
     RAYVERIFY_INTERVAL_VARIANT(hearn_baker_unit_any_hit,
                                "Ray Tracing Gems ch.7 final form with a = 1, any-hit in (tmin, tmax) (shadow rays)",
                                "as hearn_baker_any_hit with a = 1: Δ = r² − |f + b′d̂|², roots C/q and q only as needed"),
+    {"wald_origin_shift", "Ray Tracing Gems II ch.34 (Wald): origin shift, then the textbook quadratic",
+     "t_s = (c − o)·d/(d·d), o′ = o + t_s·d, then naive from o′: t = t_s + (−b ∓ √Δ)/2a",
+     intersectors::wald_origin_shift_contract, RAYVERIFY_BOTH_PRECISIONS(wald_origin_shift)},
     with_exact_decisions(
         {"robust", "rayverify robust_sphere.h (certified double/double-word filter, Shewchuk expansions)",
          "sign of Δ′ = a·r² − |d × f|², C, b′ exact; q = −(b′ + sign(b′)√Δ′), t = q/a, C/q rounded to nearest",
@@ -98,6 +154,61 @@ const std::array<variant, 16> registry{{
     with_exact_decisions(RAYVERIFY_INTERVAL_VARIANT(
         robust_any_hit, "rayverify robust_sphere.h, any root in (tmin, tmax) (shadow rays)",
         "as robust_nearest, answering only whether a root lies in the interval")),
+    // Engines, as published (each header cites its source and states the build it models).
+    engine_variant("pbrt_v4", "pbrt-v4 Sphere::BasicIntersect (src/pbrt/shapes.h, mmp/pbrt-v4 5f7a6068)",
+                   "interval arithmetic: a, b, c, v = o − (b/2a)d, Δ = 4a(r + |v|)(r − |v|), q = −½(b ± √Δ), "
+                   "t0 = q/a, t1 = c/q; the interval midpoint, reprojected hit point and its error bound",
+                   intersectors::pbrt_v4_contract,
+                   "Float = float (default) and PBRT_FLOAT_AS_DOUBLE; CPU rounding helpers (NextFloatUp/Down of "
+                   "the rounded result); sphere at c through Translate(c); atan2 from the host libm",
+                   &intersectors::pbrt_v4<float>, &intersectors::pbrt_v4<double>),
+    engine_variant("mitsuba3_preliminary",
+                   "Mitsuba 3 Sphere::ray_intersect_preliminary_impl (src/shapes/sphere.cpp, v3.9.1-12-gb45b0a93)",
+                   "plane_t = dot(−l, d)/|d|, o′ = fmadd(d, plane_t, o) − c, solve_quadratic(|d|², 2o′·d, |o′|² − r²) "
+                   "with an FMA discriminant, t = plane_t + near (far when near < 0)",
+                   intersectors::mitsuba3_preliminary_contract,
+                   "scalar_rgb (float rays, double arithmetic, t rounded to float) and scalar_rgb_double; x86-64 "
+                   "AVX+FMA: fused fmadd/fmsub, 3-double dot summed y + (z + x); clang (no other fusion)",
+                   &intersectors::mitsuba3_preliminary<float>, &intersectors::mitsuba3_preliminary<double>),
+    engine_variant("mitsuba3_ray_test", "Mitsuba 3 Sphere::ray_test_impl (shadow rays; src/shapes/sphere.cpp, v3.9.1)",
+                   "o′ = o − c (no shift), solve_quadratic(|d|², 2o′·d, |o′|² − r²), hit when a root lies in [0, maxt]",
+                   intersectors::mitsuba3_ray_test_contract,
+                   "as mitsuba3_preliminary: scalar_rgb (float rays, double arithmetic) and scalar_rgb_double",
+                   &intersectors::mitsuba3_ray_test<float>, &intersectors::mitsuba3_ray_test<double>),
+    engine_variant("embree4", "Embree 4 SphereIntersector1 (kernels/geometry/sphere_intersector.h, v4.4.1-8-g93040c7a)",
+                   "rd2 = rcp(d·d), projC0 = (c − o)·d·rd2, perp = c0 − projC0·d, td = √((r² − |perp|²)·rd2), "
+                   "t = projC0 ∓ td, first in [tnear, tfar]; Ng = ∓td·d − perp",
+                   intersectors::embree4_contract,
+                   "float only; aarch64 (NEON): madd fused, rcp = 1.0f/x (vdivq_f32); x86's approximate rcp "
+                   "differs between CPUs and is not modelled",
+                   &intersectors::embree4, nullptr),
+    engine_variant("cycles_point", "Blender Cycles point_intersect_test (src/kernel/geom/point_intersect.h, v5.0.0-435)",
+                   "Embree's formula, front face only: t_front = projC0 − td in [tmin, tmax], else miss",
+                   intersectors::cycles_point_contract,
+                   "float only; x86-64 SSE4.2 kernel: dot = _mm_dp_ps ((x + y) + z), no FMA",
+                   &intersectors::cycles_point, nullptr),
+    engine_variant("jolt", "Jolt Physics RaySphere + FindRoot (Jolt/Geometry/RaySphere.h, v5.5.0-182-g3b47ec39)",
+                   "a = |d|², b = 2d·f, C = |f|² − r², det = b² − 4aC, q = (b + sign(b)√det)/−2, roots q/a, C/q; "
+                   "inside: 0; a fraction of the segment",
+                   intersectors::jolt_contract,
+                   "float only; JPH_CROSS_PLATFORM_DETERMINISTIC (-ffp-contract=off, no FMA), SSE4.1 dot "
+                   "(x + y) + (z + 0); segment from o + tmin·d along (tmax − tmin)·d, or L·d (L a power of two)",
+                   &intersectors::jolt, nullptr),
+    engine_variant("threejs", "three.js Ray.intersectSphere (src/math/Ray.js)",
+                   "v = c − o, tca = v·d, d2 = v·v − tca², thc = √(r² − d2), point o + d·(tca ∓ thc)",
+                   intersectors::threejs_contract, "double only (JavaScript numbers; no fusion, no reordering)",
+                   nullptr, &intersectors::threejs),
+    engine_variant("godot", "Godot Geometry3D::segment_intersects_sphere (core/math/geometry_3d.cpp, 4.x)",
+                   "n = rel/|rel|, s = n·(c − from), dist = |n·s − (c − from)|, t = s − √(r² − dist²) "
+                   "(not when r² − dist² < 1e-5), point from + n·t, normal",
+                   intersectors::godot_contract,
+                   "real_t = float (default) and double (precision=double); x86-64 baseline, no FMA; segment from "
+                   "o + tmin·d to o + tmax·d, or to o + L·d (L a power of two)",
+                   &intersectors::godot<float>, &intersectors::godot<double>),
+    engine_variant("raylib", "raylib GetRayCollisionSphere (src/rmodels.c, 6.0-322-gabe23bf8)",
+                   "v = c − o, b = v·d, disc = r² − (|v|² − b²), t = b ∓ √disc (+ inside), point o + d·t, normal",
+                   intersectors::raylib_contract, "float only; C, x86-64 baseline (no FMA); sqrtf",
+                   &intersectors::raylib, nullptr),
 }};
 
 #undef RAYVERIFY_INTERVAL_VARIANT

@@ -14,6 +14,14 @@
 
 namespace rayverify {
 
+// One case of a batch call: the inputs in precision T and the range they are
+// asked on (as run_*_in would be; (0, +inf) or the contract's fixed range otherwise).
+template <class T>
+struct batch_case {
+    ray_sphere<T> input;
+    ray_interval<T> interval;
+};
+
 struct variant {
     std::string name;      // stable identifier used on the command line and in reports
     std::string citation;  // where the formula comes from
@@ -36,6 +44,21 @@ struct variant {
     // for (tmin, tmax).
     std::function<root_pair<float>(const ray_sphere<float>&, float, float)> run_float_in{};
     std::function<root_pair<double>(const ray_sphere<double>&, double, double)> run_double_in{};
+    // Set only when the contract names outputs beside t or a point answer
+    // (contract::outputs, contract::answer): the whole answer on (tmin, tmax),
+    // which run_* and run_*_in return the roots of.
+    std::function<answer<float>(const ray_sphere<float>&, float, float)> answer_float{};
+    std::function<answer<double>(const ray_sphere<double>&, double, double)> answer_double{};
+    // Set only for a variant that answers many cases in one call (a plugin of
+    // ABI version 2): answers[i] for cases[i]. The audit calls it once per
+    // chunk of cases; the single-case functions above call it with one.
+    std::function<void(std::span<const batch_case<float>>, std::span<answer<float>>)> batch_float{};
+    std::function<void(std::span<const batch_case<double>>, std::span<answer<double>>)> batch_double{};
+    // An engine's port: which build of the engine it models (precision of the
+    // rays and of the arithmetic, real or unfused multiply-adds, how a
+    // reciprocal is computed, flags that change rounding); empty for a
+    // formula. Printed beside the variant.
+    std::string build{};
 
     bool runs_in(precision p) const {
         return p == precision::binary32 ? static_cast<bool>(run_float) : static_cast<bool>(run_double);
@@ -51,6 +74,18 @@ root_pair<T> run_in(const variant& v, const ray_sphere<T>& s, ray_interval<T> in
         return v.run_float_in ? v.run_float_in(s, interval.tmin, interval.tmax) : v.run_float(s);
     else
         return v.run_double_in ? v.run_double_in(s, interval.tmin, interval.tmax) : v.run_double(s);
+}
+
+// The variant's whole answer in precision T on (tmin, tmax): its answer
+// function when it has one, else its roots alone.
+template <class T>
+answer<T> answer_in(const variant& v, const ray_sphere<T>& s, ray_interval<T> interval) {
+    if constexpr (std::is_same_v<T, float>) {
+        if (v.answer_float) return v.answer_float(s, interval.tmin, interval.tmax);
+    } else {
+        if (v.answer_double) return v.answer_double(s, interval.tmin, interval.tmax);
+    }
+    return {run_in(v, s, interval)};
 }
 
 // All built-in variants, in a fixed order (the order of reports).

@@ -1262,6 +1262,7 @@ std::optional<bool> any_hit_fast(const ray<T>& r, const sphere<T>& s, std::type_
 // reprojection the point is c + r·g/|g| for g = (o + t·d) − c, rounded once,
 // and q is that expression evaluated exactly: error_i = ½ulp(point_i) + ε,
 // smaller where |d_i|·ulp(t) dominates (grazing hits, hits far along the ray).
+// For t = ±the largest finite T (a root past the range) the error is +inf.
 template <class T>
     requires detail::supported<T>
 surface_point<T> hit_point(const ray<T>& r, const sphere<T>& s, std::type_identity_t<T> t, bool reproject = false) {
@@ -1285,6 +1286,11 @@ surface_point<T> hit_point(const ray<T>& r, const sphere<T>& s, std::type_identi
             slack[i] = 0x1p-52 * (std::fabs(o[i]) + 2 * std::fabs(t * d[i]));
         }
     }
+    // t = ±the largest finite value may stand for a root past the format's
+    // range (nearest_hit answers so on an open interval when RN(t*) = ±inf):
+    // |t − t*| has no bound there, and neither has the point's error.
+    const bool unbounded = std::fabs(t) == std::numeric_limits<T>::max();
+    const T no_bound = std::numeric_limits<T>::infinity();
     surface_point<T> out;
     T* point[3] = {&out.point.x, &out.point.y, &out.point.z};
     T* error[3] = {&out.error.x, &out.error.y, &out.error.z};
@@ -1298,7 +1304,9 @@ surface_point<T> hit_point(const ray<T>& r, const sphere<T>& s, std::type_identi
         for (int i = 0; i < 3; ++i) {
             *point[i] = to_T(p[i].hi + p[i].lo);
             const double half_ulp = detail::ulp_above(*point[i]) / 2;
-            *error[i] = detail::rounded_up<T>(std::fabs(double(d[i])) * detail::ulp_above(t) + half_ulp + slack[i]);
+            *error[i] = unbounded ? no_bound
+                                  : detail::rounded_up<T>(std::fabs(double(d[i])) * detail::ulp_above(t) + half_ulp +
+                                                          slack[i]);
         }
         return out;
     }
@@ -1321,8 +1329,9 @@ surface_point<T> hit_point(const ray<T>& r, const sphere<T>& s, std::type_identi
     for (int i = 0; i < 3; ++i) {
         const dd v = detail::dw_add(detail::dw_mul(k, g[i]), {double(c[i]), 0});
         *point[i] = to_T(v.hi + v.lo);
-        *error[i] = detail::rounded_up<T>(detail::ulp_above(*point[i]) / 2 +
-                                          eps * (r_abs + std::fabs(double(c[i]))) + 0x1p-1060);
+        *error[i] = unbounded ? no_bound
+                              : detail::rounded_up<T>(detail::ulp_above(*point[i]) / 2 +
+                                                      eps * (r_abs + std::fabs(double(c[i]))) + 0x1p-1060);
     }
     return out;
 }

@@ -715,6 +715,20 @@ double exact_solution::rounded_hit_coordinate(root_index i, int axis) const {
     return round_in(prec, state().hit_coordinate(i, axis));
 }
 
+int exact_solution::compare_hit_coordinate(root_index i, int axis, double value) const {
+    const int side = side_of(internal::hit_enclosure(*this, i, axis), value);  // sign(p* − value)
+    if (side != 0) return -side;
+    return -state().hit_coordinate(i, axis).compare(exact(value));
+}
+
+double exact_solution::hit_coordinate_in_double(root_index i, int axis) const {
+    if (prec == precision::binary64) return rounded_hit_coordinate(i, axis);
+    if (const std::optional<double> r =
+            round_hit_coordinate(precision::binary64, geometry_, internal::root_enclosure(*this, i), axis))
+        return *r;
+    return round_in(precision::binary64, state().hit_coordinate(i, axis));
+}
+
 exact_solution solve_exact_unit_direction(const ray_sphere<double>& g, precision prec) {
     return exact_solution::internal::reference(g, prec, std::nullopt, std::nullopt, true);
 }
@@ -727,6 +741,20 @@ int compare_squared_length(const vec3<double>& d, double x) {
     }
     const exact dx(d.x), dy(d.y), dz(d.z);
     return sign_of(dx * dx + dy * dy + dz * dz - exact(x));
+}
+
+bool box_meets_sphere(const vec3<double>& lower, const vec3<double>& upper, const vec3<double>& centre, double radius) {
+    exact nearest(0.0), farthest(0.0);
+    for (int axis = 0; axis < 3; ++axis) {
+        const exact below = exact(lower[axis]) - exact(centre[axis]), above = exact(upper[axis]) - exact(centre[axis]);
+        // The nearest coordinate is c's own when the slab holds it, else the nearer end.
+        if (sign_of(below) > 0) nearest = nearest + below * below;
+        else if (sign_of(above) < 0) nearest = nearest + above * above;
+        const exact low_squared = below * below, high_squared = above * above;
+        farthest = farthest + (low_squared < high_squared ? high_squared : low_squared);
+    }
+    const exact r_squared = exact(radius) * exact(radius);
+    return sign_of(nearest - r_squared) <= 0 && sign_of(farthest - r_squared) >= 0;
 }
 
 int compare_roots(const exact_solution& a, root_index i, const exact_solution& b, root_index j) {

@@ -79,6 +79,14 @@ public:
     // RN of coordinate `axis` of o + t·d for root i, in the solution's precision.
     double rounded_hit_coordinate(root_index i, int axis) const;
 
+    // sign(value − p*) exactly, p* coordinate `axis` of o + t·d for root i;
+    // value finite. Requires cls != miss.
+    int compare_hit_coordinate(root_index i, int axis, double value) const;
+
+    // RN to double of that coordinate, whatever the solution's precision (a
+    // reference a float variant's normal is measured against).
+    double hit_coordinate_in_double(root_index i, int axis) const;
+
     struct exact_state;  // CGAL/GMP representation, defined in oracle.cpp
     struct internal;     // the filter and the exact route, defined in oracle.cpp
 
@@ -122,6 +130,11 @@ exact_solution solve_exact_unit_direction(const ray_sphere<double>& geometry, pr
 
 // sign(|d|² − x) exactly, for finite d and x.
 int compare_squared_length(const vec3<double>& d, double x);
+
+// Whether the box [lower, upper] (finite ends, lower ≤ upper per coordinate)
+// holds some point of the sphere |x − c| = r, exactly: its nearest point to c
+// is at most r away and its farthest at least r.
+bool box_meets_sphere(const vec3<double>& lower, const vec3<double>& upper, const vec3<double>& centre, double radius);
 
 // sign(t*_i of `a` − t*_j of `b`) exactly: roots of two cases' quadratics
 // (two spheres on one ray) compared without rounding. Requires both classes

@@ -16,10 +16,13 @@
 #include <cstdio>
 #include <cstring>
 #include <limits>
+#include <optional>
 #include <thread>
 #include <type_traits>
+#include <vector>
 
 #include "core/case_in_progress.h"
+#include "core/process_status.h"
 
 namespace rayverify::plugin_internal {
 namespace {
@@ -27,14 +30,19 @@ namespace {
 using steady = std::chrono::steady_clock;
 
 // The wire. Description: a 32-bit length, then 1 and the fields (texts as a
-// 32-bit length and bytes), or 0 and why the library cannot be used. Call:
-// request_size bytes, a 32-bit kind then o, d, c, r, tmin, tmax in T (one
-// size for both kinds, so the child reads a call at once). Answer: the 32-bit
-// count, then roots[0], roots[1] in T.
-constexpr std::int32_t float_call = 0, double_call = 1;
+// 32-bit length and bytes; version 2's after version 1's), or 0 and why the
+// library cannot be used. Call: a 32-bit kind, then for a version 1 call o, d,
+// c, r, tmin, tmax in T (padded to one size for both kinds: request_size
+// bytes in all, so the child reads a call at once), answered by the 32-bit
+// count, a 32-bit flag (1: the plugin wrote outside its roots), then
+// roots[0], roots[1] in T; for a version 2 batch a 32-bit case count n and n
+// rayverify_case_T structs, answered by n rayverify_answer_T structs.
+constexpr std::int32_t float_call = 0, double_call = 1, float_batch = 2, double_batch = 3;
+constexpr std::uint32_t largest_batch = 1u << 20;
 constexpr std::size_t request_size = sizeof(std::int32_t) + 12 * sizeof(double);
 constexpr std::uint32_t longest_description = 1u << 20;
 constexpr int child_lost_exit = 121;  // the child's own loop failed (not the plugin)
+constexpr int overran_exit = 122;     // the plugin wrote outside a batch's answers
 
 bool send_all(int fd, const void* data, std::size_t size) {
     const char* p = static_cast<const char*>(data);
@@ -59,11 +67,6 @@ bool receive_all(int fd, void* data, std::size_t size) {
         size -= static_cast<std::size_t>(n);
     }
     return true;
-}
-
-steady::time_point deadline_after(double seconds) {
-    const double bounded = !(seconds < 1e7) ? 1e7 : std::max(seconds, 0.0);  // no overflow of the clock's ticks
-    return steady::now() + std::chrono::duration_cast<steady::duration>(std::chrono::duration<double>(bounded));
 }
 
 enum class received { all, closed, timed_out };
@@ -115,6 +118,22 @@ private:
     std::size_t at_ = 0;
 };
 
+// The version 2 fields, after the version 1 ones.
+void encode_version_2(std::string& out, const plugin_description& d) {
+    put_u32(out, static_cast<std::uint32_t>(d.abi));
+    put_text(out, d.contract_spec);
+    put_text(out, d.build);
+    put_u32(out, std::uint32_t{d.has_double});
+}
+
+bool decode_version_2(reader& in, plugin_description& d) {
+    std::uint32_t abi = 0, has_double = 0;
+    if (!in.u32(abi) || !in.text(d.contract_spec) || !in.text(d.build) || !in.u32(has_double)) return false;
+    d.abi = static_cast<int>(abi);
+    d.has_double = has_double != 0;
+    return true;
+}
+
 std::string encoded(const plugin_description& d) {
     std::string out;
     put_u32(out, 1);
@@ -122,6 +141,7 @@ std::string encoded(const plugin_description& d) {
     for (std::uint32_t x : {static_cast<std::uint32_t>(d.query), std::uint32_t{d.assumes_unit_direction},
                             std::uint32_t{d.reports_tangent}, std::uint32_t{d.clamps_to_zero}, std::uint32_t{d.has_float}})
         put_u32(out, x);
+    encode_version_2(out, d);
     return out;
 }
 
@@ -140,7 +160,7 @@ bool decoded(const std::string& bytes, plugin_description& d, std::string& probl
     d.reports_tangent = flags[2] != 0;
     d.clamps_to_zero = flags[3] != 0;
     d.has_float = flags[4] != 0;
-    return true;
+    return decode_version_2(in, d);
 }
 
 bool send_message(int fd, const std::string& message) {
@@ -148,16 +168,30 @@ bool send_message(int fd, const std::string& message) {
     return send_all(fd, &size, sizeof size) && send_all(fd, message.data(), message.size());
 }
 
+// The child's side of a version 2 batch: n cases in, n answers out.
+template <class Case, class Answer, class Fn>
+bool answer_batch(int fd, Fn intersect) {
+    std::uint32_t n = 0;
+    if (!intersect || !receive_all(fd, &n, sizeof n) || n > largest_batch) return false;
+    std::vector<Case> cases(n);
+    if (!receive_all(fd, cases.data(), n * sizeof(Case))) return false;
+    guarded_answers<Answer> answers(n);
+    intersect(cases.data(), answers.data(), n);
+    if (!answers.intact()) ::_exit(overran_exit);
+    return send_all(fd, answers.data(), n * sizeof(Answer));
+}
+
 template <class T, class Fn>
-bool answer(int fd, Fn intersect, const unsigned char* request) {
+bool answer_call(int fd, Fn intersect, const unsigned char* request) {
     T in[12];
     std::memcpy(in, request + sizeof(std::int32_t), sizeof in);
-    // NaN until written, as in process: a plugin that reports a hit without writing its roots is judged non_finite.
-    T roots[2] = {std::numeric_limits<T>::quiet_NaN(), std::numeric_limits<T>::quiet_NaN()};
-    const std::int32_t count = intersect(in, in + 3, in + 6, in[9], in[10], in[11], roots);
-    unsigned char reply[sizeof count + sizeof roots];
+    guarded_roots<T> buffer;
+    const std::int32_t count = intersect(in, in + 3, in + 6, in[9], in[10], in[11], buffer.roots());
+    const std::int32_t overrun = buffer.intact() ? 0 : 1;
+    unsigned char reply[2 * sizeof count + 2 * sizeof(T)];
     std::memcpy(reply, &count, sizeof count);
-    std::memcpy(reply + sizeof count, roots, sizeof roots);
+    std::memcpy(reply + sizeof count, &overrun, sizeof overrun);
+    std::memcpy(reply + 2 * sizeof count, buffer.roots(), 2 * sizeof(T));
     return send_all(fd, reply, sizeof reply);
 }
 
@@ -190,13 +224,20 @@ bool answer(int fd, Fn intersect, const unsigned char* request) {
         if (!send_message(fd, message) || !opened.handle) ::_exit(0);
         for (;;) {
             unsigned char request[request_size];
-            if (!receive_all(fd, request, request_size)) ::_exit(0);  // rayverify closed its end: done
             std::int32_t kind = 0;
-            std::memcpy(&kind, request, sizeof kind);
-            const bool answered = kind == double_call ? answer<double>(fd, opened.run_double, request)
-                                  : kind == float_call && opened.run_float
-                                      ? answer<float>(fd, opened.run_float, request)
-                                      : false;
+            if (!receive_all(fd, &kind, sizeof kind)) ::_exit(0);  // rayverify closed its end: done
+            bool answered = false;
+            if (kind == float_batch) {
+                answered = answer_batch<rayverify_case_float, rayverify_answer_float>(fd, opened.batch_float);
+            } else if (kind == double_batch) {
+                answered = answer_batch<rayverify_case_double, rayverify_answer_double>(fd, opened.batch_double);
+            } else {
+                std::memcpy(request, &kind, sizeof kind);
+                if (!receive_all(fd, request + sizeof kind, request_size - sizeof kind)) ::_exit(0);
+                answered = kind == double_call ? answer_call<double>(fd, opened.run_double, request)
+                           : kind == float_call && opened.run_float ? answer_call<float>(fd, opened.run_float, request)
+                                                                    : false;
+            }
             if (!answered) break;
         }
     } catch (...) {
@@ -205,19 +246,9 @@ bool answer(int fd, Fn intersect, const unsigned char* request) {
 }
 
 std::string how_it_ended(int status) {
-    if (WIFSIGNALED(status)) {
-        const int signal = WTERMSIG(status);
-        const char* name = sigabbrev_np(signal);
-        const char* description = sigdescr_np(signal);
-        return name ? fmt::format("was killed by SIG{} ({})", name, description ? description : "?")
-                    : fmt::format("was killed by signal {}", signal);
-    }
-    if (WIFEXITED(status)) {
-        const int code = WEXITSTATUS(status);
-        return code == child_lost_exit ? std::string("lost its connection to rayverify")
-                                       : fmt::format("exited with status {}", code);
-    }
-    return "ended";
+    if (WIFEXITED(status) && WEXITSTATUS(status) == child_lost_exit) return "lost its connection to rayverify";
+    if (WIFEXITED(status) && WEXITSTATUS(status) == overran_exit) return "wrote outside its answers buffer";
+    return describe_wait_status(status);
 }
 
 }  // namespace
@@ -276,25 +307,9 @@ std::string plugin_host::ended() {
     if (pid_ <= 0) return "ended";
     // The socket closes as the child exits: it is reaped at once, or killed
     // when it lingers (a plugin that closed the socket itself).
-    const steady::time_point deadline = deadline_after(timeout_seconds_);
-    int status = 0;
-    for (;;) {
-        const pid_t reaped = ::waitpid(pid_, &status, WNOHANG);
-        if (reaped == pid_) break;
-        if (reaped < 0 && errno != EINTR) {
-            pid_ = -1;
-            return "ended";
-        }
-        if (steady::now() >= deadline) {
-            ::kill(pid_, SIGKILL);
-            while (::waitpid(pid_, &status, 0) < 0 && errno == EINTR) {
-            }
-            break;
-        }
-        std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    }
+    const std::optional<int> status = reap_child(pid_, pid_, timeout_seconds_);
     pid_ = -1;
-    return how_it_ended(status);
+    return status ? how_it_ended(*status) : "ended";
 }
 
 std::string plugin_host::timed_out() {
@@ -314,38 +329,76 @@ root_pair<T> plugin_host::call_in(const ray_sphere<T>& s, T tmin, T tmax, bool i
     std::string happened = "is no longer running (it failed on an earlier call)";
     if (fd_ >= 0) {
         const steady::time_point deadline = deadline_after(timeout_seconds_);
-        std::int32_t count = 0;
+        std::int32_t count = 0, overrun = 0;
         T roots[2];
-        unsigned char reply[sizeof count + sizeof roots];
+        unsigned char reply[2 * sizeof count + sizeof roots];
         const received got =
             send_all(fd_, request, request_size) ? receive_by(fd_, reply, sizeof reply, deadline) : received::closed;
         if (got == received::all) {
             std::memcpy(&count, reply, sizeof count);
-            std::memcpy(roots, reply + sizeof count, sizeof roots);
-            return {count, roots[0], roots[1]};
+            std::memcpy(&overrun, reply + sizeof count, sizeof overrun);
+            std::memcpy(roots, reply + 2 * sizeof count, sizeof roots);
+            if (overrun == 0) return {count, roots[0], roots[1]};
+            happened = "wrote outside its roots[2] buffer";
+        } else {
+            happened = got == received::timed_out ? timed_out() : ended();
+        }
+    }
+    throw plugin_failure(library_,
+                         fmt::format("plugin '{}' {} {}, in its {} function", description_.name, happened,
+                                     failing_case_text(), std::is_same_v<T, float> ? "float" : "double"),
+                         failing_case(s, tmin, tmax, interval_asked));
+}
+
+template <class T>
+void plugin_host::batch_in(std::span<const batch_case<T>> cases, std::span<answer<T>> out, const contract& promises) {
+    using case_t = std::conditional_t<std::is_same_v<T, float>, rayverify_case_float, rayverify_case_double>;
+    using answer_t = std::conditional_t<std::is_same_v<T, float>, rayverify_answer_float, rayverify_answer_double>;
+    constexpr std::int32_t kind = std::is_same_v<T, float> ? float_batch : double_batch;
+    if (cases.empty()) return;
+    std::string happened = "is no longer running (it failed on an earlier call)";
+    if (fd_ >= 0 && cases.size() <= largest_batch) {
+        std::string request;
+        request.append(reinterpret_cast<const char*>(&kind), sizeof kind);
+        const auto n = static_cast<std::uint32_t>(cases.size());
+        request.append(reinterpret_cast<const char*>(&n), sizeof n);
+        for (const batch_case<T>& c : cases) {
+            const case_t given = case_for_plugin<case_t>(c.input, c.interval.tmin, c.interval.tmax);
+            request.append(reinterpret_cast<const char*>(&given), sizeof given);
+        }
+        std::vector<answer_t> answers(cases.size());
+        const steady::time_point deadline = deadline_after(timeout_seconds_);
+        const received got = send_all(fd_, request.data(), request.size())
+                                 ? receive_by(fd_, answers.data(), answers.size() * sizeof(answer_t), deadline)
+                                 : received::closed;
+        if (got == received::all) {
+            for (std::size_t i = 0; i < cases.size(); ++i) out[i] = answer_from<T>(answers[i], promises, cases[i].input);
+            return;
         }
         happened = got == received::timed_out ? timed_out() : ended();
     }
-
-    // The case the loop announced, else the inputs as given (widened exactly to double).
-    corpus_case failing;
     const corpus_case* announced = case_in_progress::current();
-    if (announced) {
-        failing = *announced;
-    } else {
-        failing.id = "plugin-failure";
-        failing.geometry = rounded_to<double>(s);
-        if (interval_asked) {
-            failing.tmin = tmin;
-            failing.tmax = tmax;
-        }
-    }
-    const std::string where = announced ? fmt::format("on case {} ({})", announced->id, announced->source)
-                                        : std::string("on inputs given outside any audited case");
+    corpus_case failing =
+        failing_case(cases.front().input, cases.front().interval.tmin, cases.front().interval.tmax, true);
+    const std::string where =
+        announced ? fmt::format("on a batch of {} case{} from case {} ({})", cases.size(), cases.size() == 1 ? "" : "s",
+                                announced->id, announced->source)
+                  : fmt::format("on a batch of {} case{} given outside any audited case (the first below)",
+                                cases.size(), cases.size() == 1 ? "" : "s");
     throw plugin_failure(library_,
-                         fmt::format("plugin '{}' {} {}, in its {} function", description_.name, happened, where,
+                         fmt::format("plugin '{}' {} {}, in its {} batch function", description_.name, happened, where,
                                      std::is_same_v<T, float> ? "float" : "double"),
                          std::move(failing));
+}
+
+void plugin_host::call_batch(std::span<const batch_case<float>> cases, std::span<answer<float>> out,
+                             const contract& promises) {
+    batch_in<float>(cases, out, promises);
+}
+
+void plugin_host::call_batch(std::span<const batch_case<double>> cases, std::span<answer<double>> out,
+                             const contract& promises) {
+    batch_in<double>(cases, out, promises);
 }
 
 root_pair<float> plugin_host::call(const ray_sphere<float>& s, float tmin, float tmax, bool interval_asked) {

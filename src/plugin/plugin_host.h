@@ -10,6 +10,7 @@
 #include <sys/types.h>
 
 #include <filesystem>
+#include <span>
 
 #include "core/intersection.h"
 #include "core/ray_sphere_case.h"
@@ -38,7 +39,15 @@ public:
     root_pair<float> call(const ray_sphere<float>& s, float tmin, float tmax, bool interval_asked);
     root_pair<double> call(const ray_sphere<double>& s, double tmin, double tmax, bool interval_asked);
 
+    // A version 2 plugin's batch function on `cases`, answers into `out`
+    // (read under `promises`: a point answer's t is derived). Throws
+    // plugin_failure as call() does, naming the batch.
+    void call_batch(std::span<const batch_case<float>> cases, std::span<answer<float>> out, const contract& promises);
+    void call_batch(std::span<const batch_case<double>> cases, std::span<answer<double>> out, const contract& promises);
+
 private:
+    template <class T>
+    void batch_in(std::span<const batch_case<T>> cases, std::span<answer<T>> out, const contract& promises);
     template <class T>
     root_pair<T> call_in(const ray_sphere<T>& s, T tmin, T tmax, bool interval_asked);
     // Closes the socket, reaps the child (which exits at the end of file) and says how it ended.

@@ -3,6 +3,12 @@
 #include <dlfcn.h>
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cstring>
+#include <functional>
+#include <stdexcept>
+
+#include "core/case_in_progress.h"
 
 namespace rayverify::plugin_internal {
 namespace {
@@ -10,6 +16,62 @@ namespace {
 [[noreturn]] void fail(const std::string& problem) { throw unusable_library(problem); }
 
 std::string text_or(const char* text, std::string fallback) { return text ? std::string(text) : fallback; }
+
+bool is_control(unsigned char byte) { return byte < 0x20 || byte == 0x7f; }
+
+// Control bytes (a terminal escape sequence, a newline) shown as \xNN, so that
+// what a plugin says prints as one plain line.
+std::string escaped(const std::string& text) {
+    std::string out;
+    for (const char c : text)
+        out += is_control(static_cast<unsigned char>(c)) ? fmt::format("\\x{:02X}", static_cast<unsigned char>(c))
+                                                          : std::string(1, c);
+    return out;
+}
+
+void check_name(const std::string& name) {
+    if (name.empty()) fail("the plugin's name is empty");
+    if (name.find_first_of(" /#") != std::string::npos ||
+        std::any_of(name.begin(), name.end(), [](char c) { return is_control(static_cast<unsigned char>(c)); }))
+        fail(fmt::format("the plugin's name '{}' must be one token without '/', '#' or control characters",
+                         escaped(name)));
+}
+
+// Version 2: the description and the batch functions its precisions need.
+void open_v2(opened_library& opened, rayverify_describe_v2_fn describe, const std::filesystem::path& library,
+             const std::function<void*(const char*, bool)>& symbol) {
+    const rayverify_plugin_info_v2* info = describe();
+    if (!info) fail("rayverify_plugin_describe_v2() returned NULL");
+    if (info->abi_version != RAYVERIFY_PLUGIN_ABI_VERSION_2)
+        fail(fmt::format("rayverify_plugin_describe_v2() reports ABI version {}, expected {} "
+                         "(RAYVERIFY_PLUGIN_ABI_VERSION_2)",
+                         info->abi_version, RAYVERIFY_PLUGIN_ABI_VERSION_2));
+    plugin_description& d = opened.description;
+    d.abi = RAYVERIFY_PLUGIN_ABI_VERSION_2;
+    d.name = text_or(info->name, "");
+    check_name(d.name);
+    d.citation = escaped(text_or(info->citation, "plugin " + library.filename().string()));
+    d.formula = escaped(text_or(info->formula, "(not stated)"));
+    d.build = escaped(text_or(info->build, ""));
+    d.contract_spec = text_or(info->contract, "");
+    try {
+        const contract c = parse_contract(d.contract_spec);
+        d.tangent_rule = escaped(text_or(info->tangent_rule, c.reports_tangent ? "(not stated)" : "never"));
+    } catch (const std::invalid_argument& e) {
+        fail(fmt::format("its contract \"{}\" cannot be used: {}", escaped(d.contract_spec), e.what()));
+    }
+    const int known = RAYVERIFY_FLOAT | RAYVERIFY_DOUBLE;
+    if ((info->precisions & known) == 0 || (info->precisions & ~known) != 0)
+        fail(fmt::format("precisions = {}: expected RAYVERIFY_FLOAT, RAYVERIFY_DOUBLE or both", info->precisions));
+    d.has_float = (info->precisions & RAYVERIFY_FLOAT) != 0;
+    d.has_double = (info->precisions & RAYVERIFY_DOUBLE) != 0;
+    if (d.has_double)
+        opened.batch_double =
+            reinterpret_cast<rayverify_batch_double_fn>(symbol("rayverify_plugin_intersect_batch_double", true));
+    if (d.has_float)
+        opened.batch_float =
+            reinterpret_cast<rayverify_batch_float_fn>(symbol("rayverify_plugin_intersect_batch_float", true));
+}
 
 }  // namespace
 
@@ -31,6 +93,11 @@ opened_library open_library(const std::filesystem::path& library) {
             fail(fmt::format("missing symbol {} (see rayverify_plugin.h; in C++ declare it extern \"C\")", name));
         return address;
     };
+    if (const auto describe_v2 =
+            reinterpret_cast<rayverify_describe_v2_fn>(symbol("rayverify_plugin_describe_v2", false))) {
+        open_v2(opened, describe_v2, library, symbol);
+        return opened;
+    }
     const auto describe = reinterpret_cast<rayverify_describe_fn>(symbol("rayverify_plugin_describe", true));
     opened.run_double =
         reinterpret_cast<rayverify_intersect_double_fn>(symbol("rayverify_plugin_intersect_double", true));
@@ -44,20 +111,18 @@ opened_library open_library(const std::filesystem::path& library) {
                          info->abi_version, RAYVERIFY_PLUGIN_ABI_VERSION));
     plugin_description& d = opened.description;
     d.name = text_or(info->name, "");
-    if (d.name.empty()) fail("the plugin's name is empty");
-    if (d.name.find_first_of(" \t\r\n/#") != std::string::npos)
-        fail(fmt::format("the plugin's name '{}' must be one token without '/' or '#'", d.name));
+    check_name(d.name);
     if (info->query < RAYVERIFY_LINE_ROOTS || info->query > RAYVERIFY_NEAREST_IN_INTERVAL)
         fail(fmt::format("unknown query kind {} (RAYVERIFY_LINE_ROOTS, RAYVERIFY_NEAREST_ON_RAY, "
                          "RAYVERIFY_ANY_HIT_IN_INTERVAL or RAYVERIFY_NEAREST_IN_INTERVAL)",
                          info->query));
-    d.citation = text_or(info->citation, "plugin " + library.filename().string());
-    d.formula = text_or(info->formula, "(not stated)");
+    d.citation = escaped(text_or(info->citation, "plugin " + library.filename().string()));
+    d.formula = escaped(text_or(info->formula, "(not stated)"));
     d.query = info->query;
     d.assumes_unit_direction = info->assumes_unit_direction != 0;
     d.reports_tangent = info->reports_tangent != 0;
     d.clamps_to_zero = info->clamps_to_zero != 0;
-    d.tangent_rule = text_or(info->tangent_rule, d.reports_tangent ? "(not stated)" : "never");
+    d.tangent_rule = escaped(text_or(info->tangent_rule, d.reports_tangent ? "(not stated)" : "never"));
     d.has_float = opened.run_float != nullptr;
     return opened;
 }
@@ -67,6 +132,13 @@ variant described_variant(const plugin_description& d) {
     v.name = d.name;
     v.citation = d.citation;
     v.formula = d.formula;
+    v.thread_safe = false;  // rayverify_plugin.h: "Called from one thread"
+    if (d.abi == RAYVERIFY_PLUGIN_ABI_VERSION_2) {
+        v.build = d.build;
+        v.promises = parse_contract(d.contract_spec);  // checked by open_library
+        v.promises.tangent_rule = interned_text(d.tangent_rule);
+        return v;
+    }
     contract& c = v.promises;
     switch (d.query) {
         case RAYVERIFY_LINE_ROOTS: c.query = query_kind::line_roots; break;
@@ -90,5 +162,45 @@ variant described_variant(const plugin_description& d) {
     v.thread_safe = false;  // rayverify_plugin.h: "Called from one thread"
     return v;
 }
+
+template <class T>
+corpus_case failing_case(const ray_sphere<T>& s, T tmin, T tmax, bool interval_asked) {
+    if (const corpus_case* announced = case_in_progress::current()) return *announced;
+    corpus_case failing;
+    failing.id = "plugin-failure";
+    failing.geometry = rounded_to<double>(s);
+    if (interval_asked) {
+        failing.tmin = tmin;
+        failing.tmax = tmax;
+    }
+    return failing;
+}
+template corpus_case failing_case(const ray_sphere<float>&, float, float, bool);
+template corpus_case failing_case(const ray_sphere<double>&, double, double, bool);
+
+std::string failing_case_text() {
+    const corpus_case* announced = case_in_progress::current();
+    return announced ? fmt::format("on case {} ({})", announced->id, announced->source)
+                     : std::string("on inputs given outside any audited case");
+}
+
+template <class T>
+guarded_roots<T>::guarded_roots() {
+    std::memset(cells, guard_byte, sizeof cells);
+    // NaN until written, so a plugin that reports a hit without writing its roots is judged non_finite.
+    roots()[0] = roots()[1] = std::numeric_limits<T>::quiet_NaN();
+}
+
+template <class T>
+bool guarded_roots<T>::intact() const {
+    const auto* bytes = reinterpret_cast<const unsigned char*>(cells);
+    const auto clean = [](const unsigned char* p, std::size_t n) {
+        return std::all_of(p, p + n, [](unsigned char b) { return b == guard_byte; });
+    };
+    return clean(bytes, guard * sizeof(T)) && clean(bytes + (guard + 2) * sizeof(T), guard * sizeof(T));
+}
+
+template struct guarded_roots<float>;
+template struct guarded_roots<double>;
 
 }  // namespace rayverify::plugin_internal

@@ -3,30 +3,43 @@
 // process) and the child process of an isolated plugin (plugin_host).
 #pragma once
 
+#include <algorithm>
+#include <cstring>
 #include <filesystem>
 #include <limits>
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <span>
+#include <type_traits>
+#include <vector>
 
+#include "core/ray_sphere_case.h"
 #include "intersectors/registry.h"
 #include "plugin/rayverify_plugin.h"
 
 namespace rayverify::plugin_internal {
 
-// What describe() says, checked, its texts copied (NULL ones replaced by
-// their defaults), and whether the library has a float function.
+// What describe() (or describe_v2()) says, checked, its texts copied (NULL
+// ones replaced by their defaults), and which precisions the library runs in.
 struct plugin_description {
+    int abi = RAYVERIFY_PLUGIN_ABI_VERSION;  // 1 or RAYVERIFY_PLUGIN_ABI_VERSION_2
     std::string name, citation, formula, tangent_rule;
+    // Version 1: the contract's fields.
     int query = RAYVERIFY_LINE_ROOTS;
     bool assumes_unit_direction = false, reports_tangent = false, clamps_to_zero = false;
+    // Version 2: the contract spec (core/contract.h), checked, and the build.
+    std::string contract_spec, build;
     bool has_float = false;
+    bool has_double = true;  // version 1 always
 };
 
 struct opened_library {
     std::shared_ptr<void> handle;  // dlclose when the last copy goes
-    rayverify_intersect_double_fn run_double = nullptr;
-    rayverify_intersect_float_fn run_float = nullptr;  // nullptr when the library has none
+    rayverify_intersect_double_fn run_double = nullptr;  // version 1
+    rayverify_intersect_float_fn run_float = nullptr;    // version 1; nullptr when the library has none
+    rayverify_batch_double_fn batch_double = nullptr;    // version 2, when it runs in double
+    rayverify_batch_float_fn batch_float = nullptr;      // version 2, when it runs in float
     plugin_description description;
 };
 
@@ -36,14 +49,101 @@ public:
     using std::runtime_error::runtime_error;
 };
 
-// dlopen the library and check what it describes. Throws unusable_library
+// dlopen the library and check what it describes: version 2 when it exports
+// rayverify_plugin_describe_v2, else version 1. Throws unusable_library
 // (missing file or symbol, not loadable, another ABI version, no name, a name
-// that is not one token, an unknown query kind).
+// that is not one token, an unknown query kind; version 2: a contract spec
+// that does not parse, no precision, a missing batch function).
 opened_library open_library(const std::filesystem::path& library);
 
 // The variant the description stands for: name, citation, formula and
 // contract; no run functions, thread_safe false (the ABI calls from one thread).
 variant described_variant(const plugin_description& description);
+
+// A version 2 answer as rayverify holds it (a point answer's t derived from
+// its point), and the struct a plugin is handed, filled with NaN and count −1.
+template <class T, class Answer>
+answer<T> answer_from(const Answer& a, const contract& promises, const ray_sphere<T>& s) {
+    answer<T> out;
+    out.roots = {a.count, a.t[0], a.t[1]};
+    out.t_lower = {a.t_lower[0], a.t_lower[1]};
+    out.t_upper = {a.t_upper[0], a.t_upper[1]};
+    out.point = {a.point[0], a.point[1], a.point[2]};
+    out.point_error = {a.point_error[0], a.point_error[1], a.point_error[2]};
+    out.normal = {a.normal[0], a.normal[1], a.normal[2]};
+    if (promises.answer == answer_kind::point) {
+        const T t = parameter_of_point(s, out.point);
+        out.roots.t0 = out.roots.t1 = t;
+    }
+    return out;
+}
+
+template <class Answer>
+Answer blank_answer() {
+    Answer a;
+    using T = std::remove_reference_t<decltype(a.t[0])>;
+    const T nan = std::numeric_limits<T>::quiet_NaN();
+    a.count = -1;
+    for (T* member : {a.t, a.t_lower, a.t_upper}) member[0] = member[1] = nan;
+    for (T* member : {a.point, a.point_error, a.normal}) member[0] = member[1] = member[2] = nan;
+    return a;
+}
+
+template <class Case, class T>
+Case case_for_plugin(const ray_sphere<T>& s, T tmin, T tmax) {
+    return {{s.origin.x, s.origin.y, s.origin.z}, {s.direction.x, s.direction.y, s.direction.z},
+            {s.centre.x, s.centre.y, s.centre.z}, s.radius, tmin, tmax};
+}
+
+// The case a failing call was on, as plugin_failure keeps it: the case
+// announced on this thread (core/case_in_progress.h), else the inputs as
+// given (widened exactly to double) with (tmin, tmax) when `interval_asked`.
+template <class T>
+corpus_case failing_case(const ray_sphere<T>& s, T tmin, T tmax, bool interval_asked);
+// "on case ID (SOURCE)", or "on inputs given outside any audited case".
+std::string failing_case_text();
+
+// The roots buffer a call writes, with guard areas on both sides: a plugin
+// that writes outside roots[0..1] is caught instead of silently scored (or
+// corrupting rayverify's memory unnoticed).
+template <class T>
+struct guarded_roots {
+    static constexpr int guard = 16;
+    T cells[guard + 2 + guard];
+    guarded_roots();
+    T* roots() { return cells + guard; }
+    bool intact() const;  // both guards as written
+};
+
+// What the guard areas around a plugin's outputs are filled with.
+constexpr unsigned char guard_byte = 0xA5;
+
+// A version 2 batch's answers as the plugin writes them, each blank_answer,
+// between guard areas as guarded_roots: a plugin that writes past its
+// `count` answers (or before the first) is caught.
+template <class Answer>
+class guarded_answers {
+public:
+    static constexpr std::size_t guard = 2;  // answers' worth of bytes on each side
+    explicit guarded_answers(std::size_t count) : cells_(count + 2 * guard), count_(count) {
+        std::memset(static_cast<void*>(cells_.data()), guard_byte, cells_.size() * sizeof(Answer));
+        for (std::size_t i = 0; i < count; ++i) cells_[guard + i] = blank_answer<Answer>();
+    }
+    Answer* data() { return cells_.data() + guard; }
+    std::span<const Answer> answers() const { return {cells_.data() + guard, count_}; }
+    bool intact() const {
+        const auto* bytes = reinterpret_cast<const unsigned char*>(cells_.data());
+        const std::size_t guard_bytes = guard * sizeof(Answer);
+        const auto clean = [](const unsigned char* p, std::size_t n) {
+            return std::all_of(p, p + n, [](unsigned char b) { return b == guard_byte; });
+        };
+        return clean(bytes, guard_bytes) && clean(bytes + (guard + count_) * sizeof(Answer), guard_bytes);
+    }
+
+private:
+    std::vector<Answer> cells_;
+    std::size_t count_;
+};
 
 // The interval a plain run function passes as (tmin, tmax): the one its
 // contract is judged on.

@@ -1,19 +1,25 @@
 #include "plugin/plugin_loader.h"
 
+#include <fmt/format.h>
 #include <signal.h>
 #include <unistd.h>
 
 #include <atomic>
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
+#include <initializer_list>
 #include <iterator>
 #include <limits>
 #include <memory>
 #include <mutex>
 #include <string_view>
+#include <span>
 #include <type_traits>
+#include <vector>
 
 #include "core/case_in_progress.h"
+#include "core/outputs.h"
 #include "plugin/plugin_host.h"
 #include "plugin/plugin_library.h"
 
@@ -22,13 +28,29 @@ namespace {
 
 using namespace plugin_internal;
 
-// ---- In process: a crash names the plugin and the case before rayverify dies ----
+// ---- In process: a crash or an exit() names the plugin and the case ----
+//
+// A plugin that crashes, calls exit() or writes outside its roots is bad
+// input, as isolated (exit 2, docs/outputs.md): the signal handler and the
+// exit hook write what happened, remove the run's unfinished outputs
+// (core/outputs.h) and end the process with status 2.
 
 constexpr int crash_signals[] = {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT};
 struct sigaction previous_actions[std::size(crash_signals)];
+pid_t hooks_owner = 0;  // the process the hooks were installed in (not a forked child)
 
-// The name of the plugin being called on this thread, nullptr between calls.
-thread_local std::atomic<const std::string*> plugin_in_call{nullptr};
+struct in_process_plugin {
+    opened_library library;
+    std::string name;  // read by the hooks
+    std::string path;
+};
+
+// The plugin being called on this thread, nullptr between calls.
+thread_local std::atomic<const in_process_plugin*> plugin_in_call{nullptr};
+// The library being opened (dlopen, its constructors, describe()), empty otherwise.
+std::atomic<const std::string*> library_loading{nullptr};
+// The function being called: "double" or "float".
+thread_local std::atomic<const char*> function_in_call{nullptr};
 
 void write_text(std::string_view text) {
     while (!text.empty()) {
@@ -49,37 +71,74 @@ std::string_view signal_name(int signal) {
     }
 }
 
-// Only async-signal-safe calls: write(2) of text that exists already (the
-// plugin's name, the announced case's id and source), sigaction, raise.
-void crash_handler(int signal, siginfo_t*, void*) {
-    const int saved_errno = errno;
-    if (const std::string* name = plugin_in_call.load(std::memory_order_relaxed)) {
-        write_text("rayverify: plugin ");
-        write_text(*name);
-        write_text(" crashed (");
-        write_text(signal_name(signal));
+// "rayverify: error: LIB: field '--plugin': plugin 'NAME' WHAT on case ID (SOURCE), in its F function; ..."
+// or, while loading, "rayverify: error: LIB: field '--plugin': WHAT while loading it (...)", as
+// input_error and the isolated plugin word it. Only write(2) of text that exists already.
+// Returns false when no plugin is being loaded or called on this thread.
+bool tell_what_happened(std::initializer_list<std::string_view> what) {
+    const in_process_plugin* plugin = plugin_in_call.load(std::memory_order_relaxed);
+    const std::string* loading = library_loading.load(std::memory_order_relaxed);
+    if (!plugin && !loading) return false;
+    write_text("rayverify: error: ");
+    write_text(plugin ? plugin->path : *loading);
+    write_text(": field '--plugin': ");
+    if (!plugin) {
+        for (std::string_view part : what) write_text(part);
+        write_text(" while loading it (dlopen, its constructors, or rayverify_plugin_describe())");
+    } else {
+        write_text("plugin '");
+        write_text(plugin->name);
+        write_text("' ");
+        for (std::string_view part : what) write_text(part);
         if (const corpus_case* c = case_in_progress::current()) {
-            write_text(") on case ");
+            write_text(" on case ");
             write_text(c->id);
             write_text(" (");
             write_text(c->source);
             write_text(")");
         } else {
-            write_text(") outside any audited case");
+            write_text(" on inputs given outside any audited case");
         }
-        write_text("; rerun with --isolate\n");
+        if (const char* function = function_in_call.load(std::memory_order_relaxed)) {
+            write_text(", in its ");
+            write_text(function);
+            write_text(" function");
+        }
     }
-    // Back to what was there before (the default, or a sanitizer's handler),
-    // which takes the signal as soon as this handler returns.
+    write_text("; rerun with --isolate to have its process stopped instead of rayverify's; no output was written\n");
+    return true;
+}
+
+// Only async-signal-safe calls: write(2), unlink(2) and rmdir(2) of paths that exist already, sigaction, _exit.
+void crash_handler(int signal, siginfo_t*, void*) {
+    const int saved_errno = errno;
+    remove_unfinished_outputs();
+    if (::getpid() == hooks_owner && tell_what_happened({"crashed (", signal_name(signal), ")"})) ::_exit(2);
+    // A crash of rayverify's own: back to what was there before (the default,
+    // or a sanitizer's handler), which takes the signal as soon as this handler returns.
     for (std::size_t i = 0; i < std::size(crash_signals); ++i)
         if (crash_signals[i] == signal) ::sigaction(signal, &previous_actions[i], nullptr);
     ::raise(signal);
     errno = saved_errno;
 }
 
-void install_crash_handler() {
+// exit() from a plugin (a call, describe(), a constructor), or from anywhere
+// while a command runs: never the command's own way out (main returns).
+void exit_hook() {
+    if (::getpid() != hooks_owner) return;  // an isolated plugin's child: its exit is reported by the parent
+    if (!tell_what_happened({"called exit()"})) {
+        if (!command_running()) return;
+        write_text("rayverify: error: exit() was called while the command was running, not by rayverify (a plugin "
+                   "loaded in this process?); rerun with --isolate; no output was written\n");
+    }
+    remove_unfinished_outputs();
+    ::_exit(2);
+}
+
+void install_hooks() {
     static std::once_flag once;
     std::call_once(once, [] {
+        hooks_owner = ::getpid();
         // A stack of its own, so that a plugin that overflows its stack is reported too.
         stack_t current{};
         if (::sigaltstack(nullptr, &current) == 0 && (current.ss_flags & SS_DISABLE)) {
@@ -95,42 +154,52 @@ void install_crash_handler() {
         sigemptyset(&action.sa_mask);
         for (std::size_t i = 0; i < std::size(crash_signals); ++i)
             ::sigaction(crash_signals[i], &action, &previous_actions[i]);
+        std::atexit(exit_hook);
     });
 }
 
-struct in_process_plugin {
-    opened_library library;
-    std::string name;  // read by crash_handler
-};
-
-// Marks the call for crash_handler.
+// Marks the call for the hooks.
 class in_call {
 public:
-    explicit in_call(const std::string& name) : previous_(plugin_in_call.load(std::memory_order_relaxed)) {
-        plugin_in_call.store(&name, std::memory_order_relaxed);
+    in_call(const in_process_plugin& plugin, const char* function)
+        : previous_(plugin_in_call.load(std::memory_order_relaxed)),
+          previous_function_(function_in_call.load(std::memory_order_relaxed)) {
+        plugin_in_call.store(&plugin, std::memory_order_relaxed);
+        function_in_call.store(function, std::memory_order_relaxed);
         std::atomic_signal_fence(std::memory_order_seq_cst);
     }
     ~in_call() {
         std::atomic_signal_fence(std::memory_order_seq_cst);
         plugin_in_call.store(previous_, std::memory_order_relaxed);
+        function_in_call.store(previous_function_, std::memory_order_relaxed);
     }
     in_call(const in_call&) = delete;
     in_call& operator=(const in_call&) = delete;
 
 private:
-    const std::string* previous_;
+    const in_process_plugin* previous_;
+    const char* previous_function_;
 };
 
 template <class T, class Fn>
-root_pair<T> call_in_process(const in_process_plugin& plugin, Fn intersect, const ray_sphere<T>& s, T tmin, T tmax) {
+root_pair<T> call_in_process(const in_process_plugin& plugin, Fn intersect, const ray_sphere<T>& s, T tmin, T tmax,
+                             bool interval_asked) {
     const T o[3] = {s.origin.x, s.origin.y, s.origin.z};
     const T d[3] = {s.direction.x, s.direction.y, s.direction.z};
     const T c[3] = {s.centre.x, s.centre.y, s.centre.z};
-    // NaN until written, so a plugin that reports a hit without writing its roots is judged non_finite.
-    T roots[2] = {std::numeric_limits<T>::quiet_NaN(), std::numeric_limits<T>::quiet_NaN()};
-    const in_call marked(plugin.name);
-    const int count = intersect(o, d, c, s.radius, tmin, tmax, roots);
-    return root_pair<T>{count, roots[0], roots[1]};
+    constexpr const char* function = std::is_same_v<T, float> ? "float" : "double";
+    guarded_roots<T> buffer;
+    int count = 0;
+    {
+        const in_call marked(plugin, function);
+        count = intersect(o, d, c, s.radius, tmin, tmax, buffer.roots());
+    }
+    if (!buffer.intact())
+        throw plugin_failure(plugin.path,
+                             fmt::format("plugin '{}' wrote outside its roots[2] buffer {}, in its {} function",
+                                         plugin.name, failing_case_text(), function),
+                             failing_case(s, tmin, tmax, interval_asked));
+    return root_pair<T>{count, buffer.roots()[0], buffer.roots()[1]};
 }
 
 // Wires a plugin's entry points into `v`: `call(s, tmin, tmax, interval_asked)`
@@ -156,24 +225,119 @@ void bind_entry_points(variant& v, bool has_float, const Call& call) {
         };
 }
 
+// ---- Version 2: batch entry points --------------------------------------------
+
+template <class T>
+using rayverify_case_t = std::conditional_t<std::is_same_v<T, float>, rayverify_case_float, rayverify_case_double>;
+template <class T>
+using rayverify_answer_t = std::conditional_t<std::is_same_v<T, float>, rayverify_answer_float, rayverify_answer_double>;
+
+// A version 2 plugin's cases in the ABI's structs, and its answers as rayverify holds them.
+template <class T>
+std::vector<rayverify_case_t<T>> plugin_cases(std::span<const batch_case<T>> cases) {
+    std::vector<rayverify_case_t<T>> out;
+    out.reserve(cases.size());
+    for (const batch_case<T>& c : cases)
+        out.push_back(case_for_plugin<rayverify_case_t<T>>(c.input, c.interval.tmin, c.interval.tmax));
+    return out;
+}
+
+template <class T>
+void take_answers(std::span<const rayverify_answer_t<T>> given, const contract& promises,
+                  std::span<const batch_case<T>> cases, std::span<answer<T>> out) {
+    for (std::size_t i = 0; i < cases.size(); ++i) out[i] = answer_from<T>(given[i], promises, cases[i].input);
+}
+
+// Wires a version 2 plugin's batch call into `v`: `batch(cases, answers)`
+// for batch_case<float> and <double> (each only when the plugin runs in that
+// precision), and from it the single-case functions (a batch of one).
+template <class Batch>
+void bind_batch_entry_points(variant& v, bool has_float, bool has_double, const Batch& batch) {
+    const auto bind = [&v, &batch]<class T>(std::type_identity<T>) {
+        const T tmin0 = interval_start<T>(v.promises);
+        constexpr T inf = std::numeric_limits<T>::infinity();
+        const auto many = [batch](std::span<const batch_case<T>> cases, std::span<answer<T>> answers) {
+            batch(cases, answers);
+        };
+        const auto one = [batch](const ray_sphere<T>& s, T tmin, T tmax) {
+            const batch_case<T> c{s, {tmin, tmax}};
+            answer<T> a;
+            batch(std::span<const batch_case<T>>(&c, 1), std::span<answer<T>>(&a, 1));
+            return a;
+        };
+        const auto roots_in = [one](const ray_sphere<T>& s, T tmin, T tmax) { return one(s, tmin, tmax).roots; };
+        const auto roots = [one, tmin0](const ray_sphere<T>& s) { return one(s, tmin0, inf).roots; };
+        const bool interval = takes_interval(v.promises);
+        if constexpr (std::is_same_v<T, float>) {
+            v.batch_float = many;
+            v.answer_float = one;
+            v.run_float = roots;
+            if (interval) v.run_float_in = roots_in;
+        } else {
+            v.batch_double = many;
+            v.answer_double = one;
+            v.run_double = roots;
+            if (interval) v.run_double_in = roots_in;
+        }
+    };
+    if (has_float) bind(std::type_identity<float>{});
+    if (has_double) bind(std::type_identity<double>{});
+}
+
+template <class T, class Fn>
+void batch_in_process(const in_process_plugin& plugin, Fn intersect, const contract& promises,
+                      std::span<const batch_case<T>> cases, std::span<answer<T>> out) {
+    const std::vector<rayverify_case_t<T>> given = plugin_cases(cases);
+    guarded_answers<rayverify_answer_t<T>> answers(cases.size());
+    constexpr const char* function = std::is_same_v<T, float> ? "float batch" : "double batch";
+    {
+        const in_call marked(plugin, function);
+        intersect(given.data(), answers.data(), given.size());
+    }
+    if (!answers.intact())
+        throw plugin_failure(plugin.path,
+                             fmt::format("plugin '{}' wrote outside its answers[{}] buffer {}, in its {} function",
+                                         plugin.name, cases.size(), failing_case_text(), function),
+                             failing_case(cases.front().input, cases.front().interval.tmin,
+                                          cases.front().interval.tmax, true));
+    take_answers<T>(answers.answers(), promises, cases, out);
+}
+
 variant load_in_process(const std::filesystem::path& library) {
     auto plugin = std::make_shared<in_process_plugin>();
+    plugin->path = library.string();
+    install_hooks();  // before dlopen: a constructor may crash or exit, a truncated library raise SIGBUS
     try {
+        library_loading.store(&plugin->path);
+        std::atomic_signal_fence(std::memory_order_seq_cst);
         plugin->library = open_library(library);
+        library_loading.store(nullptr);
     } catch (const unusable_library& e) {
+        library_loading.store(nullptr);
         throw input_error(library.string(), 0, "--plugin", e.what());
     }
     plugin->name = plugin->library.description.name;
-    install_crash_handler();
 
     variant v = described_variant(plugin->library.description);
     const bool has_float = plugin->library.run_float != nullptr;
     const std::shared_ptr<const in_process_plugin> p = std::move(plugin);
-    bind_entry_points(v, has_float, [p](const auto& s, auto tmin, auto tmax, bool /*interval_asked*/) {
+    if (p->library.description.abi == RAYVERIFY_PLUGIN_ABI_VERSION_2) {
+        const plugin_description& d = p->library.description;
+        bind_batch_entry_points(v, d.has_float, d.has_double,
+                                [p, promises = v.promises]<class T>(std::span<const batch_case<T>> cases,
+                                                                    std::span<answer<T>> answers) {
+                                    if constexpr (std::is_same_v<T, float>)
+                                        batch_in_process<T>(*p, p->library.batch_float, promises, cases, answers);
+                                    else
+                                        batch_in_process<T>(*p, p->library.batch_double, promises, cases, answers);
+                                });
+        return v;
+    }
+    bind_entry_points(v, has_float, [p](const auto& s, auto tmin, auto tmax, bool interval_asked) {
         if constexpr (std::is_same_v<decltype(tmin), float>)
-            return call_in_process(*p, p->library.run_float, s, tmin, tmax);
+            return call_in_process(*p, p->library.run_float, s, tmin, tmax, interval_asked);
         else
-            return call_in_process(*p, p->library.run_double, s, tmin, tmax);
+            return call_in_process(*p, p->library.run_double, s, tmin, tmax, interval_asked);
     });
     return v;
 }
@@ -183,6 +347,14 @@ variant load_in_process(const std::filesystem::path& library) {
 variant load_isolated(const std::filesystem::path& library, double timeout_seconds) {
     const auto host = std::make_shared<plugin_host>(library, timeout_seconds);
     variant v = described_variant(host->description());
+    if (host->description().abi == RAYVERIFY_PLUGIN_ABI_VERSION_2) {
+        bind_batch_entry_points(v, host->description().has_float, host->description().has_double,
+                                [host, promises = v.promises]<class T>(std::span<const batch_case<T>> cases,
+                                                                       std::span<answer<T>> answers) {
+                                    host->call_batch(cases, answers, promises);
+                                });
+        return v;
+    }
     bind_entry_points(v, host->description().has_float,
                       [host](const auto& s, auto tmin, auto tmax, bool interval_asked) {
                           return host->call(s, tmin, tmax, interval_asked);

@@ -39,19 +39,14 @@ variant load_plugin(const std::filesystem::path& library, const plugin_isolation
 // library (exit 2), whose message says what happened and on which case: the
 // case announced on the calling thread (core/case_in_progress.h), else the
 // inputs the plugin was given. The case is kept whole so that the CLI can
-// print it as a corpus line. Once it has failed, the plugin's child process is
+// print it as a corpus line (failing_case(): the announced case, or, with id
+// "plugin-failure" and source "", the inputs as given to the plugin, widened
+// to double, with their interval). Once it has failed, the plugin's child process is
 // gone and every later call throws again.
-class plugin_failure : public input_error {
+class plugin_failure : public case_failure {
 public:
     plugin_failure(const std::filesystem::path& library, const std::string& problem, corpus_case failing)
-        : input_error(library.string(), 0, "--plugin", problem), failing_(std::move(failing)) {}
-
-    // The announced case, or (id "plugin-failure", source "") the inputs as
-    // given to the plugin, widened to double, with their interval.
-    const corpus_case& failing_case() const { return failing_; }
-
-private:
-    corpus_case failing_;
+        : case_failure(library.string(), "--plugin", problem, std::move(failing)) {}
 };
 
 }  // namespace rayverify

@@ -3,6 +3,25 @@
  * Pure C (C89 types, no C++, no CGAL): implement it in a shared library and
  * run `rayverify audit --plugin ./libmine.so` (or `gate`, `explain`).
  *
+ * Two versions; a library implements one of them.
+ *
+ * Version 2 (a library that exports rayverify_plugin_describe_v2):
+ *   rayverify_plugin_describe_v2             required: name, contract spec, precisions
+ *   rayverify_plugin_intersect_batch_float   when precisions has RAYVERIFY_FLOAT
+ *   rayverify_plugin_intersect_batch_double  when precisions has RAYVERIFY_DOUBLE
+ * The contract is the spec string `rayverify variants` prints (query, range,
+ * ends, inside, tangent, faces, unit_direction, ... ; see docs/plugins.md):
+ * every contract rayverify can judge, the engines' included (a point answer,
+ * segments, no tmin, closed ends, front faces, inside a miss or clamped). A
+ * plugin runs in float only, double only or both, and only those are
+ * audited. Beside t it may hand over the outputs its spec names: an interval
+ * for each t (t_bounds), the hit point (hit_point) and an error bound for it
+ * (point_error), the normal (normal); each is checked against the exact
+ * answer (a bound that leaves out the exact value is the verdict
+ * unsound_bound). One call answers an array of cases.
+ *
+ * Version 1 (rayverify_plugin_describe): the original fields below; still
+ * loaded as before.
  *   rayverify_plugin_describe          required: name and contract
  *   rayverify_plugin_intersect_double  required: the intersector in double
  *   rayverify_plugin_intersect_float   optional: the same in float
@@ -17,13 +36,19 @@
  * --isolate it runs in a child process, and a crash, an exit() or a call
  * longer than --plugin-timeout is an input error naming the case.
  *
- * ABI version 1. rayverify refuses a plugin whose describe() reports another
- * version; abi_version stays the first member of rayverify_plugin_info in
- * every version so that the check itself never breaks. */
+ * rayverify refuses a plugin whose describe function reports another version
+ * than its struct's; abi_version is the first member of every version's
+ * struct so that the check itself never breaks. */
 #ifndef RAYVERIFY_PLUGIN_H
 #define RAYVERIFY_PLUGIN_H
 
+#include <stddef.h>
+
+/* The version rayverify_plugin_info (version 1) declares; unchanged so that
+ * a version 1 plugin rebuilt against this header still says 1. */
 #define RAYVERIFY_PLUGIN_ABI_VERSION 1
+/* The version rayverify_plugin_info_v2 declares. */
+#define RAYVERIFY_PLUGIN_ABI_VERSION_2 2
 
 /* Which answer the intersector gives (rayverify_plugin_info.query). */
 #define RAYVERIFY_LINE_ROOTS 0     /* both roots of the line o + t·d, any sign, t0 <= t1;
@@ -82,6 +107,72 @@ RAYVERIFY_PLUGIN_EXPORT int rayverify_plugin_intersect_double(const double origi
 RAYVERIFY_PLUGIN_EXPORT int rayverify_plugin_intersect_float(const float origin[3], const float direction[3],
                                                              const float centre[3], float radius, float tmin,
                                                              float tmax, float roots[2]);
+
+/* ---- Version 2 ------------------------------------------------------------ */
+
+/* rayverify_plugin_info_v2.precisions: a bit set. */
+#define RAYVERIFY_FLOAT 1
+#define RAYVERIFY_DOUBLE 2
+
+/* What a version 2 plugin is and what it promises. */
+typedef struct rayverify_plugin_info_v2 {
+    int abi_version;          /* RAYVERIFY_PLUGIN_ABI_VERSION_2; always the first member */
+    const char* name;         /* one token: used in reports and baselines */
+    const char* citation;     /* where the formula comes from; may be NULL */
+    const char* formula;      /* one line in the paper's notation; may be NULL */
+    const char* build;        /* the build it models (precisions, FMAs, flags); may be NULL */
+    const char* contract;     /* the contract spec, e.g. "query=nearest_hit,range=interval,ends=[]";
+                                 keys not given keep their defaults (query=line_roots, range=ray,
+                                 ends=(), inside=far_root, tangent=hit, faces=both, unit_direction=no) */
+    const char* tangent_rule; /* line_roots with reports_tangent=yes: when; may be NULL */
+    int precisions;           /* RAYVERIFY_FLOAT, RAYVERIFY_DOUBLE or both */
+} rayverify_plugin_info_v2;
+
+/* One case: the ray o + t·d, the sphere |p − c| = r, and the range the
+ * contract is asked on: range=ray: tmin = 0, tmax = +INFINITY (line_roots:
+ * tmin = -INFINITY); interval and segment: the case's own (tmin, tmax),
+ * (0, +INFINITY) when it has none; tmax_only: tmax (tmin = 0, to be ignored).
+ * A segment plugin maps (tmin, tmax) to its segment itself; for tmax =
+ * +INFINITY docs/plugins.md gives the mapping rayverify's engines use. */
+typedef struct rayverify_case_double {
+    double origin[3], direction[3], centre[3], radius, tmin, tmax;
+} rayverify_case_double;
+typedef struct rayverify_case_float {
+    float origin[3], direction[3], centre[3], radius, tmin, tmax;
+} rayverify_case_float;
+
+/* One answer. rayverify fills every member with NaN and count with -1
+ * before the call; the plugin writes count and what its contract names:
+ *   count         line_roots: 0 miss, 1 tangent, 2 two roots; nearest_hit, any_hit: 0 or 1
+ *   t[2]          the roots, t[0] <= t[1] (nearest_hit: t[0]; answer=point: unused)
+ *   t_lower[2], t_upper[2]   t_bounds=yes: t[i] lies in [t_lower[i], t_upper[i]]
+ *   point[3]      hit_point=yes or answer=point: the hit point
+ *   point_error[3]           point_error=yes: |exact − point[k]| <= point_error[k];
+ *                            point_error=surface: that box holds a point of the sphere
+ *   normal[3]     normal=yes: the normal at the hit, any length */
+typedef struct rayverify_answer_double {
+    int count;
+    double t[2], t_lower[2], t_upper[2], point[3], point_error[3], normal[3];
+} rayverify_answer_double;
+typedef struct rayverify_answer_float {
+    int count;
+    float t[2], t_lower[2], t_upper[2], point[3], point_error[3], normal[3];
+} rayverify_answer_float;
+
+typedef const rayverify_plugin_info_v2* (*rayverify_describe_v2_fn)(void);
+typedef void (*rayverify_batch_double_fn)(const rayverify_case_double* cases, rayverify_answer_double* answers,
+                                          size_t count);
+typedef void (*rayverify_batch_float_fn)(const rayverify_case_float* cases, rayverify_answer_float* answers,
+                                         size_t count);
+
+/* Answer cases[0..count) into answers[0..count), in one call (an audit
+ * passes up to a few thousand cases at once; explain and hunt pass one).
+ * Called from one thread. */
+RAYVERIFY_PLUGIN_EXPORT const rayverify_plugin_info_v2* rayverify_plugin_describe_v2(void);
+RAYVERIFY_PLUGIN_EXPORT void rayverify_plugin_intersect_batch_double(const rayverify_case_double* cases,
+                                                                     rayverify_answer_double* answers, size_t count);
+RAYVERIFY_PLUGIN_EXPORT void rayverify_plugin_intersect_batch_float(const rayverify_case_float* cases,
+                                                                    rayverify_answer_float* answers, size_t count);
 
 #ifdef __cplusplus
 }

@@ -8,6 +8,7 @@
 
 #include "core/build_info.h"
 #include "corpus/corpus_io.h"
+#include "report/schema.h"
 
 namespace rayverify {
 
@@ -77,7 +78,11 @@ json tally_json(const target_tally& t, const char* scope) {
             {"near_root_ulp", statistics_json(t.near_root_ulp, scope)},
             {"far_root_ulp", statistics_json(t.far_root_ulp, scope)},
             {"near_root_bits", statistics_json(t.near_root_bits, scope)},
-            {"hit_point_ulp", statistics_json(t.hit_point_ulp, scope)}};
+            {"hit_point_ulp", statistics_json(t.hit_point_ulp, scope)},
+            {"scale_error_radius", statistics_json(t.scale_error_radius, scope)},
+            {"scale_error_distance", statistics_json(t.scale_error_distance, scope)},
+            {"bound_width_ulp", statistics_json(t.bound_width_ulp, scope)},
+            {"normal_angle", statistics_json(t.normal_angle, scope)}};
 }
 
 
@@ -197,6 +202,7 @@ std::string render_summary_table(const audit_totals& totals) {
 json audit_report_json(const audit_totals& totals, const run_context& context) {
     constexpr const char* scope = "maximum over this finite corpus";
     json report;
+    report["schema_version"] = schema_version::report;
     report["tool"] = "rayverify audit";
     report["build"] = build_json();
     report["command"] = context.command_line;
@@ -218,6 +224,11 @@ json audit_report_json(const audit_totals& totals, const run_context& context) {
                 "p = 53, emin = -1022 (double); ulp(0) = smallest subnormal"},
         {"ulp_error", "|t - t*| / ulp(t*), t* the exact root of the inputs the variant received"},
         {"bits", "log2(1 + number of representable values between t and RN(t*))"},
+        {"scale_error_radius", "max over the returned roots of |t - t*|·|d| / r: the error in units of the radius"},
+        {"scale_error_distance", "max over the returned roots of |t - t*|·|d| / |o - c|"},
+        {"bound_width_ulp",
+         "the widest interval a variant claims for a returned t, in representable values between its ends"},
+        {"normal_angle", "angle in radians between the returned normal and the exact one (the nearer of ±n*)"},
         {"error_statistics",
          "over the cases whose verdict is agree; count and max are exact (max_case: the first case attaining it); "
          "p99 and median are nearest-rank, reported as upper bounds from a histogram of log buckets of relative "
@@ -256,6 +267,7 @@ json per_case_json(const audited_case& audited, const std::vector<audit_target>&
     const corpus_case& c = *audited.source;
     const auto& g = c.geometry;
     json line;
+    line["schema_version"] = schema_version::per_case;
     line["id"] = c.id;
     if (!c.family.empty()) line["family"] = c.family;
     line["source"] = c.source;
@@ -284,6 +296,19 @@ json per_case_json(const audited_case& audited, const std::vector<audit_target>&
                 r["t0"] = hex_float(o.output.roots.t0);
                 if (promises.query == query_kind::line_roots) r["t1"] = hex_float(o.output.roots.t1);
             }
+            // The outputs beside t, as given (judged: bound_width_ulp, normal_angle, unsound_bound).
+            const auto hex_all = [](const auto& values) {
+                json out = json::array();
+                for (double v : values) out.push_back(hex_float(v));
+                return out;
+            };
+            const auto hex_vec = [&](const vec3<double>& v) { return hex_all(std::array<double, 3>{v.x, v.y, v.z}); };
+            if (o.output.t_bounds) {
+                r["t0_bounds"] = hex_all((*o.output.t_bounds)[0]);
+                r["t1_bounds"] = hex_all((*o.output.t_bounds)[1]);
+            }
+            if (o.output.point_error) r["point_error"] = hex_vec(*o.output.point_error);
+            if (o.output.normal) r["normal"] = hex_vec(*o.output.normal);
         }
         if (o.score.near_ulp) r["near_ulp"] = json_number(*o.score.near_ulp);
         if (o.score.far_ulp) r["far_ulp"] = json_number(*o.score.far_ulp);
@@ -292,6 +317,10 @@ json per_case_json(const audited_case& audited, const std::vector<audit_target>&
             const auto& e = *o.score.hit_point_ulp;
             r["hit_point_ulp"] = {json_number(e[0]), json_number(e[1]), json_number(e[2])};
         }
+        if (o.score.scale_error_radius) r["scale_error_radius"] = json_number(*o.score.scale_error_radius);
+        if (o.score.scale_error_distance) r["scale_error_distance"] = json_number(*o.score.scale_error_distance);
+        if (o.score.bound_ulp) r["bound_width_ulp"] = json_number(*o.score.bound_ulp);
+        if (o.score.normal_angle) r["normal_angle"] = json_number(*o.score.normal_angle);
         if (!o.score.detail.empty()) r["detail"] = o.score.detail;
         results[targets[i].label()] = r;
     }

@@ -14,25 +14,43 @@ namespace rayverify {
 namespace fs = std::filesystem;
 using json = nlohmann::ordered_json;
 
+std::string hunt_error_text(hunt_objective objective, double error) {
+    switch (objective) {
+        case hunt_objective::scale_radius: return fmt::format("|t − t*|·|d| = {:.3g} r", error);
+        case hunt_objective::scale_distance: return fmt::format("|t − t*|·|d| = {:.3g} |o − c|", error);
+        case hunt_objective::ulp:
+        case hunt_objective::misclass: break;
+    }
+    return fmt::format("{:.3g} ulp", error);
+}
+
 namespace {
 
 constexpr std::string_view hunt_prefix = "# rayverify-hunt ";
 constexpr std::string_view find_prefix = "# rayverify-find ";
 
-bool ulp_objective(const json& hunt) { return hunt.at("objective").get<std::string>() == "ulp"; }
-
-std::string error_text(const json& hex) {
-    return fmt::format("{:.3g} ulp", parse_exact_double(hex.get<std::string>(), "hunt file", 0, "error"));
+hunt_objective objective_of(const json& hunt) {
+    const std::string name = hunt.at("objective").get<std::string>();
+    const std::optional<hunt_objective> o = hunt_objective_from_name(name);
+    if (!o) throw std::invalid_argument("unknown objective '" + name + "'");
+    return *o;
 }
 
-// "agree, 3.2 ulp" under the ulp objective; the verdict otherwise.
+// Under an error objective (ulp, scale_radius, scale_distance) the finds are errors found by search.
+bool ulp_objective(const json& hunt) { return maximises_error(objective_of(hunt)); }
+
+// "agree, 3.2 ulp" under an error objective; the verdict otherwise.
 std::string outcome(const json& hunt, const json& verdict, const json& error) {
-    return ulp_objective(hunt) ? fmt::format("agree, {}", error_text(error)) : verdict.get<std::string>();
+    return ulp_objective(hunt)
+               ? fmt::format("agree, {}", hunt_error_text(objective_of(hunt), parse_exact_double(error.get<std::string>(),
+                                                                                                "hunt file", 0, "error")))
+               : verdict.get<std::string>();
 }
 
 std::string hunt_summary(const json& h) {
-    std::string text = fmt::format("# rayverify hunt: {}, objective {}, strategy {}, start family {} (seed {})\n",
+    std::string text = fmt::format("# rayverify hunt: {}, objective {}{}, strategy {}, start family {} (seed {})\n",
                                    h.at("target").get<std::string>(), h.at("objective").get<std::string>(),
+                                   h.value("rounding_only", false) ? " (rounding causes only)" : "",
                                    h.at("strategy").get<std::string>(), h.at("family").get<std::string>(),
                                    h.at("seed").get<std::uint64_t>());
     text += fmt::format("# command: {}\n", h.at("command").get<std::string>());
@@ -55,6 +73,14 @@ std::string hunt_summary(const json& h) {
                             runs.size());
     text += fmt::format("# searched {} evaluations from {} start cases in {:.2f} s; {} shrinking evaluations\n",
                         evaluations, starts, seconds, shrinking);
+    for (const json& r : runs)
+        if (const auto d = r.find("first_disagreement"); d != r.end())
+            text += fmt::format("# {}{} of {} evaluations disagreed with the exact answer; the first ({}) at evaluation "
+                                "{}:\n#   {}\n",
+                                runs.size() > 1 ? "shard " + r.at("shard").get<std::string>() + ": " : "",
+                                r.at("disagreements").get<std::uint64_t>(), r.at("evaluations").get<std::uint64_t>(),
+                                d->at("verdict").get<std::string>(), d->at("evaluation").get<std::uint64_t>(),
+                                d->at("case").get<std::string>());
     if (ulp_objective(h))
         text += "# the error below is the largest FOUND BY SEARCH: a lower bound on the variant's maximum over all "
                 "inputs, not the maximum\n";

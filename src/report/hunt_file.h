@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "compare/hunt.h"
 #include "core/ray_sphere_case.h"
 
 namespace rayverify {
@@ -41,6 +42,10 @@ struct hunt_file {
 // The file's text: the corpus header, the hunt's summary and JSON line, then
 // per find its summary, JSON line and two case lines.
 std::string render_hunt_file(const hunt_file& file);
+
+// A find's error as the hunt's output says it: "3.2 ulp", or in the scene's
+// length scale for scale_radius ("|t − t*|·|d| = 1e-15 r") and scale_distance.
+std::string hunt_error_text(hunt_objective objective, double error);
 
 // True when the file starts as render_hunt_file's output does (its first
 // lines hold a `# rayverify-hunt ` line); false for anything else, including a

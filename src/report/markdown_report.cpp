@@ -4,10 +4,13 @@
 
 #include <array>
 #include <cstdio>
+#include <fstream>
 #include <map>
 #include <memory>
 
 #include "compare/judge.h"
+#include "core/input_error.h"
+#include "core/installed_data.h"
 #include "corpus/corpus_io.h"
 
 namespace rayverify {
@@ -339,7 +342,7 @@ std::string render_markdown(const json& report) {
 
 plot_outcome render_plots(const std::filesystem::path& dir) {
     plot_outcome outcome;
-    const std::string python = RAYVERIFY_PLOT_PYTHON, script = RAYVERIFY_PLOT_SCRIPT;
+    const std::string python = RAYVERIFY_PLOT_PYTHON, script = data_file("plot_report.py", RAYVERIFY_PLOT_SCRIPT).string();
     if (!std::filesystem::exists(python)) {
         outcome.message = python + " not found: install python3-matplotlib (tools/setup.sh) for the plots";
         return outcome;
@@ -377,16 +380,44 @@ plot_outcome render_plots(const std::filesystem::path& dir) {
     return outcome;
 }
 
-plot_outcome write_report_bundle(const std::filesystem::path& dir, json report, bool draw) {
-    write_file_atomically(dir / "report.json", report.dump(2) + "\n");
+namespace {
+
+// The directory is declared (created, locked) before the files in it.
+run_outputs& with_directory(run_outputs& outputs, const std::filesystem::path& dir, const std::string& option) {
+    outputs.directory(dir, option);
+    return outputs;
+}
+
+}  // namespace
+
+report_bundle::report_bundle(run_outputs& outputs, const std::filesystem::path& dir, const std::string& option)
+    : outputs_(with_directory(outputs, dir, option)),
+      dir_(dir),
+      option_(option),
+      json_(outputs.file(dir / "report.json", option)),
+      markdown_(outputs.file(dir / "report.md", option)) {}
+
+plot_outcome report_bundle::write(json report, bool draw) {
     plot_outcome plots;
-    if (draw)
-        plots = render_plots(dir);
-    else
+    if (draw) {
+        const std::filesystem::path stage = outputs_.staging_directory(dir_);
+        {
+            std::ofstream copy(stage / "report.json", std::ios::binary);
+            copy << report.dump(2) << '\n';
+            if (!copy.flush()) throw input_error((stage / "report.json").string(), 0, option_, "cannot write");
+        }
+        plots = render_plots(stage);
+        for (const std::string& file : plots.files) {
+            if (std::filesystem::path(file).filename() != file)
+                throw input_error(RAYVERIFY_PLOT_SCRIPT, 0, "", "wrote a file outside its directory: " + file);
+            outputs_.adopt(stage / file, dir_ / file);
+        }
+    } else {
         plots.message = "not drawn (rayverify audit draws them with --plots; rayverify bench always does)";
+    }
     report["plots"] = {{"rendered", plots.rendered}, {"message", plots.message}, {"files", plots.files}};
-    write_file_atomically(dir / "report.json", report.dump(2) + "\n");
-    write_file_atomically(dir / "report.md", render_markdown(report));
+    json_.stream() << report.dump(2) << '\n';
+    markdown_.stream() << render_markdown(report);
     return plots;
 }
 

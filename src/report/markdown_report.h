@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "core/outputs.h"
+
 namespace rayverify {
 
 // report.md, ready to paste into a pull request: the headline (does any
@@ -32,9 +34,26 @@ struct plot_outcome {
 // python or matplotlib (the outcome says so).
 plot_outcome render_plots(const std::filesystem::path& dir);
 
-// Writes dir/report.json, the plots (when `plots`; drawing takes seconds),
-// then report.md, and rewrites report.json with report["plots"] (each file
-// atomically). Returns the plot outcome.
-plot_outcome write_report_bundle(const std::filesystem::path& dir, nlohmann::ordered_json report, bool plots);
+// A report directory's report.json, report.md and plots, as outputs of one
+// run: the directory and both files are declared when this is constructed
+// (before the work, so that a directory that cannot be written fails first);
+// write() fills them. The plots are drawn from a copy of report.json in a
+// staging directory and put in place with the rest on commit.
+class report_bundle {
+public:
+    // `option` names the directory's option in messages (--report, -o).
+    report_bundle(run_outputs& outputs, const std::filesystem::path& dir, const std::string& option);
+    // report.json (with report["plots"] added) and report.md, after the plots
+    // when `draw` (drawing takes seconds). Returns the plot outcome.
+    plot_outcome write(nlohmann::ordered_json report, bool draw);
+    const std::filesystem::path& dir() const { return dir_; }
+
+private:
+    run_outputs& outputs_;
+    std::filesystem::path dir_;
+    std::string option_;
+    output_file& json_;
+    output_file& markdown_;
+};
 
 }  // namespace rayverify

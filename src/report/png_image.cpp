@@ -3,6 +3,7 @@
 #include <png.h>
 
 #include <csetjmp>
+#include <exception>
 #include <cstdio>
 #include <ostream>
 
@@ -22,6 +23,7 @@ struct png_writer::encoder {
     png_structp png = nullptr;
     png_infop info = nullptr;
     char error[256] = {};
+    std::exception_ptr write_failure;  // what the stream threw: kept, never thrown through libpng's C frames
     bool finished = false;
 
     static void on_error(png_structp png, png_const_charp message) {
@@ -32,15 +34,29 @@ struct png_writer::encoder {
     static void on_warning(png_structp, png_const_charp) {}
     static void on_write(png_structp png, png_bytep data, png_size_t size) {
         auto* self = static_cast<encoder*>(png_get_io_ptr(png));
-        if (!self->out->write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size)))
-            png_error(png, "cannot write the file");
+        bool written = false;
+        try {
+            written = static_cast<bool>(self->out->write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size)));
+        } catch (...) {
+            self->write_failure = std::current_exception();
+        }
+        if (!written) png_error(png, "cannot write the file");
     }
     static void on_flush(png_structp png) {
         auto* self = static_cast<encoder*>(png_get_io_ptr(png));
-        if (!self->out->flush()) png_error(png, "cannot write the file");
+        bool flushed = false;
+        try {
+            flushed = static_cast<bool>(self->out->flush());
+        } catch (...) {
+            self->write_failure = std::current_exception();
+        }
+        if (!flushed) png_error(png, "cannot write the file");
     }
 
-    [[noreturn]] void fail() const { throw input_error(name, 0, "", fmt::format("PNG: {}", error)); }
+    [[noreturn]] void fail() const {
+        if (write_failure) std::rethrow_exception(write_failure);
+        throw input_error(name, 0, "", fmt::format("PNG: {}", error));
+    }
 
     // Each returns false when libpng failed (the message is in `error`).
     bool start() {

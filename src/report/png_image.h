@@ -8,6 +8,8 @@
 #include <span>
 #include <string>
 
+#include "core/outputs.h"
+
 namespace rayverify {
 
 // Encodes width × height pixels, given a row at a time from the top (3 bytes

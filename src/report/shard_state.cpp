@@ -2,6 +2,13 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <optional>
+#include <stdexcept>
+
 #include <deque>
 #include <mutex>
 
@@ -65,7 +72,7 @@ void buckets_from_text(const json& j, decltype(error_summary::buckets)& buckets)
         std::uint64_t step = 0;
         std::size_t n = 0;
         if (colon == std::string_view::npos || !parse_unsigned(pair.substr(0, colon), step) ||
-            !parse_unsigned(pair.substr(colon + 1), n) || (at > 0 && step == 0))
+            !parse_unsigned(pair.substr(colon + 1), n) || (at > 0 && step == 0) || key + step < key)
             throw json::other_error::create(501, fmt::format("malformed buckets at '{}'", pair), &j);
         key += step;
         buckets.emplace_hint(buckets.end(), key, n);
@@ -89,9 +96,17 @@ error_summary summary_from(const json& j) {
 }
 
 json samples_json(const target_samples& s) {
-    return {{"cases", s.cases},           {"verdicts", s.verdicts},          {"causes", s.causes},
-            {"near_ulp", summary_json(s.near_ulp)}, {"far_ulp", summary_json(s.far_ulp)},
-            {"hit_ulp", summary_json(s.hit_ulp)},   {"near_bits", summary_json(s.near_bits)}};
+    return {{"cases", s.cases},
+            {"verdicts", s.verdicts},
+            {"causes", s.causes},
+            {"near_ulp", summary_json(s.near_ulp)},
+            {"far_ulp", summary_json(s.far_ulp)},
+            {"hit_ulp", summary_json(s.hit_ulp)},
+            {"near_bits", summary_json(s.near_bits)},
+            {"scale_radius", summary_json(s.scale_radius)},
+            {"scale_distance", summary_json(s.scale_distance)},
+            {"bound_ulp", summary_json(s.bound_ulp)},
+            {"normal_angle", summary_json(s.normal_angle)}};
 }
 
 target_samples samples_from(const json& j) {
@@ -103,6 +118,10 @@ target_samples samples_from(const json& j) {
     s.far_ulp = summary_from(j.at("far_ulp"));
     s.hit_ulp = summary_from(j.at("hit_ulp"));
     s.near_bits = summary_from(j.at("near_bits"));
+    s.scale_radius = summary_from(j.at("scale_radius"));
+    s.scale_distance = summary_from(j.at("scale_distance"));
+    s.bound_ulp = summary_from(j.at("bound_ulp"));
+    s.normal_angle = summary_from(j.at("normal_angle"));
     return s;
 }
 
@@ -173,7 +192,353 @@ invalid_reason reason_from(const json& j) {
     throw json::other_error::create(501, "unknown invalid reason '" + name + "'", &j);
 }
 
+// Walks a shard state document, naming every field it finds wrong by its path.
+class state_checker {
+public:
+    state_checker(const json& doc, const std::string& file) : doc_(doc), file_(file) {}
+
+    void run(bool header_only) {
+        if (!doc_.is_object()) fail("", "is not a JSON object");
+        text(member(doc_, "", "format"), "format");
+        const json& shard = member(doc_, "", "shard");
+        count_ = whole(member(shard, "shard", "count"), "shard.count");
+        index_ = whole(member(shard, "shard", "index"), "shard.index");
+        if (count_ == 0) fail("shard.count", "is 0, expected a number of shards ≥ 1");
+        if (index_ == 0 || index_ > count_)
+            fail("shard.index", fmt::format("is {}, expected 1 to shard.count ({})", index_, count_));
+        const json& input = member(doc_, "", "input");
+        total_ = whole(member(input, "input", "cases"), "input.cases");
+        for (const char* list : {"paths", "generated"}) {
+            const std::string path = std::string("input.") + list;
+            const json& items = array(member(input, "input", list), path);
+            for (std::size_t i = 0; i < items.size(); ++i) text(items[i], fmt::format("{}[{}]", path, i));
+        }
+        const std::string fingerprint = text(member(input, "input", "fingerprint"), "input.fingerprint");
+        if (fingerprint.size() != 16 || fingerprint.find_first_not_of("0123456789abcdef") != std::string::npos)
+            fail("input.fingerprint", fmt::format("'{}' is not 16 hex digits", printable(fingerprint)));
+        cases_ = whole(member(shard, "shard", "cases"), "shard.cases");
+        text(member(doc_, "", "command"), "command");
+        if (!member(doc_, "", "build").is_object()) fail("build", "is not a JSON object");
+        check_targets();
+        check_per_case_file();
+        if (header_only) return;
+        const json& state = member(doc_, "", "state");
+        check_audit(member(state, "state", "audit"));
+        check_stability(member(state, "state", "stability"));
+        check_points(array(member(state, "state", "case_points"), "state.case_points"));
+    }
+
+private:
+    [[noreturn]] void fail(const std::string& field, const std::string& problem) const {
+        throw input_error(file_, 0, field, problem);
+    }
+
+    const json& member(const json& j, const std::string& path, const char* key) const {
+        const std::string field = path.empty() ? key : path + "." + key;
+        if (!j.is_object()) fail(path, "is not a JSON object");
+        const auto it = j.find(key);
+        if (it == j.end()) fail(field, "is missing");
+        return *it;
+    }
+    const json& array(const json& j, const std::string& path, std::optional<std::size_t> size = {}) const {
+        if (!j.is_array()) fail(path, fmt::format("is {}, expected an array", shown(j)));
+        if (size && j.size() != *size) fail(path, fmt::format("has {} entries, expected {}", j.size(), *size));
+        return j;
+    }
+    static std::string shown(const json& j) {
+        std::string text = j.dump();
+        return text.size() > 60 ? text.substr(0, 60) + "…" : text;
+    }
+    std::uint64_t whole(const json& j, const std::string& path) const {
+        if (!j.is_number_unsigned()) fail(path, fmt::format("is {}, expected a whole number ≥ 0", shown(j)));
+        return j.get<std::uint64_t>();
+    }
+    std::string text(const json& j, const std::string& path) const {
+        if (!j.is_string()) fail(path, fmt::format("is {}, expected a string", shown(j)));
+        return j.get<std::string>();
+    }
+    bool flag(const json& j, const std::string& path) const {
+        if (!j.is_boolean()) fail(path, fmt::format("is {}, expected true or false", shown(j)));
+        return j.get<bool>();
+    }
+    // An error, stored as a hex float: a number ≥ 0 (inf allowed, NaN never).
+    double error_value(const json& j, const std::string& path) const {
+        const std::string t = text(j, path);
+        double x = 0;
+        try {
+            x = parse_exact_double(t, file_, 0, path);
+        } catch (const input_error&) {
+            fail(path, fmt::format("'{}' is not a number", printable(t)));
+        }
+        if (std::isnan(x) || x < 0) fail(path, fmt::format("is {}, expected an error ≥ 0 (never NaN)", t));
+        return x;
+    }
+    // A global case index of this shard's cases.
+    void case_index(std::uint64_t i, const std::string& path) const {
+        if (i >= total_) fail(path, fmt::format("is {}, beyond the input's {} cases", i, total_));
+        if (i % count_ != index_ - 1)
+            fail(path, fmt::format("is {}, a case of shard {}/{}, not of this shard {}/{}", i, i % count_ + 1, count_,
+                                   index_, count_));
+    }
+
+    void check_targets() {
+        const json& list = array(member(doc_, "", "targets"), "targets");
+        if (list.empty()) fail("targets", "is empty");
+        targets_ = list.size();
+        for (std::size_t t = 0; t < list.size(); ++t) {
+            const std::string path = fmt::format("targets[{}]", t);
+            const json& target = list[t];
+            for (const char* key : {"variant", "citation", "formula"}) text(member(target, path, key), path + "." + key);
+            const std::string precision = text(member(target, path, "precision"), path + ".precision");
+            if (precision != "float" && precision != "double")
+                fail(path + ".precision", fmt::format("'{}' is neither float nor double", printable(precision)));
+            const json& c = member(target, path, "contract");
+            const std::string spec = text(member(c, path + ".contract", "spec"), path + ".contract.spec");
+            try {
+                parse_contract(spec);
+            } catch (const std::invalid_argument& e) {
+                fail(path + ".contract.spec", fmt::format("'{}': {}", printable(spec), e.what()));
+            }
+            text(member(c, path + ".contract", "tangent_rule"), path + ".contract.tangent_rule");
+        }
+    }
+
+    // Relative, and inside the shard directory: merge reads nothing else.
+    void check_per_case_file() const {
+        const json& recorded = member(doc_, "", "per_case_file");
+        if (recorded.is_null()) return;
+        const std::filesystem::path path(text(recorded, "per_case_file"));
+        const bool inside = !path.empty() && path.is_relative() && !path.has_root_name() &&
+                            std::none_of(path.begin(), path.end(), [](const auto& part) { return part == ".."; });
+        if (!inside)
+            fail("per_case_file", fmt::format("'{}' is not a path inside the shard directory", printable(path.string())));
+    }
+
+    // An error_summary; returns its count.
+    std::uint64_t summary(const json& j, const std::string& path) const {
+        const std::uint64_t n = whole(member(j, path, "count"), path + ".count");
+        const double max = error_value(member(j, path, "max"), path + ".max");
+        const std::uint64_t max_index = whole(member(j, path, "max_index"), path + ".max_index");
+        const std::string max_id = text(member(j, path, "max_id"), path + ".max_id");
+        // Format 2: the buckets as one string (buckets_text), each key its distance from the one before.
+        decltype(error_summary::buckets) buckets;
+        const json& text_of_buckets = member(j, path, "buckets");
+        if (!text_of_buckets.is_string()) fail(path + ".buckets", "is not a string of key:count pairs");
+        try {
+            buckets_from_text(text_of_buckets, buckets);
+        } catch (const json::exception&) {
+            fail(path + ".buckets", "is not a list of key:count pairs, each key after the first above the one before");
+        }
+        std::uint64_t in_buckets = 0, last = 0;
+        constexpr double infinity = std::numeric_limits<double>::infinity();
+        for (const auto& [key, size] : buckets) {
+            const std::string at = fmt::format("{}.buckets (key {})", path, key);
+            if (key > error_summary::bucket_of(infinity))
+                fail(at, fmt::format("is beyond the last bucket ({}, infinity)", error_summary::bucket_of(infinity)));
+            if (size == 0) fail(at, "holds 0 errors: an empty bucket is not stored");
+            if (in_buckets + size < in_buckets) fail(at, "overflows the count");
+            in_buckets += size;
+            last = key;
+        }
+        if (in_buckets != n)
+            fail(path + ".count", fmt::format("is {}, but its buckets hold {} errors", n, in_buckets));
+        if (n == 0 && (max != 0 || max_index != 0 || !max_id.empty()))
+            fail(path + ".max", "is set although the summary holds no error");
+        if (n > 0) {
+            case_index(max_index, path + ".max_index");
+            if (error_summary::bucket_of(max) != last)
+                fail(path + ".max", fmt::format("is {}, not in the summary's last bucket (the maximum must be the "
+                                                "largest error)",
+                                                hex_float(max)));
+        }
+        return n;
+    }
+
+    // Figures of one target over some cases; the verdicts and error counts go to `sums`.
+    struct sample_sums {
+        std::array<std::uint64_t, verdict_kind_count> verdicts{};
+        std::array<std::uint64_t, disagreement_cause_count> causes{};
+        std::array<std::uint64_t, 4> errors{};
+    };
+    sample_sums samples(const json& j, const std::string& path, std::uint64_t cases) const {
+        sample_sums sums;
+        const std::uint64_t n = whole(member(j, path, "cases"), path + ".cases");
+        if (n != cases) fail(path + ".cases", fmt::format("is {}, expected {}", n, cases));
+        const json& verdicts = array(member(j, path, "verdicts"), path + ".verdicts", verdict_kind_count);
+        std::uint64_t total = 0;
+        for (int k = 0; k < verdict_kind_count; ++k) {
+            sums.verdicts[k] =
+                whole(verdicts[k], fmt::format("{}.verdicts[{}] ({})", path, k, verdict_name(static_cast<verdict_kind>(k))));
+            total += sums.verdicts[k];
+        }
+        if (total != n)
+            fail(path + ".verdicts", fmt::format("add up to {}, but the target has {} cases", total, n));
+        const json& causes = array(member(j, path, "causes"), path + ".causes", disagreement_cause_count);
+        std::uint64_t caused = 0, disagreeing = 0;
+        for (int c = 0; c < disagreement_cause_count; ++c) {
+            sums.causes[c] = whole(causes[c], fmt::format("{}.causes[{}] ({})", path, c,
+                                                          cause_name(static_cast<disagreement_cause>(c))));
+            caused += sums.causes[c];
+        }
+        for (int k = 0; k < verdict_kind_count; ++k)
+            if (is_disagreement(static_cast<verdict_kind>(k))) disagreeing += sums.verdicts[k];
+        if (caused != disagreeing)
+            fail(path + ".causes", fmt::format("add up to {}, but the target has {} disagreements", caused, disagreeing));
+        const std::uint64_t agreeing = sums.verdicts[static_cast<int>(verdict_kind::agree)];
+        int e = 0;
+        for (const char* name : {"near_ulp", "far_ulp", "hit_ulp", "near_bits"}) {
+            const std::string at = path + "." + name;
+            sums.errors[e] = summary(member(j, path, name), at);
+            if (sums.errors[e] > agreeing)
+                fail(at + ".count", fmt::format("is {}, more than the {} agreeing cases", sums.errors[e], agreeing));
+            ++e;
+        }
+        return sums;
+    }
+
+    void check_audit(const json& a) {
+        const std::uint64_t cases = whole(member(a, "state.audit", "cases"), "state.audit.cases");
+        if (cases != cases_) fail("state.audit.cases", fmt::format("is {}, but shard.cases is {}", cases, cases_));
+        const json& by_family_cases = member(a, "state.audit", "cases_by_family");
+        if (!by_family_cases.is_object()) fail("state.audit.cases_by_family", "is not a JSON object");
+        std::uint64_t family_total = 0;
+        for (const auto& [family, n] : by_family_cases.items()) {
+            family_cases_[family] = whole(n, "state.audit.cases_by_family." + printable(family));
+            family_total += family_cases_[family];
+        }
+        if (family_total != cases)
+            fail("state.audit.cases_by_family", fmt::format("add up to {}, but the shard has {} cases", family_total, cases));
+        const json& invalid = array(member(a, "state.audit", "invalid"), "state.audit.invalid", 2);
+        const std::uint64_t invalid_float = whole(invalid[0], "state.audit.invalid[0]"),
+                            invalid_double = whole(invalid[1], "state.audit.invalid[1]");
+        const json& list = array(member(a, "state.audit", "invalid_list"), "state.audit.invalid_list");
+        std::uint64_t listed_float = 0, listed_double = 0, previous = 0;
+        for (std::size_t i = 0; i < list.size(); ++i) {
+            const std::string at = fmt::format("state.audit.invalid_list[{}]", i);
+            const json& entry = array(list[i], at, 5);
+            const std::uint64_t index = whole(entry[0], at + "[0]");
+            case_index(index, at + "[0]");
+            if (i > 0 && index <= previous) fail(at + "[0]", "is not above the index before it");
+            previous = index;
+            text(entry[1], at + "[1]");
+            text(entry[2], at + "[2]");
+            for (int p = 0; p < 2; ++p) {
+                const std::string reason = text(entry[3 + p], fmt::format("{}[{}]", at, 3 + p));
+                bool known = false;
+                for (int r = 0; r <= static_cast<int>(invalid_reason::bad_interval); ++r)
+                    known = known || reason == invalid_reason_name(static_cast<invalid_reason>(r));
+                if (!known) fail(fmt::format("{}[{}]", at, 3 + p), fmt::format("unknown reason '{}'", printable(reason)));
+                if (reason != invalid_reason_name(invalid_reason::none)) ++(p == 0 ? listed_float : listed_double);
+            }
+        }
+        if (invalid_float != listed_float)
+            fail("state.audit.invalid[0]", fmt::format("is {}, but invalid_list holds {} cases invalid in float",
+                                                       invalid_float, listed_float));
+        if (invalid_double != listed_double)
+            fail("state.audit.invalid[1]", fmt::format("is {}, but invalid_list holds {} cases invalid in double",
+                                                       invalid_double, listed_double));
+
+        const json& overall = array(member(a, "state.audit", "overall"), "state.audit.overall", targets_);
+        std::vector<sample_sums> whole_run;
+        for (std::size_t t = 0; t < targets_; ++t)
+            whole_run.push_back(samples(overall[t], fmt::format("state.audit.overall[{}]", t), cases));
+        const json& families = member(a, "state.audit", "by_family");
+        if (!families.is_object()) fail("state.audit.by_family", "is not a JSON object");
+        std::vector<sample_sums> summed(targets_);
+        for (const auto& [family, list_of_targets] : families.items()) {
+            const std::string path = "state.audit.by_family." + printable(family);
+            const auto known = family_cases_.find(family);
+            if (known == family_cases_.end()) fail(path, "is a family not in state.audit.cases_by_family");
+            array(list_of_targets, path, targets_);
+            for (std::size_t t = 0; t < targets_; ++t) {
+                const sample_sums s = samples(list_of_targets[t], fmt::format("{}[{}]", path, t), known->second);
+                for (int k = 0; k < verdict_kind_count; ++k) summed[t].verdicts[k] += s.verdicts[k];
+                for (int c = 0; c < disagreement_cause_count; ++c) summed[t].causes[c] += s.causes[c];
+                for (std::size_t e = 0; e < s.errors.size(); ++e) summed[t].errors[e] += s.errors[e];
+            }
+        }
+        if (families.size() != family_cases_.size())
+            fail("state.audit.by_family", "lacks a family of state.audit.cases_by_family");
+        for (std::size_t t = 0; t < targets_; ++t) {
+            if (summed[t].verdicts != whole_run[t].verdicts)
+                fail(fmt::format("state.audit.overall[{}].verdicts", t), "differ from the sums over the families");
+            if (summed[t].causes != whole_run[t].causes)
+                fail(fmt::format("state.audit.overall[{}].causes", t), "differ from the sums over the families");
+            if (summed[t].errors != whole_run[t].errors)
+                fail(fmt::format("state.audit.overall[{}]", t),
+                     "its error counts differ from the sums over the families");
+        }
+    }
+
+    void stability_samples(const json& j, const std::string& path) const {
+        const json& buckets = array(member(j, path, "buckets"), path + ".buckets", condition_bucket_count);
+        const json& near = array(member(j, path, "near_ulp"), path + ".near_ulp", condition_bucket_count);
+        std::uint64_t scored = 0;
+        for (int b = 0; b < condition_bucket_count; ++b) {
+            const std::string at = fmt::format("{}.buckets[{}]", path, b);
+            const json& tally = array(buckets[b], at, 6);
+            std::uint64_t v[6];
+            for (int i = 0; i < 6; ++i) v[i] = whole(tally[i], fmt::format("{}[{}]", at, i));
+            // cases, misclassified, disagreements, conditioning_limited, algorithmic, by_design
+            if (v[1] > v[2] || v[2] > v[0] || v[3] + v[4] + v[5] != v[2])
+                fail(at, "is inconsistent: expected misclassified ≤ disagreements ≤ cases and the three causes "
+                         "(conditioning-limited, algorithmic, by design) adding up to the disagreements");
+            if (summary(near[b], fmt::format("{}.near_ulp[{}]", path, b)) > v[0] - v[2])
+                fail(fmt::format("{}.near_ulp[{}].count", path, b), "is more than the bucket's agreeing cases");
+            scored += v[0];
+        }
+        if (scored > cases_) fail(path + ".buckets", fmt::format("hold {} cases, the shard has {}", scored, cases_));
+        const std::uint64_t judged = summary(member(j, path, "excess"), path + ".excess");
+        const json& counts = array(member(j, path, "counts"), path + ".counts", 3);
+        const std::uint64_t above = whole(counts[0], path + ".counts[0]"), well = whole(counts[1], path + ".counts[1]"),
+                            well_above = whole(counts[2], path + ".counts[2]");
+        if (above > judged || well > judged || well_above > std::min(above, well))
+            fail(path + ".counts", "are inconsistent with each other and with excess.count");
+    }
+
+    void check_stability(const json& st) {
+        const json& overall = array(member(st, "state.stability", "overall"), "state.stability.overall", targets_);
+        for (std::size_t t = 0; t < targets_; ++t) stability_samples(overall[t], fmt::format("state.stability.overall[{}]", t));
+        const json& families = member(st, "state.stability", "by_family");
+        if (!families.is_object()) fail("state.stability.by_family", "is not a JSON object");
+        for (const auto& [family, list] : families.items()) {
+            const std::string path = "state.stability.by_family." + printable(family);
+            if (!family_cases_.count(family)) fail(path, "is a family not in state.audit.cases_by_family");
+            array(list, path, targets_);
+            for (std::size_t t = 0; t < targets_; ++t) stability_samples(list[t], fmt::format("{}[{}]", path, t));
+        }
+    }
+
+    void check_points(const json& points) const {
+        std::map<std::string, std::size_t> per_family;
+        for (std::size_t i = 0; i < points.size(); ++i) {
+            const std::string at = fmt::format("state.case_points[{}]", i);
+            const json& p = points[i];
+            const std::string family = text(member(p, at, "family_key"), at + ".family_key");
+            if (!family_cases_.count(family.empty() ? "-" : family))  // the audit counts an unnamed family as "-"
+                fail(at + ".family_key", fmt::format("'{}' is not a family of the shard", printable(family)));
+            if (++per_family[family] > case_points::per_family)
+                fail(at, fmt::format("is one more than the {} points a family keeps", case_points::per_family));
+            whole(member(p, at, "hash"), at + ".hash");
+            case_index(whole(member(p, at, "index"), at + ".index"), at + ".index");
+            for (const char* key : {"family", "ratio", "kappa_float", "kappa_double"}) member(p, at, key);
+            array(member(p, at, "verdict"), at + ".verdict", targets_);
+            array(member(p, at, "near_ulp"), at + ".near_ulp", targets_);
+        }
+    }
+
+    const json& doc_;
+    const std::string& file_;
+    std::uint64_t count_ = 1, index_ = 1, total_ = 0, cases_ = 0;
+    std::size_t targets_ = 0;
+    std::map<std::string, std::uint64_t> family_cases_;
+};
+
 }  // namespace
+
+void check_shard_state(const json& doc, const std::string& file, bool header_only) {
+    state_checker(doc, file).run(header_only);
+}
 
 json targets_json(const std::vector<audit_target>& targets) {
     json out = json::array();

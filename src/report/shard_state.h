@@ -41,6 +41,16 @@ nlohmann::ordered_json audit_report_document(const audit_state& state, const run
 nlohmann::ordered_json targets_json(const std::vector<audit_target>& targets);
 std::vector<audit_target> targets_from_json(const nlohmann::ordered_json& j);
 
+// Checks a shard's whole state document (shard.json, as `rayverify merge`
+// reads it) before anything of it is used: the type and range of every field
+// and the consistency of the figures (counts that add up over verdicts,
+// families and histogram buckets; maxima that are numbers in their
+// histogram's last bucket; case indices inside the input and the shard; a
+// per-case file inside the shard directory). Throws input_error(file, 0,
+// FIELD, problem), FIELD a path such as "state.audit.overall[0].verdicts[1]".
+// `header_only`: everything but "state" (merge reads the headers first).
+void check_shard_state(const nlohmann::ordered_json& doc, const std::string& file, bool header_only = false);
+
 // The accumulated state as JSON and back. `from_json` throws
 // nlohmann::json::exception on a malformed document (the caller names the file).
 nlohmann::ordered_json state_json(const audit_state& state);

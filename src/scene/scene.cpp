@@ -20,6 +20,7 @@
 
 #include "core/input_error.h"
 #include "corpus/corpus_io.h"
+#include "intersectors/pbrt_v4_sphere.h"
 #include "oracle/oracle.h"
 
 namespace rayverify {
@@ -297,7 +298,13 @@ spawn_settings read_spawn(const reader& in, const json& j, const std::string& pa
         s.rule = in.choice<offset_rule>(in.required(*o, p, "rule"), p + ".rule",
                                         {{"none", offset_rule::none},
                                          {"along_normal", offset_rule::along_normal},
-                                         {"along_ray", offset_rule::along_ray}});
+                                         {"along_ray", offset_rule::along_ray},
+                                         {"pbrt_v4", offset_rule::pbrt_v4},
+                                         {"mitsuba3", offset_rule::mitsuba3}});
+        const bool engine_rule = s.rule == offset_rule::pbrt_v4 || s.rule == offset_rule::mitsuba3;
+        for (const char* field : {"absolute", "relative"})
+            if (engine_rule && in.optional(*o, field))
+                in.fail(p + "." + field, "an engine's rule (pbrt_v4, mitsuba3) takes no absolute or relative offset");
         if (const json* v = in.optional(*o, "absolute"))
             s.absolute = in.number_at_least(*v, p + ".absolute", 0, "≥ 0");
         if (const json* v = in.optional(*o, "relative"))
@@ -418,7 +425,48 @@ spawn_point spawn_at(const scene& s, const sphere_solution& hit, root_index root
 // The origin of a ray leaving P in direction d under the scene's rule, rounded
 // to the scene's precision. Along the normal, the origin moves to the side the
 // ray leaves to (outside for a reflection, inside for a transmission).
-vec3<double> spawn_origin(const scene& s, const spawn_settings& rule, const spawn_point& p, vec3<double> d) {
+// pbrt-v4's OffsetRayOrigin at the sphere hit P in T.
+template <class T>
+vec3<double> pbrt_offset_origin(const spawn_point& p, vec3<double> centre, vec3<double> d) {
+    using interval = intersectors::pbrt::interval<T>;
+    const T g3 = intersectors::pbrt::gamma<T>(3), g5 = intersectors::pbrt::gamma<T>(5);
+    const vec3<T> point = vec3_cast<T>(p.point), c = vec3_cast<T>(centre), n = vec3_cast<T>(p.normal);
+    const vec3<T> w = vec3_cast<T>(d);
+    const auto error = [&](T pk, T ck) {
+        const T object = pk - ck;
+        const T bound = (g3 + 1) * (g5 * std::abs(object)) + g3 * (std::abs(object) + std::abs(ck));
+        const interval i = interval::from_value_and_error(pk, bound);
+        return (i.high - i.low) / 2;  // Point3fi::Error()
+    };
+    const vec3<T> e{error(point.x, c.x), error(point.y, c.y), error(point.z, c.z)};
+    const T along = std::abs(n.x) * e.x + std::abs(n.y) * e.y + std::abs(n.z) * e.z;
+    vec3<T> offset = along * n;
+    if (dot(w, n) < 0) offset = T(-1) * offset;
+    const vec3<T> moved = point + offset;
+    const auto away = [](T po, T off) {
+        return off > 0 ? intersectors::pbrt::next_float_up(po) : off < 0 ? intersectors::pbrt::next_float_down(po) : po;
+    };
+    return vec3_cast<double>(vec3<T>{away(moved.x, offset.x), away(moved.y, offset.y), away(moved.z, offset.z)});
+}
+
+// Mitsuba 3's Interaction::offset_p at P in T.
+template <class T>
+vec3<double> mitsuba_offset_origin(const spawn_point& p, vec3<double> d) {
+    const T ray_epsilon = static_cast<T>(0x1p-24f * 1500);  // dr::Epsilon<float32> · 1500 (MI_ENABLE_EMBREE)
+    const vec3<T> point = vec3_cast<T>(p.point), n = vec3_cast<T>(p.normal), w = vec3_cast<T>(d);
+    const T largest = std::max({std::abs(point.x), std::abs(point.y), std::abs(point.z)});
+    const T magnitude = std::copysign((T(1) + largest) * ray_epsilon, dot(n, w));
+    return vec3_cast<double>(vec3<T>{std::fma(magnitude, n.x, point.x), std::fma(magnitude, n.y, point.y),
+                                     std::fma(magnitude, n.z, point.z)});
+}
+
+vec3<double> spawn_origin(const scene& s, const spawn_settings& rule, const spawn_point& p, vec3<double> d,
+                          vec3<double> centre) {
+    const bool in_float = s.prec == precision::binary32;
+    if (rule.rule == offset_rule::pbrt_v4)
+        return in_float ? pbrt_offset_origin<float>(p, centre, d) : pbrt_offset_origin<double>(p, centre, d);
+    if (rule.rule == offset_rule::mitsuba3)
+        return in_float ? mitsuba_offset_origin<float>(p, d) : mitsuba_offset_origin<double>(p, d);
     const double offset = rule.absolute + rule.relative * norm(p.point);
     vec3<double> o = p.point;
     if (rule.rule == offset_rule::along_normal) {
@@ -743,6 +791,7 @@ std::vector<scene_ray> pixel_rays(const scene& s, int x, int y) {
     if (!nearest) return rays;
     const sphere_solution* hit = &solved[nearest->index];
     const spawn_point p = spawn_at(s, *hit, nearest->root);
+    const vec3<double> sphere_centre = in_precision(s.spheres[static_cast<std::size_t>(hit->sphere)].centre, s.prec);
 
     if (s.shadow.enabled) {
         for (std::size_t l = 0; l < s.lights.size(); ++l) {
@@ -755,7 +804,7 @@ std::vector<scene_ray> pixel_rays(const scene& s, int x, int y) {
             r.from_sphere = hit->sphere;
             r.spheres = all_spheres(s);
             const vec3<double> light = in_precision(s.lights[l].position, s.prec);
-            r.origin = spawn_origin(s, s.shadow_spawn, p, light - p.point);
+            r.origin = spawn_origin(s, s.shadow_spawn, p, light - p.point, sphere_centre);
             const vec3<double> to_light = light - r.origin;
             r.direction = cast_direction(s, to_light);
             // Unnormalised: the light is at t = 1; normalised: at its distance.
@@ -777,7 +826,7 @@ std::vector<scene_ray> pixel_rays(const scene& s, int x, int y) {
         const vec3<double> new_d = s.secondary_kind == secondary_direction::reflect
                                        ? d - (2 * dot(d, p.normal)) * p.normal
                                        : d;
-        r.origin = spawn_origin(s, s.secondary_spawn, p, new_d);
+        r.origin = spawn_origin(s, s.secondary_spawn, p, new_d, sphere_centre);
         r.direction = cast_direction(s, new_d);
         r.tmin = in_precision(s.secondary_spawn.tmin, s.prec);
         rays.push_back(std::move(r));

@@ -61,8 +61,15 @@ struct scene_light {
 // How a renderer keeps a ray spawned at a hit point P from finding the
 // surface it starts on: move the origin by `offset` = absolute +
 // relative·|P| (along the outward normal at P, or along the new ray's
-// direction), and/or start the ray's interval at tmin.
-enum class offset_rule { none, along_normal, along_ray };
+// direction), and/or start the ray's interval at tmin. Or an engine's own
+// rule, in the scene's precision (absolute and relative unused):
+//   pbrt_v4   OffsetRayOrigin (src/pbrt/ray.h): P's error bound as pbrt-v4 has it at a
+//             sphere hit (γ₅·|P − c| in object space, carried to render space by
+//             Translate(c)), offset along n by |n|·error, to the side the ray leaves to,
+//             each coordinate then rounded one float step further away
+//   mitsuba3  Interaction::offset_p (include/mitsuba/render/interaction.h): along n by
+//             (1 + max|P_k|)·RayEpsilon, RayEpsilon = 1500·2^−24, signed by n·d, with an FMA
+enum class offset_rule { none, along_normal, along_ray, pbrt_v4, mitsuba3 };
 
 struct spawn_settings {
     offset_rule rule = offset_rule::none;

@@ -28,8 +28,9 @@ std::vector<audit_target> scene_targets(const scene& s, std::span<const variant>
 }
 
 std::optional<std::string> not_applicable_reason(const scene& s, const audit_target& t) {
-    if (!t.subject.runs_in(s.prec))
-        return fmt::format("does not run in {}, the scene's precision", precision_name(s.prec));
+    if (t.recorded ? t.prec != s.prec : !t.subject.runs_in(s.prec))
+        return fmt::format("does not {} in {}, the scene's precision", t.recorded ? "answer" : "run",
+                           precision_name(s.prec));
     const std::pair<ray_kind, const ray_kind_settings*> kinds[] = {
         {ray_kind::primary, &s.primary}, {ray_kind::shadow, &s.shadow}, {ray_kind::secondary, &s.secondary}};
     for (const auto& [kind, settings] : kinds) {

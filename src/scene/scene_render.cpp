@@ -46,6 +46,7 @@ rgb verdict_colour(verdict_kind v) {
         case verdict_kind::wrong_root: return {255, 140, 0};
         case verdict_kind::wrong_sphere: return {40, 200, 40};
         case verdict_kind::wrong_side: return {255, 0, 255};
+        case verdict_kind::unsound_bound: return {140, 60, 200};
         case verdict_kind::non_finite: return {255, 255, 255};
         case verdict_kind::malformed_output: return {0, 220, 220};
         case verdict_kind::contract_violation: return {90, 90, 90};

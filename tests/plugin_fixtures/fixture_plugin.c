@@ -7,15 +7,43 @@
  *   FIXTURE_BAD_NAME    names itself "two words"
  *   FIXTURE_CRASH       "crashy": by radius, 3 → SIGSEGV (a store to address 16), 4 → abort(),
  *                       5 → exit(7), else the textbook roots of the line, in double and float
- *   FIXTURE_HANG        "hangs": never returns when radius == 3, else as FIXTURE_CRASH */
+ *   FIXTURE_HANG        "hangs": never returns when radius == 3, else as FIXTURE_CRASH
+ *   FIXTURE_MODAL       "modal": misbehaves as the environment variable FIXTURE_MODE says, read when loaded:
+ *                       ctor_crash (SIGSEGV in a constructor), ctor_exit / describe_exit / call_exit
+ *                       (exit(0) there), overrun (writes roots[2]), underrun (writes roots[-1]),
+ *                       nan (NaN roots, count 2, always), escape_name (a name holding ESC [31m);
+ *                       else the textbook roots of the line, in double and float */
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 #include <unistd.h>
 
 #include "rayverify_plugin.h"
 
+#if defined(FIXTURE_MODAL)
+static const char* mode = "";
+static int is_mode(const char* m) { return strcmp(mode, m) == 0; }
+
+__attribute__((constructor)) static void on_load(void) {
+    const char* m = getenv("FIXTURE_MODE");
+    mode = m ? m : "";
+    if (is_mode("ctor_crash")) {
+        volatile int* volatile nowhere = (volatile int*)16;
+        *nowhere = 1;
+    }
+    if (is_mode("ctor_exit")) exit(0);
+}
+#endif
+
 RAYVERIFY_PLUGIN_EXPORT const rayverify_plugin_info* rayverify_plugin_describe(void) {
-#if defined(FIXTURE_BAD_ABI)
+#if defined(FIXTURE_MODAL)
+    static const rayverify_plugin_info info = {RAYVERIFY_PLUGIN_ABI_VERSION, "modal", "fixture_plugin.c", 0,
+                                               RAYVERIFY_LINE_ROOTS, 0, 0, 0, 0};
+    static const rayverify_plugin_info escaped = {RAYVERIFY_PLUGIN_ABI_VERSION, "\x1b[31mred", 0, 0,
+                                                  RAYVERIFY_LINE_ROOTS, 0, 0, 0, 0};
+    if (is_mode("describe_exit")) exit(0);
+    return is_mode("escape_name") ? &escaped : &info;
+#elif defined(FIXTURE_BAD_ABI)
     static const rayverify_plugin_info info = {999, "bad_abi", 0, 0, RAYVERIFY_LINE_ROOTS, 0, 0, 0, 0};
 #elif defined(FIXTURE_CRASH)
     static const rayverify_plugin_info info = {RAYVERIFY_PLUGIN_ABI_VERSION, "crashy", "plugin_isolate_test fixture", 0,
@@ -53,9 +81,12 @@ RAYVERIFY_PLUGIN_EXPORT const rayverify_plugin_info* rayverify_plugin_describe(v
     }                                                                              \
     return 2;
 
-#if defined(FIXTURE_CRASH) || defined(FIXTURE_HANG)
+#if defined(FIXTURE_CRASH) || defined(FIXTURE_HANG) || defined(FIXTURE_MODAL)
 static void misbehave(double r) {
-#if defined(FIXTURE_CRASH)
+#if defined(FIXTURE_MODAL)
+    (void)r;
+    if (is_mode("call_exit")) exit(0);
+#elif defined(FIXTURE_CRASH)
     if (r == 3) {
         /* Address 16, in the unmapped first page, not 0: a sanitizer build's null check would exit first.
          * Volatile twice: the compiler must load the pointer and store. */
@@ -70,6 +101,20 @@ static void misbehave(double r) {
 #endif
 }
 
+#if defined(FIXTURE_MODAL)
+#define MODAL_ROOTS(T)                                                             \
+    if (is_mode("overrun") || is_mode("underrun")) {                               \
+        T* volatile outside = roots; /* volatile: the compiler keeps the store */  \
+        outside[is_mode("overrun") ? 2 : -1] = 1;                                  \
+    }                                                                              \
+    if (is_mode("nan")) {                                                          \
+        roots[0] = roots[1] = (T)NAN;                                              \
+        return 2;                                                                  \
+    }
+#else
+#define MODAL_ROOTS(T)
+#endif
+
 /* The textbook roots of a t^2 + 2 b t + C = 0. */
 #define BODY(T, SQRT)                                                              \
     const T f[3] = {o[0] - c[0], o[1] - c[1], o[2] - c[2]};                        \
@@ -80,6 +125,7 @@ static void misbehave(double r) {
     (void)tmin;                                                                    \
     (void)tmax;                                                                    \
     misbehave(r);                                                                  \
+    MODAL_ROOTS(T)                                                                 \
     if (disc < 0) return 0;                                                        \
     roots[0] = (-b - SQRT(disc)) / a;                                              \
     roots[1] = (-b + SQRT(disc)) / a;                                              \

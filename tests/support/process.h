@@ -3,6 +3,7 @@
 // target by tests/CMakeLists.txt.
 #pragma once
 
+#include <gtest/gtest.h>
 #include <sys/wait.h>
 
 #include <array>
@@ -40,5 +41,27 @@ inline std::string read_text(const std::filesystem::path& p) {
     s << in.rdbuf();
     return s.str();
 }
+
+// A fresh directory under the system's temporary directory named after
+// `stem` and the running GoogleTest test, removed again on destruction.
+class scratch_directory {
+public:
+    explicit scratch_directory(const std::string& stem)
+        : path_(std::filesystem::temp_directory_path() /
+                (stem + "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name())) {
+        std::filesystem::remove_all(path_);
+        std::filesystem::create_directories(path_);
+    }
+    ~scratch_directory() {
+        std::error_code ignored;
+        std::filesystem::remove_all(path_, ignored);
+    }
+    scratch_directory(const scratch_directory&) = delete;
+    scratch_directory& operator=(const scratch_directory&) = delete;
+    const std::filesystem::path& path() const { return path_; }
+
+private:
+    std::filesystem::path path_;
+};
 
 }  // namespace rayverify::test_support

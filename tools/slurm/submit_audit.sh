@@ -15,7 +15,7 @@
 #
 # Task K runs tools/slurm/audit_shard.sbatch: `RAYVERIFY audit ARGS... --shard
 # auto` in DIR/shard-K; the merge job (tools/slurm/merge.sbatch) runs
-# `RAYVERIFY merge -o DIR/merged DIR/shard-*` after all of them (afterok: a
+# `RAYVERIFY merge --report DIR/merged DIR/shard-*` after all of them (afterok: a
 # failed shard cancels it). docs/scaling_out.md shows a run.
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"

@@ -1,0 +1,134 @@
+// Cases out, answers in: the exchange formats through which an intersector
+// that does not run in rayverify's process (a GPU kernel, a shader, NumPy,
+// JavaScript) is audited. Schema version 1, described field by field in
+// docs/schema/rayverify-exchange-v1.json and docs/other-languages.md.
+//
+// Three formats, each for cases and for answers:
+// - CSV: a first line "# rayverify KIND v1 key=value ...", a header row naming
+//   the columns, one row per case or answer;
+// - JSON lines: a first line {"rayverify": KIND, "version": 1, ...}, one
+//   object per case or answer;
+// - NumPy .npy: a 2-D little-endian float32 or float64 array, one row per case
+//   or answer, and beside it a JSON file (same stem, .json) with the header
+//   and the column names (and, for cases, the ids in row order).
+// KIND is "cases" or "results". A header states the precision of the values
+// and the fingerprint of the cases (the input's fingerprint and that
+// precision), which answers must repeat: answers computed for other inputs,
+// or in another precision, are refused.
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <iosfwd>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <unordered_set>
+#include <vector>
+
+#include "core/ray_sphere_case.h"
+#include "core/recorded_answer.h"
+
+namespace rayverify {
+
+enum class exchange_format { csv, jsonl, npy };
+
+std::string_view exchange_format_name(exchange_format f);
+std::optional<exchange_format> exchange_format_from_name(std::string_view name);
+// By the file's extension (.csv, .jsonl, .npy; any case); nullopt for another.
+std::optional<exchange_format> exchange_format_of(const std::filesystem::path& path);
+
+// How numbers are written to CSV and JSON lines: shortest round-trip
+// decimals (of the value's own precision) or C99 hex floats. Both are exact.
+enum class number_style { decimal, hex };
+
+inline constexpr int exchange_version = 1;
+
+// The npy file's companion: "cases.npy" → "cases.json".
+std::filesystem::path sidecar_of(const std::filesystem::path& npy);
+
+// 16 hex digits naming an export: the input's fingerprint (corpus/case_stream.h)
+// and the precision its values were rounded to.
+std::string exchange_fingerprint(std::string_view input_fingerprint, precision p);
+
+struct cases_header {
+    precision prec = precision::binary64;
+    std::string fingerprint;  // exchange_fingerprint of the input
+    std::size_t cases = 0;
+    number_style numbers = number_style::decimal;
+};
+
+// Writes the cases of an export, one at a time, in memory that does not grow
+// with their number. Every value is rounded to the header's precision, as an
+// intersector running in it receives it. npy: `sidecar` receives the JSON
+// companion (header, columns, ids in row order); unused otherwise.
+class case_writer {
+public:
+    case_writer(std::ostream& out, std::ostream* sidecar, exchange_format format, const cases_header& header);
+    void write(const corpus_case& c);
+    // Closes the npy companion's id list. Throws std::logic_error when the
+    // number of cases written differs from the header's.
+    void finish();
+
+private:
+    std::ostream& out_;
+    std::ostream* sidecar_;
+    exchange_format format_;
+    cases_header header_;
+    std::size_t written_ = 0;
+};
+
+// The columns of a cases file, in order (CSV header, npy columns).
+std::vector<std::string> case_columns();
+// The columns an answer may have: count, t0, t1 (required), then the
+// optional groups t0_lo t0_hi t1_lo t1_hi, px py pz, nx ny nz (each group all
+// or none).
+std::vector<std::string> answer_columns();
+
+// A results file, read and checked on its own (header, columns, every value).
+struct results_file {
+    std::string file;          // the file the header is in (an npy's companion)
+    std::size_t header_line = 0;
+    exchange_format format = exchange_format::csv;
+    precision prec = precision::binary64;
+    std::string fingerprint;
+    // Answers by id (CSV, JSON lines, npy with "ids"), or by row in the
+    // cases' order (npy without ids): then `rows` holds them and `book` is
+    // filled by match_answers.
+    std::shared_ptr<answer_book> book;
+    std::vector<recorded_answer> rows;
+    bool by_row = false;
+};
+
+// Reads a results file in the format of its extension. Throws input_error
+// naming file, line (or npy row) and field: an unknown header or version,
+// an unknown or incomplete column group, a value that is not a number or not
+// of the stated precision, a count other than 0, 1 or 2, a duplicate id.
+results_file read_results(const std::filesystem::path& path);
+
+// The same from memory: `text` is the file's contents, `sidecar` the npy
+// companion's (required for npy).
+results_file parse_results(const std::string& name, std::string_view text, exchange_format format,
+                           const std::optional<std::string>& sidecar = std::nullopt);
+
+// Ties a results file to the input it must answer: every case of the input,
+// in order, then finish() with the input's fingerprint. Throws input_error
+// (no answer is judged) when the answers are for another input or precision
+// (the header's line), when a case has no answer (its id and where it was
+// read), when an answer has no case (its id and line), or when an npy has
+// more or fewer rows than the input has cases.
+class answer_matcher {
+public:
+    explicit answer_matcher(results_file& results) : results_(results) {}
+    void add(const corpus_case& c);
+    std::shared_ptr<const answer_book> finish(const std::string& input_fingerprint);
+
+private:
+    results_file& results_;
+    std::size_t seen_ = 0;
+    std::optional<std::string> first_missing_;  // "'id' (where)"
+    std::unordered_set<std::string> matched_;   // by id: the answers that have a case
+};
+
+}  // namespace rayverify

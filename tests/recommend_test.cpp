@@ -1,6 +1,7 @@
 // `recommend` (bench/recommend.h) on tiny scenes: what it decides, never how
 // fast anything is. Budgets parse or fail with the part at fault; the winner
-// meets the budget and is the cheapest that does; variants that cannot
+// meets the budget and is the cheapest that does, except that with no wrong
+// ray allowed a variant deciding exactly by construction wins; variants that cannot
 // answer a kind's query are listed with the reason; the CLI exits 1 when no
 // variant fits.
 #include <gtest/gtest.h>
@@ -93,12 +94,15 @@ TEST(Recommend, FarSpheresInFloatRejectNaive) {
     EXPECT_EQ(w.wrong, 0u);
     ASSERT_TRUE(w.max_ulp);
     EXPECT_LE(*w.max_ulp, 4);
-    // Everything cheaper than the winner fails the budget; the runner-up meets it and is not cheaper.
-    for (std::size_t i = 0; i < *k.winner; ++i) EXPECT_FALSE(k.candidates[i].meets_budget) << k.candidates[i].variant;
-    if (k.runner_up) {
-        EXPECT_TRUE(k.candidates[*k.runner_up].meets_budget);
-        EXPECT_GE(k.candidates[*k.runner_up].ns_per_ray, w.ns_per_ray);
-    }
+    // No wrong ray allowed: the winner is the variant that decides exactly by construction, and the runner-up
+    // the cheapest other one within the budget on these rays.
+    EXPECT_EQ(w.variant.rfind("robust", 0), 0u) << w.variant;  // robust or robust_nearest, whichever is cheaper
+    EXPECT_TRUE(w.exact_decisions);
+    ASSERT_TRUE(k.runner_up);
+    EXPECT_TRUE(k.candidates[*k.runner_up].meets_budget);
+    EXPECT_FALSE(k.candidates[*k.runner_up].exact_decisions);
+    for (std::size_t i = 0; i < *k.runner_up; ++i)
+        EXPECT_TRUE(i == *k.winner || !k.candidates[i].meets_budget) << k.candidates[i].variant;
     const recommend_candidate* naive = find(k, "naive");
     ASSERT_TRUE(naive);
     EXPECT_FALSE(naive->meets_budget);
@@ -113,6 +117,17 @@ TEST(Recommend, FarSpheresInFloatRejectNaive) {
             EXPECT_EQ(c.rays, 24u * 12u) << c.variant;
             EXPECT_GT(c.ns_per_ray, 0) << c.variant;
         }
+}
+
+TEST(Recommend, WithWrongRaysAllowedTheCheapestWithinTheBudgetWins) {
+    const recommendation r = decide(far_spheres, parse_budget("max-ulp=4,max-wrong=1000"));
+    const kind_recommendation& k = r.kinds[0];
+    ASSERT_TRUE(k.winner);
+    // Candidates are sorted by time: nothing before the winner meets the budget, the runner-up is not cheaper.
+    for (std::size_t i = 0; i < *k.winner; ++i) EXPECT_FALSE(k.candidates[i].meets_budget) << k.candidates[i].variant;
+    if (k.runner_up) {
+        EXPECT_GE(k.candidates[*k.runner_up].ns_per_ray, k.candidates[*k.winner].ns_per_ray);
+    }
 }
 
 TEST(Recommend, ShadowRaysAreDecidedApartAndAdmitAnyHitVariants) {
@@ -144,7 +159,8 @@ TEST(RecommendCli, PrintsTheDecisionAndExitsOneWhenNothingFits) {
     { std::ofstream(file) << far_spheres; }
     const auto ok = run_cli("recommend --scene " + file.string() + " --repetitions 2 --min-time 0.001");
     EXPECT_EQ(ok.exit_code, 0) << ok.output;
-    EXPECT_NE(ok.output.find("recommended for primary rays:"), std::string::npos) << ok.output;
+    EXPECT_NE(ok.output.find("recommended for primary rays: robust"), std::string::npos) << ok.output;
+    EXPECT_NE(ok.output.find("exact for every input"), std::string::npos) << ok.output;
     EXPECT_NE(ok.output.find("runner-up"), std::string::npos) << ok.output;
     const auto none = run_cli("recommend --scene " + file.string() + " --variant naive --repetitions 2 --min-time 0.001");
     EXPECT_EQ(none.exit_code, 1) << none.output;

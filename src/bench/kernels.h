@@ -9,6 +9,7 @@
 #pragma once
 
 #include <string_view>
+#include <type_traits>
 
 #include "intersectors/fma_discriminant.h"
 #include "intersectors/geometric.h"
@@ -18,6 +19,7 @@
 #include "intersectors/hearn_baker_nearest.h"
 #include "intersectors/hearn_baker_unit.h"
 #include "intersectors/naive.h"
+#include "intersectors/robust.h"
 #include "intersectors/seed003_reduced.h"
 #include "intersectors/seed004_early_out.h"
 #include "intersectors/stable_roots.h"
@@ -26,16 +28,21 @@
 namespace rayverify::bench {
 
 // Calls visit(name, kernel) for every built-in formula, in registry order;
-// kernel(s) works for ray_sphere<float>, <double> and <long double>.
-// kernel(s, tmin, tmax) asks a kind that takes an interval for (tmin, tmax)
-// (kernel(s) for (0, +inf)); the other kinds ignore the interval, like
-// run_in (registry.h).
+// kernel(s) works for ray_sphere<float> and <double>, and for <long double>
+// where the intersector is written for it (has_long_double; robust_sphere.h
+// is float and double only). kernel(s, tmin, tmax) asks a kind that takes an
+// interval for (tmin, tmax) (kernel(s) for (0, +inf)); the other kinds ignore
+// the interval, like run_in (registry.h).
 template <class Visitor>
 void for_each_kernel(Visitor&& visit) {
-#define RAYVERIFY_KERNEL(fn) \
-    visit(std::string_view(#fn), [](const auto& s, auto... /*interval*/) { return intersectors::fn(s); })
-#define RAYVERIFY_INTERVAL_KERNEL(fn) \
-    visit(std::string_view(#fn), [](const auto& s, auto... interval) { return intersectors::fn(s, interval...); })
+#define RAYVERIFY_KERNEL(fn)                                                                          \
+    visit(std::string_view(#fn), [](const auto& s, auto... /*interval*/) -> decltype(intersectors::fn(s)) { \
+        return intersectors::fn(s);                                                                   \
+    })
+#define RAYVERIFY_INTERVAL_KERNEL(fn)                                                                          \
+    visit(std::string_view(#fn), [](const auto& s, auto... interval) -> decltype(intersectors::fn(s, interval...)) { \
+        return intersectors::fn(s, interval...);                                                               \
+    })
     RAYVERIFY_KERNEL(naive);
     RAYVERIFY_KERNEL(half_b);
     RAYVERIFY_KERNEL(seed003_reduced);
@@ -50,8 +57,15 @@ void for_each_kernel(Visitor&& visit) {
     RAYVERIFY_INTERVAL_KERNEL(hearn_baker_unit_nearest);
     RAYVERIFY_INTERVAL_KERNEL(hearn_baker_unit_any_hit);
     RAYVERIFY_KERNEL(wald_origin_shift);
+    RAYVERIFY_KERNEL(robust);
+    RAYVERIFY_INTERVAL_KERNEL(robust_nearest);
+    RAYVERIFY_INTERVAL_KERNEL(robust_any_hit);
 #undef RAYVERIFY_INTERVAL_KERNEL
 #undef RAYVERIFY_KERNEL
 }
+
+// Whether a kernel runs in long double.
+template <class Kernel>
+inline constexpr bool has_long_double = std::is_invocable_v<Kernel, const ray_sphere<long double>&>;
 
 }  // namespace rayverify::bench

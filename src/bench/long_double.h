@@ -10,7 +10,8 @@
 
 namespace rayverify::bench {
 
-// Same names, citations and contracts as the registry; run_float is empty and
+// Same names, citations and contracts as the registry, for every variant
+// written for long double (kernels.h, has_long_double); run_float is empty and
 // run_double computes in long double.
 std::vector<variant> long_double_variants();
 

@@ -240,6 +240,7 @@ kind_recommendation decide_kind(const scene& s, ray_kind kind, const ray_kind_se
     const prepared_rays<T> prepared = prepare<T>(s, mine);
     for (std::size_t i = 0; i < targets.size(); ++i) {
         recommend_candidate c = judged(audit.targets[i], kind, settings.query, budget);
+        c.exact_decisions = targets[i].subject.exact_decisions;
         const timing_row row = time_variant(targets[i].subject, prepared, timing);
         c.variant = row.variant;
         c.ns_per_ray = row.median;
@@ -249,8 +250,12 @@ kind_recommendation decide_kind(const scene& s, ray_kind kind, const ray_kind_se
     }
     std::stable_sort(out.candidates.begin(), out.candidates.end(),
                      [](const recommend_candidate& a, const recommend_candidate& b) { return a.ns_per_ray < b.ns_per_ray; });
+    // No wrong ray allowed: the cheapest variant that decides exactly by construction, if one meets the budget.
+    if (budget.max_wrong == 0)
+        for (std::size_t i = 0; i < out.candidates.size() && !out.winner; ++i)
+            if (out.candidates[i].meets_budget && out.candidates[i].exact_decisions) out.winner = i;
     for (std::size_t i = 0; i < out.candidates.size(); ++i) {
-        if (!out.candidates[i].meets_budget) continue;
+        if (!out.candidates[i].meets_budget || out.winner == i) continue;
         if (!out.winner)
             out.winner = i;
         else if (!out.runner_up)

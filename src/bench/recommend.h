@@ -13,8 +13,12 @@
 //     shrunk to the nearest hit so far, an any-hit ray stopping at its first
 //     hit, roots of line-roots variants filtered into the interval.
 // The cheapest (median ns per ray) that meets the budget wins; the runner-up
-// is the next cheapest that meets it. Measuring and deciding only: the CLI
-// prints what this returns.
+// is the next cheapest that meets it. When the budget allows no wrong ray, a
+// variant whose decisions are exact by construction (variant::exact_decisions,
+// robust_sphere.h) wins if it meets the budget, however cheaper the others
+// are: a variant without wrong rays on this scene's rays may still have them
+// on the next frame's; the cheapest other one is then the runner-up.
+// Measuring and deciding only: the CLI prints what this returns.
 #pragma once
 
 #include <cstddef>
@@ -53,6 +57,7 @@ struct recommend_candidate {
     std::optional<double> max_ulp;               // largest root error over agreeing rays (none for any_hit)
     std::string max_ulp_ray;                     // the ray attaining it
     bool meets_budget = false;
+    bool exact_decisions = false;                // variant::exact_decisions
     std::string verdict;                         // "meets the budget" or why not
 };
 

@@ -158,7 +158,7 @@ std::vector<timing_row> time_variants(const std::map<std::string, std::vector<co
             };
             add("float", in.f);
             add("double", in.d);
-            add("long double", in.ld);
+            if constexpr (has_long_double<decltype(kernel)>) add("long double", in.ld);
         });
     }
     for (const variant& plugin : through_function) {

@@ -11,6 +11,7 @@
 #include "bench/far_sphere_sweep.h"
 #include "bench/long_double.h"
 #include "bench/oracle_timing.h"
+#include "bench/robust_fallback.h"
 #include "bench/timing.h"
 #include "cli/commands.h"
 #include "compare/stability.h"
@@ -93,6 +94,77 @@ struct timing_progress {
     explicit timing_progress(terminal::progress& line) { timing_line = &line; }
     ~timing_progress() { timing_line = nullptr; }
 };
+
+// issue 17's target for robust_sphere.h: at most this many naive/double tests
+// per test, on these families, measured in the same run.
+constexpr double robust_target_ratio = 2;
+constexpr const char* robust_target_families[] = {"uniform", "far_sphere"};
+
+// robust_sphere.h's figures: per family, the share of cases its fast path
+// left to the exact path, and its cost against naive/double beside the
+// target. Printed, and returned for report.json.
+json robust_figures(const std::vector<bench::timing_row>& rows,
+                    const std::map<std::string, std::vector<corpus_case>>& by_family) {
+    std::vector<std::string> labels;
+    for (const char* name : bench::robust_variant_names)
+        for (const char* prec : {"float", "double"}) labels.push_back(std::string(name) + "/" + prec);
+    const auto timed = [&](const std::string& label) {
+        return std::any_of(rows.begin(), rows.end(), [&](const bench::timing_row& r) { return r.label() == label; });
+    };
+    if (std::none_of(labels.begin(), labels.end(), timed)) return nullptr;
+
+    const std::vector<bench::robust_fallback_row> fallbacks = bench::robust_fallbacks(by_family);
+    fmt::print("\nrobust_sphere.h: cases its fast path left to the exact path (exact / valid cases), per family\n");
+    fmt::print("{:<22}", "family");
+    for (const std::string& l : labels) fmt::print(" {:>22}", l);
+    fmt::print("\n");
+    json fallback_json = json::array();
+    for (const auto& [family, cases] : by_family) {
+        fmt::print("{:<22}", family);
+        for (const bench::robust_fallback_row& r : fallbacks) {
+            if (r.family != family) continue;
+            fmt::print(" {:>22}", fmt::format("{}/{}", r.exact, r.cases));
+            fallback_json.push_back({{"family", r.family}, {"variant", r.variant}, {"precision", r.precision},
+                                     {"cases", r.cases}, {"exact_path", r.exact}});
+        }
+        fmt::print("\n");
+    }
+
+    std::map<std::string, double> naive;  // family → naive/double median
+    for (const bench::timing_row& r : rows)
+        if (r.label() == reference_label) naive[r.family] = r.median;
+    fmt::print("\nrobust_sphere.h against its target: ns per test / naive/double's, this run (target ≤ {:g} on "
+               "uniform and far_sphere)\n",
+               robust_target_ratio);
+    fmt::print("{:<22}", "family");
+    for (const std::string& l : labels) fmt::print(" {:>22}", l);
+    fmt::print("\n");
+    json target_json = json::array();
+    for (const char* family : robust_target_families) {
+        if (!naive.count(family) || naive[family] <= 0) continue;
+        fmt::print("{:<22}", family);
+        for (const std::string& label : labels) {
+            const auto row = std::find_if(rows.begin(), rows.end(), [&](const bench::timing_row& r) {
+                return r.label() == label && r.family == family;
+            });
+            if (row == rows.end()) {
+                fmt::print(" {:>22}", "-");
+                continue;
+            }
+            const double ratio = row->median / naive[family];
+            const bool met = ratio <= robust_target_ratio;
+            fmt::print(" {:>22}", fmt::format("{:.2f} ({})", ratio, met ? "met" : "missed"));
+            target_json.push_back({{"family", family}, {"variant", row->variant}, {"precision", row->precision},
+                                   {"ratio_to_naive_double", ratio}, {"met", met}});
+        }
+        fmt::print("\n");
+    }
+    return {{"description", "robust_sphere.h (variants robust, robust_nearest, robust_any_hit): cases left to its "
+                            "exact path per family, and ns per test against naive/double in this run"},
+            {"target_ratio", robust_target_ratio},
+            {"exact_path", fallback_json},
+            {"against_target", target_json}};
+}
 
 // bench --oracle: the exact oracles' cost per case against the naive double
 // intersector, per family, with the filter's fallback rates and issue 7's targets.
@@ -210,6 +282,7 @@ int run(const bench_options& options, const std::string& command_line) {
     fmt::print("{} cases; ns per ray–sphere test, CPU time, median of {} repetitions per family, case-weighted; "
                "ratio to {} in this run.\n",
                cases.size(), options.repetitions, reference_label);
+    const json robust = robust_figures(rows, by_family);
     fmt::print("build: {}; CPU: {}\n", build_summary(), bench::cpu_model());
     if (!bundle) {
         check_standard_output();
@@ -233,6 +306,7 @@ int run(const bench_options& options, const std::string& command_line) {
     }
     report["stability"] = stability_json(accuracy.totals, accuracy.stability, precision_labels);
     report["timing"] = timing_section;
+    if (!robust.is_null()) report["robust_sphere"] = robust;
     report["case_points"] = accuracy.points;
 
     if (options.sweep > 0) {

@@ -47,12 +47,16 @@ void print_kind(const bench::kind_recommendation& k, const bench::recommend_budg
         return;
     }
     const bench::recommend_candidate& w = k.candidates[*k.winner];
-    fmt::print("  recommended for {} rays: {} — {:.2f} ns/ray, {} wrong of {}, max root error {} ulp\n",
-               ray_kind_name(k.kind), w.variant, w.ns_per_ray, w.wrong, w.rays, ulp_text(w.max_ulp));
+    fmt::print("  recommended for {} rays: {} — {:.2f} ns/ray, {} wrong of {}, max root error {} ulp{}\n",
+               ray_kind_name(k.kind), w.variant, w.ns_per_ray, w.wrong, w.rays, ulp_text(w.max_ulp),
+               w.exact_decisions ? "; its decisions are exact for every input (robust_sphere.h)" : "");
     // Why the cheaper ones lost.
     for (std::size_t i = 0; i < *k.winner; ++i) {
         const bench::recommend_candidate& c = k.candidates[i];
-        fmt::print("    cheaper but rejected: {} ({:.2f} ns/ray): {}\n", c.variant, c.ns_per_ray, c.verdict);
+        const std::string why = c.meets_budget ? "no wrong ray here, but nothing rules one out on other rays and "
+                                                 "the budget allows none"
+                                               : c.verdict;
+        fmt::print("    cheaper but rejected: {} ({:.2f} ns/ray): {}\n", c.variant, c.ns_per_ray, why);
     }
     if (k.runner_up) {
         const bench::recommend_candidate& r = k.candidates[*k.runner_up];

@@ -21,6 +21,7 @@
 #include "intersectors/naive.h"
 #include "intersectors/pbrt_v4_sphere.h"
 #include "intersectors/raylib_collision.h"
+#include "intersectors/robust.h"
 #include "intersectors/seed003_reduced.h"
 #include "intersectors/seed004_early_out.h"
 #include "intersectors/stable_roots.h"
@@ -92,7 +93,13 @@ variant engine_variant(std::string name, std::string citation, std::string formu
 #define RAYVERIFY_INTERVAL_VARIANT(fn, citation, formula) \
     interval_variant<&intersectors::fn<float>, &intersectors::fn<double>>(#fn, citation, formula, intersectors::fn##_contract)
 
-const std::array<variant, 23> registry{{
+// The robust variants decide exactly by construction (robust_sphere.h).
+variant with_exact_decisions(variant v) {
+    v.exact_decisions = true;
+    return v;
+}
+
+const std::array<variant, 26> registry{{
     {"naive", "seed 000 / seed 001 (textbook quadratic)",
      "b = 2d·f, C = f·f − r², Δ = b² − 4aC, t = (−b ∓ √Δ)/2a", intersectors::naive_contract,
      RAYVERIFY_BOTH_PRECISIONS(naive)},
@@ -137,6 +144,16 @@ const std::array<variant, 23> registry{{
     {"wald_origin_shift", "Ray Tracing Gems II ch.34 (Wald): origin shift, then the textbook quadratic",
      "t_s = (c − o)·d/(d·d), o′ = o + t_s·d, then naive from o′: t = t_s + (−b ∓ √Δ)/2a",
      intersectors::wald_origin_shift_contract, RAYVERIFY_BOTH_PRECISIONS(wald_origin_shift)},
+    with_exact_decisions(
+        {"robust", "rayverify robust_sphere.h (certified double/double-word filter, Shewchuk expansions)",
+         "sign of Δ′ = a·r² − |d × f|², C, b′ exact; q = −(b′ + sign(b′)√Δ′), t = q/a, C/q rounded to nearest",
+         intersectors::robust_contract, RAYVERIFY_BOTH_PRECISIONS(robust)}),
+    with_exact_decisions(RAYVERIFY_INTERVAL_VARIANT(
+        robust_nearest, "rayverify robust_sphere.h, nearest root in (tmin, tmax)",
+        "as robust; the roots' comparisons with tmin and tmax exact, only the roots needed")),
+    with_exact_decisions(RAYVERIFY_INTERVAL_VARIANT(
+        robust_any_hit, "rayverify robust_sphere.h, any root in (tmin, tmax) (shadow rays)",
+        "as robust_nearest, answering only whether a root lies in the interval")),
     // Engines, as published (each header cites its source and states the build it models).
     engine_variant("pbrt_v4", "pbrt-v4 Sphere::BasicIntersect (src/pbrt/shapes.h, mmp/pbrt-v4 5f7a6068)",
                    "interval arithmetic: a, b, c, v = o − (b/2a)d, Δ = 4a(r + |v|)(r − |v|), q = −½(b ± √Δ), "

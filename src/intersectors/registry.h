@@ -36,6 +36,10 @@ struct variant {
     // False when the functions must never run concurrently (a plugin: its ABI
     // promises calls from one thread); an audit with such a variant runs on one thread.
     bool thread_safe = true;
+    // True when the class, every root's side and every interval decision are
+    // exact for all inputs by construction (robust_sphere.h), not just on the
+    // cases audited so far: `recommend` prefers it when no wrong ray is allowed.
+    bool exact_decisions = false;
     // Set only for kinds that take an interval: the same intersector, asked
     // for (tmin, tmax).
     std::function<root_pair<float>(const ray_sphere<float>&, float, float)> run_float_in{};

@@ -24,8 +24,11 @@ VARIANT_COLOURS = {
     "hearn_baker_any_hit": "#17becf", "hearn_baker_unit_any_hit": "#9edae5",
     "exact_oracle": "#000000",
 }
-# Variants not named above (plugins, new variants): colours from a second palette, in order of appearance.
-EXTRA_COLOURS = ["#bcbd22", "#7f7f7f", "#393b79", "#637939", "#8c6d31", "#843c39", "#7b4173", "#3182bd"]
+# Variants not named above (the engine ports, robust_sphere.h, plugins): colours in order of
+# appearance from Kelly's colours of maximum contrast, less white, black and the six closest to
+# the colours above (orange, light blue, grey, pink, salmon, buff); beyond 14 they repeat.
+EXTRA_COLOURS = ["#F3C300", "#875692", "#BE0032", "#008856", "#0067A5", "#604E97", "#F6A600", "#B3446C",
+                 "#DCD300", "#882D17", "#8DB600", "#654522", "#E25822", "#2B3D26"]
 
 
 EXTRA_ASSIGNED = {}  # variant → colour from EXTRA_COLOURS, in order of first use
@@ -320,9 +323,11 @@ def plot_far_sphere(report, directory):
     shown = [v for v in variants if any(v + "/" + p in source["targets"] for p in ("float", "double"))]
     fig.legend(handles=[plt.Line2D([], [], color=colour(v), marker="o", ls="--" if v == "naive" else "-",
                                    lw=2.4 if v == "naive" else 1.4, label=v) for v in shown],
-               loc="upper center", ncol=len(shown), bbox_to_anchor=(0.5, 0.965), frameon=False)
+               loc="upper center", ncol=min(len(shown), 9), bbox_to_anchor=(0.5, 0.965), frameon=False)
     fig.suptitle("Far spheres (Ray Tracing Gems ch. 7): " + what, fontsize=11)
-    fig.tight_layout(rect=(0, 0, 1, 0.94))
+    # Room above the panels for the legend's rows (nine entries a row).
+    legend_rows = (len(shown) + 8) // 9
+    fig.tight_layout(rect=(0, 0, 1, 0.955 - 0.025 * legend_rows))
     save(fig, directory, "far_sphere.png")
 
 

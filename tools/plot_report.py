@@ -235,7 +235,9 @@ def plot_error_vs_condition(report, directory):
                plt.Line2D([], [], color="black", lw=1, ls=":", label="16·κ·u")]
     fig.legend(handles=handles, loc="upper center", ncol=2, bbox_to_anchor=(0.5, 0.985), frameon=False, fontsize=12)
     fig.suptitle("Error against condition number (agreeing cases of the plot sample with finite κ)", y=1.0)
-    fig.tight_layout(rect=(0, 0, 1, 0.96))
+    # Margins in inches, whatever the number of rows: the x label below, title and legend above.
+    height = fig.get_figheight()
+    fig.tight_layout(rect=(0.01, 0.35 / height, 1, 1 - 0.9 / height))
     save(fig, directory, "error_vs_condition.png")
 
 

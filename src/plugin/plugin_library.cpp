@@ -37,6 +37,15 @@ void check_name(const std::string& name) {
                          escaped(name)));
 }
 
+// The texts both versions describe beside the name, escaped, NULL ones
+// replaced by their defaults.
+void take_texts(plugin_description& d, const char* citation, const char* formula, const char* tangent_rule,
+                bool reports_tangent, const std::filesystem::path& library) {
+    d.citation = escaped(text_or(citation, "plugin " + library.filename().string()));
+    d.formula = escaped(text_or(formula, "(not stated)"));
+    d.tangent_rule = escaped(text_or(tangent_rule, reports_tangent ? "(not stated)" : "never"));
+}
+
 // Version 2: the description and the batch functions its precisions need.
 void open_v2(opened_library& opened, rayverify_describe_v2_fn describe, const std::filesystem::path& library,
              const std::function<void*(const char*, bool)>& symbol) {
@@ -50,13 +59,11 @@ void open_v2(opened_library& opened, rayverify_describe_v2_fn describe, const st
     d.abi = RAYVERIFY_PLUGIN_ABI_VERSION_2;
     d.name = text_or(info->name, "");
     check_name(d.name);
-    d.citation = escaped(text_or(info->citation, "plugin " + library.filename().string()));
-    d.formula = escaped(text_or(info->formula, "(not stated)"));
     d.build = escaped(text_or(info->build, ""));
     d.contract_spec = text_or(info->contract, "");
     try {
         const contract c = parse_contract(d.contract_spec);
-        d.tangent_rule = escaped(text_or(info->tangent_rule, c.reports_tangent ? "(not stated)" : "never"));
+        take_texts(d, info->citation, info->formula, info->tangent_rule, c.reports_tangent, library);
     } catch (const std::invalid_argument& e) {
         fail(fmt::format("its contract \"{}\" cannot be used: {}", escaped(d.contract_spec), e.what()));
     }
@@ -116,13 +123,11 @@ opened_library open_library(const std::filesystem::path& library) {
         fail(fmt::format("unknown query kind {} (RAYVERIFY_LINE_ROOTS, RAYVERIFY_NEAREST_ON_RAY, "
                          "RAYVERIFY_ANY_HIT_IN_INTERVAL or RAYVERIFY_NEAREST_IN_INTERVAL)",
                          info->query));
-    d.citation = escaped(text_or(info->citation, "plugin " + library.filename().string()));
-    d.formula = escaped(text_or(info->formula, "(not stated)"));
     d.query = info->query;
     d.assumes_unit_direction = info->assumes_unit_direction != 0;
     d.reports_tangent = info->reports_tangent != 0;
     d.clamps_to_zero = info->clamps_to_zero != 0;
-    d.tangent_rule = escaped(text_or(info->tangent_rule, d.reports_tangent ? "(not stated)" : "never"));
+    take_texts(d, info->citation, info->formula, info->tangent_rule, d.reports_tangent, library);
     d.has_float = opened.run_float != nullptr;
     return opened;
 }

@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "core/float_bits.h"
 #include "corpus/corpus_io.h"
 #include "oracle/oracle.h"
 
@@ -346,6 +347,53 @@ TEST(FastOracleStage, FilterSettlesUniformCases) {
     const int n = 2000;
     for (int i = 0; i < n; ++i) filter += solve_exact(uniform_case(rng), precision::binary64).stage == oracle_stage::filter;
     EXPECT_GE(filter, n * 99 / 100) << filter << " of " << n;
+}
+
+// A double's ULP error needs its root to about 2^−150 (the error of a
+// correctly rounded answer is a fraction of an ulp, printed to every digit):
+// the refined enclosures settle those queries on ordinary cases, with the
+// reference's answers bit for bit and no exact arithmetic.
+TEST(FastOracleStage, RefinedEnclosuresSettleDoubleUlpErrorsOfUniformCases) {
+    std::mt19937_64 rng(17);
+    oracle_stage_counts& counts = oracle_stage_counts_this_thread();
+    std::size_t queries = 0;
+    std::uint64_t exact_queries = 0, refined_queries = 0;
+    for (int i = 0; i < 1000; ++i) {
+        const ray_sphere<double> g = uniform_case(rng);
+        const exact_solution fast = solve_exact(g, precision::binary64);
+        if (fast.cls != line_class::two_hit || !fast.nearest_in_front) continue;
+        const exact_solution reference = solve_exact_reference(g, precision::binary64);
+        const root_index front = *fast.nearest_in_front;
+        const double t = fast.root(front).rounded;
+        for (const double value : {t, next_up(t), next_down(t), t + 64 * (next_up(t) - t)}) {
+            counts = {};
+            const double error = fast.root_ulp_error(front, value);
+            exact_queries += counts.ulp_exact;
+            refined_queries += counts.ulp_refined;
+            ASSERT_EQ(std::bit_cast<std::uint64_t>(error),
+                      std::bit_cast<std::uint64_t>(reference.root_ulp_error(front, value)))
+                << "case " << i << " value " << value;
+            ++queries;
+        }
+        for (int axis = 0; axis < 3; ++axis) {
+            const double p = fast.hit_point[axis];
+            for (const double value : {p, next_up(p), next_down(p)}) {
+                counts = {};
+                const double error = fast.hit_point_ulp_error(front, axis, value);
+                exact_queries += counts.ulp_exact;
+                refined_queries += counts.ulp_refined;
+                ASSERT_EQ(std::bit_cast<std::uint64_t>(error),
+                          std::bit_cast<std::uint64_t>(reference.hit_point_ulp_error(front, axis, value)))
+                    << "case " << i << " axis " << axis << " value " << value;
+                ++queries;
+            }
+        }
+    }
+    std::printf("%zu ULP queries: %llu by refined enclosures, %llu exactly\n", queries,
+                static_cast<unsigned long long>(refined_queries), static_cast<unsigned long long>(exact_queries));
+    EXPECT_GT(queries, 3000u);
+    EXPECT_GT(refined_queries, queries / 4);
+    EXPECT_EQ(exact_queries, 0u);
 }
 
 TEST(FastOracleStage, ExactWhereTheFilterCannotDecide) {

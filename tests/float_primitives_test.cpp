@@ -17,6 +17,7 @@
 
 #include "core/double_word.h"
 #include "core/float_bits.h"
+#include "oracle/expansion.h"
 
 namespace rayverify {
 namespace {
@@ -273,6 +274,46 @@ TEST(DoubleWord, BoundedArithmeticContainsTheExactValue) {
     EXPECT_EQ(failures, 0) << "seed " << seed;
     EXPECT_GT(roots, operands / 40);
     EXPECT_GT(quotients, operands / 40);
+}
+
+// Expansions (oracle/expansion.h): the degree-4 polynomial the oracle's
+// refined enclosures evaluate, P(u) = a·u² + 2b′·u + C from seven random
+// doubles, equals its exact value; its components stay nonoverlapping (the
+// sign is the largest's), and approximate() bounds the value to 2^−100.
+TEST(Expansion, PolynomialOfDoublesIsExactAndApproximatedWithinItsBound) {
+    const std::uint64_t seed = seed_for_run();
+    operand_source source(seed, 60);
+    int failures = 0;
+    for (int trial = 0; trial < 100'000 && failures < 5; ++trial) {
+        double o[3], d[3], c[3];
+        for (int k = 0; k < 3; ++k) o[k] = source.next(), d[k] = source.next(), c[k] = source.next();
+        const double r = source.next(), u = source.next();
+        expansion<2> f[3];
+        exact f_exact[3];
+        for (int k = 0; k < 3; ++k) {
+            f[k] = expansion_of(o[k]) - expansion_of(c[k]);
+            f_exact[k] = of(o[k]) - of(c[k]);
+        }
+        const expansion<6> a = expansion_of(d[0]) * d[0] + expansion_of(d[1]) * d[1] + expansion_of(d[2]) * d[2];
+        const expansion<12> two_b = f[0] * (2 * d[0]) + f[1] * (2 * d[1]) + f[2] * (2 * d[2]);
+        const expansion<26> C = f[0] * f[0] + f[1] * f[1] + f[2] * f[2] - expansion_of(r) * r;
+        const expansion<74> P = (a * u) * u + two_b * u + C;
+        exact a_exact = of(0), b_exact = of(0), C_exact = -(of(r) * of(r));
+        for (int k = 0; k < 3; ++k) {
+            a_exact = a_exact + of(d[k]) * of(d[k]);
+            b_exact = b_exact + of(2 * d[k]) * f_exact[k];
+            C_exact = C_exact + f_exact[k] * f_exact[k];
+        }
+        const exact P_exact = a_exact * of(u) * of(u) + b_exact * of(u) + C_exact;
+        exact sum = of(0);
+        for (int k = 0; k < P.n; ++k) sum = sum + of(P.c[k]);
+        const bounded approx = approximate(P);
+        const exact approx_error = abs(P_exact - of(approx.v.h) - of(approx.v.l));
+        const bool ok = compare(sum, P_exact) == 0 && sign_of(P) == P_exact.n.sign() &&
+                        compare(approx_error, of(approx.err)) <= 0 &&
+                        approx.err <= 0x1p-100 * std::fabs(approx.v.h) + 0x1p-599;
+        if (!ok && ++failures <= 5) ADD_FAILURE() << "trial " << trial << " (seed " << seed << ")";
+    }
 }
 
 }  // namespace

@@ -302,7 +302,7 @@ TEST(SceneAudit, StreamedRaysGiveTheFiguresOfTheCollectedRays) {
         EXPECT_EQ(streamed.exact[k].hits, collected.exact[k].hits) << k;
         for (std::size_t t = 0; t < targets.size(); ++t) {
             EXPECT_EQ(streamed.targets[t].by_kind[k].verdicts, collected.targets[t].by_kind[k].verdicts);
-            EXPECT_EQ(streamed.targets[t].by_kind[k].nearest_ulp.buckets, collected.targets[t].by_kind[k].nearest_ulp.buckets);
+            EXPECT_EQ(streamed.targets[t].by_kind[k].nearest_ulp.histogram(), collected.targets[t].by_kind[k].nearest_ulp.histogram());
         }
     }
     EXPECT_GT(streamed.exact[static_cast<int>(ray_kind::secondary)].rays, 0u);

@@ -57,7 +57,7 @@ oracle_timing_row time_family(const std::string& family, const prepared& p, cons
     const auto tick = [&] {
         if (on_progress) on_progress(++done, total);
     };
-    row.naive_ns = median_ns("naive/" + family, row.cases, [&p] { naive_pass(p.inputs); }, options);
+    row.naive_ns = time_naive(p.inputs, options, family);
     tick();
     const auto oracle_pass = [&p](exact_solution (*solve)(const ray_sphere<double>&, precision, std::optional<double>,
                                                           std::optional<double>)) {
@@ -95,6 +95,11 @@ oracle_timing_row time_family(const std::string& family, const prepared& p, cons
 }
 
 }  // namespace
+
+double time_naive(const std::vector<ray_sphere<double>>& inputs, const oracle_timing_options& options,
+                  const std::string& label) {
+    return median_ns("naive/" + label, inputs.size(), [&inputs] { naive_pass(inputs); }, options);
+}
 
 oracle_timing time_oracle(const std::vector<corpus_case>& cases, const oracle_timing_options& options,
                           void (*on_progress)(std::size_t, std::size_t)) {

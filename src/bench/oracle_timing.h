@@ -42,6 +42,12 @@ struct oracle_timing {
 oracle_timing time_oracle(const std::vector<corpus_case>& cases, const oracle_timing_options& options,
                           void (*on_progress)(std::size_t, std::size_t) = nullptr);
 
+// Median CPU ns per case of the naive double intersector over `inputs`,
+// inlined into the loop: the reference every ratio of bench --oracle and
+// bench --audit is taken against.
+double time_naive(const std::vector<ray_sphere<double>>& inputs, const oracle_timing_options& options,
+                  const std::string& label);
+
 // The figures as a table, with the targets (fast ≤ 10× naive on
 // uniform and far_sphere, ≤ 100× on near_tangent; reference ≥ 50× fast on the
 // whole corpus) and whether this run met them.

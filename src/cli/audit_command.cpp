@@ -9,6 +9,7 @@
 #include "corpus/case_stream.h"
 #include "corpus/corpus_io.h"
 #include "corpus/shard_environment.h"
+#include "report/audit_pass.h"
 #include "report/audit_report.h"
 #include "report/audit_summary.h"
 #include "report/markdown_report.h"
@@ -103,41 +104,21 @@ int run(const audit_options& options, const std::string& command_line) {
     output_file* state_file =
         options.shard.empty() ? nullptr : &outputs.files.file(report_dir / shard_state_file, "--report");
 
-    // Per thread: the state, and the chunk's rendered per-case lines (written in order).
-    std::vector<audit_state> states(threads, audit_state(targets));
-    std::vector<std::string> lines(outputs.per_case != nullptr ? case_stream::default_chunk : 0);
-    audit_hooks hooks;
-    hooks.parallel = [&](const audited_case& c, std::size_t index, std::size_t slot, unsigned worker) {
-        const case_stability s = assess_case(c);
-        states[worker].stability.add(c, s, index);
-        if (outputs.report) states[worker].points.add(c, s, index);
-        if (outputs.per_case == nullptr) return;
-        nlohmann::ordered_json line = per_case_json(c, targets);
-        add_stability_fields(line, s);
-        lines[slot] = line.dump();
-    };
-    if (outputs.per_case != nullptr)
-        hooks.ordered = [&](const audited_case&, std::size_t, std::size_t slot) {
-            outputs.per_case->stream() << lines[slot] << '\n';
-        };
     audit_progress progress(paths, specs, shard);
-    hooks.progress = progress.reporter();
     const case_source next = [&](std::vector<corpus_case>& cases, std::vector<std::size_t>& indices) {
         return stream.next(cases, indices);
     };
-    states[0].audit = audit_stream(next, targets, threads, hooks);
+    audit_state audited = run_audit_pass(next, targets, threads, static_cast<bool>(outputs.report),
+                                       outputs.per_case != nullptr ? &outputs.per_case->stream() : nullptr,
+                                       progress.reporter());
     progress.finish();
-    for (unsigned w = 1; w < threads; ++w) {
-        states[0].stability.merge(states[w].stability);
-        states[0].points.merge(states[w].points);
-    }
 
     run_context context{recorded_command(command_line), {}, {}};
     for (const auto& p : paths) context.corpus_paths.push_back(p.string());
     for (const generate_spec& s : specs) context.generated.push_back(s.text());
     std::optional<nlohmann::ordered_json> report;
     if (outputs.report || outputs.summary_md != nullptr) {
-        report = audit_report_document(states[0], context);
+        report = audit_report_document(audited, context);
         if (state_file != nullptr) {
             nlohmann::ordered_json state = {
                 {"schema_version", schema_version::shard_state},
@@ -148,22 +129,22 @@ int run(const audit_options& options, const std::string& command_line) {
                            {"generated", context.generated},
                            {"cases", stream.total()},
                            {"fingerprint", stream.fingerprint()}}},
-                {"shard", {{"index", shard.index}, {"count", shard.count}, {"cases", states[0].audit.cases}}},
+                {"shard", {{"index", shard.index}, {"count", shard.count}, {"cases", audited.audit.cases}}},
                 {"targets", targets_json(targets)},
                 {"per_case_file", per_case_location_in_shard.empty()
                                       ? nlohmann::ordered_json(nullptr)
                                       : nlohmann::ordered_json(per_case_location_in_shard)},
-                {"state", state_json(states[0])}};
+                {"state", state_json(audited)}};
             state_file->stream() << state.dump() << '\n';
             (*report)["shard"] = {{"index", shard.index},
                                   {"count", shard.count},
-                                  {"cases", states[0].audit.cases},
+                                  {"cases", audited.audit.cases},
                                   {"input_cases", stream.total()},
                                   {"merge", "rayverify merge --report DIR SHARD_DIR... combines the shards' " +
                                                 std::string(shard_state_file) + " into the whole run's report"}};
         }
     }
-    return publish_audit(states[0].audit.finish(), report, outputs, options.plots, options.presentation);
+    return publish_audit(audited.audit.finish(), report, outputs, options.plots, options.presentation);
 }
 
 }  // namespace

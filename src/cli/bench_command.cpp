@@ -13,6 +13,7 @@
 #include "bench/oracle_timing.h"
 #include "bench/robust_fallback.h"
 #include "bench/timing.h"
+#include "cli/bench_audit.h"
 #include "cli/commands.h"
 #include "compare/stability.h"
 #include "core/input_error.h"
@@ -38,6 +39,7 @@ struct bench_options {
     std::vector<std::string> precisions;  // float, double, long_double; empty: all three
     unsigned threads = 0;                 // the accuracy audit's; 0: every hardware thread
     bool oracle = false;
+    bool audit = false;
     std::string report_dir;
     std::string benchmark_json;  // Google Benchmark's JSON format
     int repetitions = 9;
@@ -195,6 +197,10 @@ int run(const bench_options& options, const std::string& command_line) {
     if (options.oracle && !options.precisions.empty())
         throw input_error("", 0, "--precision", "times the variants: not with --oracle (the oracle is exact)");
     if (options.oracle) return run_oracle_timing(cases, options);
+    if (options.audit && (!options.benchmark_json.empty() || !options.precisions.empty() || !options.report_dir.empty()))
+        throw input_error("", 0, "--audit", "times the audit of the 13 textbook variants: not with --benchmark-json, "
+                                            "--precision or --report");
+    if (options.audit) return run_audit_timing(cases, options.repetitions, std::max(options.min_time, 0.05));
     // --precision: the names timing rows carry ("long double" for long_double).
     const auto chosen = [&](const char* name) {
         return options.precisions.empty() ||
@@ -345,6 +351,11 @@ command add_bench_command(CLI::App& app, const std::string& command_line) {
     sub->add_flag("--oracle", options->oracle,
                   "Time the exact oracles instead: the filtered oracle and the reference route against the naive "
                   "double intersector per family, with the filter's fallback rates");
+    sub->add_flag("--audit", options->audit,
+                  "Time the whole audit instead (the 13 textbook variants in float and double, one thread) per "
+                  "case-target against the naive double intersector per family, with the share of figures each "
+                  "stage of the oracle settled")
+        ->excludes("--oracle");
     sub->add_option("--family", options->families, "Only cases of this family (repeatable; default: all)");
     sub->add_option("--precision", options->precisions,
                     "float, double or long_double (repeatable; default: all three). naive/double, the ratios' "

@@ -129,7 +129,51 @@ void error_summary::add(double error, std::size_t index, const std::string& id) 
         max_id = id;
     }
     ++count;
-    ++buckets[bucket_of(error)];
+    pending_.push_back(bucket_of(error));
+    if (pending_.size() >= pending_capacity) merge_pending();
+}
+
+void error_summary::add_to_bucket(std::uint64_t bucket, std::size_t n) {
+    merge_pending();
+    buckets_[bucket] += n;
+}
+
+const error_summary::histogram_map& error_summary::histogram() const {
+    merge_pending();
+    return buckets_;
+}
+
+// Adds sorted (key, count) runs to a sorted histogram in one pass: counts of
+// shared keys added, new keys inserted as one sorted range (the flat map
+// merges it in linear time).
+namespace {
+template <class Runs>
+void merge_sorted_runs(error_summary::histogram_map& buckets, const Runs& runs) {
+    std::vector<std::pair<std::uint64_t, std::size_t>> fresh;
+    auto mine = buckets.begin();
+    for (const auto& [bucket, n] : runs) {
+        while (mine != buckets.end() && mine->first < bucket) ++mine;
+        if (mine != buckets.end() && mine->first == bucket)
+            mine->second += n;
+        else
+            fresh.emplace_back(bucket, n);
+    }
+    buckets.insert(boost::container::ordered_unique_range, fresh.begin(), fresh.end());
+}
+}  // namespace
+
+void error_summary::merge_pending() const {
+    if (pending_.empty()) return;
+    std::sort(pending_.begin(), pending_.end());
+    std::vector<std::pair<std::uint64_t, std::size_t>> runs;
+    for (const std::uint64_t key : pending_) {
+        if (!runs.empty() && runs.back().first == key)
+            ++runs.back().second;
+        else
+            runs.emplace_back(key, 1);
+    }
+    pending_.clear();
+    merge_sorted_runs(buckets_, runs);
 }
 
 void error_summary::merge(const error_summary& other) {
@@ -140,19 +184,8 @@ void error_summary::merge(const error_summary& other) {
         max_id = other.max_id;
     }
     count += other.count;
-    // One pass over both sorted key lists: counts of shared keys added, new
-    // keys inserted as one sorted range (the flat map merges it in linear
-    // time; inserting them one by one would move its tail for each).
-    std::vector<std::pair<std::uint64_t, std::size_t>> fresh;
-    auto mine = buckets.begin();
-    for (const auto& [bucket, n] : other.buckets) {
-        while (mine != buckets.end() && mine->first < bucket) ++mine;
-        if (mine != buckets.end() && mine->first == bucket)
-            mine->second += n;
-        else
-            fresh.emplace_back(bucket, n);
-    }
-    buckets.insert(boost::container::ordered_unique_range, fresh.begin(), fresh.end());
+    merge_pending();
+    merge_sorted_runs(buckets_, other.histogram());
 }
 
 double error_summary::quantile(double q) const {
@@ -160,7 +193,7 @@ double error_summary::quantile(double q) const {
     const auto rank = std::clamp<std::size_t>(
         static_cast<std::size_t>(std::ceil(q * static_cast<double>(count))), 1, count);
     std::size_t seen = 0;
-    for (const auto& [bucket, n] : buckets) {
+    for (const auto& [bucket, n] : histogram()) {
         seen += n;
         if (seen < rank) continue;
         return bucket == bucket_of(max) ? max : upper_edge(bucket);

@@ -73,8 +73,11 @@ static_assert(FLT_EVAL_METHOD == 0, "robust_sphere.h needs float and double eval
 #error "robust_sphere.h cannot give its guarantees under -ffast-math"
 #endif
 
-// The fast path is meant to be inlined into the caller's loop.
-#if defined(__GNUC__)
+// The fast path is meant to be inlined into the caller's loop. A build may
+// define ROBUST_SPHERE_INLINE itself (as plain `inline`, say, where compile
+// time matters more than speed); the answers do not depend on it.
+#if defined(ROBUST_SPHERE_INLINE)
+#elif defined(__GNUC__)
 #define ROBUST_SPHERE_INLINE [[gnu::always_inline]] inline
 #elif defined(_MSC_VER)
 #define ROBUST_SPHERE_INLINE __forceinline

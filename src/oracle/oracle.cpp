@@ -15,6 +15,7 @@
 
 #include "core/double_word.h"
 #include "core/float_bits.h"
+#include "oracle/expansion.h"
 
 #include <CGAL/Gmpzf.h>
 #include <mpfr.h>
@@ -427,28 +428,29 @@ std::optional<double> round_enclosure(const enclosure& x, int sign) {
     return static_cast<double>(y);
 }
 
-// |value − x| / ulp(x) correctly rounded, from an enclosure of x, when the
-// enclosure settles x's sign, its binade, value ≠ x and the rounding of the
-// ratio (the same contract as ulp_error: here every digit is right).
+// The exponent of ulp(x) in T, when the enclosure settles x's sign and
+// binade (2^e ≤ |x| < 2^(e+1), checked on the whole enclosure; |x| = 2^e
+// exactly is left to the exact route).
 template <class T>
-std::optional<double> ulp_error_from(const enclosure& x, double value) {
-    if (!known(x)) return std::nullopt;
-    if (!std::isfinite(value)) return std::numeric_limits<double>::infinity();
+std::optional<int> ulp_exponent_of(const enclosure& x) {
     const int sign = side_of(x, 0.0);
-    const int position = side_of(x, value);  // sign(x − value)
-    if (sign == 0 || position == 0) return std::nullopt;
-    // Binade: 2^e ≤ |x| < 2^(e+1), checked on the whole enclosure.
+    if (sign == 0) return std::nullopt;
     const double approx = x.hi + x.lo;
     const int e = std::ilogb(approx);
     const double lower = std::ldexp(1.0, e), upper = std::ldexp(1.0, e + 1);
     const bool in_binade = sign > 0 ? exceeds(x.hi, x.lo, x.err, lower) && exceeds(-x.hi, -x.lo, x.err, -upper)
                                     : exceeds(-x.hi, -x.lo, x.err, lower) && exceeds(x.hi, x.lo, x.err, -upper);
-    if (!in_binade) return std::nullopt;  // includes |x| = 2^e exactly: the exact route decides
-    const int ulp_exponent = std::max(e, format<T>::emin) - format<T>::p + 1;
-    // The difference |value − x| as a bounded double-word, scaled to ulps.
-    bounded difference = exactly(value) - bounded{{x.hi, x.lo}, x.err};
-    if (position > 0) difference = -difference;
-    if (difference.v.h == 0) return std::nullopt;
+    if (!in_binade) return std::nullopt;
+    return std::max(e, format<T>::emin) - format<T>::p + 1;
+}
+
+// RN(|difference| / 2^ulp_exponent) when the bound settles it: the
+// difference's sign is certain and the whole scaled enclosure lies inside one
+// rounding interval of a double (the contract of ulp_error: every digit right).
+std::optional<double> rounded_ulp_ratio(bounded difference, int ulp_exponent) {
+    const int position = certain_sign(difference);
+    if (position == 0) return std::nullopt;
+    if (position < 0) difference = -difference;
     const int scaled_exponent = std::ilogb(difference.v.h) - ulp_exponent;
     if (scaled_exponent < -900 || scaled_exponent > 1000) return std::nullopt;
     const enclosure ratio{std::ldexp(difference.v.h, -ulp_exponent), std::ldexp(difference.v.l, -ulp_exponent),
@@ -456,8 +458,29 @@ std::optional<double> ulp_error_from(const enclosure& x, double value) {
     return round_enclosure<double>(ratio, +1);
 }
 
+// |value − x| / ulp(x) correctly rounded, from an enclosure of x, when the
+// enclosure settles x's sign, its binade, value ≠ x and the rounding of the
+// ratio.
+template <class T>
+std::optional<double> ulp_error_from(const enclosure& x, double value) {
+    if (!known(x)) return std::nullopt;
+    if (!std::isfinite(value)) return std::numeric_limits<double>::infinity();
+    if (side_of(x, value) == 0) return std::nullopt;
+    const std::optional<int> ulp_exponent = ulp_exponent_of<T>(x);
+    if (!ulp_exponent) return std::nullopt;
+    return rounded_ulp_ratio(exactly(value) - bounded{{x.hi, x.lo}, x.err}, *ulp_exponent);
+}
+
 std::optional<double> ulp_error_from(precision p, const enclosure& x, double value) {
     return p == precision::binary32 ? ulp_error_from<float>(x, value) : ulp_error_from<double>(x, value);
+}
+
+// The same from a bounded value − x and an enclosure of x for its binade.
+std::optional<double> ulp_error_from(precision p, const enclosure& x, const bounded& difference) {
+    const std::optional<int> ulp_exponent =
+        p == precision::binary32 ? ulp_exponent_of<float>(x) : ulp_exponent_of<double>(x);
+    if (!ulp_exponent) return std::nullopt;
+    return rounded_ulp_ratio(difference, *ulp_exponent);
 }
 
 // Filter range: 0 or 2^−80 ≤ |x| ≤ 2^80 (see the range note above).
@@ -525,6 +548,49 @@ enclosure hit_coordinate_enclosure(const ray_sphere<double>& g, const enclosure&
     return {h.v.h, h.v.l, h.err};
 }
 
+// A finer enclosure of the root t_i from its enclosure's high word u = xh:
+// with P(t) = a t² + 2b′t + C = a(t − t_i)(t − t_j), the correction is
+// t_i − u = −P(u) / (a (u − t_j)). P(u) is evaluated exactly as an expansion
+// (degree 4 in the inputs and u: nothing rounds), so the correction, about
+// 2^−53·|t_i|, is known to about 2^−100 of itself. Needs both roots'
+// enclosures (hence the filter range for the inputs) and 2^−200 ≤ |u| ≤ 2^200,
+// where no product of the expansion underflows or overflows (every component
+// stays above 2^−720 and below 2^570); err = +inf otherwise, or when u − t_j's
+// sign is uncertain (roots too close for the enclosures to part).
+using refined_enclosure = exact_solution::refined_enclosure;
+
+refined_enclosure refine_root(const ray_sphere<double>& g, const enclosure& root, const enclosure& other) {
+    refined_enclosure out;
+    const double u = root.hi;
+    if (!known(root) || !known(other) || !(std::fabs(u) >= 0x1p-200 && std::fabs(u) <= 0x1p200)) return out;
+    out.base = u;
+    const double d[3] = {g.direction.x, g.direction.y, g.direction.z};
+    expansion<2> f[3];
+    for (int axis = 0; axis < 3; ++axis) f[axis] = expansion_of(g.origin[axis]) - expansion_of(g.centre[axis]);
+    const expansion<6> a = expansion_of(d[0]) * d[0] + expansion_of(d[1]) * d[1] + expansion_of(d[2]) * d[2];
+    const expansion<12> two_b_prime = f[0] * (2 * d[0]) + f[1] * (2 * d[1]) + f[2] * (2 * d[2]);
+    const expansion<26> C = f[0] * f[0] + f[1] * f[1] + f[2] * f[2] - expansion_of(g.radius) * g.radius;
+    const expansion<74> P = (a * u) * u + two_b_prime * u + C;
+    const bounded gap = exactly(u) - bounded{{other.hi, other.lo}, other.err};  // u − t_j
+    const std::optional<bounded> offset = quotient(approximate(P), approximate(a) * gap);  // u − t_i
+    if (!offset) return out;
+    out.correction = {-offset->v.h, -offset->v.l, offset->err};
+    return out;
+}
+
+// value − t_i from a refined enclosure, as a bounded double-word: (value − u)
+// is exact, the correction carries the bound.
+bounded root_difference(const refined_enclosure& t, double value) {
+    return exactly(two_sum(value, -t.base)) - bounded{{t.correction.hi, t.correction.lo}, t.correction.err};
+}
+
+// value − p* for p* = o + d·t_i: (value − o − d·u) in double-words, whose
+// operations err relative to the (small) result only, minus d·correction.
+bounded hit_difference(const refined_enclosure& t, double o, double d, double value) {
+    const bounded residual = exactly(two_sum(value, -o)) - exactly(two_prod(d, t.base));
+    return residual - bounded{{t.correction.hi, t.correction.lo}, t.correction.err} * d;
+}
+
 // RN of a hit coordinate when its enclosure settles it.
 std::optional<double> round_hit_coordinate(precision prec, const ray_sphere<double>& g, const enclosure& t, int axis) {
     const enclosure h = hit_coordinate_enclosure(g, t, axis);
@@ -585,6 +651,16 @@ struct exact_solution::internal {
 
     static enclosure hit_enclosure(const exact_solution& s, root_index i, int axis) {
         return hit_coordinate_enclosure(s.geometry_, root_enclosure(s, i), axis);
+    }
+
+    // The root's refined enclosure, built on first use; nullptr when it cannot be.
+    static const refined_enclosure* refined(const exact_solution& s, root_index i) {
+        const int k = i == root_index::near_root ? 0 : 1;
+        if (!s.refined_built_[k]) {
+            s.refined_[k] = refine_root(s.geometry_, s.roots_[k], s.roots_[1 - k]);
+            s.refined_built_[k] = true;
+        }
+        return known(s.refined_[k].correction) ? &s.refined_[k] : nullptr;
     }
 
     static int compare_roots(const exact_solution& a, root_index i, const exact_solution& b, root_index j) {
@@ -698,14 +774,32 @@ int exact_solution::compare_midpoint(double value) const {
 
 int exact_solution::compare_discriminant(double x) const { return sign_of(state().discriminant - exact(x)); }
 
+oracle_stage_counts& oracle_stage_counts_this_thread() {
+    thread_local oracle_stage_counts counts;
+    return counts;
+}
+
 double exact_solution::root_ulp_error(root_index i, double value) const {
-    if (const std::optional<double> e = ulp_error_from(prec, internal::root_enclosure(*this, i), value)) return *e;
+    oracle_stage_counts& counts = oracle_stage_counts_this_thread();
+    const enclosure& root = internal::root_enclosure(*this, i);
+    if (const std::optional<double> e = ulp_error_from(prec, root, value)) return ++counts.ulp_enclosure, *e;
+    if (const refined_enclosure* fine = internal::refined(*this, i))
+        if (const std::optional<double> e = ulp_error_from(prec, root, root_difference(*fine, value)))
+            return ++counts.ulp_refined, *e;
+    ++counts.ulp_exact;
     return ulp_error_in(prec, state().root(i), value);
 }
 
 double exact_solution::hit_point_ulp_error(root_index i, int axis, double value) const {
-    if (const std::optional<double> e = ulp_error_from(prec, internal::hit_enclosure(*this, i, axis), value))
-        return *e;
+    oracle_stage_counts& counts = oracle_stage_counts_this_thread();
+    const double o = geometry_.origin[axis], d = geometry_.direction[axis];
+    if (d == 0 && value == o) return ++counts.ulp_enclosure, 0.0;  // the coordinate is o's, exactly
+    const enclosure coordinate = internal::hit_enclosure(*this, i, axis);
+    if (const std::optional<double> e = ulp_error_from(prec, coordinate, value)) return ++counts.ulp_enclosure, *e;
+    if (const refined_enclosure* fine = internal::refined(*this, i))
+        if (const std::optional<double> e = ulp_error_from(prec, coordinate, hit_difference(*fine, o, d, value)))
+            return ++counts.ulp_refined, *e;
+    ++counts.ulp_exact;
     return ulp_error_in(prec, state().hit_coordinate(i, axis), value);
 }
 
@@ -763,7 +857,12 @@ int compare_roots(const exact_solution& a, root_index i, const exact_solution& b
 
 exact_solution solve_exact(const ray_sphere<double>& g, precision prec, std::optional<double> tmin,
                            std::optional<double> tmax) {
-    return exact_solution::internal::filtered(g, prec, tmin, tmax);
+    exact_solution solution = exact_solution::internal::filtered(g, prec, tmin, tmax);
+    if (solution.valid()) {
+        oracle_stage_counts& counts = oracle_stage_counts_this_thread();
+        ++(solution.stage == oracle_stage::filter ? counts.solutions_filter : counts.solutions_exact);
+    }
+    return solution;
 }
 
 exact_solution solve_exact_reference(const ray_sphere<double>& g, precision prec, std::optional<double> tmin,

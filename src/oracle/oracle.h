@@ -11,6 +11,7 @@
 // lives behind `exact_solution`'s private handle, in oracle.cpp.
 #pragma once
 
+#include <cstdint>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -97,6 +98,15 @@ public:
         double err = std::numeric_limits<double>::infinity();
     };
 
+    // A finer enclosure of a root: t* within correction.err of base +
+    // correction.hi + correction.lo, base a double next to t*, the correction
+    // from base's exact residual (about 2^−150 relative where an enclosure
+    // holds 2^−100: what a double's ULP error needs to every digit).
+    struct refined_enclosure {
+        double base = 0;
+        enclosure correction;
+    };
+
 private:
     // The queries above answer from the roots' enclosures when those settle
     // the answer, and otherwise from the exact state, which is built on first
@@ -107,6 +117,9 @@ private:
 
     ray_sphere<double> geometry_{};
     enclosure roots_[2];  // near, far
+    // Built on first use by a ULP query roots_ cannot settle, kept like exact_.
+    mutable refined_enclosure refined_[2];
+    mutable bool refined_built_[2] = {false, false};
     mutable std::shared_ptr<const exact_state> exact_;
 };
 
@@ -140,6 +153,17 @@ bool box_meets_sphere(const vec3<double>& lower, const vec3<double>& upper, cons
 // (two spheres on one ray) compared without rounding. Requires both classes
 // != miss.
 int compare_roots(const exact_solution& a, root_index i, const exact_solution& b, root_index j);
+
+// How the oracle settled what it was asked, on the calling thread since it
+// started (or since the caller reset it): a measure of a family's stiffness
+// that `bench --audit` prints. Counting costs an increment per answer.
+struct oracle_stage_counts {
+    std::uint64_t solutions_filter = 0, solutions_exact = 0;  // solve_exact's stage
+    // ULP errors of roots and hit-point coordinates: settled by the roots'
+    // enclosures, by their refined enclosures, or exactly.
+    std::uint64_t ulp_enclosure = 0, ulp_refined = 0, ulp_exact = 0;
+};
+oracle_stage_counts& oracle_stage_counts_this_thread();
 
 exact_solution solve_exact(const ray_sphere<double>& geometry, precision prec,
                            std::optional<double> tmin = std::nullopt,

@@ -52,7 +52,7 @@ double double_from(const json& j) { return parse_exact_double(j.get<std::string>
 // after the first as its distance from the one before: one JSON value instead
 // of two arrays and two numbers per bucket, which made parsing the states
 // nearly all of a merge's time.
-std::string buckets_text(const decltype(error_summary::buckets)& buckets) {
+std::string buckets_text(const error_summary::histogram_map& buckets) {
     std::string text;
     std::uint64_t previous = 0;
     for (const auto& [bucket, n] : buckets) {
@@ -62,7 +62,7 @@ std::string buckets_text(const decltype(error_summary::buckets)& buckets) {
     return text;
 }
 
-void buckets_from_text(const json& j, decltype(error_summary::buckets)& buckets) {
+void buckets_from_text(const json& j, error_summary& summary) {
     const std::string& text = j.get_ref<const std::string&>();
     std::uint64_t key = 0;
     for (std::size_t at = 0; at < text.size();) {
@@ -75,14 +75,14 @@ void buckets_from_text(const json& j, decltype(error_summary::buckets)& buckets)
             !parse_unsigned(pair.substr(colon + 1), n) || (at > 0 && step == 0) || key + step < key)
             throw json::other_error::create(501, fmt::format("malformed buckets at '{}'", pair), &j);
         key += step;
-        buckets.emplace_hint(buckets.end(), key, n);
+        summary.add_to_bucket(key, n);
         at = comma + 1;
     }
 }
 
 json summary_json(const error_summary& s) {
     return {{"count", s.count}, {"max", double_json(s.max)}, {"max_index", s.max_index}, {"max_id", s.max_id},
-            {"buckets", buckets_text(s.buckets)}};
+            {"buckets", buckets_text(s.histogram())}};
 }
 
 error_summary summary_from(const json& j) {
@@ -91,7 +91,7 @@ error_summary summary_from(const json& j) {
     s.max = double_from(j.at("max"));
     s.max_index = j.at("max_index").get<std::size_t>();
     s.max_id = j.at("max_id").get<std::string>();
-    buckets_from_text(j.at("buckets"), s.buckets);
+    buckets_from_text(j.at("buckets"), s);
     return s;
 }
 
@@ -321,17 +321,17 @@ private:
         const std::uint64_t max_index = whole(member(j, path, "max_index"), path + ".max_index");
         const std::string max_id = text(member(j, path, "max_id"), path + ".max_id");
         // Format 2: the buckets as one string (buckets_text), each key its distance from the one before.
-        decltype(error_summary::buckets) buckets;
+        error_summary read;
         const json& text_of_buckets = member(j, path, "buckets");
         if (!text_of_buckets.is_string()) fail(path + ".buckets", "is not a string of key:count pairs");
         try {
-            buckets_from_text(text_of_buckets, buckets);
+            buckets_from_text(text_of_buckets, read);
         } catch (const json::exception&) {
             fail(path + ".buckets", "is not a list of key:count pairs, each key after the first above the one before");
         }
         std::uint64_t in_buckets = 0, last = 0;
         constexpr double infinity = std::numeric_limits<double>::infinity();
-        for (const auto& [key, size] : buckets) {
+        for (const auto& [key, size] : read.histogram()) {
             const std::string at = fmt::format("{}.buckets (key {})", path, key);
             if (key > error_summary::bucket_of(infinity))
                 fail(at, fmt::format("is beyond the last bucket ({}, infinity)", error_summary::bucket_of(infinity)));

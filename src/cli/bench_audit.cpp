@@ -1,0 +1,155 @@
+#include "cli/bench_audit.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <ctime>
+#include <map>
+#include <streambuf>
+
+#include "bench/oracle_timing.h"
+#include "bench/timing.h"
+#include "cli/commands.h"
+#include "corpus/case_stream.h"
+#include "oracle/oracle.h"
+#include "report/audit_pass.h"
+#include "report/audit_report.h"
+
+namespace rayverify::cli {
+namespace {
+
+// The targets the per case-target ratio is measured with: the 13 built-in
+// variants of before the engine ports, in both precisions (26 targets), so
+// that adding variants does not move the figure (docs/oracle.md).
+const std::vector<std::string> ratio_variants = {
+    "naive",         "half_b",          "seed003_reduced",     "seed004_early_out",  "geometric",
+    "stable_roots",  "hearn_baker",     "fma_discriminant",    "hearn_baker_any_hit", "hearn_baker_nearest",
+    "hearn_baker_unit", "hearn_baker_unit_nearest", "hearn_baker_unit_any_hit"};
+
+// An output stream that takes every character and keeps none: the per-case
+// lines are rendered and written as the audit writes them, to no file.
+class discarding_buffer : public std::streambuf {
+protected:
+    int_type overflow(int_type c) override { return traits_type::not_eof(c); }
+    std::streamsize xsputn(const char*, std::streamsize n) override { return n; }
+};
+
+double cpu_seconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
+
+struct audit_timing_row {
+    std::string family;
+    std::size_t cases = 0;
+    double naive_ns = 0;     // per case
+    double audit_ns = 0;     // per case-target, the audit as `rayverify audit --report` runs it
+    double per_case_ns = 0;  // the same with --per-case lines written
+    oracle_stage_counts counts;
+    double audit_over_naive() const { return naive_ns > 0 ? audit_ns / naive_ns : 0; }
+    double per_case_over_audit() const { return audit_ns > 0 ? per_case_ns / audit_ns : 0; }
+};
+
+audit_timing_row time_family(const std::string& family, const std::vector<corpus_case>& cases,
+                             const std::vector<audit_target>& targets, int repetitions, double min_time_s) {
+    audit_timing_row row;
+    row.family = family;
+    row.cases = cases.size();
+    std::vector<ray_sphere<double>> inputs;
+    for (const corpus_case& c : cases)
+        if (validity<double>(c.geometry) == invalid_reason::none) inputs.push_back(c.geometry);
+    row.naive_ns = bench::time_naive(inputs, {repetitions, std::max(min_time_s, 0.05)}, family);
+
+    const auto pass = [&](std::ostream* per_case) {
+        std::size_t at = 0;
+        const case_source next = [&](std::vector<corpus_case>& chunk, std::vector<std::size_t>& indices) {
+            chunk.clear();
+            indices.clear();
+            for (; at < cases.size() && chunk.size() < case_stream::default_chunk; ++at) {
+                chunk.push_back(cases[at]);
+                indices.push_back(at);
+            }
+            return !chunk.empty();
+        };
+        audit_state state = run_audit_pass(next, targets, 1, true, per_case);
+        return state.audit.cases;
+    };
+    // Median over the repetitions of CPU ns per case-target, each repetition
+    // as many passes as fill min_time_s.
+    const double case_targets = static_cast<double>(cases.size() * targets.size());
+    const auto median_ns = [&](std::ostream* per_case) {
+        std::vector<double> ns;
+        for (int r = 0; r < repetitions; ++r) {
+            const double start = cpu_seconds();
+            int passes = 0;
+            do {
+                pass(per_case);
+                ++passes;
+            } while (cpu_seconds() - start < min_time_s);
+            ns.push_back((cpu_seconds() - start) * 1e9 / (passes * case_targets));
+        }
+        return bench::median_of(ns);
+    };
+    row.audit_ns = median_ns(nullptr);
+    std::ostream discard(new discarding_buffer);
+    row.per_case_ns = median_ns(&discard);
+    delete discard.rdbuf();
+
+    // How the oracle settled the figures: one more pass, counted.
+    oracle_stage_counts& counts = oracle_stage_counts_this_thread();
+    counts = {};
+    pass(nullptr);
+    row.counts = counts;
+    return row;
+}
+
+double share(std::uint64_t part, std::uint64_t whole) { return whole ? 100.0 * double(part) / double(whole) : 0; }
+
+std::string format_rows(const std::vector<audit_timing_row>& rows, std::size_t target_count, int repetitions) {
+    std::string out = fmt::format("{:<20} {:>6} {:>9} {:>12} {:>12} {:>9} {:>9} {:>9} {:>9} {:>9}\n", "family",
+                                  "cases", "naive_ns", "audit_ns/ct", "audit/naive", "per-case", "solve_ex",
+                                  "ulp_encl", "ulp_refd", "ulp_exact");
+    for (const audit_timing_row& r : rows) {
+        const oracle_stage_counts& c = r.counts;
+        const std::uint64_t solutions = c.solutions_filter + c.solutions_exact;
+        const std::uint64_t ulps = c.ulp_enclosure + c.ulp_refined + c.ulp_exact;
+        out += fmt::format("{:<20} {:>6} {:>9.2f} {:>12.1f} {:>11.1f}x {:>8.2f}x {:>8.2f}% {:>8.2f}% {:>8.2f}% {:>8.2f}%\n",
+                           r.family, r.cases, r.naive_ns, r.audit_ns, r.audit_over_naive(), r.per_case_over_audit(),
+                           share(c.solutions_exact, solutions), share(c.ulp_enclosure, ulps),
+                           share(c.ulp_refined, ulps), share(c.ulp_exact, ulps));
+    }
+    out += fmt::format(
+        "audit_ns/ct = CPU ns per case-target of the audit as `rayverify audit --report` runs it (oracle, {} "
+        "targets: the 13 textbook variants in float and double, judge, stability, plot sample), one thread, median "
+        "of {} repetitions; per-case = the same writing --per-case lines, over the audit alone; solve_ex = share of "
+        "solutions that needed exact arithmetic; ulp_* = share of the ULP errors (roots and hit-point coordinates) "
+        "settled by the roots' enclosures, by their refined enclosures, or exactly.\n",
+        target_count, repetitions);
+    return out;
+}
+
+}  // namespace
+
+int run_audit_timing(const std::vector<corpus_case>& cases, int repetitions, double min_time_s) {
+    const std::vector<audit_target> targets = select_targets(ratio_variants, {"float", "double"});
+    std::map<std::string, std::vector<corpus_case>> by_family;
+    for (const corpus_case& c : cases) by_family[c.family.empty() ? "-" : c.family].push_back(c);
+    std::vector<audit_timing_row> rows;
+    for (const auto& [family, members] : by_family) {
+        fmt::print(stderr, "bench --audit: {} ({} cases)\n", family, members.size());
+        rows.push_back(time_family(family, members, targets, repetitions, min_time_s));
+    }
+    rows.push_back(time_family("all", cases, targets, repetitions, min_time_s));
+    fmt::print("{}", format_rows(rows, targets.size(), repetitions));
+
+    fmt::print("targets, this run:\n");
+    const auto target = [](const std::string& what, double value, double limit) {
+        fmt::print("  {:<52} {:>8.2f}x  target <= {:g}x  {}\n", what, value, limit, value <= limit ? "met" : "MISSED");
+    };
+    for (const audit_timing_row& r : rows) {
+        const bool ordinary = r.family == "uniform" || r.family == "far_sphere";
+        if (r.family != "all") target(fmt::format("audit / naive double, {}", r.family), r.audit_over_naive(), ordinary ? 40 : 200);
+    }
+    target("per-case output / audit, all", rows.back().per_case_over_audit(), 2);
+    fmt::print("build: {}; CPU: {}\n", build_summary(), bench::cpu_model());
+    return exit_ok;
+}
+
+}  // namespace rayverify::cli

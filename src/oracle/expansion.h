@@ -1,0 +1,156 @@
+// Floating-point expansions: an exact value held as an unevaluated sum of
+// doubles (J. R. Shewchuk, "Adaptive Precision Floating-Point Arithmetic and
+// Fast Robust Geometric Predicates", Discrete & Computational Geometry 18,
+// 1997; the algorithms of predicates.c, written here from the paper). Sums of
+// expansions and products with a double are exact; the oracle uses them to
+// evaluate polynomials of the inputs exactly without big numbers, where
+// double-words alone cannot reach the accuracy a figure needs.
+//
+// An expansion's components are strongly nonoverlapping and in order of
+// increasing magnitude, with no zero component (0 is the empty expansion):
+// Shewchuk's Theorems 13 and 19 keep that so for every result built from
+// single doubles with the operations below, under round-to-nearest-even. The
+// value's sign is then its largest component's.
+//
+// Range: exact only while no product underflows or overflows; the caller
+// keeps its operands in a range where none does (the oracle's filter range).
+#pragma once
+
+#include <array>
+#include <cmath>
+
+#include "core/double_word.h"
+
+namespace rayverify {
+
+template <int N>
+struct expansion {
+    std::array<double, N> c{};
+    int n = 0;
+};
+
+inline expansion<1> expansion_of(double x) {
+    expansion<1> e;
+    if (x != 0) e.c[e.n++] = x;
+    return e;
+}
+
+// e + f exactly (Fast-Expansion-Sum with zero elimination: merge the
+// components by magnitude, then one running two_sum).
+template <int M, int K>
+expansion<M + K> operator+(const expansion<M>& e, const expansion<K>& f) {
+    expansion<M + K> h;
+    if (e.n == 0 && f.n == 0) return h;
+    int i = 0, j = 0;
+    // The next component by magnitude (ties: e's first).
+    const auto take = [&]() {
+        if (j >= f.n || (i < e.n && std::fabs(e.c[i]) <= std::fabs(f.c[j]))) return e.c[i++];
+        return f.c[j++];
+    };
+    double q = take();
+    while (i < e.n || j < f.n) {
+        const dword s = two_sum(q, take());
+        if (s.l != 0) h.c[h.n++] = s.l;
+        q = s.h;
+    }
+    if (q != 0) h.c[h.n++] = q;
+    return h;
+}
+
+template <int M>
+expansion<M> operator-(expansion<M> e) {
+    for (int i = 0; i < e.n; ++i) e.c[i] = -e.c[i];
+    return e;
+}
+
+template <int M, int K>
+expansion<M + K> operator-(const expansion<M>& e, const expansion<K>& f) {
+    return e + (-f);
+}
+
+// e × b exactly (Scale-Expansion with zero elimination).
+template <int M>
+expansion<2 * M> operator*(const expansion<M>& e, double b) {
+    expansion<2 * M> h;
+    if (e.n == 0 || b == 0) return h;
+    const dword first = two_prod(e.c[0], b);
+    if (first.l != 0) h.c[h.n++] = first.l;
+    double q = first.h;
+    for (int i = 1; i < e.n; ++i) {
+        const dword product = two_prod(e.c[i], b);
+        const dword low = two_sum(q, product.l);
+        if (low.l != 0) h.c[h.n++] = low.l;
+        const dword high = fast_two_sum(product.h, low.h);
+        if (high.l != 0) h.c[h.n++] = high.l;
+        q = high.h;
+    }
+    if (q != 0) h.c[h.n++] = q;
+    return h;
+}
+
+// e × f exactly: the sum of e scaled by each component of f.
+template <int M, int K>
+expansion<2 * M * K> operator*(const expansion<M>& e, const expansion<K>& f) {
+    expansion<2 * M * K> h;
+    for (int j = 0; j < f.n; ++j) {
+        const expansion<2 * M> term = e * f.c[j];
+        const expansion<2 * M * K + 2 * M> sum = h + term;
+        h.n = sum.n;
+        for (int k = 0; k < sum.n; ++k) h.c[k] = sum.c[k];
+    }
+    return h;
+}
+
+// sign of the exact value.
+template <int N>
+int sign_of(const expansion<N>& e) {
+    if (e.n == 0) return 0;
+    return e.c[e.n - 1] > 0 ? 1 : -1;
+}
+
+// The same value with nonadjacent components (Compress): each is then below
+// the ulp of the one above it, so the largest few hold the value to a
+// relative 2^−52 per component. (A sum or product leaves components that
+// may be adjacent, the second largest as large as the largest's ulp and the
+// third nearly as large as the second.)
+template <int N>
+expansion<N> compressed(const expansion<N>& e) {
+    if (e.n == 0) return e;
+    std::array<double, N> g{};
+    int bottom = e.n - 1;
+    double q = e.c[e.n - 1];
+    for (int i = e.n - 2; i >= 0; --i) {
+        const dword s = fast_two_sum(q, e.c[i]);
+        if (s.l != 0) {
+            g[bottom--] = s.h;
+            q = s.l;
+        } else {
+            q = s.h;
+        }
+    }
+    g[bottom] = q;
+    expansion<N> h;
+    for (int i = bottom + 1; i < e.n; ++i) {
+        const dword s = fast_two_sum(g[i], q);
+        q = s.h;
+        if (s.l != 0) h.c[h.n++] = s.l;
+    }
+    h.c[h.n++] = q;
+    return h;
+}
+
+// The exact value as a double-word with a rigorous error bound: the two
+// largest components of the compressed expansion (summed exactly) and, as the
+// bound, the sum of the others' magnitudes.
+template <int N>
+bounded approximate(const expansion<N>& exact) {
+    if (exact.n == 0) return exactly(0.0);
+    const expansion<N> e = compressed(exact);
+    const double high = e.c[e.n - 1], low = e.n >= 2 ? e.c[e.n - 2] : 0.0;
+    double tail = 0;
+    for (int k = 0; k + 2 < e.n; ++k) tail += std::fabs(e.c[k]);
+    // At most N − 1 roundings in the sum, far inside the factor 1 + 2^−40.
+    return {two_sum(high, low), tail * (1 + 0x1p-40) + 0x1p-600};
+}
+
+}  // namespace rayverify

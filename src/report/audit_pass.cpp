@@ -1,0 +1,39 @@
+#include "report/audit_pass.h"
+
+#include <string>
+
+#include "compare/stability.h"
+#include "corpus/case_stream.h"
+#include "report/audit_report.h"
+#include "report/stability_report.h"
+
+namespace rayverify {
+
+audit_state run_audit_pass(const case_source& next, const std::vector<audit_target>& targets, unsigned threads,
+                           bool with_points, std::ostream* per_case,
+                           const std::function<void(std::size_t done)>& progress) {
+    // Per thread: the state, and the chunk's rendered per-case lines (written in order).
+    std::vector<audit_state> states(threads, audit_state(targets));
+    std::vector<std::string> lines(per_case != nullptr ? case_stream::default_chunk : 0);
+    audit_hooks hooks;
+    hooks.parallel = [&](const audited_case& c, std::size_t index, std::size_t slot, unsigned worker) {
+        const case_stability s = assess_case(c);
+        states[worker].stability.add(c, s, index);
+        if (with_points) states[worker].points.add(c, s, index);
+        if (per_case == nullptr) return;
+        nlohmann::ordered_json line = per_case_json(c, targets);
+        add_stability_fields(line, s);
+        lines[slot] = line.dump();
+    };
+    if (per_case != nullptr)
+        hooks.ordered = [&](const audited_case&, std::size_t, std::size_t slot) { *per_case << lines[slot] << '\n'; };
+    hooks.progress = progress;
+    states[0].audit = audit_stream(next, targets, threads, hooks);
+    for (unsigned w = 1; w < threads; ++w) {
+        states[0].stability.merge(states[w].stability);
+        states[0].points.merge(states[w].points);
+    }
+    return std::move(states[0]);
+}
+
+}  // namespace rayverify

@@ -1,0 +1,23 @@
+// One pass of an audit as `rayverify audit` runs it, for the audit command
+// and for `bench --audit`, which times exactly this.
+#pragma once
+
+#include <functional>
+#include <ostream>
+#include <vector>
+
+#include "compare/audit.h"
+#include "report/shard_state.h"
+
+namespace rayverify {
+
+// Every case from `next` through the oracle and the targets
+// (compare/audit_stream) on `threads` threads, each case's stability assessed,
+// the plot sample kept when `with_points`, and, when `per_case` is not null,
+// its per-case JSON line written there in input order. Returns the state of
+// all the workers merged.
+audit_state run_audit_pass(const case_source& next, const std::vector<audit_target>& targets, unsigned threads,
+                           bool with_points, std::ostream* per_case,
+                           const std::function<void(std::size_t done)>& progress = {});
+
+}  // namespace rayverify

@@ -397,14 +397,27 @@ TEST(FastOracleStage, RefinedEnclosuresSettleDoubleUlpErrorsOfUniformCases) {
 }
 
 TEST(FastOracleStage, ExactWhereTheFilterCannotDecide) {
-    // Tangent: Δ′ = 0 exactly, no floating bound can prove a sign.
-    const exact_solution tangent = solve_exact({{1, 0, -5}, {0, 0, 1}, {0, 0, 0}, 1}, precision::binary64);
+    // Tangent: Δ′ = 0 exactly, no floating bound can prove a sign; an
+    // expansion of Δ′ can, without big numbers.
+    const exact_solution tangent = solve_exact({{1, 0, -5}, {0, 0, 1}, {0, 0, 0.25}, 1}, precision::binary64);
     EXPECT_EQ(tangent.cls, line_class::tangent);
-    EXPECT_EQ(tangent.stage, oracle_stage::exact);
-    // Origin on the surface: a root is exactly 0, its sign needs exact arithmetic.
+    EXPECT_EQ(tangent.stage, oracle_stage::expansion);
+    EXPECT_EQ(tangent.near_root.rounded, 5.25);
+    // With the tangent point's z exactly 0 its rounding needs the exact state.
+    const exact_solution at_zero = solve_exact({{1, 0, -5}, {0, 0, 1}, {0, 0, 0}, 1}, precision::binary64);
+    EXPECT_EQ(at_zero.cls, line_class::tangent);
+    EXPECT_EQ(at_zero.stage, oracle_stage::exact);
+    // Origin on the surface: a root is exactly 0; C's expansion says so.
     const exact_solution surface = solve_exact({{0, 0, -1}, {0, 0, 1}, {0, 0, 0}, 1}, precision::binary64);
     EXPECT_EQ(surface.near_root.sign, 0);
-    EXPECT_EQ(surface.stage, oracle_stage::exact);
+    EXPECT_EQ(surface.stage, oracle_stage::expansion);
+    // A tangent whose root is a rounding midpoint needs the exact route: in
+    // float, t = 1 + 2^−24 lies halfway between 1 and 1 + 2^−23.
+    const exact_solution tie_tangent =
+        solve_exact({{1, 0, -(1 + 0x1p-24)}, {0, 0, 1}, {0, 0, 0}, 1}, precision::binary32);
+    EXPECT_EQ(tie_tangent.cls, line_class::tangent);
+    EXPECT_EQ(tie_tangent.stage, oracle_stage::exact);
+    EXPECT_EQ(tie_tangent.near_root.rounded, 1.0);  // the tie goes to the even neighbour
     // Outside the filter's range (2^−80 ≤ |x| ≤ 2^80).
     const exact_solution huge = solve_exact({{0, 0, -0x1p900}, {0, 0, 1}, {0, 0, 0}, 0x1p899}, precision::binary64);
     EXPECT_EQ(huge.cls, line_class::two_hit);

@@ -103,23 +103,25 @@ audit_timing_row time_family(const std::string& family, const std::vector<corpus
 double share(std::uint64_t part, std::uint64_t whole) { return whole ? 100.0 * double(part) / double(whole) : 0; }
 
 std::string format_rows(const std::vector<audit_timing_row>& rows, std::size_t target_count, int repetitions) {
-    std::string out = fmt::format("{:<20} {:>6} {:>9} {:>12} {:>12} {:>9} {:>9} {:>9} {:>9} {:>9}\n", "family",
-                                  "cases", "naive_ns", "audit_ns/ct", "audit/naive", "per-case", "solve_ex",
-                                  "ulp_encl", "ulp_refd", "ulp_exact");
+    std::string out = fmt::format("{:<20} {:>6} {:>9} {:>12} {:>12} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9}\n", "family",
+                                  "cases", "naive_ns", "audit_ns/ct", "audit/naive", "per-case", "solve_exp",
+                                  "solve_ex", "ulp_encl", "ulp_refd", "ulp_exact");
     for (const audit_timing_row& r : rows) {
         const oracle_stage_counts& c = r.counts;
-        const std::uint64_t solutions = c.solutions_filter + c.solutions_exact;
+        const std::uint64_t solutions = c.solutions_filter + c.solutions_expansion + c.solutions_exact;
         const std::uint64_t ulps = c.ulp_enclosure + c.ulp_refined + c.ulp_exact;
-        out += fmt::format("{:<20} {:>6} {:>9.2f} {:>12.1f} {:>11.1f}x {:>8.2f}x {:>8.2f}% {:>8.2f}% {:>8.2f}% {:>8.2f}%\n",
-                           r.family, r.cases, r.naive_ns, r.audit_ns, r.audit_over_naive(), r.per_case_over_audit(),
-                           share(c.solutions_exact, solutions), share(c.ulp_enclosure, ulps),
+        out += fmt::format(
+            "{:<20} {:>6} {:>9.2f} {:>12.1f} {:>11.1f}x {:>8.2f}x {:>8.2f}% {:>8.2f}% {:>8.2f}% {:>8.2f}% {:>8.2f}%\n",
+            r.family, r.cases, r.naive_ns, r.audit_ns, r.audit_over_naive(), r.per_case_over_audit(),
+            share(c.solutions_expansion, solutions), share(c.solutions_exact, solutions), share(c.ulp_enclosure, ulps),
                            share(c.ulp_refined, ulps), share(c.ulp_exact, ulps));
     }
     out += fmt::format(
         "audit_ns/ct = CPU ns per case-target of the audit as `rayverify audit --report` runs it (oracle, {} "
         "targets: the 13 textbook variants in float and double, judge, stability, plot sample), one thread, median "
-        "of {} repetitions; per-case = the same writing --per-case lines, over the audit alone; solve_ex = share of "
-        "solutions that needed exact arithmetic; ulp_* = share of the ULP errors (roots and hit-point coordinates) "
+        "of {} repetitions; per-case = the same writing --per-case lines, over the audit alone; solve_exp, solve_ex = "
+        "share of solutions (float and double inputs) that needed expansions for an exact zero, or exact arithmetic "
+        "(GMP); ulp_* = share of the ULP errors (roots and hit-point coordinates) "
         "settled by the roots' enclosures, by their refined enclosures, or exactly.\n",
         target_count, repetitions);
     return out;

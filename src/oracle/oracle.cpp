@@ -548,6 +548,50 @@ enclosure hit_coordinate_enclosure(const ray_sphere<double>& g, const enclosure&
     return {h.v.h, h.v.l, h.err};
 }
 
+using refined_enclosure = exact_solution::refined_enclosure;
+
+// The quadratic's coefficients as exact expansions: f = o − c, a = d·d,
+// 2b′ = 2d·f, C = f·f − r², and Δ′ = a·r² − |d × f|² (Lagrange's identity, as
+// the filter). Exact for inputs in the filter range, where every product
+// stays far from underflow and overflow (degree 4: above 2^−528, below 2^330).
+struct exact_coefficients {
+    expansion<2> f[3];
+    expansion<6> a;
+    expansion<12> two_b_prime;
+    expansion<26> C;
+};
+
+exact_coefficients coefficients_of(const ray_sphere<double>& g) {
+    exact_coefficients k;
+    const double d[3] = {g.direction.x, g.direction.y, g.direction.z};
+    for (int axis = 0; axis < 3; ++axis) k.f[axis] = expansion_of(g.origin[axis]) - expansion_of(g.centre[axis]);
+    const expansion<2>* f = k.f;
+    k.a = expansion_of(d[0]) * d[0] + expansion_of(d[1]) * d[1] + expansion_of(d[2]) * d[2];
+    k.two_b_prime = f[0] * (2 * d[0]) + f[1] * (2 * d[1]) + f[2] * (2 * d[2]);
+    k.C = f[0] * f[0] + f[1] * f[1] + f[2] * f[2] - expansion_of(g.radius) * g.radius;
+    return k;
+}
+
+int discriminant_sign(const ray_sphere<double>& g, const exact_coefficients& k) {
+    const double d[3] = {g.direction.x, g.direction.y, g.direction.z};
+    const expansion<2>* f = k.f;
+    const expansion<8> cross[3] = {f[2] * d[1] - f[1] * d[2], f[0] * d[2] - f[2] * d[0], f[1] * d[0] - f[0] * d[1]};
+    const expansion<408> discriminant =
+        k.a * (expansion_of(g.radius) * g.radius) - (cross[0] * cross[0] + cross[1] * cross[1] + cross[2] * cross[2]);
+    return sign_of(discriminant);
+}
+
+bool in_filter_range(const ray_sphere<double>& g) {
+    for (int axis = 0; axis < 3; ++axis)
+        if (!in_filter_range(g.origin[axis]) || !in_filter_range(g.direction[axis]) || !in_filter_range(g.centre[axis]))
+            return false;
+    return in_filter_range(g.radius);
+}
+
+// Roots with |u| in [2^−200, 2^200] only: beside the inputs' range, that
+// keeps the expansions of P(u) exact (every component above 2^−720, below 2^570).
+bool refinable(double u) { return std::fabs(u) >= 0x1p-200 && std::fabs(u) <= 0x1p200; }
+
 // A finer enclosure of the root t_i from its enclosure's high word u = xh:
 // with P(t) = a t² + 2b′t + C = a(t − t_i)(t − t_j), the correction is
 // t_i − u = −P(u) / (a (u − t_j)). P(u) is evaluated exactly as an expansion
@@ -557,22 +601,28 @@ enclosure hit_coordinate_enclosure(const ray_sphere<double>& g, const enclosure&
 // where no product of the expansion underflows or overflows (every component
 // stays above 2^−720 and below 2^570); err = +inf otherwise, or when u − t_j's
 // sign is uncertain (roots too close for the enclosures to part).
-using refined_enclosure = exact_solution::refined_enclosure;
-
-refined_enclosure refine_root(const ray_sphere<double>& g, const enclosure& root, const enclosure& other) {
+refined_enclosure refine_root(const exact_coefficients& k, const enclosure& root, const enclosure& other) {
     refined_enclosure out;
     const double u = root.hi;
-    if (!known(root) || !known(other) || !(std::fabs(u) >= 0x1p-200 && std::fabs(u) <= 0x1p200)) return out;
+    if (!known(root) || !known(other) || !refinable(u)) return out;
     out.base = u;
-    const double d[3] = {g.direction.x, g.direction.y, g.direction.z};
-    expansion<2> f[3];
-    for (int axis = 0; axis < 3; ++axis) f[axis] = expansion_of(g.origin[axis]) - expansion_of(g.centre[axis]);
-    const expansion<6> a = expansion_of(d[0]) * d[0] + expansion_of(d[1]) * d[1] + expansion_of(d[2]) * d[2];
-    const expansion<12> two_b_prime = f[0] * (2 * d[0]) + f[1] * (2 * d[1]) + f[2] * (2 * d[2]);
-    const expansion<26> C = f[0] * f[0] + f[1] * f[1] + f[2] * f[2] - expansion_of(g.radius) * g.radius;
-    const expansion<74> P = (a * u) * u + two_b_prime * u + C;
+    const expansion<74> P = (k.a * u) * u + k.two_b_prime * u + k.C;
     const bounded gap = exactly(u) - bounded{{other.hi, other.lo}, other.err};  // u − t_j
-    const std::optional<bounded> offset = quotient(approximate(P), approximate(a) * gap);  // u − t_i
+    const std::optional<bounded> offset = quotient(approximate(P), approximate(k.a) * gap);  // u − t_i
+    if (!offset) return out;
+    out.correction = {-offset->v.h, -offset->v.l, offset->err};
+    return out;
+}
+
+// The same for a tangent's root t = −b′/a: t − u = −(2b′ + 2a·u) / 2a, the
+// numerator exact.
+refined_enclosure refine_tangent_root(const exact_coefficients& k, const enclosure& root) {
+    refined_enclosure out;
+    const double u = root.hi;
+    if (!known(root) || !refinable(u)) return out;
+    out.base = u;
+    const expansion<36> numerator = k.two_b_prime + (k.a * u) * 2.0;
+    const std::optional<bounded> offset = quotient(approximate(numerator), approximate(k.a) * 2.0);  // u − t
     if (!offset) return out;
     out.correction = {-offset->v.h, -offset->v.l, offset->err};
     return out;
@@ -643,8 +693,18 @@ filter_case(const ray_sphere<double>& g, precision prec) {
 
 }  // namespace
 
+struct exact_solution::expansion_state {
+    exact_coefficients coefficients;
+};
+
 // The filter route and the lazy exact route, with access to the solution.
 struct exact_solution::internal {
+    // The case's coefficients as expansions, built on first use and kept.
+    static const exact_coefficients& coefficients(const exact_solution& s) {
+        if (!s.expansions_) s.expansions_ = std::make_shared<const expansion_state>(expansion_state{coefficients_of(s.geometry_)});
+        return s.expansions_->coefficients;
+    }
+
     static const enclosure& root_enclosure(const exact_solution& s, root_index i) {
         return s.roots_[i == root_index::near_root ? 0 : 1];
     }
@@ -653,11 +713,55 @@ struct exact_solution::internal {
         return hit_coordinate_enclosure(s.geometry_, root_enclosure(s, i), axis);
     }
 
+    // sign(t_i − m) exactly with expansions, no big numbers: a tangent's root
+    // −b′/a against m from the sign of 2b′ + 2a·m; one of two roots from
+    // P(m) = a(m − t_i)(m − t_j) once the other root's enclosure parts m from
+    // t_j. Needs the roots' enclosures (the filter range) and m = 0 or
+    // refinable; nullopt otherwise.
+    static std::optional<int> compare_root_by_expansion(const exact_solution& s, root_index i, double m) {
+        const int k = i == root_index::near_root ? 0 : 1;
+        if (s.cls == line_class::miss || !known(s.roots_[k]) || !(m == 0 || refinable(m))) return std::nullopt;
+        const exact_coefficients& c = coefficients(s);
+        if (s.cls == line_class::tangent) return -sign_of(c.two_b_prime + (c.a * m) * 2.0);
+        const int other_side = side_of(s.roots_[1 - k], m);  // sign(t_j − m)
+        if (other_side == 0) return std::nullopt;
+        const int p = sign_of((c.a * m) * m + c.two_b_prime * m + c.C);  // sign(m − t_i)·sign(m − t_j)
+        return -p * -other_side;
+    }
+
+    // |value − t_i| / ulp(t_i) when the enclosure leaves value = t_i or t_i's
+    // binade open (an exactly representable root, one at a power of two):
+    // both decided with compare_root_by_expansion, the ratio from the refined
+    // enclosure.
+    static std::optional<double> root_ulp_error_by_expansion(const exact_solution& s, root_index i, double value) {
+        const std::optional<int> position = compare_root_by_expansion(s, i, value);
+        if (!position) return std::nullopt;
+        if (*position == 0) return 0.0;
+        const exact_root& root = s.root(i);
+        const refined_enclosure* fine = refined(s, i);
+        if (root.sign == 0 || fine == nullptr) return std::nullopt;
+        const enclosure& coarse = root_enclosure(s, i);
+        const int guess = std::ilogb(coarse.hi + coarse.lo);
+        for (int e = guess - 1; e <= guess + 1; ++e) {
+            // 2^e ≤ |t_i| < 2^(e+1), decided exactly.
+            const std::optional<int> low = compare_root_by_expansion(s, i, root.sign * std::ldexp(1.0, e));
+            const std::optional<int> high = compare_root_by_expansion(s, i, root.sign * std::ldexp(1.0, e + 1));
+            if (!low || !high) return std::nullopt;
+            if (root.sign * *low < 0 || root.sign * *high >= 0) continue;
+            const int ulp_exponent = s.prec == precision::binary32
+                                         ? std::max(e, format<float>::emin) - format<float>::p + 1
+                                         : std::max(e, format<double>::emin) - format<double>::p + 1;
+            return rounded_ulp_ratio(root_difference(*fine, value), ulp_exponent);
+        }
+        return std::nullopt;
+    }
+
     // The root's refined enclosure, built on first use; nullptr when it cannot be.
     static const refined_enclosure* refined(const exact_solution& s, root_index i) {
         const int k = i == root_index::near_root ? 0 : 1;
         if (!s.refined_built_[k]) {
-            s.refined_[k] = refine_root(s.geometry_, s.roots_[k], s.roots_[1 - k]);
+            s.refined_[k] = s.cls == line_class::tangent ? refine_tangent_root(coefficients(s), s.roots_[k])
+                                                          : refine_root(coefficients(s), s.roots_[k], s.roots_[1 - k]);
             s.refined_built_[k] = true;
         }
         return known(s.refined_[k].correction) ? &s.refined_[k] : nullptr;
@@ -706,6 +810,44 @@ struct exact_solution::internal {
         return solution;
     }
 
+    // Δ′ = 0 decided with an expansion (the filter range only): the root −b′/a
+    // enclosed, signed and rounded in double-words, and the hit point (a
+    // coordinate its enclosure cannot round, such as an exact 0, from the
+    // exact state); nullopt (the exact route) when Δ′ ≠ 0 or the root's
+    // enclosure cannot be rounded (a tie).
+    static std::optional<exact_solution> exact_tangent(const ray_sphere<double>& g, precision prec) {
+        if (!in_filter_range(g)) return std::nullopt;
+        exact_solution solution;
+        solution.prec = prec;
+        solution.geometry_ = g;
+        const exact_coefficients& k = coefficients(solution);
+        if (discriminant_sign(g, k) != 0) return std::nullopt;
+        solution.cls = line_class::tangent;
+        exact_root root;
+        enclosure t{0, 0, 0};
+        root.sign = -sign_of(k.two_b_prime) * sign_of(k.a);
+        if (root.sign != 0) {
+            const std::optional<bounded> quotient_found = quotient(-approximate(k.two_b_prime), approximate(k.a) * 2.0);
+            if (!quotient_found) return std::nullopt;
+            t = {quotient_found->v.h, quotient_found->v.l, quotient_found->err};
+            const std::optional<double> rounded = prec == precision::binary32 ? round_enclosure<float>(t, root.sign)
+                                                                               : round_enclosure<double>(t, root.sign);
+            if (!rounded) return std::nullopt;
+            root.rounded = *rounded;
+        }
+        solution.roots_[0] = solution.roots_[1] = t;
+        solution.near_root = solution.far_root = root;
+        solution.nearest_in_front = nearest_root_in_front(root.sign, root.sign);
+        if (solution.nearest_in_front) {
+            const root_index front = *solution.nearest_in_front;
+            solution.hit_point = {solution.rounded_hit_coordinate(front, 0), solution.rounded_hit_coordinate(front, 1),
+                                  solution.rounded_hit_coordinate(front, 2)};
+        }
+        // A coordinate its enclosure could not round needed the exact state.
+        solution.stage = solution.exact_ ? oracle_stage::exact : oracle_stage::expansion;
+        return solution;
+    }
+
     static exact_solution filtered(const ray_sphere<double>& g, precision prec, std::optional<double> tmin,
                                    std::optional<double> tmax) {
         exact_solution solution;
@@ -713,7 +855,10 @@ struct exact_solution::internal {
         solution.invalid = check_case(g, tmin, tmax);
         if (!solution.valid()) return solution;
         const filtered_case filter = filter_case(g, prec);
-        if (filter.discriminant_sign == 0) return reference(g, prec, tmin, tmax);
+        if (filter.discriminant_sign == 0) {
+            if (std::optional<exact_solution> tangent = exact_tangent(g, prec)) return std::move(*tangent);
+            return reference(g, prec, tmin, tmax);
+        }
 
         solution.geometry_ = g;
         solution.roots_[0] = filter.roots[0];
@@ -725,10 +870,22 @@ struct exact_solution::internal {
         }
         solution.cls = line_class::two_hit;
 
+        // A root whose sign the enclosure leaves open while the other's is
+        // known is exactly 0 when C = 0 (an origin on the sphere): decided
+        // with an expansion, the root is then the exact enclosure 0.
+        int zero_root = -1;
+        if ((filter.sign[0] == 0) != (filter.sign[1] == 0) && sign_of(coefficients(solution).C) == 0) {
+            zero_root = filter.sign[0] == 0 ? 0 : 1;
+            solution.roots_[zero_root] = {0, 0, 0};
+        }
         // Signs and correctly rounded roots: from the filter, else exactly.
         for (root_index i : {root_index::near_root, root_index::far_root}) {
             const int k = i == root_index::near_root ? 0 : 1;
             exact_root& out = k == 0 ? solution.near_root : solution.far_root;
+            if (k == zero_root) {
+                out = {0, 0.0};  // RN(0) = +0
+                continue;
+            }
             out.sign = filter.sign[k] != 0 ? filter.sign[k] : solution.state().root(i).sign();
             out.rounded = filter.rounded[k] ? *filter.rounded[k] : round_in(prec, solution.state().root(i));
         }
@@ -742,7 +899,9 @@ struct exact_solution::internal {
             solution.hit_point = {coordinate(0), coordinate(1), coordinate(2)};
         }
         // Exact arithmetic ran iff the exact state was needed.
-        solution.stage = solution.exact_ ? oracle_stage::exact : oracle_stage::filter;
+        solution.stage = solution.exact_ ? oracle_stage::exact
+                         : zero_root >= 0 ? oracle_stage::expansion
+                                          : oracle_stage::filter;
         return solution;
     }
 };
@@ -755,6 +914,7 @@ const exact_solution::exact_state& exact_solution::state() const {
 int exact_solution::compare_root(root_index i, double value) const {
     const int side = side_of(internal::root_enclosure(*this, i), value);  // sign(t* − value)
     if (side != 0) return -side;
+    if (const std::optional<int> sign = internal::compare_root_by_expansion(*this, i, value)) return -*sign;
     return -state().root(i).compare(exact(value));
 }
 
@@ -782,9 +942,20 @@ oracle_stage_counts& oracle_stage_counts_this_thread() {
 double exact_solution::root_ulp_error(root_index i, double value) const {
     oracle_stage_counts& counts = oracle_stage_counts_this_thread();
     const enclosure& root = internal::root_enclosure(*this, i);
+    if (root.err == 0 && root.hi == 0 && std::isfinite(value)) {
+        // An exact zero root (C = 0): ulp(0) is T's smallest subnormal, the
+        // ratio |value| scaled by a power of two, exact unless it overflows.
+        ++counts.ulp_enclosure;
+        const int ulp_exponent = prec == precision::binary32 ? format<float>::emin - format<float>::p + 1
+                                                             : format<double>::emin - format<double>::p + 1;
+        return std::ldexp(std::fabs(value), -ulp_exponent);
+    }
     if (const std::optional<double> e = ulp_error_from(prec, root, value)) return ++counts.ulp_enclosure, *e;
     if (const refined_enclosure* fine = internal::refined(*this, i))
         if (const std::optional<double> e = ulp_error_from(prec, root, root_difference(*fine, value)))
+            return ++counts.ulp_refined, *e;
+    if (std::isfinite(value))
+        if (const std::optional<double> e = internal::root_ulp_error_by_expansion(*this, i, value))
             return ++counts.ulp_refined, *e;
     ++counts.ulp_exact;
     return ulp_error_in(prec, state().root(i), value);
@@ -793,7 +964,9 @@ double exact_solution::root_ulp_error(root_index i, double value) const {
 double exact_solution::hit_point_ulp_error(root_index i, int axis, double value) const {
     oracle_stage_counts& counts = oracle_stage_counts_this_thread();
     const double o = geometry_.origin[axis], d = geometry_.direction[axis];
-    if (d == 0 && value == o) return ++counts.ulp_enclosure, 0.0;  // the coordinate is o's, exactly
+    const enclosure& root = internal::root_enclosure(*this, i);
+    const bool exact_zero_root = root.err == 0 && root.hi == 0;
+    if ((d == 0 || exact_zero_root) && value == o) return ++counts.ulp_enclosure, 0.0;  // the coordinate is o's
     const enclosure coordinate = internal::hit_enclosure(*this, i, axis);
     if (const std::optional<double> e = ulp_error_from(prec, coordinate, value)) return ++counts.ulp_enclosure, *e;
     if (const refined_enclosure* fine = internal::refined(*this, i))
@@ -860,7 +1033,9 @@ exact_solution solve_exact(const ray_sphere<double>& g, precision prec, std::opt
     exact_solution solution = exact_solution::internal::filtered(g, prec, tmin, tmax);
     if (solution.valid()) {
         oracle_stage_counts& counts = oracle_stage_counts_this_thread();
-        ++(solution.stage == oracle_stage::filter ? counts.solutions_filter : counts.solutions_exact);
+        ++(solution.stage == oracle_stage::filter      ? counts.solutions_filter
+           : solution.stage == oracle_stage::expansion ? counts.solutions_expansion
+                                                       : counts.solutions_exact);
     }
     return solution;
 }

@@ -29,7 +29,10 @@ enum class root_index { near_root, far_root };
 // correctly rounded roots: a floating-point filter with rigorous error bounds
 // settled everything, or it could not and exact arithmetic ran. (Later ULP
 // queries on the solution may still do exact work; that is not counted.)
-enum class oracle_stage { filter, exact };
+// `expansion`: the filter, with an exact zero it cannot see (Δ′ = 0 for a
+// tangent, C = 0 for an origin on the sphere) decided by floating-point
+// expansions, still without big numbers.
+enum class oracle_stage { filter, expansion, exact };
 
 struct exact_root {
     int sign = 0;         // exact sign of t*: −1 behind, 0 at the origin, +1 in front
@@ -88,7 +91,8 @@ public:
     // reference a float variant's normal is measured against).
     double hit_coordinate_in_double(root_index i, int axis) const;
 
-    struct exact_state;  // CGAL/GMP representation, defined in oracle.cpp
+    struct exact_state;      // CGAL/GMP representation, defined in oracle.cpp
+    struct expansion_state;  // the quadratic's coefficients as expansions, defined in oracle.cpp
     struct internal;     // the filter and the exact route, defined in oracle.cpp
 
     // An enclosure of an exact value: |x − (hi + lo)| ≤ err; err = +inf when
@@ -120,6 +124,7 @@ private:
     // Built on first use by a ULP query roots_ cannot settle, kept like exact_.
     mutable refined_enclosure refined_[2];
     mutable bool refined_built_[2] = {false, false};
+    mutable std::shared_ptr<const expansion_state> expansions_;  // built on first use, like exact_
     mutable std::shared_ptr<const exact_state> exact_;
 };
 
@@ -158,7 +163,7 @@ int compare_roots(const exact_solution& a, root_index i, const exact_solution& b
 // started (or since the caller reset it): a measure of a family's stiffness
 // that `bench --audit` prints. Counting costs an increment per answer.
 struct oracle_stage_counts {
-    std::uint64_t solutions_filter = 0, solutions_exact = 0;  // solve_exact's stage
+    std::uint64_t solutions_filter = 0, solutions_expansion = 0, solutions_exact = 0;  // solve_exact's stage
     // ULP errors of roots and hit-point coordinates: settled by the roots'
     // enclosures, by their refined enclosures, or exactly.
     std::uint64_t ulp_enclosure = 0, ulp_refined = 0, ulp_exact = 0;

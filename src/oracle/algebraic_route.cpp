@@ -104,18 +104,22 @@ T round_to_nearest(const exact_value& v, int sign) {
     const auto versus_boundary = [&v](std::int64_t i) { return i >= inf ? -1 : v.compare(upper_boundary<T>(i)); };
 
     // Invariant: value > U(lo) (or lo = −inf − 1) and value ≤ U(hi); hi_tie: value = U(hi).
-    const std::int64_t guess =
-        ordered_index(static_cast<T>(std::ldexp(v.guess, static_cast<int>(std::clamp(v.exponent, -4000L, 4000L)))));
     std::int64_t lo = -inf - 1, hi = inf;
     bool hi_tie = false;
-    const int at_guess = versus_boundary(guess);
-    const bool down = at_guess <= 0;
-    if (down) {
-        hi = guess;
-        hi_tie = at_guess == 0;
-    } else {
-        lo = guess;
-    }
+    // Moves the end of the bracket that i replaces; true when that is hi.
+    const auto probe = [&](std::int64_t i) {
+        const int side = versus_boundary(i);
+        if (side <= 0) {
+            hi = i;
+            hi_tie = side == 0;
+        } else {
+            lo = i;
+        }
+        return side <= 0;
+    };
+    const std::int64_t guess =
+        ordered_index(static_cast<T>(std::ldexp(v.guess, static_cast<int>(std::clamp(v.exponent, -4000L, 4000L)))));
+    const bool down = probe(guess);
     // Gallop away from the guess, doubling the step, until a candidate passes
     // the value or the line's end is reached. Positions and the room to the
     // end (< 2^64) are stepped in unsigned arithmetic, where nothing overflows.
@@ -123,27 +127,11 @@ T round_to_nearest(const exact_value& v, int sign) {
     const std::uint64_t room = down ? from + end : end - from;
     for (std::uint64_t step = 1; room > 0; step = step >= room - step ? room : 2 * step) {
         const auto candidate = static_cast<std::int64_t>(down ? from - step : from + step);
-        const int side = versus_boundary(candidate);
-        if (side <= 0) {
-            hi = candidate;
-            hi_tie = side == 0;
-        } else {
-            lo = candidate;
-        }
-        if ((side <= 0) != down || step == room) break;
+        if (probe(candidate) != down || step == room) break;
     }
     // Bisect (lo, hi]; the span can exceed 2^63, so it is halved unsigned.
-    while (static_cast<std::uint64_t>(hi) - static_cast<std::uint64_t>(lo) > 1) {
-        const std::int64_t middle =
-            lo + static_cast<std::int64_t>((static_cast<std::uint64_t>(hi) - static_cast<std::uint64_t>(lo)) / 2);
-        const int side = versus_boundary(middle);
-        if (side <= 0) {
-            hi = middle;
-            hi_tie = side == 0;
-        } else {
-            lo = middle;
-        }
-    }
+    while (static_cast<std::uint64_t>(hi) - static_cast<std::uint64_t>(lo) > 1)
+        probe(lo + static_cast<std::int64_t>((static_cast<std::uint64_t>(hi) - static_cast<std::uint64_t>(lo)) / 2));
     // A tie goes to the even significand: position parity is significand parity.
     const std::int64_t position = (hi_tie && (hi & 1) != 0) ? hi + 1 : hi;
     const T y = from_ordered_index<T>(position);

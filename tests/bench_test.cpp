@@ -9,6 +9,7 @@
 #include "bench/far_sphere_sweep.h"
 #include "bench/kernels.h"
 #include "bench/long_double.h"
+#include "bench/oracle_timing.h"
 #include "bench/timing.h"
 #include "corpus/generators.h"
 #include "intersectors/registry.h"
@@ -98,6 +99,26 @@ TEST(Bench, TimingRowsAreCompleteAndConsumeResults) {
     timing_options unknown;
     unknown.variants = {"no_such_variant"};
     EXPECT_THROW(time_variants(by_family, unknown), std::exception);
+}
+
+// bench --oracle: every family and "all" timed on every route, the algebraic one included.
+TEST(Bench, OracleTimingTimesEveryRoute) {
+    oracle_timing_options options;
+    options.repetitions = 1;
+    options.min_time_s = 0.001;
+    const oracle_timing t = time_oracle(sample_cases(), options);
+    ASSERT_EQ(t.families.size(), 4u);
+    for (const oracle_timing_row& r : t.families) {
+        EXPECT_EQ(r.cases, 40u) << r.family;
+        EXPECT_GT(r.fast_ns, 0) << r.family;
+        EXPECT_GT(r.reference_ns, 0) << r.family;
+        EXPECT_GT(r.algebraic_ns, 0) << r.family;
+        EXPECT_EQ(r.algebraic_over_fast(), r.algebraic_ns / r.fast_ns);
+    }
+    EXPECT_EQ(t.all.cases, 160u);
+    const std::string table = format_oracle_timing(t);
+    EXPECT_NE(table.find("algebraic_ns"), std::string::npos) << table;
+    EXPECT_NE(table.find("alg/oracle"), std::string::npos) << table;
 }
 
 TEST(Bench, MedianAndSweep) {

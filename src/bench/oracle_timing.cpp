@@ -10,6 +10,7 @@
 #include "bench/collecting_reporter.h"
 #include "bench/timing.h"
 #include "intersectors/naive.h"
+#include "oracle/algebraic_route.h"
 #include "oracle/oracle.h"
 
 namespace rayverify::bench {
@@ -73,6 +74,13 @@ oracle_timing_row time_family(const std::string& family, const prepared& p, cons
     row.reference_ns =
         median_ns("solve_exact_reference/" + family, row.cases, oracle_pass(&solve_exact_reference), options);
     tick();
+    row.algebraic_ns = median_ns("solve_algebraic/" + family, row.cases, [&p] {
+        for (const corpus_case& c : p.cases) {
+            algebraic_answer a = solve_algebraic(c.geometry, precision::binary64, c.tmin, c.tmax);
+            benchmark::DoNotOptimize(a);
+        }
+    }, options);
+    tick();
 
     // Fallback rates, double inputs and float inputs (as the audit solves them).
     std::size_t exact_double = 0, valid_float = 0, exact_float = 0;
@@ -115,7 +123,7 @@ oracle_timing time_oracle(const std::vector<corpus_case>& cases, const oracle_ti
     oracle_timing out;
     out.repetitions = options.repetitions;
     std::size_t done = 0;
-    const std::size_t total = 3 * (by_family.size() + 1);
+    const std::size_t total = 4 * (by_family.size() + 1);
     for (const auto& [family, p] : by_family)
         out.families.push_back(time_family(family, p, options, done, total, on_progress));
     out.all = time_family("all", all, options, done, total, on_progress);
@@ -123,19 +131,22 @@ oracle_timing time_oracle(const std::vector<corpus_case>& cases, const oracle_ti
 }
 
 std::string format_oracle_timing(const oracle_timing& t) {
-    std::string out = fmt::format("{:<20} {:>6} {:>9} {:>10} {:>13} {:>12} {:>10} {:>10} {:>9}\n", "family", "cases",
-                                  "naive_ns", "oracle_ns", "reference_ns", "oracle/naive", "ref/oracle", "fallback64",
-                                  "fallback32");
+    std::string out =
+        fmt::format("{:<20} {:>6} {:>9} {:>10} {:>13} {:>13} {:>12} {:>10} {:>10} {:>10} {:>9}\n", "family", "cases",
+                    "naive_ns", "oracle_ns", "reference_ns", "algebraic_ns", "oracle/naive", "ref/oracle",
+                    "alg/oracle", "fallback64", "fallback32");
     const auto line = [&out](const oracle_timing_row& r) {
-        out += fmt::format("{:<20} {:>6} {:>9.2f} {:>10.1f} {:>13.1f} {:>11.1f}x {:>9.1f}x {:>9.2f}% {:>8.2f}%\n",
-                           r.family, r.cases, r.naive_ns, r.fast_ns, r.reference_ns, r.fast_over_naive(),
-                           r.reference_over_fast(), 100 * r.fallback_double, 100 * r.fallback_float);
+        out += fmt::format(
+            "{:<20} {:>6} {:>9.2f} {:>10.1f} {:>13.1f} {:>13.1f} {:>11.1f}x {:>9.1f}x {:>9.1f}x {:>9.2f}% {:>8.2f}%\n",
+            r.family, r.cases, r.naive_ns, r.fast_ns, r.reference_ns, r.algebraic_ns, r.fast_over_naive(),
+            r.reference_over_fast(), r.algebraic_over_fast(), 100 * r.fallback_double, 100 * r.fallback_float);
     };
     for (const oracle_timing_row& r : t.families) line(r);
     line(t.all);
     out += fmt::format("ns per case, CPU time, median of {} repetitions; oracle = solve_exact (filtered), reference = "
-                       "solve_exact_reference, both on the double inputs with the case's interval; fallback = share of "
-                       "solutions that needed exact arithmetic (double inputs, float inputs).\n",
+                       "solve_exact_reference, algebraic = solve_algebraic (CGAL::Sqrt_extension), all on the double "
+                       "inputs with the case's interval; fallback = share of solutions that needed exact arithmetic "
+                       "(double inputs, float inputs).\n",
                        t.repetitions);
     const auto find = [&t](const std::string& family) -> const oracle_timing_row* {
         for (const oracle_timing_row& r : t.families)

@@ -1,5 +1,6 @@
 // Run time of the exact oracle: the fast (filtered) oracle against the naive
-// double intersector and against the reference oracle, measured in one run
+// double intersector, the reference oracle and the algebraic route
+// (oracle/algebraic_route.h), measured in one run
 // with Google Benchmark, and the filter's fallback rate per family (the share
 // of solutions that needed exact arithmetic: a measure of how stiff a family
 // is). Measuring only; format_oracle_timing renders the figures as text.
@@ -25,10 +26,12 @@ struct oracle_timing_row {
     double naive_ns = 0;      // naive intersector, double, per case
     double fast_ns = 0;       // solve_exact (double inputs, the case's interval)
     double reference_ns = 0;  // solve_exact_reference, same inputs
+    double algebraic_ns = 0;  // solve_algebraic, same inputs
     // Share of valid solutions with stage == exact, double and float inputs.
     double fallback_double = 0, fallback_float = 0;
     double fast_over_naive() const { return naive_ns > 0 ? fast_ns / naive_ns : 0; }
     double reference_over_fast() const { return fast_ns > 0 ? reference_ns / fast_ns : 0; }
+    double algebraic_over_fast() const { return fast_ns > 0 ? algebraic_ns / fast_ns : 0; }
 };
 
 struct oracle_timing {

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <set>
+#include <sstream>
 
 #include "intersectors/registry.h"
 #include "support/process.h"
@@ -182,6 +183,42 @@ TEST_F(Cli, BenchPrecisionChoosesTheRowsAndThreadsChangeNoFigure) {
     EXPECT_EQ(a["far_sphere_sweep"]["results"], b["far_sphere_sweep"]["results"]);
     const command_result oracle = run_cli("bench --oracle --precision float");
     EXPECT_EQ(oracle.exit_code, 2) << oracle.output;
+}
+
+// bench --audit: the whole audit's cost per case-target for each family and
+// all, the share of solutions and ULP errors each oracle stage settled (each
+// set of shares sums to 100%), and the targets with met or MISSED.
+TEST_F(Cli, BenchAuditTimesTheWholeAuditPerFamilyWithItsStages) {
+    const std::string corpus = std::string(RAYVERIFY_CORPUS_DIR);
+    const command_result run = run_cli("bench --audit --corpus " + corpus + "/uniform.txt --corpus " + corpus +
+                                       "/tangent_exact.txt --repetitions 1 --min-time 0.001 2>/dev/null");
+    ASSERT_EQ(run.exit_code, 0) << run.output;
+    std::istringstream lines(run.output);
+    std::string line;
+    std::set<std::string> rows;
+    while (std::getline(lines, line)) {
+        std::istringstream fields(line);
+        std::string family, cases, naive, audit, ratio, per_case, expansion, exact, enclosure, refined, ulp_exact;
+        if (!(fields >> family >> cases >> naive >> audit >> ratio >> per_case >> expansion >> exact >> enclosure >>
+              refined >> ulp_exact) || ulp_exact.back() != '%')
+            continue;
+        rows.insert(family);
+        const auto percent = [](const std::string& f) { return std::stod(f.substr(0, f.size() - 1)); };
+        EXPECT_LE(percent(expansion) + percent(exact), 100.0 + 1e-9) << line;
+        EXPECT_NEAR(percent(enclosure) + percent(refined) + percent(ulp_exact), 100.0, 0.05) << line;
+        EXPECT_GT(std::stod(audit), 0) << line;
+        if (family == "tangent_exact") {
+            EXPECT_GT(percent(expansion), 50) << "Δ′ = 0 is an expansion's to decide: " << line;
+        }
+        if (family == "uniform") {
+            EXPECT_EQ(percent(exact), 0) << line;
+        }
+    }
+    EXPECT_EQ(rows, (std::set<std::string>{"uniform", "tangent_exact", "all"})) << run.output;
+    EXPECT_NE(run.output.find("audit / naive double, uniform"), std::string::npos) << run.output;
+    EXPECT_NE(run.output.find("per-case output / audit, all"), std::string::npos) << run.output;
+    EXPECT_NE(run.output.find("build: "), std::string::npos) << run.output;
+    EXPECT_EQ(run_cli("bench --audit --oracle").exit_code, 2);
 }
 
 }  // namespace

@@ -129,51 +129,60 @@ void error_summary::add(double error, std::size_t index, const std::string& id) 
         max_id = id;
     }
     ++count;
-    pending_.push_back(bucket_of(error));
-    if (pending_.size() >= pending_capacity) merge_pending();
+    count_in(bucket_of(error), 1);
 }
 
-void error_summary::add_to_bucket(std::uint64_t bucket, std::size_t n) {
-    merge_pending();
-    buckets_[bucket] += n;
-}
+void error_summary::add_to_bucket(std::uint64_t bucket, std::size_t n) { count_in(bucket, n); }
 
-const error_summary::histogram_map& error_summary::histogram() const {
-    merge_pending();
-    return buckets_;
-}
-
-// Adds sorted (key, count) runs to a sorted histogram in one pass: counts of
-// shared keys added, new keys inserted as one sorted range (the flat map
-// merges it in linear time).
 namespace {
-template <class Runs>
-void merge_sorted_runs(error_summary::histogram_map& buckets, const Runs& runs) {
-    std::vector<std::pair<std::uint64_t, std::size_t>> fresh;
-    auto mine = buckets.begin();
-    for (const auto& [bucket, n] : runs) {
-        while (mine != buckets.end() && mine->first < bucket) ++mine;
-        if (mine != buckets.end() && mine->first == bucket)
-            mine->second += n;
-        else
-            fresh.emplace_back(bucket, n);
-    }
-    buckets.insert(boost::container::ordered_unique_range, fresh.begin(), fresh.end());
+// Fibonacci hashing: the top bits of key·2^64/φ index a table of 2^bits slots.
+std::size_t slot_of(std::uint64_t key, std::size_t mask) {
+    const int bits = std::countr_zero(mask + 1);
+    return static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> (64 - bits)) & mask;
 }
 }  // namespace
 
-void error_summary::merge_pending() const {
-    if (pending_.empty()) return;
-    std::sort(pending_.begin(), pending_.end());
-    std::vector<std::pair<std::uint64_t, std::size_t>> runs;
-    for (const std::uint64_t key : pending_) {
-        if (!runs.empty() && runs.back().first == key)
-            ++runs.back().second;
-        else
-            runs.emplace_back(key, 1);
+void error_summary::count_in(std::uint64_t bucket, std::size_t n) {
+    if (2 * (used_ + 1) > table_.size()) grow();
+    const std::size_t mask = table_.size() - 1;
+    for (std::size_t i = slot_of(bucket, mask);; i = (i + 1) & mask) {
+        slot& s = table_[i];
+        if (s.key == bucket) {
+            s.n += n;
+            break;
+        }
+        if (s.key == empty_key) {
+            s = {bucket, n};
+            ++used_;
+            break;
+        }
     }
-    pending_.clear();
-    merge_sorted_runs(buckets_, runs);
+    sorted_current_ = false;
+}
+
+void error_summary::grow() {
+    std::vector<slot> old = std::move(table_);
+    table_.assign(old.empty() ? 16 : 2 * old.size(), slot{});
+    const std::size_t mask = table_.size() - 1;
+    for (const slot& s : old) {
+        if (s.key == empty_key) continue;
+        std::size_t i = slot_of(s.key, mask);
+        while (table_[i].key != empty_key) i = (i + 1) & mask;
+        table_[i] = s;
+    }
+}
+
+const error_summary::histogram_map& error_summary::histogram() const {
+    if (sorted_current_) return sorted_;
+    std::vector<std::pair<std::uint64_t, std::size_t>> entries;
+    entries.reserve(used_);
+    for (const slot& s : table_)
+        if (s.key != empty_key) entries.emplace_back(s.key, s.n);
+    std::sort(entries.begin(), entries.end());
+    sorted_.clear();
+    sorted_.insert(boost::container::ordered_unique_range, entries.begin(), entries.end());
+    sorted_current_ = true;
+    return sorted_;
 }
 
 void error_summary::merge(const error_summary& other) {
@@ -184,8 +193,8 @@ void error_summary::merge(const error_summary& other) {
         max_id = other.max_id;
     }
     count += other.count;
-    merge_pending();
-    merge_sorted_runs(buckets_, other.histogram());
+    for (const slot& s : other.table_)
+        if (s.key != empty_key) count_in(s.key, s.n);
 }
 
 double error_summary::quantile(double q) const {

@@ -89,15 +89,21 @@ struct error_summary {
     static double upper_edge(std::uint64_t bucket);
 
 private:
-    // add() runs for every error of every target, and most errors land in a
-    // bucket the histogram does not hold yet: inserted one at a time, each key
-    // moved the flat map's tail (a fifth of an audit's time). add() collects
-    // keys in `pending_` instead, merged into `buckets_` as one sorted run per
-    // pending_capacity keys, and before anything reads the histogram.
-    static constexpr std::size_t pending_capacity = 128;
-    void merge_pending() const;
-    mutable histogram_map buckets_;
-    mutable std::vector<std::uint64_t> pending_;
+    // add() runs for every error of every target: the counts live in an
+    // open-addressing hash table (key → count, linear probing, at most half
+    // full), a few nanoseconds an add whatever the number of buckets; the
+    // sorted histogram is built from it when something reads it.
+    struct slot {
+        std::uint64_t key = empty_key;
+        std::size_t n = 0;
+    };
+    static constexpr std::uint64_t empty_key = ~std::uint64_t{0};  // no bucket key is this large
+    void count_in(std::uint64_t bucket, std::size_t n);
+    void grow();
+    std::vector<slot> table_;  // size 0 or a power of two
+    std::size_t used_ = 0;     // slots holding a key
+    mutable histogram_map sorted_;
+    mutable bool sorted_current_ = true;
 };
 
 // Adds `other`'s per-target tallies (overall, and per family) to `mine`,

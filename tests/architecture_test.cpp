@@ -1,6 +1,8 @@
 // The layering of ARCHITECTURE.md, checked on the source tree: each layer
 // includes only itself and the layers below it, and only the oracle's own
-// .cpp files include CGAL, GMP or MPFR.
+// files include CGAL, GMP or MPFR: its .cpp files and its private headers
+// (src/oracle/internal/, which only the oracle's .cpp files include and
+// which are not installed).
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -12,6 +14,17 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// The layer a source file belongs to: its folder, or for a layer's private
+// headers (a folder `internal` inside it) the layer's folder.
+std::string layer_of(const fs::path& file) {
+    const fs::path folder = file.parent_path();
+    return folder.filename() == "internal" ? folder.parent_path().filename().string() : folder.filename().string();
+}
+
+bool oracle_private_header(const fs::path& file) {
+    return file.parent_path().filename() == "internal" && layer_of(file) == "oracle";
+}
+
 const std::map<std::string, int> layer_rank = {{"core", 0},   {"intersectors", 1}, {"oracle", 2}, {"compare", 3},
                                                {"plugin", 4}, {"corpus", 5},       {"scene", 6},  {"bench", 7},
                                                {"report", 8}, {"testing", 9},      {"cli", 10}};
@@ -21,7 +34,7 @@ TEST(Architecture, LayersIncludeOnlyThemselvesAndLayersBelow) {
     int files = 0;
     for (const auto& entry : fs::recursive_directory_iterator(fs::path(RAYVERIFY_SOURCE_DIR) / "src")) {
         if (!entry.is_regular_file()) continue;
-        const std::string layer = entry.path().parent_path().filename().string();
+        const std::string layer = layer_of(entry.path());
         ASSERT_TRUE(layer_rank.count(layer)) << "file outside the known layers: " << entry.path();
         ++files;
         std::ifstream in(entry.path());
@@ -43,8 +56,9 @@ TEST(Architecture, OnlyOracleSourcesIncludeCgalGmpMpfr) {
     for (const char* tree : {"src", "tests"}) {
         for (const auto& entry : fs::recursive_directory_iterator(fs::path(RAYVERIFY_SOURCE_DIR) / tree)) {
             if (!entry.is_regular_file()) continue;
-            const bool oracle_source = entry.path().parent_path().filename() == "oracle" &&
-                                       entry.path().extension() == ".cpp";
+            const bool oracle_source = (entry.path().parent_path().filename() == "oracle" &&
+                                        entry.path().extension() == ".cpp") ||
+                                       oracle_private_header(entry.path());
             std::ifstream in(entry.path());
             for (std::string line; std::getline(in, line);) {
                 if (std::regex_search(line, heavy)) {
@@ -53,6 +67,25 @@ TEST(Architecture, OnlyOracleSourcesIncludeCgalGmpMpfr) {
             }
         }
     }
+}
+
+TEST(Architecture, OraclePrivateHeadersAreIncludedOnlyByOracleSources) {
+    const std::regex private_include(R"re(^\s*#\s*include\s*"oracle/internal/)re");
+    int includes = 0;
+    for (const char* tree : {"src", "tests", "fuzz", "examples"}) {
+        for (const auto& entry : fs::recursive_directory_iterator(fs::path(RAYVERIFY_SOURCE_DIR) / tree)) {
+            if (!entry.is_regular_file()) continue;
+            const bool allowed = layer_of(entry.path()) == "oracle" &&
+                                 (entry.path().extension() == ".cpp" || oracle_private_header(entry.path()));
+            std::ifstream in(entry.path());
+            for (std::string line; std::getline(in, line);) {
+                if (!std::regex_search(line, private_include)) continue;
+                ++includes;
+                EXPECT_TRUE(allowed) << entry.path() << " includes " << line;
+            }
+        }
+    }
+    EXPECT_GT(includes, 0);
 }
 
 }  // namespace

@@ -368,8 +368,8 @@ TEST(FastOracleStage, RefinedEnclosuresSettleDoubleUlpErrorsOfUniformCases) {
         for (const double value : {t, next_up(t), next_down(t), t + 64 * (next_up(t) - t)}) {
             counts = {};
             const double error = fast.root_ulp_error(front, value);
-            exact_queries += counts.ulp_exact;
-            refined_queries += counts.ulp_refined;
+            exact_queries += counts.ulp_errors.exact;
+            refined_queries += counts.ulp_errors.expansion;
             ASSERT_EQ(std::bit_cast<std::uint64_t>(error),
                       std::bit_cast<std::uint64_t>(reference.root_ulp_error(front, value)))
                 << "case " << i << " value " << value;
@@ -380,8 +380,8 @@ TEST(FastOracleStage, RefinedEnclosuresSettleDoubleUlpErrorsOfUniformCases) {
             for (const double value : {p, next_up(p), next_down(p)}) {
                 counts = {};
                 const double error = fast.hit_point_ulp_error(front, axis, value);
-                exact_queries += counts.ulp_exact;
-                refined_queries += counts.ulp_refined;
+                exact_queries += counts.ulp_errors.exact;
+                refined_queries += counts.ulp_errors.expansion;
                 ASSERT_EQ(std::bit_cast<std::uint64_t>(error),
                           std::bit_cast<std::uint64_t>(reference.hit_point_ulp_error(front, axis, value)))
                     << "case " << i << " axis " << axis << " value " << value;

@@ -108,13 +108,13 @@ std::string format_rows(const std::vector<audit_timing_row>& rows, std::size_t t
                                   "solve_ex", "ulp_encl", "ulp_refd", "ulp_exact");
     for (const audit_timing_row& r : rows) {
         const oracle_stage_counts& c = r.counts;
-        const std::uint64_t solutions = c.solutions_filter + c.solutions_expansion + c.solutions_exact;
-        const std::uint64_t ulps = c.ulp_enclosure + c.ulp_refined + c.ulp_exact;
+        const std::uint64_t solutions = c.solutions.total();
+        const std::uint64_t ulps = c.ulp_errors.total();
         out += fmt::format(
             "{:<20} {:>6} {:>9.2f} {:>12.1f} {:>11.1f}x {:>8.2f}x {:>8.2f}% {:>8.2f}% {:>8.2f}% {:>8.2f}% {:>8.2f}%\n",
             r.family, r.cases, r.naive_ns, r.audit_ns, r.audit_over_naive(), r.per_case_over_audit(),
-            share(c.solutions_expansion, solutions), share(c.solutions_exact, solutions), share(c.ulp_enclosure, ulps),
-                           share(c.ulp_refined, ulps), share(c.ulp_exact, ulps));
+            share(c.solutions.expansion, solutions), share(c.solutions.exact, solutions), share(c.ulp_errors.filter, ulps),
+            share(c.ulp_errors.expansion, ulps), share(c.ulp_errors.exact, ulps));
     }
     out += fmt::format(
         "audit_ns/ct = CPU ns per case-target of the audit as `rayverify audit --report` runs it (oracle, {} "

@@ -80,14 +80,20 @@ T step_by(T x, std::int64_t steps) {
     return from_ordered_index<T>(from + steps);
 }
 
+// The exponent of ulp(x) as defined above for 2^e ≤ |x| < 2^(e+1):
+// max(e, emin) − p + 1 (the exponent of ulp(0) for e ≤ emin).
+template <class T>
+constexpr long ulp_exponent_of_binade(long e) {
+    constexpr int p = std::numeric_limits<T>::digits;
+    constexpr int emin = std::numeric_limits<T>::min_exponent - 1;
+    return (e > emin ? e : emin) - p + 1;
+}
+
 // ulp(x) as defined above, exact in double; x finite.
 template <class T>
 double ulp_of(T x) {
-    constexpr int p = std::numeric_limits<T>::digits;
     constexpr int emin = std::numeric_limits<T>::min_exponent - 1;
-    if (x == 0) return std::ldexp(1.0, emin - p + 1);
-    const int e = std::ilogb(x);
-    return std::ldexp(1.0, (e > emin ? e : emin) - p + 1);
+    return std::ldexp(1.0, static_cast<int>(ulp_exponent_of_binade<T>(x == 0 ? emin : std::ilogb(x))));
 }
 
 // How many representable steps separate a and b (0 when equal; ±0 are one

@@ -20,6 +20,11 @@
 
 namespace rayverify {
 
+namespace oracle_internal {
+struct exact_quadratic;     // the exact route's state (internal/exact_number.h)
+struct exact_coefficients;  // the quadratic's coefficients as expansions (refinement.h)
+}  // namespace oracle_internal
+
 enum class line_class { miss, tangent, two_hit };
 const char* line_class_name(line_class c);
 
@@ -91,9 +96,7 @@ public:
     // reference a float variant's normal is measured against).
     double hit_coordinate_in_double(root_index i, int axis) const;
 
-    struct exact_state;      // CGAL/GMP representation, defined in oracle.cpp
-    struct expansion_state;  // the quadratic's coefficients as expansions, defined in oracle.cpp
-    struct internal;     // the filter and the exact route, defined in oracle.cpp
+    struct internal;  // the routes, defined in oracle.cpp
 
     // An enclosure of an exact value: |x − (hi + lo)| ≤ err; err = +inf when
     // the filter could not bound x (the exact state then answers).
@@ -117,15 +120,17 @@ private:
     // use and kept. That lazy build mutates the solution without a lock: a
     // solution (and its copies, which share a built state) must be used by
     // one thread at a time, as the audit does.
-    const exact_state& state() const;
+    const oracle_internal::exact_quadratic& state() const;
+    // RN of coordinate `axis` of root i's hit point in precision p.
+    double hit_coordinate_in(root_index i, int axis, precision p) const;
 
     ray_sphere<double> geometry_{};
     enclosure roots_[2];  // near, far
     // Built on first use by a ULP query roots_ cannot settle, kept like exact_.
     mutable refined_enclosure refined_[2];
     mutable bool refined_built_[2] = {false, false};
-    mutable std::shared_ptr<const expansion_state> expansions_;  // built on first use, like exact_
-    mutable std::shared_ptr<const exact_state> exact_;
+    mutable std::shared_ptr<const oracle_internal::exact_coefficients> expansions_;  // built on first use, like exact_
+    mutable std::shared_ptr<const oracle_internal::exact_quadratic> exact_;
 };
 
 // Solve one case exactly. `geometry` must hold exactly the values the variant
@@ -160,13 +165,21 @@ bool box_meets_sphere(const vec3<double>& lower, const vec3<double>& upper, cons
 int compare_roots(const exact_solution& a, root_index i, const exact_solution& b, root_index j);
 
 // How the oracle settled what it was asked, on the calling thread since it
-// started (or since the caller reset it): a measure of a family's stiffness
-// that `bench --audit` prints. Counting costs an increment per answer.
+// started (or since the caller reset it): per kind of answer, how many the
+// filter settled (double-word enclosures), how many needed floating-point
+// expansions (no big numbers; for ULP errors, the refined enclosures), and
+// how many exact arithmetic (GMP). The share beyond the filter measures a
+// family's stiffness; `bench --audit` prints it. Counting costs an increment
+// per answer.
+struct stage_tally {
+    std::uint64_t filter = 0, expansion = 0, exact = 0;
+    std::uint64_t total() const { return filter + expansion + exact; }
+};
 struct oracle_stage_counts {
-    std::uint64_t solutions_filter = 0, solutions_expansion = 0, solutions_exact = 0;  // solve_exact's stage
-    // ULP errors of roots and hit-point coordinates: settled by the roots'
-    // enclosures, by their refined enclosures, or exactly.
-    std::uint64_t ulp_enclosure = 0, ulp_refined = 0, ulp_exact = 0;
+    stage_tally solutions;    // solve_exact: class, root signs, rounded roots and hit point (the deepest stage)
+    stage_tally ulp_errors;   // root_ulp_error and hit_point_ulp_error
+    stage_tally comparisons;  // a root, the midpoint, Δ′, a hit coordinate or |d|² against a value; two roots
+    stage_tally roundings;    // rounded hit coordinates asked for after solving
 };
 oracle_stage_counts& oracle_stage_counts_this_thread();
 

@@ -1,0 +1,215 @@
+// The filter (filter.h).
+#include "oracle/filter.h"
+
+#include <algorithm>
+#include <type_traits>
+
+#include "core/float_bits.h"
+
+namespace rayverify::oracle_internal {
+namespace {
+
+// RN(x) in T when the whole enclosure lies strictly inside one rounding
+// interval (ties and anything at a boundary are left to the exact route).
+// The candidate y is the rounding of xh + xl; its rounding interval runs
+// between the midpoints with its neighbours, or to ±(max + ulp(max)/2) at the
+// overflow threshold. For float the midpoints are doubles; for double they are
+// y ∓ gap/2, exact double-words (y subnormal is excluded: its half gap is not a
+// double). `sign` is the known sign of x, for a result that rounds to zero.
+template <class T>
+std::optional<double> round_enclosure(const enclosure& x, uncertain_sign sign) {
+    if (!known(x) || !sign) return std::nullopt;
+    const double approx = x.hi + x.lo;
+    const T y = static_cast<T>(approx);
+    if (!std::isfinite(y)) return std::nullopt;
+    const T below = next_down(y), above = next_up(y);
+    // Gap to the neighbour; at ±max the neighbour beyond is the threshold's twin.
+    const double gap_below = std::isinf(below) ? double(above) - double(y) : double(y) - double(below);
+    const double gap_above = std::isinf(above) ? double(y) - double(below) : double(above) - double(y);
+    bool inside = false;
+    if constexpr (std::is_same_v<T, float>) {
+        inside = exceeds(x.hi, x.lo, x.err, double(y) - 0.5 * gap_below) &&
+                 exceeds(-x.hi, -x.lo, x.err, -(double(y) + 0.5 * gap_above));
+    } else {
+        if (std::fabs(y) < 0x1p-1000) return std::nullopt;
+        inside = exceeds(x.hi, x.lo, x.err, y, -0.5 * gap_below) && exceeds(-x.hi, -x.lo, x.err, -y, -0.5 * gap_above);
+    }
+    if (!inside) return std::nullopt;
+    if (y == 0) return *sign < 0 ? -0.0 : 0.0;
+    return static_cast<double>(y);
+}
+
+// The exponent of ulp(x) in T, when the enclosure settles x's sign and
+// binade (2^e ≤ |x| < 2^(e+1), checked on the whole enclosure; |x| = 2^e
+// exactly is left to the exact route).
+template <class T>
+std::optional<int> ulp_exponent_of(const enclosure& x) {
+    const uncertain_sign side = side_of(x, 0.0);
+    if (!side) return std::nullopt;
+    const int sign = *side;
+    const double approx = x.hi + x.lo;
+    const int e = std::ilogb(approx);
+    const double lower = std::ldexp(1.0, e), upper = std::ldexp(1.0, e + 1);
+    const bool in_binade = sign > 0 ? exceeds(x.hi, x.lo, x.err, lower) && exceeds(-x.hi, -x.lo, x.err, -upper)
+                                    : exceeds(-x.hi, -x.lo, x.err, lower) && exceeds(x.hi, x.lo, x.err, -upper);
+    if (!in_binade) return std::nullopt;
+    return static_cast<int>(ulp_exponent_of_binade<T>(e));
+}
+
+}  // namespace
+
+// RN(|difference| / 2^ulp_exponent) when the bound settles it: the
+// difference's sign is certain and the whole scaled enclosure lies inside one
+// rounding interval of a double (the contract of ulp_error: every digit right).
+std::optional<double> rounded_ulp_ratio(bounded difference, int ulp_exponent) {
+    const uncertain_sign position = sign_of(difference);
+    if (!position) return std::nullopt;
+    if (*position < 0) difference = -difference;
+    const int scaled_exponent = std::ilogb(difference.v.h) - ulp_exponent;
+    if (scaled_exponent < -900 || scaled_exponent > 1000) return std::nullopt;
+    const enclosure ratio{std::ldexp(difference.v.h, -ulp_exponent), std::ldexp(difference.v.l, -ulp_exponent),
+                          std::max(std::ldexp(difference.err, -ulp_exponent), 0x1p-1000)};
+    return round_enclosure<double>(ratio, +1);
+}
+
+namespace {
+
+// |value − x| / ulp(x) correctly rounded, from an enclosure of x, when the
+// enclosure settles x's sign, its binade, value ≠ x and the rounding of the
+// ratio.
+template <class T>
+std::optional<double> ulp_error_from(const enclosure& x, double value) {
+    if (!known(x)) return std::nullopt;
+    if (!std::isfinite(value)) return std::numeric_limits<double>::infinity();
+    if (!side_of(x, value)) return std::nullopt;
+    const std::optional<int> ulp_exponent = ulp_exponent_of<T>(x);
+    if (!ulp_exponent) return std::nullopt;
+    return rounded_ulp_ratio(exactly(value) - bounded{{x.hi, x.lo}, x.err}, *ulp_exponent);
+}
+
+}  // namespace
+
+std::optional<double> round_enclosure(precision p, const enclosure& x, uncertain_sign sign) {
+    return p == precision::binary32 ? round_enclosure<float>(x, sign) : round_enclosure<double>(x, sign);
+}
+
+std::optional<int> ulp_exponent_of(precision p, const enclosure& x) {
+    return p == precision::binary32 ? ulp_exponent_of<float>(x) : ulp_exponent_of<double>(x);
+}
+
+std::optional<double> ulp_error_from(precision p, const enclosure& x, double value) {
+    return p == precision::binary32 ? ulp_error_from<float>(x, value) : ulp_error_from<double>(x, value);
+}
+
+// The same from a bounded value − x and an enclosure of x for its binade.
+std::optional<double> ulp_error_from(precision p, const enclosure& x, const bounded& difference) {
+    const std::optional<int> ulp_exponent = ulp_exponent_of(p, x);
+    if (!ulp_exponent) return std::nullopt;
+    return rounded_ulp_ratio(difference, *ulp_exponent);
+}
+
+bool in_filter_range(const ray_sphere<double>& g) {
+    for (int axis = 0; axis < 3; ++axis)
+        if (!in_filter_range(g.origin[axis]) || !in_filter_range(g.direction[axis]) || !in_filter_range(g.centre[axis]))
+            return false;
+    return in_filter_range(g.radius);
+}
+
+namespace {
+
+
+// What the filter computed for one case.
+struct filtered_quadratic {
+    uncertain_sign discriminant_sign;  // empty: the next stage must classify
+    enclosure roots[2];         // near, far; unknown when the root step failed
+};
+
+filtered_quadratic filter_quadratic(const ray_sphere<double>& g) {
+    filtered_quadratic out;
+    const double o[3] = {g.origin.x, g.origin.y, g.origin.z};
+    const double d[3] = {g.direction.x, g.direction.y, g.direction.z};
+    const double c[3] = {g.centre.x, g.centre.y, g.centre.z};
+    for (int axis = 0; axis < 3; ++axis)
+        if (!in_filter_range(o[axis]) || !in_filter_range(d[axis]) || !in_filter_range(c[axis])) return out;
+    if (!in_filter_range(g.radius)) return out;
+
+    // f = o − c exactly, as double-words (two_sum).
+    bounded f[3];
+    for (int axis = 0; axis < 3; ++axis) f[axis] = exactly(two_sum(o[axis], -c[axis]));
+
+    // a = d·d, b′ = d·f, C = f·f − r², and Δ′ = a·r² − |d × f|² (Lagrange's
+    // identity (d·d)(f·f) − (d·f)² = |d × f|² turns b′² − aC into a form
+    // without the cancellation b′² − aC suffers for far spheres).
+    const bounded r2 = exactly(two_prod(g.radius, g.radius));
+    const bounded a = exactly(two_prod(d[0], d[0])) + exactly(two_prod(d[1], d[1])) + exactly(two_prod(d[2], d[2]));
+    const bounded b_prime = f[0] * d[0] + f[1] * d[1] + f[2] * d[2];
+    const bounded C = f[0] * f[0] + f[1] * f[1] + f[2] * f[2] - r2;
+    const bounded cross[3] = {f[2] * d[1] - f[1] * d[2], f[0] * d[2] - f[2] * d[0], f[1] * d[0] - f[0] * d[1]};
+    const bounded discriminant = a * r2 - (cross[0] * cross[0] + cross[1] * cross[1] + cross[2] * cross[2]);
+
+    // Class: the sign of Δ′ when its bound settles it.
+    out.discriminant_sign = sign_of(discriminant);
+    if (!out.discriminant_sign || *out.discriminant_sign < 0) return out;
+
+    // Roots without cancellation: q = −(b′ + σ√Δ′), σ the sign of b′'s
+    // estimate (either choice is rigorous, this one keeps |q| ≥ √Δ′); the
+    // roots are q/a and C/q. σ = +1: q/a is the near root; σ = −1: the far.
+    const std::optional<bounded> root = square_root(discriminant);
+    if (!root) return out;
+    const bool positive_b = b_prime.v.h >= 0;
+    const bounded q = positive_b ? -(b_prime + *root) : *root - b_prime;
+    const std::optional<bounded> t_q = quotient(q, a), t_c = quotient(C, q);
+    if (!t_q || !t_c) return out;
+    const bounded& near = positive_b ? *t_q : *t_c;
+    const bounded& far = positive_b ? *t_c : *t_q;
+    out.roots[0] = {near.v.h, near.v.l, near.err};
+    out.roots[1] = {far.v.h, far.v.l, far.err};
+    return out;
+}
+
+}  // namespace
+
+enclosure hit_coordinate_enclosure(const ray_sphere<double>& g, const enclosure& t, int axis) {
+    const double o = g.origin[axis], d = g.direction[axis];
+    if (d == 0) return {o, 0, 0};
+    if (!known(t)) return {};
+    const bounded h = bounded{{t.hi, t.lo}, t.err} * d + exactly(o);
+    return {h.v.h, h.v.l, h.err};
+}
+
+std::optional<double> round_hit_coordinate(precision prec, const ray_sphere<double>& g, const enclosure& t, int axis) {
+    const enclosure h = hit_coordinate_enclosure(g, t, axis);
+    // d's coordinate 0: the coordinate is o's, rounded (a −0 becomes +0, as RN(0) = +0).
+    if (known(h) && h.err == 0 && h.lo == 0)
+        return (prec == precision::binary32 ? double(static_cast<float>(h.hi)) : h.hi) + 0.0;
+    return round_enclosure(prec, h, side_of(h, 0.0));
+}
+
+// Flattened into one function and cloned for FMA hardware (std::fma inlines
+// to one instruction there; elsewhere it is a library call). Both clones
+// compute the same bits: every operation is correctly rounded. clang (the
+// fuzz build) rejects flatten beside target_clones, so it only clones.
+#if defined(__clang__)
+#define RAYVERIFY_FILTER_ATTRIBUTES __attribute__((target_clones("fma", "default")))
+#else
+#define RAYVERIFY_FILTER_ATTRIBUTES [[gnu::flatten]] __attribute__((target_clones("fma", "default")))
+#endif
+RAYVERIFY_FILTER_ATTRIBUTES filtered_case
+filter_case(const ray_sphere<double>& g, precision prec) {
+    filtered_case out;
+    const filtered_quadratic q = filter_quadratic(g);
+    out.discriminant_sign = q.discriminant_sign;
+    if (!q.discriminant_sign || *q.discriminant_sign < 0) return out;
+    for (int i = 0; i < 2; ++i) {
+        out.roots[i] = q.roots[i];
+        out.sign[i] = side_of(q.roots[i], 0.0);
+        out.rounded[i] = round_enclosure(prec, q.roots[i], out.sign[i]);
+    }
+    if (!out.sign[0] || !out.sign[1]) return out;
+    const int front = *out.sign[0] > 0 ? 0 : *out.sign[1] > 0 ? 1 : -1;
+    if (front >= 0)
+        for (int axis = 0; axis < 3; ++axis) out.hit[axis] = round_hit_coordinate(prec, g, q.roots[front], axis);
+    return out;
+}
+
+}  // namespace rayverify::oracle_internal

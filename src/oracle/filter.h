@@ -1,0 +1,110 @@
+// The oracle's filter: enclosures of exact values in double-word arithmetic
+// with rigorous error bounds (core/double_word.h: two_sum, two_prod, the
+// double-word operations, and `bounded` values whose error bounds propagate
+// through +, −, ×, √ and ÷), and what an enclosure settles by itself: a sign,
+// a comparison, a correctly rounded value, a ULP error. Each answer is
+// uncertain (an empty optional, a sign 0) where the bound cannot settle it;
+// oracle.cpp then asks the next stage (refinement.h, then the exact route).
+//
+// Range. The filter runs only when every input is 0 or has magnitude in
+// [2^−80, 2^80] (otherwise the exact route runs). Every input is then an
+// integer multiple of 2^−132, so every exact polynomial quantity of degree k
+// (a, b′, C: 2; Δ′: 4) is 0 or at least 2^−132k in magnitude, and all of them
+// stay below 2^330: every product the filter forms is far from the underflow
+// threshold (the smallest nonzero root is above 2^−440, a hit-point term
+// above 2^−520, their low words above 2^−630), and nothing overflows. The
+// relative bounds of the double-word operations, which assume no underflow,
+// therefore hold.
+#pragma once
+
+#include <cmath>
+#include <limits>
+#include <optional>
+
+#include "core/double_word.h"
+#include "core/float_bits.h"
+#include "core/ray_sphere_case.h"
+#include "oracle/oracle.h"
+
+namespace rayverify::oracle_internal {
+
+using enclosure = exact_solution::enclosure;
+
+inline bool known(const enclosure& x) { return x.err < std::numeric_limits<double>::infinity(); }
+inline bounded bounded_of(const enclosure& x) { return {{x.hi, x.lo}, x.err}; }
+
+// A sign the filter may leave undecided (CGAL's Uncertain<Sign>): −1, 0 or
+// +1 when certain, empty when the bound cannot tell.
+using uncertain_sign = std::optional<int>;
+
+// sign(x) of a bounded value, when its bound decides it (never 0: no bound
+// proves a value exactly zero).
+inline uncertain_sign sign_of(const bounded& x) {
+    const int s = certain_sign(x);
+    return s != 0 ? uncertain_sign(s) : std::nullopt;
+}
+
+// sign(x − m) when the enclosure decides it (never 0, as above).
+inline uncertain_sign side_of(const enclosure& x, double m) {
+    if (!known(x)) return std::nullopt;
+    if (exceeds(x.hi, x.lo, x.err, m)) return +1;
+    if (exceeds(-x.hi, -x.lo, x.err, -m)) return -1;
+    return std::nullopt;
+}
+
+// Filter range: 0 or 2^−80 ≤ |x| ≤ 2^80 (see the range note above).
+inline bool in_filter_range(double x) {
+    const double m = std::fabs(x);
+    return m == 0 || (m >= 0x1p-80 && m <= 0x1p80);
+}
+
+// The exponent of ulp(x) in precision p for 2^e ≤ |x| < 2^(e+1) (core/float_bits.h).
+inline int ulp_exponent_in(precision p, long e) {
+    return static_cast<int>(p == precision::binary32 ? ulp_exponent_of_binade<float>(e)
+                                                     : ulp_exponent_of_binade<double>(e));
+}
+
+// Every input of the case in the filter range.
+bool in_filter_range(const ray_sphere<double>& g);
+
+// RN(x) in precision p when the whole enclosure lies strictly inside one
+// rounding interval; `sign` is x's sign, when known (for a result that
+// rounds to zero). Ties and anything at a boundary are left to the next stage.
+std::optional<double> round_enclosure(precision p, const enclosure& x, uncertain_sign sign);
+
+// The exponent of ulp(x) in precision p, when the enclosure settles x's
+// sign and binade.
+std::optional<int> ulp_exponent_of(precision p, const enclosure& x);
+
+// RN(|difference| / 2^ulp_exponent) when the bound settles it.
+std::optional<double> rounded_ulp_ratio(bounded difference, int ulp_exponent);
+
+// |value − x| / ulp(x) in precision p, correctly rounded, when the enclosure
+// settles x's sign, its binade, value ≠ x and the rounding of the ratio.
+std::optional<double> ulp_error_from(precision p, const enclosure& x, double value);
+// The same from a bounded value − x and an enclosure of x for its binade.
+std::optional<double> ulp_error_from(precision p, const enclosure& x, const bounded& difference);
+
+// Coordinate `axis` of o + t·d from an enclosure of t: o exactly when d's
+// coordinate is 0, else o + t·d in double-words.
+enclosure hit_coordinate_enclosure(const ray_sphere<double>& g, const enclosure& t, int axis);
+
+// RN of a hit coordinate in precision p when its enclosure settles it.
+std::optional<double> round_hit_coordinate(precision p, const ray_sphere<double>& g, const enclosure& t, int axis);
+
+// Everything the filter settles for one case; what it leaves unknown (a sign
+// 0 with a root not provably nonzero, an empty optional) the exact state
+// answers.
+struct filtered_case {
+    uncertain_sign discriminant_sign;  // empty: the next stage must classify
+    enclosure roots[2];
+    uncertain_sign sign[2];
+    std::optional<double> rounded[2];
+    std::optional<double> hit[3];  // the front root's, when both signs are known
+};
+
+// The filter on one case: Δ′'s sign, the roots' enclosures, signs and
+// roundings, and the front root's hit point, as far as the bounds settle them.
+filtered_case filter_case(const ray_sphere<double>& g, precision prec);
+
+}  // namespace rayverify::oracle_internal

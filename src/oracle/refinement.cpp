@@ -1,0 +1,88 @@
+// Exact signs and refined roots from expansions (refinement.h).
+#include "oracle/refinement.h"
+
+#include <cmath>
+
+namespace rayverify::oracle_internal {
+
+exact_coefficients coefficients_of(const ray_sphere<double>& g) {
+    exact_coefficients k;
+    const double d[3] = {g.direction.x, g.direction.y, g.direction.z};
+    for (int axis = 0; axis < 3; ++axis) k.f[axis] = expansion_of(g.origin[axis]) - expansion_of(g.centre[axis]);
+    const expansion<2>* f = k.f;
+    k.a = expansion_of(d[0]) * d[0] + expansion_of(d[1]) * d[1] + expansion_of(d[2]) * d[2];
+    k.two_b_prime = f[0] * (2 * d[0]) + f[1] * (2 * d[1]) + f[2] * (2 * d[2]);
+    k.C = f[0] * f[0] + f[1] * f[1] + f[2] * f[2] - expansion_of(g.radius) * g.radius;
+    return k;
+}
+
+int discriminant_sign(const ray_sphere<double>& g, const exact_coefficients& k) {
+    const double d[3] = {g.direction.x, g.direction.y, g.direction.z};
+    const expansion<2>* f = k.f;
+    const expansion<8> cross[3] = {f[2] * d[1] - f[1] * d[2], f[0] * d[2] - f[2] * d[0], f[1] * d[0] - f[0] * d[1]};
+    const expansion<408> discriminant =
+        k.a * (expansion_of(g.radius) * g.radius) - (cross[0] * cross[0] + cross[1] * cross[1] + cross[2] * cross[2]);
+    return sign_of(discriminant);
+}
+
+// Every component of P(u) then stays above 2^−720 and below 2^570.
+bool refinable(double u) { return u == 0 || (std::fabs(u) >= 0x1p-200 && std::fabs(u) <= 0x1p200); }
+
+int tangent_root_side(const exact_coefficients& k, double m) { return -sign_of(k.two_b_prime + (k.a * m) * 2.0); }
+
+int root_side(const exact_coefficients& k, double m, int other_side) {
+    const int p = sign_of((k.a * m) * m + k.two_b_prime * m + k.C);  // sign(m − t_i)·sign(m − t_j)
+    return -p * -other_side;
+}
+
+namespace {
+
+// base − t from numerator / denominator = base − t: the correction t − base
+// with its bound, from the exact numerator's and denominator's approximations.
+refined_enclosure correction_from(double base, const bounded& numerator, const bounded& denominator) {
+    refined_enclosure out;
+    const std::optional<bounded> offset = quotient(numerator, denominator);  // base − t
+    if (!offset) return out;
+    out.base = base;
+    out.correction = {-offset->v.h, -offset->v.l, offset->err};
+    return out;
+}
+
+}  // namespace
+
+// With P(t) = a t² + 2b′t + C = a(t − t_i)(t − t_j), the correction from
+// u = the enclosure's high word is t_i − u = −P(u) / (a (u − t_j)). P(u) is
+// evaluated exactly as an expansion (degree 4 in the inputs and u: nothing
+// rounds), so the correction, about 2^−53·|t_i|, is known to about 2^−100 of
+// itself. Needs both roots' enclosures (hence the filter range for the
+// inputs) and u refinable and nonzero; err = +inf otherwise, or when
+// u − t_j's sign is uncertain (roots too close for the enclosures to part).
+refined_enclosure refine_root(const exact_coefficients& k, const enclosure& root, const enclosure& other) {
+    const double u = root.hi;
+    if (!known(root) || !known(other) || u == 0 || !refinable(u)) return {};
+    const expansion<74> P = (k.a * u) * u + k.two_b_prime * u + k.C;
+    const bounded gap = exactly(u) - bounded_of(other);  // u − t_j
+    return correction_from(u, approximate(P), approximate(k.a) * gap);
+}
+
+// For a tangent's root t = −b′/a: u − t = (2b′ + 2a·u) / 2a, the numerator exact.
+refined_enclosure refine_tangent_root(const exact_coefficients& k, const enclosure& root) {
+    const double u = root.hi;
+    if (!known(root) || u == 0 || !refinable(u)) return {};
+    const expansion<36> numerator = k.two_b_prime + (k.a * u) * 2.0;
+    return correction_from(u, approximate(numerator), approximate(k.a) * 2.0);
+}
+
+// (value − u) is exact, the correction carries the bound.
+bounded root_difference(const refined_enclosure& t, double value) {
+    return exactly(two_sum(value, -t.base)) - bounded_of(t.correction);
+}
+
+// (value − o − d·u) in double-words, whose operations err relative to the
+// (small) result only, minus d·correction.
+bounded hit_difference(const refined_enclosure& t, double o, double d, double value) {
+    const bounded residual = exactly(two_sum(value, -o)) - exactly(two_prod(d, t.base));
+    return residual - bounded_of(t.correction) * d;
+}
+
+}  // namespace rayverify::oracle_internal

@@ -1,0 +1,58 @@
+// The oracle's second stage: exact signs and finer root enclosures from
+// floating-point expansions (expansion.h), with no big numbers. The case's
+// quadratic has exact coefficients as expansions (the inputs are doubles in
+// the filter range), so a polynomial of the inputs and of a double m can be
+// evaluated exactly: whether Δ′ or C is exactly 0, which side of m a root
+// lies on, and P(u) at a root's approximation u, from which the root is known
+// to about 2^−150 relative (what a double's ULP error needs to every digit).
+#pragma once
+
+#include <optional>
+
+#include "oracle/expansion.h"
+#include "oracle/filter.h"
+
+namespace rayverify::oracle_internal {
+
+using refined_enclosure = exact_solution::refined_enclosure;
+
+// The quadratic's coefficients as exact expansions: f = o − c, a = d·d,
+// 2b′ = 2d·f, C = f·f − r² (Δ′ = a·r² − |d × f|², Lagrange's identity as in
+// the filter, is formed by discriminant_sign). Exact for inputs in the
+// filter range, where every product stays far from underflow and overflow
+// (degree 4: above 2^−528, below 2^330).
+struct exact_coefficients {
+    expansion<2> f[3];
+    expansion<6> a;
+    expansion<12> two_b_prime;
+    expansion<26> C;
+};
+
+exact_coefficients coefficients_of(const ray_sphere<double>& g);
+
+// sign(Δ′) exactly.
+int discriminant_sign(const ray_sphere<double>& g, const exact_coefficients& k);
+
+// Whether a double u may be substituted into the quadratic's expansions:
+// |u| in [2^−200, 2^200] (or 0) keeps every product exact beside the inputs' range.
+bool refinable(double u);
+
+// sign(t − m) for a tangent's root t = −b′/a, from the sign of 2b′ + 2a·m; m refinable.
+int tangent_root_side(const exact_coefficients& k, double m);
+
+// sign(t_i − m) for one of two roots, given sign(t_j − m) ≠ 0 of the other:
+// P(m) = a(m − t_i)(m − t_j) exactly; m refinable.
+int root_side(const exact_coefficients& k, double m, int other_side);
+
+// A finer enclosure of the root t_i (of two) from its enclosure's high word,
+// or of a tangent's root; err = +inf where it cannot be built.
+refined_enclosure refine_root(const exact_coefficients& k, const enclosure& root, const enclosure& other);
+refined_enclosure refine_tangent_root(const exact_coefficients& k, const enclosure& root);
+
+// value − t_i from a refined enclosure, as a bounded double-word.
+bounded root_difference(const refined_enclosure& t, double value);
+
+// value − p* for p* = o + d·t_i, from a refined enclosure of t_i.
+bounded hit_difference(const refined_enclosure& t, double o, double d, double value);
+
+}  // namespace rayverify::oracle_internal

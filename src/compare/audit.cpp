@@ -142,6 +142,11 @@ std::size_t slot_of(std::uint64_t key, std::size_t mask) {
 }
 }  // namespace
 
+void error_summary::prefetch(double error) const {
+    if (table_.empty()) return;
+    __builtin_prefetch(&table_[slot_of(bucket_of(error), table_.size() - 1)], 1);
+}
+
 void error_summary::count_in(std::uint64_t bucket, std::size_t n) {
     if (2 * (used_ + 1) > table_.size()) grow();
     const std::size_t mask = table_.size() - 1;
@@ -237,7 +242,7 @@ void target_samples::merge(const target_samples& other) {
 
 std::string family_key(const corpus_case& c) { return c.family.empty() ? "-" : c.family; }
 
-audit_accumulator::audit_accumulator(std::vector<audit_target> t) : targets(std::move(t)), overall(targets.size()) {}
+audit_accumulator::audit_accumulator(std::vector<audit_target> t) : targets(std::move(t)) {}
 
 void audit_accumulator::add(const audited_case& c, std::size_t index) {
     ++cases;
@@ -259,25 +264,24 @@ void audit_accumulator::add(const audited_case& c, std::size_t index) {
     family_samples.resize(targets.size());
     for (std::size_t t = 0; t < targets.size(); ++t) {
         const case_score& score = c.outcomes[t].score;
-        for (target_samples* s : {&overall[t], &family_samples[t]}) {
-            ++s->cases;
-            ++s->verdicts[static_cast<int>(score.verdict)];
-            if (score.cause) ++s->causes[static_cast<int>(*score.cause)];
-            if (score.verdict != verdict_kind::agree) continue;
-            const std::string& id = c.source->id;
-            if (score.near_ulp) s->near_ulp.add(*score.near_ulp, index, id);
-            if (score.far_ulp) s->far_ulp.add(*score.far_ulp, index, id);
-            if (score.near_bits) s->near_bits.add(*score.near_bits, index, id);
-            if (score.hit_point_ulp) {
-                const auto& e = *score.hit_point_ulp;
-                s->hit_ulp.add(std::max({e[0], e[1], e[2]}), index, id);
-            }
-            if (score.scale_error_radius) s->scale_radius.add(*score.scale_error_radius, index, id);
-            if (score.scale_error_distance) s->scale_distance.add(*score.scale_error_distance, index, id);
-            if (score.bound_ulp) s->bound_ulp.add(*score.bound_ulp, index, id);
-            if (score.normal_angle) s->normal_angle.add(*score.normal_angle, index, id);
+        target_samples& s = family_samples[t];
+        ++s.cases;
+        ++s.verdicts[static_cast<int>(score.verdict)];
+        if (score.cause) ++s.causes[static_cast<int>(*score.cause)];
+        if (score.verdict != verdict_kind::agree) continue;
+        if (score.near_ulp) figures_.push(s.near_ulp, *score.near_ulp);
+        if (score.far_ulp) figures_.push(s.far_ulp, *score.far_ulp);
+        if (score.near_bits) figures_.push(s.near_bits, *score.near_bits);
+        if (score.hit_point_ulp) {
+            const auto& e = *score.hit_point_ulp;
+            figures_.push(s.hit_ulp, std::max({e[0], e[1], e[2]}));
         }
+        if (score.scale_error_radius) figures_.push(s.scale_radius, *score.scale_error_radius);
+        if (score.scale_error_distance) figures_.push(s.scale_distance, *score.scale_error_distance);
+        if (score.bound_ulp) figures_.push(s.bound_ulp, *score.bound_ulp);
+        if (score.normal_angle) figures_.push(s.normal_angle, *score.normal_angle);
     }
+    figures_.add_all(index, c.source->id);
 }
 
 void audit_accumulator::merge(const audit_accumulator& other) {
@@ -289,7 +293,7 @@ void audit_accumulator::merge(const audit_accumulator& other) {
     std::merge(invalid_list.begin(), invalid_list.end(), other.invalid_list.begin(), other.invalid_list.end(),
                std::back_inserter(list), [](const invalid_case& a, const invalid_case& b) { return a.index < b.index; });
     invalid_list = std::move(list);
-    merge_per_target(overall, by_family, other.overall, other.by_family, targets.size());
+    merge_families(by_family, other.by_family, targets.size());
 }
 
 namespace {
@@ -319,7 +323,7 @@ audit_totals audit_accumulator::finish() const {
     totals.cases_by_family = cases_by_family;
     totals.invalid_cases = invalid;
     totals.invalid_list = invalid_list;
-    for (const target_samples& s : overall) totals.overall.push_back(summarise(s));
+    for (const target_samples& s : overall()) totals.overall.push_back(summarise(s));
     for (const auto& [family, per_target] : by_family) {
         auto& out = totals.by_family[family];
         for (const target_samples& s : per_target) out.push_back(summarise(s));

@@ -76,6 +76,10 @@ struct error_summary {
     using histogram_map = boost::container::flat_map<std::uint64_t, std::size_t>;
 
     void add(double error, std::size_t index, const std::string& id);
+    // Starts loading the table slot an add of `error` counts in: an
+    // accumulator prefetches every figure of a case before adding them, so
+    // that their cache misses overlap (figure_batch).
+    void prefetch(double error) const;
     void merge(const error_summary& other);
     // bucket key → number of errors in it, sorted by key.
     const histogram_map& histogram() const;
@@ -106,19 +110,45 @@ private:
     mutable bool sorted_current_ = true;
 };
 
-// Adds `other`'s per-target tallies (overall, and per family) to `mine`,
-// both aligned with the same `target_count` targets. Shared by the audit and
-// stability accumulators; Tally has merge(const Tally&).
+// The figures of one case, each bound for its own summary: pushed (and
+// their slots prefetched) first, then added together. A case's figures go
+// to a few hundred histograms, each a cache miss when added one by one.
+class figure_batch {
+public:
+    void push(error_summary& summary, double error) {
+        summary.prefetch(error);
+        items_.push_back({&summary, error});
+    }
+    void add_all(std::size_t index, const std::string& id) {
+        for (const auto& [summary, error] : items_) summary->add(error, index, id);
+        items_.clear();
+    }
+
+private:
+    std::vector<std::pair<error_summary*, double>> items_;
+};
+
+// An accumulator tallies each case under its family only (one add per
+// figure); the whole run's tally of each target is the merge of the
+// families', formed when asked for. Tally has merge(const Tally&); both
+// helpers serve the audit and stability accumulators.
 template <class Tally>
-void merge_per_target(std::vector<Tally>& overall, std::map<std::string, std::vector<Tally>>& by_family,
-                      const std::vector<Tally>& other_overall,
-                      const std::map<std::string, std::vector<Tally>>& other_by_family, std::size_t target_count) {
-    overall.resize(target_count);
-    for (std::size_t t = 0; t < other_overall.size(); ++t) overall[t].merge(other_overall[t]);
-    for (const auto& [family, per_target] : other_by_family) {
-        auto& mine = by_family[family];
-        mine.resize(target_count);
-        for (std::size_t t = 0; t < per_target.size(); ++t) mine[t].merge(per_target[t]);
+std::vector<Tally> merged_over_families(const std::map<std::string, std::vector<Tally>>& by_family,
+                                        std::size_t target_count) {
+    std::vector<Tally> overall(target_count);
+    for (const auto& [family, per_target] : by_family)
+        for (std::size_t t = 0; t < per_target.size(); ++t) overall[t].merge(per_target[t]);
+    return overall;
+}
+
+// Adds `other`'s per-family tallies to `mine`, both aligned with the same `target_count` targets.
+template <class Tally>
+void merge_families(std::map<std::string, std::vector<Tally>>& mine,
+                    const std::map<std::string, std::vector<Tally>>& other, std::size_t target_count) {
+    for (const auto& [family, per_target] : other) {
+        auto& into = mine[family];
+        into.resize(target_count);
+        for (std::size_t t = 0; t < per_target.size(); ++t) into[t].merge(per_target[t]);
     }
 }
 
@@ -178,13 +208,18 @@ struct audit_accumulator {
     void merge(const audit_accumulator& other);
     audit_totals finish() const;
 
+    // The whole run's tallies of each target (aligned with targets).
+    std::vector<target_samples> overall() const { return merged_over_families(by_family, targets.size()); }
+
     std::vector<audit_target> targets;
     std::size_t cases = 0;
     std::map<std::string, std::size_t> cases_by_family;
     std::array<std::size_t, 2> invalid{};
     std::vector<invalid_case> invalid_list;  // sorted by index
-    std::vector<target_samples> overall;
-    std::map<std::string, std::vector<target_samples>> by_family;
+    std::map<std::string, std::vector<target_samples>> by_family;  // family → aligned with targets
+
+private:
+    figure_batch figures_;
 };
 
 // The family name a case is tallied under ("-" when unknown).

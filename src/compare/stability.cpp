@@ -155,8 +155,7 @@ void stability_samples::merge(const stability_samples& other) {
     well_conditioned_above += other.well_conditioned_above;
 }
 
-stability_accumulator::stability_accumulator(std::vector<audit_target> t)
-    : targets(std::move(t)), overall(targets.size()) {}
+stability_accumulator::stability_accumulator(std::vector<audit_target> t) : targets(std::move(t)) {}
 
 void stability_accumulator::add(const audited_case& c, const case_stability& s, std::size_t index) {
     auto& family_samples = by_family[family_key(*c.source)];
@@ -167,33 +166,33 @@ void stability_accumulator::add(const audited_case& c, const case_stability& s, 
         if (score.verdict == verdict_kind::invalid || score.verdict == verdict_kind::contract_violation) continue;
         const stability_measures& m = s.at(targets[t].prec);
         const int bucket = condition_bucket(m);
-        for (stability_samples* out : {&overall[t], &family_samples[t]}) {
-            bucket_tally& b = out->buckets[bucket];
-            ++b.cases;
-            if (is_misclassification(score.verdict)) ++b.misclassified;
-            if (is_disagreement(score.verdict)) ++b.disagreements;
-            if (const auto& cause = score.cause) {
-                if (*cause == disagreement_cause::conditioning_limited) ++b.conditioning_limited;
-                if (*cause == disagreement_cause::algorithmic) ++b.algorithmic;
-                if (is_by_design(*cause)) ++b.by_design;
-            }
-            if (score.verdict != verdict_kind::agree || !score.near_ulp) continue;
-            out->near_ulp[bucket].add(*score.near_ulp, index, id);
-            if (!m.near_condition || std::isinf(*m.near_condition)) continue;
-            const double excess = *score.near_ulp / std::max(*m.near_condition, 1.0);
-            out->excess.add(excess, index, id);
-            const bool above = !(excess <= stability_factor);
-            out->above_line += above;
-            if (*m.near_condition < 1e3) {
-                ++out->well_conditioned;
-                out->well_conditioned_above += above;
-            }
+        stability_samples& out = family_samples[t];
+        bucket_tally& b = out.buckets[bucket];
+        ++b.cases;
+        if (is_misclassification(score.verdict)) ++b.misclassified;
+        if (is_disagreement(score.verdict)) ++b.disagreements;
+        if (const auto& cause = score.cause) {
+            if (*cause == disagreement_cause::conditioning_limited) ++b.conditioning_limited;
+            if (*cause == disagreement_cause::algorithmic) ++b.algorithmic;
+            if (is_by_design(*cause)) ++b.by_design;
+        }
+        if (score.verdict != verdict_kind::agree || !score.near_ulp) continue;
+        figures_.push(out.near_ulp[bucket], *score.near_ulp);
+        if (!m.near_condition || std::isinf(*m.near_condition)) continue;
+        const double excess = *score.near_ulp / std::max(*m.near_condition, 1.0);
+        figures_.push(out.excess, excess);
+        const bool above = !(excess <= stability_factor);
+        out.above_line += above;
+        if (*m.near_condition < 1e3) {
+            ++out.well_conditioned;
+            out.well_conditioned_above += above;
         }
     }
+    figures_.add_all(index, id);
 }
 
 void stability_accumulator::merge(const stability_accumulator& other) {
-    merge_per_target(overall, by_family, other.overall, other.by_family, targets.size());
+    merge_families(by_family, other.by_family, targets.size());
 }
 
 namespace {
@@ -225,7 +224,7 @@ stability_tally summarise(const stability_samples& s) {
 
 stability_totals stability_accumulator::finish() const {
     stability_totals totals;
-    for (const stability_samples& s : overall) totals.overall.push_back(summarise(s));
+    for (const stability_samples& s : overall()) totals.overall.push_back(summarise(s));
     for (const auto& [family, per_target] : by_family) {
         auto& out = totals.by_family[family];
         for (const stability_samples& s : per_target) out.push_back(summarise(s));

@@ -141,9 +141,14 @@ struct stability_accumulator {
     void merge(const stability_accumulator& other);
     stability_totals finish() const;
 
+    // The whole run's samples of each target (aligned with targets).
+    std::vector<stability_samples> overall() const { return merged_over_families(by_family, targets.size()); }
+
     std::vector<audit_target> targets;
-    std::vector<stability_samples> overall;
-    std::map<std::string, std::vector<stability_samples>> by_family;
+    std::map<std::string, std::vector<stability_samples>> by_family;  // family → aligned with targets
+
+private:
+    figure_batch figures_;
 };
 
 }  // namespace rayverify

@@ -2,6 +2,8 @@
 #include "oracle/filter.h"
 
 #include <algorithm>
+#include <bit>
+#include <cstdint>
 #include <type_traits>
 
 #include "core/float_bits.h"
@@ -65,6 +67,22 @@ std::optional<double> rounded_ulp_ratio(bounded difference, int ulp_exponent) {
     const uncertain_sign position = sign_of(difference);
     if (!position) return std::nullopt;
     if (*position < 0) difference = -difference;
+    // Most ratios settle at once: scaled by 2^−k with one multiplication
+    // (exact while the words stay normal), the ratio is h + l within e, and
+    // when |l| + e stays below ulp(h)/4 (with a margin for that sum's own
+    // rounding) the whole enclosure lies inside h's rounding interval, which
+    // reaches at least ulp(h)/4 below h (a power of two) and ulp(h)/2 above.
+    if (ulp_exponent >= -1023 && ulp_exponent <= 1022) {
+        const double scale = std::bit_cast<double>(static_cast<std::uint64_t>(1023 - ulp_exponent) << 52);
+        const double h = difference.v.h * scale;
+        if (h >= 0x1p-900 && h <= 0x1p1000) {
+            const double l = difference.v.l * scale, e = std::max(difference.err * scale, 0x1p-1000);
+            const double quarter_ulp = std::bit_cast<double>(std::bit_cast<std::uint64_t>(h) & 0x7FF0000000000000ull) * 0x1p-54;
+            if (std::fabs(l) + e < quarter_ulp * (1 - 0x1p-50)) return h;
+            // A bound as wide as half an ulp cannot fit in a rounding interval.
+            if (e >= 2 * quarter_ulp) return std::nullopt;
+        }
+    }
     const int scaled_exponent = std::ilogb(difference.v.h) - ulp_exponent;
     if (scaled_exponent < -900 || scaled_exponent > 1000) return std::nullopt;
     const enclosure ratio{std::ldexp(difference.v.h, -ulp_exponent), std::ldexp(difference.v.l, -ulp_exponent),
@@ -73,19 +91,6 @@ std::optional<double> rounded_ulp_ratio(bounded difference, int ulp_exponent) {
 }
 
 namespace {
-
-// |value − x| / ulp(x) correctly rounded, from an enclosure of x, when the
-// enclosure settles x's sign, its binade, value ≠ x and the rounding of the
-// ratio.
-template <class T>
-std::optional<double> ulp_error_from(const enclosure& x, double value) {
-    if (!known(x)) return std::nullopt;
-    if (!std::isfinite(value)) return std::numeric_limits<double>::infinity();
-    if (!side_of(x, value)) return std::nullopt;
-    const std::optional<int> ulp_exponent = ulp_exponent_of<T>(x);
-    if (!ulp_exponent) return std::nullopt;
-    return rounded_ulp_ratio(exactly(value) - bounded{{x.hi, x.lo}, x.err}, *ulp_exponent);
-}
 
 }  // namespace
 
@@ -97,15 +102,15 @@ std::optional<int> ulp_exponent_of(precision p, const enclosure& x) {
     return p == precision::binary32 ? ulp_exponent_of<float>(x) : ulp_exponent_of<double>(x);
 }
 
-std::optional<double> ulp_error_from(precision p, const enclosure& x, double value) {
-    return p == precision::binary32 ? ulp_error_from<float>(x, value) : ulp_error_from<double>(x, value);
+std::optional<double> ulp_error_from(const enclosure& x, std::optional<int> ulp_exponent, double value) {
+    if (!known(x)) return std::nullopt;
+    if (!std::isfinite(value)) return std::numeric_limits<double>::infinity();
+    if (!ulp_exponent) return std::nullopt;
+    return rounded_ulp_ratio(exactly(value) - bounded_of(x), *ulp_exponent);
 }
 
-// The same from a bounded value − x and an enclosure of x for its binade.
-std::optional<double> ulp_error_from(precision p, const enclosure& x, const bounded& difference) {
-    const std::optional<int> ulp_exponent = ulp_exponent_of(p, x);
-    if (!ulp_exponent) return std::nullopt;
-    return rounded_ulp_ratio(difference, *ulp_exponent);
+std::optional<double> ulp_error_from(precision p, const enclosure& x, double value) {
+    return ulp_error_from(x, known(x) ? ulp_exponent_of(p, x) : std::nullopt, value);
 }
 
 bool in_filter_range(const ray_sphere<double>& g) {
@@ -116,7 +121,6 @@ bool in_filter_range(const ray_sphere<double>& g) {
 }
 
 namespace {
-
 
 // What the filter computed for one case.
 struct filtered_quadratic {

@@ -80,10 +80,11 @@ std::optional<int> ulp_exponent_of(precision p, const enclosure& x);
 std::optional<double> rounded_ulp_ratio(bounded difference, int ulp_exponent);
 
 // |value − x| / ulp(x) in precision p, correctly rounded, when the enclosure
-// settles x's sign, its binade, value ≠ x and the rounding of the ratio.
+// settles x's sign, its binade, value ≠ x and the rounding of the ratio
+// (+inf for a non-finite value).
 std::optional<double> ulp_error_from(precision p, const enclosure& x, double value);
-// The same from a bounded value − x and an enclosure of x for its binade.
-std::optional<double> ulp_error_from(precision p, const enclosure& x, const bounded& difference);
+// The same with ulp(x)'s exponent already known (empty: the binade is open).
+std::optional<double> ulp_error_from(const enclosure& x, std::optional<int> ulp_exponent, double value);
 
 // Coordinate `axis` of o + t·d from an enclosure of t: o exactly when d's
 // coordinate is 0, else o + t·d in double-words.

@@ -90,8 +90,24 @@ struct exact_solution::internal {
 
     static const enclosure& root_enclosure(const exact_solution& s, root_index i) { return s.roots_[slot_of(i)]; }
 
-    static enclosure hit_enclosure(const exact_solution& s, root_index i, int axis) {
-        return hit_coordinate_enclosure(s.geometry_, root_enclosure(s, i), axis);
+    static const ulp_frame& root_frame(const exact_solution& s, root_index i) {
+        ulp_frame& frame = s.root_frames_[slot_of(i)];
+        if (!frame.built) frame = framed(s.prec, root_enclosure(s, i));
+        return frame;
+    }
+
+    static const ulp_frame& hit_frame(const exact_solution& s, root_index i, int axis) {
+        ulp_frame& frame = s.hit_frames_[slot_of(i)][axis];
+        if (!frame.built) frame = framed(s.prec, hit_coordinate_enclosure(s.geometry_, root_enclosure(s, i), axis));
+        return frame;
+    }
+
+    static ulp_frame framed(precision p, const enclosure& x) {
+        return {x, known(x) ? ulp_exponent_of(p, x) : std::nullopt, true};
+    }
+
+    static const enclosure& hit_enclosure(const exact_solution& s, root_index i, int axis) {
+        return hit_frame(s, i, axis).x;
     }
 
     static bool exact_zero_root(const exact_solution& s, root_index i) {
@@ -129,7 +145,8 @@ struct exact_solution::internal {
         if (exact_zero_root(s, i) && std::isfinite(value)) {
             return std::ldexp(std::fabs(value), -ulp_exponent_in(s.prec, std::numeric_limits<long>::min()));
         }
-        return ulp_error_from(s.prec, root_enclosure(s, i), value);
+        const ulp_frame& frame = root_frame(s, i);
+        return ulp_error_from(frame.x, frame.ulp_exponent, value);
     }
 
     // The same from expansions: the refined enclosure for the ratio; where
@@ -138,8 +155,9 @@ struct exact_solution::internal {
     // compare_root_by_expansion.
     static std::optional<double> root_ulp_error_by_expansion(const exact_solution& s, root_index i, double value) {
         const refined_enclosure* fine = refined(s, i);
-        if (fine)
-            if (const std::optional<double> e = ulp_error_from(s.prec, root_enclosure(s, i), root_difference(*fine, value)))
+        const ulp_frame& frame = root_frame(s, i);
+        if (fine && frame.ulp_exponent)
+            if (const std::optional<double> e = rounded_ulp_ratio(root_difference(*fine, value), *frame.ulp_exponent))
                 return e;
         if (!std::isfinite(value)) return std::nullopt;
         const uncertain_sign position = compare_root_by_expansion(s, i, value);
@@ -346,27 +364,42 @@ int exact_solution::compare_discriminant(double x) const {
 }
 
 double exact_solution::root_ulp_error(root_index i, double value) const {
-    return settle(
+    ulp_frame& frame = root_frames_[slot_of(i)];
+    if (frame.built && frame.last_value == value) return frame.last_error;
+    const double error = settle(
         oracle_stage_counts_this_thread().ulp_errors,
         [&] { return internal::root_ulp_error_from_enclosure(*this, i, value); },
         [&] { return internal::root_ulp_error_by_expansion(*this, i, value); },
         [&] { return ulp_error_in(prec, state().root(i), value); });
+    frame.last_value = value;
+    frame.last_error = error;
+    return error;
 }
 
 double exact_solution::hit_point_ulp_error(root_index i, int axis, double value) const {
+    ulp_frame& frame = hit_frames_[slot_of(i)][axis];
+    if (frame.built && frame.last_value == value) return frame.last_error;
     const double o = geometry_.origin[axis], d = geometry_.direction[axis];
-    return settle(
+    const double error = settle(
         oracle_stage_counts_this_thread().ulp_errors,
         [&]() -> std::optional<double> {
             if ((d == 0 || internal::exact_zero_root(*this, i)) && value == o) return 0.0;  // the coordinate is o's
-            return ulp_error_from(prec, internal::hit_enclosure(*this, i, axis), value);
+            const ulp_frame& frame = internal::hit_frame(*this, i, axis);
+            return ulp_error_from(frame.x, frame.ulp_exponent, value);
         },
         [&]() -> std::optional<double> {
             const refined_enclosure* fine = internal::refined(*this, i);
-            if (!fine) return std::nullopt;
-            return ulp_error_from(prec, internal::hit_enclosure(*this, i, axis), hit_difference(*fine, o, d, value));
+            const ulp_frame& frame = internal::hit_frame(*this, i, axis);
+            if (!fine || !frame.ulp_exponent) return std::nullopt;
+            return rounded_ulp_ratio(hit_difference(*fine, o, d, value), *frame.ulp_exponent);
         },
         [&] { return ulp_error_in(prec, state().hit_coordinate(i, axis), value); });
+    // The frame is built by now unless the exact route answered first (d = 0).
+    if (frame.built) {
+        frame.last_value = value;
+        frame.last_error = error;
+    }
+    return error;
 }
 
 double exact_solution::rounded_hit_coordinate(root_index i, int axis) const {

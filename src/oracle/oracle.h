@@ -114,6 +114,20 @@ public:
         enclosure correction;
     };
 
+    // An enclosure with the exponent of ulp(x) in the solution's precision,
+    // when the enclosure settles x's binade: found once per root and per hit
+    // coordinate, since the ULP errors of every variant's answers are measured
+    // against the same exact values.
+    struct ulp_frame {
+        enclosure x;
+        std::optional<int> ulp_exponent;
+        bool built = false;
+        // The last ULP error measured against this value, and for which
+        // answer: variants often return the same double, and the judge asks
+        // for a root's error more than once.
+        double last_value = std::numeric_limits<double>::quiet_NaN(), last_error = 0;
+    };
+
 private:
     // The queries above answer from the roots' enclosures when those settle
     // the answer, and otherwise from the exact state, which is built on first
@@ -129,6 +143,8 @@ private:
     // Built on first use by a ULP query roots_ cannot settle, kept like exact_.
     mutable refined_enclosure refined_[2];
     mutable bool refined_built_[2] = {false, false};
+    mutable ulp_frame root_frames_[2];     // near, far
+    mutable ulp_frame hit_frames_[2][3];   // per root, per axis
     mutable std::shared_ptr<const oracle_internal::exact_coefficients> expansions_;  // built on first use, like exact_
     mutable std::shared_ptr<const oracle_internal::exact_quadratic> exact_;
 };
@@ -170,7 +186,8 @@ int compare_roots(const exact_solution& a, root_index i, const exact_solution& b
 // expansions (no big numbers; for ULP errors, the refined enclosures), and
 // how many exact arithmetic (GMP). The share beyond the filter measures a
 // family's stiffness; `bench --audit` prints it. Counting costs an increment
-// per answer.
+// per answer computed (a ULP error asked again for the same value is
+// answered from the last one and not counted).
 struct stage_tally {
     std::uint64_t filter = 0, expansion = 0, exact = 0;
     std::uint64_t total() const { return filter + expansion + exact; }

@@ -172,16 +172,17 @@ json per_target_json(const std::vector<Samples>& overall, const std::map<std::st
     return {{"overall", all}, {"by_family", families}};
 }
 
+// The families' tallies; the whole run's ("overall", which check_shard_state
+// compares with their sums) is their merge, formed again when needed.
 template <class Samples, class FromJson>
-void per_target_from(const json& j, std::size_t targets, std::vector<Samples>& overall,
-                     std::map<std::string, std::vector<Samples>>& by_family, FromJson from_json) {
+void per_target_from(const json& j, std::size_t targets, std::map<std::string, std::vector<Samples>>& by_family,
+                     FromJson from_json) {
     const auto read = [&](const json& list) {
         std::vector<Samples> out;
         for (const json& s : list) out.push_back(from_json(s));
         if (out.size() != targets) throw json::other_error::create(501, "target count differs", &j);
         return out;
     };
-    overall = read(j.at("overall"));
     for (const auto& [family, list] : j.at("by_family").items()) by_family[family] = read(list);
 }
 
@@ -577,7 +578,7 @@ json state_json(const audit_state& state) {
                   {"cases_by_family", a.cases_by_family},
                   {"invalid", a.invalid},
                   {"invalid_list", invalid_list}};
-    audit.update(per_target_json(a.overall, a.by_family, samples_json));
+    audit.update(per_target_json(a.overall(), a.by_family, samples_json));
     json points = json::array();
     for (const auto& [family, kept] : state.points.sample())
         for (const auto& [key, r] : kept)
@@ -591,7 +592,7 @@ json state_json(const audit_state& state) {
                               {"verdict", r.verdict},
                               {"near_ulp", r.near_ulp}});
     return {{"audit", audit},
-            {"stability", per_target_json(state.stability.overall, state.stability.by_family, stability_samples_json)},
+            {"stability", per_target_json(state.stability.overall(), state.stability.by_family, stability_samples_json)},
             {"case_points", points}};
 }
 
@@ -604,8 +605,8 @@ audit_state state_from_json(const json& j, const std::vector<audit_target>& targ
     for (const json& c : a.at("invalid_list"))
         state.audit.invalid_list.push_back({c.at(1).get<std::string>(), c.at(2).get<std::string>(),
                                             reason_from(c.at(3)), reason_from(c.at(4)), c.at(0).get<std::size_t>()});
-    per_target_from(a, targets.size(), state.audit.overall, state.audit.by_family, samples_from);
-    per_target_from(j.at("stability"), targets.size(), state.stability.overall, state.stability.by_family,
+    per_target_from(a, targets.size(), state.audit.by_family, samples_from);
+    per_target_from(j.at("stability"), targets.size(), state.stability.by_family,
                     stability_samples_from);
     for (const json& p : j.at("case_points")) {
         case_points::row r;

@@ -465,17 +465,25 @@ struct judged_value {
     double start = 0;
 };
 
-std::vector<judged_value> judged_values(const contract& promises, const exact_solution& exact, const t_range& range) {
+// At most two (line_roots), so kept in place.
+struct judged_list {
+    std::array<judged_value, 2> values{};
+    std::size_t size = 0;
+    const judged_value* begin() const { return values.data(); }
+    const judged_value* end() const { return values.data() + size; }
+};
+
+judged_list judged_values(const contract& promises, const exact_solution& exact, const t_range& range) {
     switch (promises.query) {
         case query_kind::any_hit: return {};
         case query_kind::line_roots:
             if (exact.cls == line_class::miss) return {};
-            return {{0, root_index::near_root}, {1, root_index::far_root}};
+            return {{{{0, root_index::near_root}, {1, root_index::far_root}}}, 2};
         case query_kind::nearest_hit: break;
     }
     const expected_hit want = expect_hit(promises, exact, range);
-    if (want.what == expected_hit::kind::root) return {{0, want.root}};
-    if (want.what == expected_hit::kind::clamp) return {{0, std::nullopt, want.value}};
+    if (want.what == expected_hit::kind::root) return {{{{0, want.root}}}, 1};
+    if (want.what == expected_hit::kind::clamp) return {{{{0, std::nullopt, want.value}}}, 1};
     return {};
 }
 
@@ -503,10 +511,10 @@ bool holds(double lower, double upper, const std::function<int(double)>& compare
 // leaves out the exact value turns the verdict into unsound_bound).
 void measure_outputs(const contract& promises, const variant_output& output, const exact_solution& exact,
                      const t_range& range, const ray_sphere<double>& input, case_score& s) {
-    const std::vector<judged_value> judged = judged_values(promises, exact, range);
+    const judged_list judged = judged_values(promises, exact, range);
     const double t[2] = {output.roots.t0, output.roots.t1};
-    const double d_length = std::sqrt(dot(input.direction, input.direction));
-    const double distance = std::sqrt(length_squared(input.origin - input.centre));
+    const double d_length = judged.size ? std::sqrt(dot(input.direction, input.direction)) : 0;
+    const double distance = judged.size ? std::sqrt(length_squared(input.origin - input.centre)) : 0;
     std::optional<std::string> unsound;
     for (const judged_value& j : judged) {
         const double value = t[j.slot];

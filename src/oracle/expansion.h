@@ -16,6 +16,7 @@
 // keeps its operands in a range where none does (the oracle's filter range).
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -23,10 +24,21 @@
 
 namespace rayverify {
 
+// Components c[0..n) hold the value; the rest of the array is never read,
+// written or copied (the bound N of a product grows fast, and zeroing or
+// copying all of it cost more than the arithmetic).
 template <int N>
 struct expansion {
-    std::array<double, N> c{};
+    std::array<double, N> c;
     int n = 0;
+
+    expansion() = default;
+    expansion(const expansion& other) : n(other.n) { std::copy_n(other.c.begin(), n, c.begin()); }
+    expansion& operator=(const expansion& other) {
+        n = other.n;
+        std::copy_n(other.c.begin(), n, c.begin());
+        return *this;
+    }
 };
 
 inline expansion<1> expansion_of(double x) {
@@ -116,7 +128,7 @@ int sign_of(const expansion<N>& e) {
 template <int N>
 expansion<N> compressed(const expansion<N>& e) {
     if (e.n == 0) return e;
-    std::array<double, N> g{};
+    std::array<double, N> g;
     int bottom = e.n - 1;
     double q = e.c[e.n - 1];
     for (int i = e.n - 2; i >= 0; --i) {

@@ -7,6 +7,7 @@
 #include <type_traits>
 
 #include "core/float_bits.h"
+#include "oracle/internal/fma_clones.h"
 
 namespace rayverify::oracle_internal {
 namespace {
@@ -128,7 +129,7 @@ struct filtered_quadratic {
     enclosure roots[2];         // near, far; unknown when the root step failed
 };
 
-filtered_quadratic filter_quadratic(const ray_sphere<double>& g) {
+filtered_quadratic filter_quadratic(const ray_sphere<double>& g, const std::optional<bounded>& known_discriminant) {
     filtered_quadratic out;
     const double o[3] = {g.origin.x, g.origin.y, g.origin.z};
     const double d[3] = {g.direction.x, g.direction.y, g.direction.z};
@@ -149,7 +150,9 @@ filtered_quadratic filter_quadratic(const ray_sphere<double>& g) {
     const bounded b_prime = f[0] * d[0] + f[1] * d[1] + f[2] * d[2];
     const bounded C = f[0] * f[0] + f[1] * f[1] + f[2] * f[2] - r2;
     const bounded cross[3] = {f[2] * d[1] - f[1] * d[2], f[0] * d[2] - f[2] * d[0], f[1] * d[0] - f[0] * d[1]};
-    const bounded discriminant = a * r2 - (cross[0] * cross[0] + cross[1] * cross[1] + cross[2] * cross[2]);
+    const bounded discriminant =
+        known_discriminant ? *known_discriminant
+                           : a * r2 - (cross[0] * cross[0] + cross[1] * cross[1] + cross[2] * cross[2]);
 
     // Class: the sign of Δ′ when its bound settles it.
     out.discriminant_sign = sign_of(discriminant);
@@ -189,19 +192,10 @@ std::optional<double> round_hit_coordinate(precision prec, const ray_sphere<doub
     return round_enclosure(prec, h, side_of(h, 0.0));
 }
 
-// Flattened into one function and cloned for FMA hardware (std::fma inlines
-// to one instruction there; elsewhere it is a library call). Both clones
-// compute the same bits: every operation is correctly rounded. clang (the
-// fuzz build) rejects flatten beside target_clones, so it only clones.
-#if defined(__clang__)
-#define RAYVERIFY_FILTER_ATTRIBUTES __attribute__((target_clones("fma", "default")))
-#else
-#define RAYVERIFY_FILTER_ATTRIBUTES [[gnu::flatten]] __attribute__((target_clones("fma", "default")))
-#endif
-RAYVERIFY_FILTER_ATTRIBUTES filtered_case
-filter_case(const ray_sphere<double>& g, precision prec) {
+RAYVERIFY_CLONED_FOR_FMA filtered_case
+filter_case(const ray_sphere<double>& g, precision prec, const std::optional<bounded>& discriminant) {
     filtered_case out;
-    const filtered_quadratic q = filter_quadratic(g);
+    const filtered_quadratic q = filter_quadratic(g, discriminant);
     out.discriminant_sign = q.discriminant_sign;
     if (!q.discriminant_sign || *q.discriminant_sign < 0) return out;
     for (int i = 0; i < 2; ++i) {

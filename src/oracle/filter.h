@@ -106,6 +106,9 @@ struct filtered_case {
 
 // The filter on one case: Δ′'s sign, the roots' enclosures, signs and
 // roundings, and the front root's hit point, as far as the bounds settle them.
-filtered_case filter_case(const ray_sphere<double>& g, precision prec);
+// `discriminant`, when given, is a tighter enclosure of Δ′ than the filter's
+// own (refinement.h's, from an expansion, for a near-tangent line).
+filtered_case filter_case(const ray_sphere<double>& g, precision prec,
+                          const std::optional<bounded>& discriminant = std::nullopt);
 
 }  // namespace rayverify::oracle_internal

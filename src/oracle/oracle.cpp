@@ -229,28 +229,22 @@ struct exact_solution::internal {
         return solution;
     }
 
-    // Δ′ = 0 decided with an expansion (the filter range only): the root −b′/a
-    // enclosed, signed and rounded in double-words, and the hit point (a
-    // coordinate its enclosure cannot round, such as an exact 0, from the
-    // exact state); nullopt (the exact route) when Δ′ ≠ 0 or the root's
-    // enclosure cannot be rounded (a tie).
-    static std::optional<exact_solution> exact_tangent(const ray_sphere<double>& g, precision prec) {
-        if (!in_filter_range(g)) return std::nullopt;
-        exact_solution solution;
-        solution.prec = prec;
-        solution.geometry_ = g;
+    // A tangent (Δ′ = 0, decided with an expansion): the root −b′/a enclosed,
+    // signed and rounded in double-words, and the hit point (a coordinate its
+    // enclosure cannot round, such as an exact 0, from the exact state);
+    // false (the exact route) when the root's enclosure cannot be rounded (a tie).
+    static bool settle_tangent(exact_solution& solution) {
         const exact_coefficients& k = coefficients(solution);
-        if (discriminant_sign(g, k) != 0) return std::nullopt;
         solution.cls = line_class::tangent;
         exact_root root;
         enclosure t{0, 0, 0};
         root.sign = -sign_of(k.two_b_prime) * sign_of(k.a);
         if (root.sign != 0) {
             const std::optional<bounded> quotient_found = quotient(-approximate(k.two_b_prime), approximate(k.a) * 2.0);
-            if (!quotient_found) return std::nullopt;
+            if (!quotient_found) return false;
             t = {quotient_found->v.h, quotient_found->v.l, quotient_found->err};
-            const std::optional<double> rounded = round_enclosure(prec, t, root.sign);
-            if (!rounded) return std::nullopt;
+            const std::optional<double> rounded = round_enclosure(solution.prec, t, root.sign);
+            if (!rounded) return false;
             root.rounded = *rounded;
         }
         solution.roots_[0] = solution.roots_[1] = t;
@@ -258,12 +252,12 @@ struct exact_solution::internal {
         solution.nearest_in_front = nearest_root_in_front(root.sign, root.sign);
         if (solution.nearest_in_front) {
             const root_index front = *solution.nearest_in_front;
-            const auto coordinate = [&](int axis) { return rounded_hit(solution, front, axis, prec); };
+            const auto coordinate = [&](int axis) { return rounded_hit(solution, front, axis, solution.prec); };
             solution.hit_point = {coordinate(0), coordinate(1), coordinate(2)};
         }
         // A coordinate its enclosure could not round needed the exact state.
         solution.stage = solution.exact_ ? oracle_stage::exact : oracle_stage::expansion;
-        return solution;
+        return true;
     }
 
     static exact_solution filtered(const ray_sphere<double>& g, precision prec, std::optional<double> tmin,
@@ -272,10 +266,22 @@ struct exact_solution::internal {
         solution.prec = prec;
         solution.invalid = check_case(g, tmin, tmax);
         if (!solution.valid()) return solution;
-        const filtered_case filter = filter_case(g, prec);
+        filtered_case filter = filter_case(g, prec);
+        bool expanded = false;
         if (!filter.discriminant_sign) {
-            if (std::optional<exact_solution> tangent = exact_tangent(g, prec)) return std::move(*tangent);
-            return reference(g, prec, tmin, tmax);
+            // Δ′ within the filter's bound of 0 (or inputs outside its range):
+            // Δ′'s exact sign from an expansion; a tangent's root from its
+            // coefficients, else the filter again with Δ′'s tight approximation.
+            if (!in_filter_range(g)) return reference(g, prec, tmin, tmax);
+            solution.geometry_ = g;
+            const exact_discriminant discriminant = discriminant_of(g, coefficients(solution));
+            if (discriminant.sign == 0) {
+                if (settle_tangent(solution)) return solution;
+                return reference(g, prec, tmin, tmax);
+            }
+            filter = filter_case(g, prec, discriminant.approximation);
+            if (!filter.discriminant_sign) return reference(g, prec, tmin, tmax);
+            expanded = true;
         }
 
         solution.geometry_ = g;
@@ -283,10 +289,15 @@ struct exact_solution::internal {
         solution.roots_[1] = filter.roots[1];
         if (*filter.discriminant_sign < 0) {
             solution.cls = line_class::miss;
-            solution.stage = oracle_stage::filter;
+            solution.stage = expanded ? oracle_stage::expansion : oracle_stage::filter;
             return solution;
         }
         solution.cls = line_class::two_hit;
+        // The midpoint's enclosure: the mean of the roots'.
+        if (known(filter.roots[0]) && known(filter.roots[1])) {
+            const bounded mean = (bounded_of(filter.roots[0]) + bounded_of(filter.roots[1])) * 0.5;
+            solution.midpoint_ = {mean.v.h, mean.v.l, mean.err};
+        }
 
         // A root whose sign the enclosure leaves open while the other's is
         // known is exactly 0 when C = 0 (an origin on the sphere): decided
@@ -295,6 +306,19 @@ struct exact_solution::internal {
         if (!filter.sign[0] != !filter.sign[1] && sign_of(coefficients(solution).C) == 0) {
             zero_root = filter.sign[0] ? 1 : 0;
             solution.roots_[zero_root] = {0, 0, 0};
+        }
+        // A root the filter's enclosure cannot round (C or b′ loose where the
+        // line is nearly tangent, a root near a rounding boundary): its
+        // refined enclosure, from P(u) as an expansion, takes its place.
+        for (root_index i : {root_index::near_root, root_index::far_root}) {
+            const int k = slot_of(i);
+            if (k == zero_root || !filter.sign[k] || filter.rounded[k]) continue;
+            if (const refined_enclosure* fine = refined(solution, i)) {
+                const bounded t = exactly(fine->base) + bounded_of(fine->correction);
+                solution.roots_[k] = {t.v.h, t.v.l, t.err};
+                filter.rounded[k] = round_enclosure(prec, solution.roots_[k], filter.sign[k]);
+                expanded = true;
+            }
         }
         // Signs and correctly rounded roots: from the filter, else exactly.
         for (root_index i : {root_index::near_root, root_index::far_root}) {
@@ -317,9 +341,9 @@ struct exact_solution::internal {
             solution.hit_point = {coordinate(0), coordinate(1), coordinate(2)};
         }
         // Exact arithmetic ran iff the exact state was needed.
-        solution.stage = solution.exact_ ? oracle_stage::exact
-                         : zero_root >= 0 ? oracle_stage::expansion
-                                          : oracle_stage::filter;
+        solution.stage = solution.exact_                  ? oracle_stage::exact
+                         : zero_root >= 0 || expanded ? oracle_stage::expansion
+                                                      : oracle_stage::filter;
         return solution;
     }
 };
@@ -334,7 +358,10 @@ int exact_solution::compare_root(root_index i, double value) const {
     const auto negated = [](uncertain_sign s) { return s ? uncertain_sign(-*s) : s; };
     return settle(
         oracle_stage_counts_this_thread().comparisons,
-        [&] { return negated(side_of(internal::root_enclosure(*this, i), value)); },
+        [&] {
+            // Against 0, the root's exact sign answers.
+            return value == 0 ? uncertain_sign(-root(i).sign) : negated(side_of(internal::root_enclosure(*this, i), value));
+        },
         [&] { return negated(internal::compare_root_by_expansion(*this, i, value)); },
         [&] { return -state().root(i).compare(exact(value)); });
 }
@@ -343,12 +370,7 @@ int exact_solution::compare_midpoint(double value) const {
     return settle(
         oracle_stage_counts_this_thread().comparisons,
         [&]() -> uncertain_sign {
-            // The midpoint's enclosure from the roots' (their mean).
-            const enclosure& near = internal::root_enclosure(*this, root_index::near_root);
-            const enclosure& far = internal::root_enclosure(*this, root_index::far_root);
-            if (!known(near) || !known(far)) return std::nullopt;
-            const bounded mean = (bounded_of(near) + bounded_of(far)) * 0.5;
-            const uncertain_sign side = side_of({mean.v.h, mean.v.l, mean.err}, value);  // sign(m − value)
+            const uncertain_sign side = side_of(midpoint_, value);  // sign(m − value)
             return side ? uncertain_sign(-*side) : side;
         },
         [&] {
@@ -437,6 +459,12 @@ int compare_squared_length(const vec3<double>& d, double x) {
         [&]() -> uncertain_sign {
             if (!in_filter_range(d.x) || !in_filter_range(d.y) || !in_filter_range(d.z) || !in_filter_range(x))
                 return std::nullopt;
+            // In plain double first: s = |d|² with 5 roundings is within
+            // 4.01·2^−53·|d|² < 0.55·2^−50·s of the exact value (no underflow
+            // in the filter range), and s − x rounds by at most 2^−53 of itself.
+            const double s = d.x * d.x + d.y * d.y + d.z * d.z;
+            if (s - x > 0x1p-50 * s) return +1;
+            if (x - s > 0x1p-50 * s) return -1;
             const bounded length =
                 exactly(two_prod(d.x, d.x)) + exactly(two_prod(d.y, d.y)) + exactly(two_prod(d.z, d.z));
             return sign_of(length - exactly(x));

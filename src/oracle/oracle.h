@@ -140,6 +140,7 @@ private:
 
     ray_sphere<double> geometry_{};
     enclosure roots_[2];  // near, far
+    enclosure midpoint_;  // of the two roots, −b′/a
     // Built on first use by a ULP query roots_ cannot settle, kept like exact_.
     mutable refined_enclosure refined_[2];
     mutable bool refined_built_[2] = {false, false};

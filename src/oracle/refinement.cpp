@@ -3,34 +3,41 @@
 
 #include <cmath>
 
+#include "oracle/internal/fma_clones.h"
+
 namespace rayverify::oracle_internal {
 
-exact_coefficients coefficients_of(const ray_sphere<double>& g) {
+// Each coefficient compressed once (Shewchuk's Compress: the same value in
+// fewer components), which every later product with a double pays for.
+RAYVERIFY_CLONED_FOR_FMA exact_coefficients coefficients_of(const ray_sphere<double>& g) {
     exact_coefficients k;
     const double d[3] = {g.direction.x, g.direction.y, g.direction.z};
     for (int axis = 0; axis < 3; ++axis) k.f[axis] = expansion_of(g.origin[axis]) - expansion_of(g.centre[axis]);
     const expansion<2>* f = k.f;
-    k.a = expansion_of(d[0]) * d[0] + expansion_of(d[1]) * d[1] + expansion_of(d[2]) * d[2];
-    k.two_b_prime = f[0] * (2 * d[0]) + f[1] * (2 * d[1]) + f[2] * (2 * d[2]);
-    k.C = f[0] * f[0] + f[1] * f[1] + f[2] * f[2] - expansion_of(g.radius) * g.radius;
+    k.a = compressed(expansion_of(d[0]) * d[0] + expansion_of(d[1]) * d[1] + expansion_of(d[2]) * d[2]);
+    k.two_b_prime = compressed(f[0] * (2 * d[0]) + f[1] * (2 * d[1]) + f[2] * (2 * d[2]));
+    k.C = compressed(f[0] * f[0] + f[1] * f[1] + f[2] * f[2] - expansion_of(g.radius) * g.radius);
     return k;
 }
 
-int discriminant_sign(const ray_sphere<double>& g, const exact_coefficients& k) {
+RAYVERIFY_CLONED_FOR_FMA exact_discriminant discriminant_of(const ray_sphere<double>& g, const exact_coefficients& k) {
     const double d[3] = {g.direction.x, g.direction.y, g.direction.z};
     const expansion<2>* f = k.f;
-    const expansion<8> cross[3] = {f[2] * d[1] - f[1] * d[2], f[0] * d[2] - f[2] * d[0], f[1] * d[0] - f[0] * d[1]};
+    const expansion<8> cross[3] = {compressed(f[2] * d[1] - f[1] * d[2]), compressed(f[0] * d[2] - f[2] * d[0]),
+                                   compressed(f[1] * d[0] - f[0] * d[1])};
     const expansion<408> discriminant =
         k.a * (expansion_of(g.radius) * g.radius) - (cross[0] * cross[0] + cross[1] * cross[1] + cross[2] * cross[2]);
-    return sign_of(discriminant);
+    return {sign_of(discriminant), approximate(discriminant)};
 }
 
 // Every component of P(u) then stays above 2^−720 and below 2^570.
 bool refinable(double u) { return u == 0 || (std::fabs(u) >= 0x1p-200 && std::fabs(u) <= 0x1p200); }
 
-int tangent_root_side(const exact_coefficients& k, double m) { return -sign_of(k.two_b_prime + (k.a * m) * 2.0); }
+RAYVERIFY_CLONED_FOR_FMA int tangent_root_side(const exact_coefficients& k, double m) {
+    return -sign_of(k.two_b_prime + (k.a * m) * 2.0);
+}
 
-int root_side(const exact_coefficients& k, double m, int other_side) {
+RAYVERIFY_CLONED_FOR_FMA int root_side(const exact_coefficients& k, double m, int other_side) {
     const int p = sign_of((k.a * m) * m + k.two_b_prime * m + k.C);  // sign(m − t_i)·sign(m − t_j)
     return -p * -other_side;
 }
@@ -57,7 +64,8 @@ refined_enclosure correction_from(double base, const bounded& numerator, const b
 // itself. Needs both roots' enclosures (hence the filter range for the
 // inputs) and u refinable and nonzero; err = +inf otherwise, or when
 // u − t_j's sign is uncertain (roots too close for the enclosures to part).
-refined_enclosure refine_root(const exact_coefficients& k, const enclosure& root, const enclosure& other) {
+RAYVERIFY_CLONED_FOR_FMA refined_enclosure refine_root(const exact_coefficients& k, const enclosure& root,
+                                                      const enclosure& other) {
     const double u = root.hi;
     if (!known(root) || !known(other) || u == 0 || !refinable(u)) return {};
     const expansion<74> P = (k.a * u) * u + k.two_b_prime * u + k.C;
@@ -66,7 +74,7 @@ refined_enclosure refine_root(const exact_coefficients& k, const enclosure& root
 }
 
 // For a tangent's root t = −b′/a: u − t = (2b′ + 2a·u) / 2a, the numerator exact.
-refined_enclosure refine_tangent_root(const exact_coefficients& k, const enclosure& root) {
+RAYVERIFY_CLONED_FOR_FMA refined_enclosure refine_tangent_root(const exact_coefficients& k, const enclosure& root) {
     const double u = root.hi;
     if (!known(root) || u == 0 || !refinable(u)) return {};
     const expansion<36> numerator = k.two_b_prime + (k.a * u) * 2.0;
@@ -80,7 +88,7 @@ bounded root_difference(const refined_enclosure& t, double value) {
 
 // (value − o − d·u) in double-words, whose operations err relative to the
 // (small) result only, minus d·correction.
-bounded hit_difference(const refined_enclosure& t, double o, double d, double value) {
+RAYVERIFY_CLONED_FOR_FMA bounded hit_difference(const refined_enclosure& t, double o, double d, double value) {
     const bounded residual = exactly(two_sum(value, -o)) - exactly(two_prod(d, t.base));
     return residual - bounded_of(t.correction) * d;
 }

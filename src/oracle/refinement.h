@@ -30,8 +30,14 @@ struct exact_coefficients {
 
 exact_coefficients coefficients_of(const ray_sphere<double>& g);
 
-// sign(Δ′) exactly.
-int discriminant_sign(const ray_sphere<double>& g, const exact_coefficients& k);
+// Δ′ = a·r² − |d × f|² from its exact expansion: its sign, and a
+// double-word approximation whose bound is about 2^−100 of |Δ′| (tight enough
+// for the filter's roots where Δ′ is too near 0 for its own bound).
+struct exact_discriminant {
+    int sign = 0;
+    bounded approximation;
+};
+exact_discriminant discriminant_of(const ray_sphere<double>& g, const exact_coefficients& k);
 
 // Whether a double u may be substituted into the quadratic's expansions:
 // |u| in [2^−200, 2^200] (or 0) keeps every product exact beside the inputs' range.

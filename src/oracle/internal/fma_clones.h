@@ -1,0 +1,16 @@
+// The oracle's hot arithmetic built twice, for FMA hardware and without:
+// std::fma (every two_prod and double-word product) is one instruction on
+// the first and a library call on the other, and the loader picks the clone
+// the CPU runs. Both compute the same bits: every operation is correctly
+// rounded. Flattened, so that the double-word and expansion helpers a
+// function calls are compiled into each clone. clang (the fuzz build)
+// rejects flatten beside target_clones, so it only clones.
+//
+// Private to the oracle's .cpp files (tests/architecture_test.cpp).
+#pragma once
+
+#if defined(__clang__)
+#define RAYVERIFY_CLONED_FOR_FMA __attribute__((target_clones("fma", "default")))
+#else
+#define RAYVERIFY_CLONED_FOR_FMA [[gnu::flatten]] __attribute__((target_clones("fma", "default")))
+#endif

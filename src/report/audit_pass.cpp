@@ -21,9 +21,7 @@ audit_state run_audit_pass(const case_source& next, const std::vector<audit_targ
         states[worker].stability.add(c, s, index);
         if (with_points) states[worker].points.add(c, s, index);
         if (per_case == nullptr) return;
-        nlohmann::ordered_json line = per_case_json(c, targets);
-        add_stability_fields(line, s);
-        lines[slot] = line.dump();
+        lines[slot] = per_case_line(c, targets, s);
     };
     if (per_case != nullptr)
         hooks.ordered = [&](const audited_case&, std::size_t, std::size_t slot) { *per_case << lines[slot] << '\n'; };

@@ -1,5 +1,7 @@
 #include "report/audit_report.h"
 
+#include "report/stability_report.h"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -18,6 +20,15 @@ json json_number(double x) {
     if (std::isnan(x)) return "nan";
     if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
     return x;
+}
+
+void write_number(json_line& out, double x) {
+    if (std::isnan(x))
+        out.value("nan");
+    else if (std::isinf(x))
+        out.value(x > 0 ? "inf" : "-inf");
+    else
+        out.value(x);
 }
 
 json build_json() {
@@ -104,44 +115,43 @@ contract contract_from_json(const json& j) {
 
 namespace {
 
-json exact_json(const exact_solution& e) {
-    json out;
+void write_exact(json_line& out, const exact_solution& e) {
+    out.begin_object();
     if (!e.valid()) {
-        out["invalid"] = invalid_reason_name(e.invalid);
-        return out;
+        out.member("invalid", invalid_reason_name(e.invalid)).end_object();
+        return;
     }
-    out["class"] = line_class_name(e.cls);
+    out.member("class", line_class_name(e.cls));
     if (e.cls != line_class::miss) {
-        out["t_near"] = hex_float(e.near_root.rounded);
-        out["t_far"] = hex_float(e.far_root.rounded);
-        out["near_sign"] = e.near_root.sign;
-        out["far_sign"] = e.far_root.sign;
-    }
-    // Facts of the line, for any contract: each root's point o + t·d, correctly
-    // rounded (which root is "the hit" is each result's "expected").
-    if (e.cls != line_class::miss) {
-        json points = json::object();
+        out.member("t_near", hex_float(e.near_root.rounded));
+        out.member("t_far", hex_float(e.far_root.rounded));
+        out.member("near_sign", e.near_root.sign);
+        out.member("far_sign", e.far_root.sign);
+        // Facts of the line, for any contract: each root's point o + t·d,
+        // correctly rounded (which root is "the hit" is each result's "expected").
+        out.key("hit_points").begin_object();
         for (root_index i : {root_index::near_root, root_index::far_root}) {
-            json point = json::array();
-            for (int axis = 0; axis < 3; ++axis) point.push_back(hex_float(e.rounded_hit_coordinate(i, axis)));
-            points[i == root_index::near_root ? "near" : "far"] = point;
+            out.key(i == root_index::near_root ? "near" : "far").begin_array();
+            for (int axis = 0; axis < 3; ++axis) out.value(hex_float(e.rounded_hit_coordinate(i, axis)));
+            out.end_array();
         }
-        out["hit_points"] = points;
+        out.end_object();
     }
-    return out;
+    out.end_object();
 }
 
 // What a nearest_hit or any_hit contract asks for on this case.
-json expected_json(const contract& promises, const exact_solution& exact, const t_range& range) {
-    if (exact.cls == line_class::miss) return {{"answer", "none"}};
-    const expected_hit want = expect_hit(promises, exact, range);
+void write_expected(json_line& out, const contract& promises, const exact_solution& exact, const t_range& range) {
+    out.begin_object();
+    const expected_hit want = exact.cls == line_class::miss ? expected_hit{} : expect_hit(promises, exact, range);
     switch (want.what) {
-        case expected_hit::kind::none: return {{"answer", "none"}};
-        case expected_hit::kind::clamp: return {{"answer", "clamp"}, {"t", hex_float(want.value)}};
+        case expected_hit::kind::none: out.member("answer", "none"); break;
+        case expected_hit::kind::clamp: out.member("answer", "clamp").member("t", hex_float(want.value)); break;
         case expected_hit::kind::root:
-            return {{"answer", want.root == root_index::near_root ? "near" : "far"}, {"t", hex_float(want.value)}};
+            out.member("answer", want.root == root_index::near_root ? "near" : "far").member("t", hex_float(want.value));
+            break;
     }
-    return {};
+    out.end_object();
 }
 
 // "zero_direction", or "float: not_representable_in_precision" when only float
@@ -259,73 +269,100 @@ json audit_report_json(const audit_totals& totals, const run_context& context) {
     return report;
 }
 
-std::string per_case_json_line(const audited_case& audited, const std::vector<audit_target>& targets) {
-    return per_case_json(audited, targets).dump();
-}
-
-json per_case_json(const audited_case& audited, const std::vector<audit_target>& targets) {
+std::string per_case_line(const audited_case& audited, const std::vector<audit_target>& targets,
+                          const case_stability& stability) {
     const corpus_case& c = *audited.source;
     const auto& g = c.geometry;
-    json line;
-    line["schema_version"] = schema_version::per_case;
-    line["id"] = c.id;
-    if (!c.family.empty()) line["family"] = c.family;
-    line["source"] = c.source;
-    line["input"] = {{"o", {hex_float(g.origin.x), hex_float(g.origin.y), hex_float(g.origin.z)}},
-                     {"d", {hex_float(g.direction.x), hex_float(g.direction.y), hex_float(g.direction.z)}},
-                     {"c", {hex_float(g.centre.x), hex_float(g.centre.y), hex_float(g.centre.z)}},
-                     {"r", hex_float(g.radius)}};
-    line["exact"] = exact_json(audited.exact_double);
-    if (audited.exact_float) line["exact_float"] = exact_json(*audited.exact_float);
+    json_line line;
+    line.begin_object();
+    line.member("schema_version", schema_version::per_case);
+    line.member("id", c.id);
+    if (!c.family.empty()) line.member("family", c.family);
+    line.member("source", c.source);
+    const auto hex_all = [&](const auto& values) {
+        line.begin_array();
+        for (double v : values) line.value(hex_float(v));
+        line.end_array();
+    };
+    const auto hex_vec = [&](const vec3<double>& v) { hex_all(std::array<double, 3>{v.x, v.y, v.z}); };
+    line.key("input").begin_object();
+    line.key("o");
+    hex_vec(g.origin);
+    line.key("d");
+    hex_vec(g.direction);
+    line.key("c");
+    hex_vec(g.centre);
+    line.member("r", hex_float(g.radius)).end_object();
+    line.key("exact");
+    write_exact(line, audited.exact_double);
+    if (audited.exact_float) {
+        line.key("exact_float");
+        write_exact(line, *audited.exact_float);
+    }
 
-    json results = json::object();
+    line.key("results").begin_object();
     for (std::size_t i = 0; i < targets.size(); ++i) {
         const target_outcome& o = audited.outcomes[i];
-        json r = {{"verdict", std::string(verdict_name(o.score.verdict))}};
+        line.key(targets[i].label()).begin_object();
+        line.member("verdict", verdict_name(o.score.verdict));
         const bool ran = o.score.verdict != verdict_kind::invalid && o.score.verdict != verdict_kind::contract_violation;
-        if (o.score.cause) r["cause"] = std::string(cause_name(*o.score.cause));
+        if (o.score.cause) line.member("cause", cause_name(*o.score.cause));
         if (ran) {
             const contract& promises = targets[i].subject.promises;
             const exact_solution& exact = audited.exact_for(targets[i].prec);
-            r["range"] = format_range(o.range);
-            if (promises.query != query_kind::line_roots) r["expected"] = expected_json(promises, exact, o.range);
+            line.member("range", format_range(o.range));
+            if (promises.query != query_kind::line_roots) {
+                line.key("expected");
+                write_expected(line, promises, exact, o.range);
+            }
             // Every value the judge looked at: both roots of a line answer (a
             // count-1 tangent's t1 included), the one root of a nearest hit.
-            r["count"] = o.output.roots.count;
+            line.member("count", o.output.roots.count);
             if (o.output.roots.count > 0 && promises.query != query_kind::any_hit) {
-                r["t0"] = hex_float(o.output.roots.t0);
-                if (promises.query == query_kind::line_roots) r["t1"] = hex_float(o.output.roots.t1);
+                line.member("t0", hex_float(o.output.roots.t0));
+                if (promises.query == query_kind::line_roots) line.member("t1", hex_float(o.output.roots.t1));
             }
             // The outputs beside t, as given (judged: bound_width_ulp, normal_angle, unsound_bound).
-            const auto hex_all = [](const auto& values) {
-                json out = json::array();
-                for (double v : values) out.push_back(hex_float(v));
-                return out;
-            };
-            const auto hex_vec = [&](const vec3<double>& v) { return hex_all(std::array<double, 3>{v.x, v.y, v.z}); };
             if (o.output.t_bounds) {
-                r["t0_bounds"] = hex_all((*o.output.t_bounds)[0]);
-                r["t1_bounds"] = hex_all((*o.output.t_bounds)[1]);
+                line.key("t0_bounds");
+                hex_all((*o.output.t_bounds)[0]);
+                line.key("t1_bounds");
+                hex_all((*o.output.t_bounds)[1]);
             }
-            if (o.output.point_error) r["point_error"] = hex_vec(*o.output.point_error);
-            if (o.output.normal) r["normal"] = hex_vec(*o.output.normal);
+            if (o.output.point_error) {
+                line.key("point_error");
+                hex_vec(*o.output.point_error);
+            }
+            if (o.output.normal) {
+                line.key("normal");
+                hex_vec(*o.output.normal);
+            }
         }
-        if (o.score.near_ulp) r["near_ulp"] = json_number(*o.score.near_ulp);
-        if (o.score.far_ulp) r["far_ulp"] = json_number(*o.score.far_ulp);
-        if (o.score.near_bits) r["near_bits"] = json_number(*o.score.near_bits);
+        const auto figure = [&](const char* name, const std::optional<double>& x) {
+            if (!x) return;
+            line.key(name);
+            write_number(line, *x);
+        };
+        figure("near_ulp", o.score.near_ulp);
+        figure("far_ulp", o.score.far_ulp);
+        figure("near_bits", o.score.near_bits);
         if (o.score.hit_point_ulp) {
-            const auto& e = *o.score.hit_point_ulp;
-            r["hit_point_ulp"] = {json_number(e[0]), json_number(e[1]), json_number(e[2])};
+            line.key("hit_point_ulp").begin_array();
+            for (const double e : *o.score.hit_point_ulp) write_number(line, e);
+            line.end_array();
         }
-        if (o.score.scale_error_radius) r["scale_error_radius"] = json_number(*o.score.scale_error_radius);
-        if (o.score.scale_error_distance) r["scale_error_distance"] = json_number(*o.score.scale_error_distance);
-        if (o.score.bound_ulp) r["bound_width_ulp"] = json_number(*o.score.bound_ulp);
-        if (o.score.normal_angle) r["normal_angle"] = json_number(*o.score.normal_angle);
-        if (!o.score.detail.empty()) r["detail"] = o.score.detail;
-        results[targets[i].label()] = r;
+        figure("scale_error_radius", o.score.scale_error_radius);
+        figure("scale_error_distance", o.score.scale_error_distance);
+        figure("bound_width_ulp", o.score.bound_ulp);
+        figure("normal_angle", o.score.normal_angle);
+        if (!o.score.detail.empty()) line.member("detail", o.score.detail);
+        line.end_object();
     }
-    line["results"] = results;
-    return line;
+    line.end_object();
+    line.key("stability");
+    write_stability_measures(line, stability);
+    line.end_object();
+    return line.text();
 }
 
 }  // namespace rayverify

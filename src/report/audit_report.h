@@ -8,6 +8,8 @@
 #include <vector>
 
 #include "compare/audit.h"
+#include "compare/stability.h"
+#include "report/json_line.h"
 
 namespace rayverify {
 
@@ -29,16 +31,19 @@ std::string render_summary_table(const audit_totals& totals);
 // The machine-readable report (report.json).
 nlohmann::ordered_json audit_report_json(const audit_totals& totals, const run_context& context);
 
-// One line of --per-case output (no trailing newline).
-std::string per_case_json_line(const audited_case& audited, const std::vector<audit_target>& targets);
-// The same object before it is serialised (callers may add fields).
-nlohmann::ordered_json per_case_json(const audited_case& audited, const std::vector<audit_target>& targets);
+// One line of --per-case output (no trailing newline): the case, its exact
+// answers, every target's result and the case's stability measures, written
+// field by field (report/json_line.h) as nlohmann would dump the same object.
+std::string per_case_line(const audited_case& audited, const std::vector<audit_target>& targets,
+                          const case_stability& stability);
 
 // What the p99 and median of every error statistic are (written beside them).
 extern const char* const quantile_scope;
 
 // A finite double as a JSON number, ±inf and NaN as strings ("inf", "-inf", "nan").
 nlohmann::ordered_json json_number(double x);
+// The same value written to a line.
+void write_number(json_line& out, double x);
 
 // A contract as report.json and shard states record it: its spec
 // (format_contract), tangent rule and meaning; and back (a spec that does not

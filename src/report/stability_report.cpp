@@ -67,16 +67,6 @@ json tally_json(const stability_tally& t) {
     return out;
 }
 
-json measures_json(const stability_measures& m) {
-    if (!m.valid) return {{"invalid", true}};
-    return {{"near_condition", optional_number(m.near_condition)},
-            {"far_condition", optional_number(m.far_condition)},
-            {"condition_bucket", condition_bucket_label(condition_bucket(m))},
-            {"tangency_distance", json_number(m.tangency_distance)},
-            {"tangency_margin", json_number(m.tangency_margin)},
-            {"distance_ratio", json_number(m.distance_ratio)}};
-}
-
 std::string precision_label(const std::vector<std::string>& labels, const std::vector<audit_target>& targets,
                             std::size_t i) {
     return i < labels.size() ? labels[i] : precision_name(targets[i].prec);
@@ -122,11 +112,34 @@ json stability_json(const audit_totals& totals, const stability_totals& stabilit
     return out;
 }
 
-void add_stability_fields(json& line, const case_stability& s) {
-    json measures = json::object();
-    if (s.at_float) measures["float"] = measures_json(*s.at_float);
-    if (s.at_double) measures["double"] = measures_json(*s.at_double);
-    line["stability"] = measures;
+void write_stability_measures(json_line& out, const case_stability& s) {
+    out.begin_object();
+    for (const auto& [name, measures] : {std::pair{"float", &s.at_float}, std::pair{"double", &s.at_double}}) {
+        if (!*measures) continue;
+        const stability_measures& m = **measures;
+        out.key(name).begin_object();
+        if (!m.valid) {
+            out.member("invalid", true).end_object();
+            continue;
+        }
+        const auto optional = [&](const std::optional<double>& x) {
+            if (x) write_number(out, *x);
+            else out.null();
+        };
+        out.key("near_condition");
+        optional(m.near_condition);
+        out.key("far_condition");
+        optional(m.far_condition);
+        out.member("condition_bucket", condition_bucket_label(condition_bucket(m)));
+        out.key("tangency_distance");
+        write_number(out, m.tangency_distance);
+        out.key("tangency_margin");
+        write_number(out, m.tangency_margin);
+        out.key("distance_ratio");
+        write_number(out, m.distance_ratio);
+        out.end_object();
+    }
+    out.end_object();
 }
 
 case_points::case_points(std::vector<audit_target> targets, std::vector<std::string> labels)

@@ -12,6 +12,7 @@
 
 #include "bench/timing.h"
 #include "compare/audit.h"
+#include "report/json_line.h"
 #include "compare/stability.h"
 
 namespace rayverify {
@@ -23,9 +24,9 @@ namespace rayverify {
 nlohmann::ordered_json stability_json(const audit_totals& totals, const stability_totals& stability,
                                       const std::vector<std::string>& precision_labels = {});
 
-// Adds "stability" (per precision in use) to one per-case JSON object built
-// by per_case_json (which carries each result's verdict and cause).
-void add_stability_fields(nlohmann::ordered_json& line, const case_stability& s);
+// A case's stability measures per precision in use, as the value of a
+// per-case line's "stability" (per_case_line carries each result's verdict and cause).
+void write_stability_measures(json_line& out, const case_stability& s);
 
 // Column-oriented per-case values for the plots: family, distance ratio,
 // κ at float and double, and per target label the verdict and near-root ulps.

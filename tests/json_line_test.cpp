@@ -1,0 +1,109 @@
+// json_line writes what nlohmann::ordered_json::dump() writes for the same
+// document, byte for byte: numbers (Grisu2 shortest round trip), escapes,
+// nesting and member order; and every per-case line of an audit of the
+// shipped corpus is a document nlohmann dumps to the same bytes.
+#include <gtest/gtest.h>
+
+#include <bit>
+#include <cstdint>
+#include <cstdio>
+#include <limits>
+#include <random>
+
+#include "compare/audit.h"
+#include "compare/stability.h"
+#include "corpus/case_stream.h"
+#include "intersectors/registry.h"
+#include "report/audit_report.h"
+#include "report/json_line.h"
+
+namespace rayverify {
+namespace {
+
+using json = nlohmann::ordered_json;
+
+TEST(JsonLine, NumbersAreWrittenAsNlohmannWritesThem) {
+    const std::uint64_t seed = std::random_device{}();
+    std::printf("seed %llu\n", static_cast<unsigned long long>(seed));
+    std::mt19937_64 rng(seed);
+    std::vector<double> values = {0.0,   -0.0,  1.0,     -1.0,   0.1,    1e-5,   1e21,   1e22,  123456789.0,
+                                  1e300, 1e-300, 5e-324, 2.2250738585072014e-308, std::numeric_limits<double>::max(),
+                                  0.5,   3.0,   1e15,    1e16,   1e17,   -2.5e-7};
+    for (int i = 0; i < 100000; ++i) {
+        const double x = std::bit_cast<double>(rng());
+        if (std::isfinite(x)) values.push_back(x);
+        values.push_back(std::ldexp(static_cast<double>(rng() >> 11), static_cast<int>(rng() % 120) - 60));
+    }
+    for (const double x : values) {
+        json_line line;
+        line.value(x);
+        ASSERT_EQ(line.text(), json(x).dump()) << std::hexfloat << x;
+    }
+    for (const double x : {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::quiet_NaN()}) {
+        json_line line;
+        line.value(x);
+        EXPECT_EQ(line.text(), json(x).dump());
+    }
+}
+
+TEST(JsonLine, StringsNestingAndOrderAreWrittenAsNlohmannWritesThem) {
+    const std::string awkward = std::string("quote \" backslash \\ tab \t newline \n cr \r bs \b ff \f nul ") +
+                                std::string(1, '\0') + " unit \x1f del \x7f utf-8 t* ≈ 5, κ·u";
+    json_line line;
+    line.begin_object()
+        .member("text", awkward)
+        .member("count", -3)
+        .member("big", std::size_t{18446744073709551615ull})
+        .member("yes", true)
+        .key("none")
+        .null()
+        .key("empty")
+        .begin_object()
+        .end_object()
+        .key("list")
+        .begin_array()
+        .value(1.5)
+        .begin_array()
+        .end_array()
+        .begin_object()
+        .member("a", "b")
+        .end_object()
+        .value("x")
+        .end_array()
+        .member(awkward, 2.0)
+        .end_object();
+    json want;
+    want["text"] = awkward;
+    want["count"] = -3;
+    want["big"] = std::size_t{18446744073709551615ull};
+    want["yes"] = true;
+    want["none"] = nullptr;
+    want["empty"] = json::object();
+    want["list"] = json::array({1.5, json::array(), json{{"a", "b"}}, "x"});
+    want[awkward] = 2.0;
+    EXPECT_EQ(line.text(), want.dump());
+}
+
+// Every per-case line of the shipped corpus, with every built-in variant:
+// nlohmann reads it and writes the same bytes back.
+TEST(JsonLine, PerCaseLinesOfTheShippedCorpusAreNlohmannsBytes) {
+    const std::vector<audit_target> targets = targets_for(builtin_variants());
+    case_stream stream(std::vector<std::filesystem::path>{RAYVERIFY_CORPUS_DIR}, {});
+    std::vector<corpus_case> chunk;
+    std::vector<std::size_t> indices;
+    std::size_t lines = 0;
+    while (stream.next(chunk, indices)) {
+        for (const corpus_case& c : chunk) {
+            const audited_case audited = audit_case(c, targets);
+            const std::string line = per_case_line(audited, targets, assess_case(audited));
+            ASSERT_EQ(json::parse(line).dump(), line) << c.id;
+            ++lines;
+        }
+        chunk.clear();
+        indices.clear();
+    }
+    EXPECT_GT(lines, 2000u);
+}
+
+}  // namespace
+}  // namespace rayverify

@@ -129,6 +129,23 @@ TEST(HexFloat, RoundTripsRandomBitPatterns) {
     }
 }
 
+// The same text as C's %a (through fmt's {:a}) for every class of double:
+// random bit patterns (NaNs with payloads and either sign among them),
+// subnormals, powers of two and the boundary values.
+TEST(HexFloat, IsTheTextOfPrintfsPercentA) {
+    const unsigned seed = 20261126;
+    std::mt19937_64 bits(seed);
+    std::vector<double> values(boundary_values.begin(), boundary_values.end());
+    for (int i = 0; i < 200000; ++i) values.push_back(std::bit_cast<double>(bits()));
+    for (int i = 0; i < 20000; ++i) values.push_back(std::bit_cast<double>(bits() >> 12));  // subnormals
+    for (int e = -1074; e <= 1023; ++e) values.push_back(std::ldexp(1.0, e));
+    for (std::size_t i = 0; i < values.size(); ++i) {
+        const double x = values[i];
+        ASSERT_EQ(hex_float(x), fmt::format("{:a}", x)) << "seed " << seed << " value " << i;
+        ASSERT_EQ(hex_float(-x), fmt::format("{:a}", -x)) << "seed " << seed << " value " << i;
+    }
+}
+
 TEST(HexFloat, TextForms) {
     EXPECT_EQ(hex_float(3.0), "0x1.8p+1");
     EXPECT_EQ(hex_float(-0.0), "-0x0p+0");

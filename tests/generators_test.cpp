@@ -6,14 +6,17 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <algorithm>
 #include <iostream>
 #include <limits>
+#include <random>
 #include <utility>
 #include <set>
 #include <string>
 
 #include "core/input_error.h"
+#include "corpus/mersenne_twister.h"
 #include "oracle/oracle.h"
 
 namespace rayverify {
@@ -87,6 +90,22 @@ constexpr std::uint64_t oracle_seed = 20240611;
 
 // ---------------------------------------------------------------------------
 // The family table and errors.
+
+// The generators' engine draws std::mt19937_64's sequence, before and after
+// it hands over to the standard engine (output 157 on), for seeds at the ends
+// of the range and random ones.
+TEST(LazilySeededMersenneTwister, DrawsStdMt19937_64sSequence) {
+    const std::uint64_t seed = std::random_device{}();
+    std::printf("seed %llu\n", static_cast<unsigned long long>(seed));
+    std::mt19937_64 seeds(seed);
+    std::vector<std::uint64_t> engine_seeds = {0, 1, 5489, ~std::uint64_t{0}};
+    for (int i = 0; i < 300; ++i) engine_seeds.push_back(seeds());
+    for (const std::uint64_t s : engine_seeds) {
+        std::mt19937_64 standard(s);
+        lazily_seeded_mt19937_64 lazy(s);
+        for (int draw = 0; draw < 700; ++draw) ASSERT_EQ(lazy(), standard()) << "engine seed " << s << " draw " << draw;
+    }
+}
 
 TEST(Generators, FamiliesAreNamedAndDescribedOnce) {
     std::set<std::string_view> names;

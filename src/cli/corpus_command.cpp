@@ -1,5 +1,6 @@
 #include <fmt/format.h>
 
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -27,11 +28,12 @@ int generate(const generate_options& options) {
         generate_family(options.family, 0, options.seed);  // throws the unknown-family error
     run_outputs outputs;
     output_file* file = options.output.empty() ? nullptr : &outputs.file(options.output, "-o");
-    const std::string text = generated_corpus_text(options.family, options.count, options.seed);
-    if (file == nullptr)
-        fmt::print("{}", text);
-    else
-        file->stream() << text;
+    write_generated_corpus(options.family, options.count, options.seed, [&](std::string_view piece) {
+        if (file == nullptr)
+            std::fwrite(piece.data(), 1, piece.size(), stdout);
+        else
+            file->stream() << piece;
+    });
     check_standard_output();
     outputs.commit();
     return exit_ok;

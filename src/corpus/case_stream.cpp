@@ -178,10 +178,12 @@ bool case_stream::next_generated(std::vector<corpus_case>& cases, std::vector<st
         std::size_t i = spec_position_;
         const std::size_t wanted = shard_.index - 1;
         i += (wanted + shard_.count - (offset + i) % shard_.count) % shard_.count;
-        for (; i < spec.count && cases.size() < chunk_; i += shard_.count) {
-            cases.push_back(generate_case(spec.family, spec.seed, i));
+        std::vector<std::size_t> local;
+        for (; i < spec.count && cases.size() + local.size() < chunk_; i += shard_.count) {
+            local.push_back(i);
             indices.push_back(offset + i);
         }
+        append_generated_cases(spec.family, spec.seed, local, cases);
         spec_position_ = std::min(i, spec.count);
         if (spec_position_ == spec.count) {
             total_ += spec.count;

@@ -402,14 +402,45 @@ double parse_exact_double(std::string_view token, const std::string& file, std::
     return negative ? -value : value;
 }
 
+void append_hex_float(std::string& out, double x) {
+    // At most "-0x1.fffffffffffffp-1022": 24 characters, formed in place.
+    char text[32];
+    char* at = text;
+    if (std::signbit(x)) *at++ = '-';
+    const auto put = [&](std::string_view s) {
+        for (const char ch : s) *at++ = ch;
+    };
+    const std::uint64_t bits = std::bit_cast<std::uint64_t>(x);
+    const int biased = static_cast<int>((bits >> 52) & 0x7FF);
+    std::uint64_t fraction = bits & ((std::uint64_t{1} << 52) - 1);
+    if (std::isnan(x)) {
+        put("nan");
+    } else if (std::isinf(x)) {
+        put("inf");
+    } else if (biased == 0 && fraction == 0) {
+        put("0x0p+0");
+    } else {
+        // Normal: 0x1.<fraction>p<e>; subnormal: 0x0.<fraction>p-1022 (as C's
+        // %a prints them), the fraction's trailing zero digits left out.
+        put(biased == 0 ? "0x0" : "0x1");
+        if (fraction != 0) {
+            *at++ = '.';
+            constexpr char digits[] = "0123456789abcdef";
+            for (int shift = 48; fraction != 0; shift -= 4) {
+                *at++ = digits[(fraction >> shift) & 0xF];
+                fraction &= (std::uint64_t{1} << shift) - 1;
+            }
+        }
+        const int exponent = biased == 0 ? -1022 : biased - 1023;
+        put(exponent < 0 ? "p-" : "p+");
+        at = std::to_chars(at, text + sizeof text, exponent < 0 ? -exponent : exponent).ptr;
+    }
+    out.append(text, static_cast<std::size_t>(at - text));
+}
+
 std::string hex_float(double x) {
-    std::string text = fmt::format("{:a}", x);
-    const double back = parse_exact_double(text, "hex_float", 0, "");
-    const bool same = std::isnan(x)
-                          ? std::isnan(back) && std::signbit(back) == std::signbit(x)
-                          : std::bit_cast<std::uint64_t>(back) == std::bit_cast<std::uint64_t>(x);
-    if (!same)
-        throw std::logic_error(fmt::format("hex_float: '{}' does not read back as {}", text, x));
+    std::string text;
+    append_hex_float(text, x);
     return text;
 }
 
@@ -423,13 +454,24 @@ std::string format_case_line(const corpus_case& c) {
         throw input_error(c.source, 0, "family",
                           fmt::format("cannot be written as one token: '{}'", c.family));
     const auto& g = c.geometry;
-    std::string line = fmt::format("{} {}", c.id, c.family.empty() ? "-" : c.family);
+    std::string line;
+    line.reserve(c.id.size() + c.family.size() + 12 * 24);
+    line += c.id;
+    line += ' ';
+    line += c.family.empty() ? "-" : c.family;
     for (double v : {g.origin.x, g.origin.y, g.origin.z, g.direction.x, g.direction.y,
-                     g.direction.z, g.centre.x, g.centre.y, g.centre.z, g.radius})
-        line += ' ' + hex_float(v);
+                     g.direction.z, g.centre.x, g.centre.y, g.centre.z, g.radius}) {
+        line += ' ';
+        append_hex_float(line, v);
+    }
     if (c.tmin || c.tmax)
-        for (const auto& bound : {c.tmin, c.tmax})
-            line += ' ' + (bound ? hex_float(*bound) : std::string("-"));
+        for (const auto& bound : {c.tmin, c.tmax}) {
+            line += ' ';
+            if (bound)
+                append_hex_float(line, *bound);
+            else
+                line += '-';
+        }
     return line;
 }
 

@@ -39,8 +39,11 @@ double parse_exact_double(std::string_view token, const std::string& file, std::
                           const std::string& field);
 
 // The text format of a double that reads back bit-exactly: C99 hex float like
-// "0x1.8p+1", "-0x0p+0", "inf", "-inf", "nan".
+// "0x1.8p+1", "-0x0p+0", "inf", "-inf", "nan" (C's %a, written from the bits;
+// tests/corpus_io_test.cpp checks it against printf's and parse_exact_double).
 std::string hex_float(double x);
+// The same, appended to `out`.
+void append_hex_float(std::string& out, double x);
 
 // Shortest round-trip decimal, e.g. "0.1", "5e-324".
 std::string shortest_decimal(double x);

@@ -1,14 +1,18 @@
 #include "corpus/generators.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
+#include <optional>
+#include <span>
 #include <random>
 #include <type_traits>
 #include <string>
 #include <utility>
 
 #include "core/input_error.h"
+#include "corpus/mersenne_twister.h"
 
 namespace rayverify {
 
@@ -17,7 +21,7 @@ namespace {
 using v3 = vec3<double>;
 
 // ---------------------------------------------------------------------------
-// Randomness: raw mt19937_64 outputs, converted by hand.
+// Randomness: raw mt19937_64 outputs (corpus/mersenne_twister.h), converted by hand.
 
 std::uint64_t splitmix64(std::uint64_t x) {
     std::uint64_t z = x + 0x9e3779b97f4a7c15ULL;
@@ -58,8 +62,15 @@ public:
 
     bool coin() { return (engine_() >> 63) != 0; }
 
+    // Several sources' engines seeded side by side, before any draws.
+    static void seed_together(std::span<random_source* const> sources) {
+        std::array<lazily_seeded_mt19937_64*, 8> engines{};
+        for (std::size_t k = 0; k < sources.size(); ++k) engines[k] = &sources[k]->engine_;
+        lazily_seeded_mt19937_64::seed_together(std::span(engines.data(), sources.size()));
+    }
+
 private:
-    std::mt19937_64 engine_;
+    lazily_seeded_mt19937_64 engine_;
 };
 
 // Uniform in the cube [lo, hi)^3, components drawn x, then y, then z.
@@ -788,9 +799,8 @@ const family_info& known_family(std::string_view family) {
     return *info;
 }
 
-corpus_case make_case(const family_info& info, std::uint64_t seed, std::size_t index) {
+corpus_case make_case(const family_info& info, std::uint64_t seed, std::size_t index, random_source& g) {
     const maker make = makers[static_cast<std::size_t>(&info - families.data())];
-    random_source g(info.name, seed, index);
     corpus_case c;
     c.id = case_id(info.name, seed, index);
     c.family = std::string(info.name);
@@ -799,14 +809,35 @@ corpus_case make_case(const family_info& info, std::uint64_t seed, std::size_t i
     return c;
 }
 
+corpus_case make_case(const family_info& info, std::uint64_t seed, std::size_t index) {
+    random_source g(info.name, seed, index);
+    return make_case(info, seed, index, g);
+}
+
 }  // namespace
+
+void append_generated_cases(std::string_view family, std::uint64_t seed, std::span<const std::size_t> indices,
+                            std::vector<corpus_case>& out) {
+    const family_info& info = known_family(family);
+    constexpr std::size_t together = 4;
+    for (std::size_t first = 0; first < indices.size(); first += together) {
+        const std::size_t n = std::min(together, indices.size() - first);
+        std::array<std::optional<random_source>, together> sources;
+        std::array<random_source*, together> seeded{};
+        for (std::size_t k = 0; k < n; ++k) seeded[k] = &sources[k].emplace(info.name, seed, indices[first + k]);
+        random_source::seed_together(std::span(seeded.data(), n));
+        for (std::size_t k = 0; k < n; ++k) out.push_back(make_case(info, seed, indices[first + k], *seeded[k]));
+    }
+}
 
 std::vector<corpus_case> generate_family(std::string_view family, std::size_t count,
                                          std::uint64_t seed) {
     const family_info& info = known_family(family);
+    std::vector<std::size_t> indices(count);
+    for (std::size_t i = 0; i < count; ++i) indices[i] = i;
     std::vector<corpus_case> cases;
     cases.reserve(count);
-    for (std::size_t i = 0; i < count; ++i) cases.push_back(make_case(info, seed, i));
+    append_generated_cases(info.name, seed, indices, cases);
     return cases;
 }
 

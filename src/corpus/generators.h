@@ -49,4 +49,10 @@ std::vector<corpus_case> generate_family(std::string_view family, std::size_t co
 // Case `index` of generate_family(family, n, seed) for any n > index, alone.
 corpus_case generate_case(std::string_view family, std::uint64_t seed, std::size_t index);
 
+// Cases `indices` of generate_family(family, n, seed), appended to `out` in
+// that order: the cases generate_case makes, several at a time (the random
+// engines of four cases seeded side by side).
+void append_generated_cases(std::string_view family, std::uint64_t seed, std::span<const std::size_t> indices,
+                            std::vector<corpus_case>& out);
+
 }  // namespace rayverify

@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -35,6 +36,10 @@ std::vector<manifest_entry> read_manifest(const std::filesystem::path& path);
 // The exact bytes `rayverify corpus generate --family F --count N --seed S`
 // writes: the column header, three provenance comments, one line per case.
 std::string generated_corpus_text(std::string_view family, std::size_t count, std::uint64_t seed);
+// The same bytes handed to `write` in pieces of about 64 KiB, each case
+// generated as its line is written: memory does not grow with the count.
+void write_generated_corpus(std::string_view family, std::size_t count, std::uint64_t seed,
+                            const std::function<void(std::string_view)>& write);
 
 // Where two texts first differ, by line (1-based); nullopt when identical.
 // A missing final line shows as an empty string.

@@ -340,9 +340,9 @@ unsigned audit_threads(const std::vector<audit_target>& targets, unsigned reques
 audit_accumulator audit_stream(const case_source& next, const std::vector<audit_target>& targets, unsigned threads,
                                const audit_hooks& hooks) {
     threads = audit_threads(targets, threads);
-    std::vector<audit_accumulator> accumulators(threads, audit_accumulator(targets));
-    std::vector<corpus_case> cases;
-    std::vector<std::size_t> indices;
+    std::vector<per_worker<audit_accumulator>> accumulators(threads, {audit_accumulator(targets)});
+    std::vector<corpus_case> cases, next_cases;
+    std::vector<std::size_t> indices, next_indices;
     std::vector<audited_case> audited;
     std::vector<std::vector<given_answer>> ahead;  // batch calls' answers for the chunk (plugins of ABI v2)
     // Workers take small runs of the chunk's cases from a shared counter:
@@ -358,15 +358,16 @@ audit_accumulator audit_stream(const case_source& next, const std::vector<audit_
             for (std::size_t i = begin; i < std::min(begin + grain, cases.size()); ++i) {
                 audited_case& c = hooks.ordered ? audited[i] : own;
                 c = ahead.empty() ? audit_case(cases[i], targets) : audit_case(cases[i], targets, ahead[i]);
-                accumulators[worker].add(c, indices[i]);
+                accumulators[worker].state.add(c, indices[i]);
                 if (hooks.parallel) hooks.parallel(c, indices[i], i, worker);
             }
     };
 
     // The helper threads live for the whole stream and meet the calling
-    // thread at a barrier before and after each chunk; the calling thread
-    // reads the next chunk and runs the ordered hook between chunks. Only
-    // plugins may throw (they force one thread, so no helper waits then).
+    // thread at a barrier before and after each chunk. The calling thread
+    // reads the following chunk while the helpers start on this one (then
+    // joins them), and runs the ordered hook between chunks. Only plugins
+    // may throw during the work (they force one thread, so no helper waits then).
     std::barrier chunk_sync(static_cast<std::ptrdiff_t>(threads));
     bool finished = false;
     std::vector<std::jthread> helpers;
@@ -381,12 +382,20 @@ audit_accumulator audit_stream(const case_source& next, const std::vector<audit_
         });
     std::size_t done = 0;
     std::exception_ptr failure;
+    const auto read_next = [&] {
+        next_cases.clear();
+        next_indices.clear();
+        return next(next_cases, next_indices);
+    };
     try {
-        while (true) {
-            cases.clear();
-            indices.clear();
-            if (!next(cases, indices)) break;
-            if (cases.empty()) continue;
+        bool more = read_next();
+        while (more) {
+            std::swap(cases, next_cases);
+            std::swap(indices, next_indices);
+            if (cases.empty()) {
+                more = read_next();
+                continue;
+            }
             audited.resize(hooks.ordered ? cases.size() : 0);
             claimed = 0;
             try {
@@ -396,6 +405,14 @@ audit_accumulator audit_stream(const case_source& next, const std::vector<audit_
                 break;
             }
             if (threads > 1) chunk_sync.arrive_and_wait();
+            // A chunk that cannot be read fails the run once this one is done.
+            std::exception_ptr read_failure;
+            try {
+                more = read_next();
+            } catch (...) {
+                read_failure = std::current_exception();
+                more = false;
+            }
             try {
                 work(0);
             } catch (...) {
@@ -407,6 +424,10 @@ audit_accumulator audit_stream(const case_source& next, const std::vector<audit_
                 for (std::size_t i = 0; i < cases.size(); ++i) hooks.ordered(audited[i], indices[i], i);
             done += cases.size();
             if (hooks.progress) hooks.progress(done);
+            if (read_failure) {
+                failure = read_failure;
+                break;
+            }
         }
     } catch (...) {  // from next() or a hook, between chunks: the helpers wait for a chunk
         failure = std::current_exception();
@@ -415,8 +436,8 @@ audit_accumulator audit_stream(const case_source& next, const std::vector<audit_
     if (threads > 1) chunk_sync.arrive_and_wait();
     helpers.clear();  // joined
     if (failure) std::rethrow_exception(failure);
-    for (unsigned w = 1; w < threads; ++w) accumulators[0].merge(accumulators[w]);
-    return std::move(accumulators[0]);
+    for (unsigned w = 1; w < threads; ++w) accumulators[0].state.merge(accumulators[w].state);
+    return std::move(accumulators[0].state);
 }
 
 audit_totals run_audit(std::span<const corpus_case> cases, const std::vector<audit_target>& targets,

@@ -225,6 +225,14 @@ private:
 // The family name a case is tallied under ("-" when unknown).
 std::string family_key(const corpus_case& c);
 
+// One worker's state, on cache lines of its own: a worker's accumulators
+// change with every case, and two workers' sharing a line would pass it back
+// and forth between their cores.
+template <class T>
+struct alignas(64) per_worker {
+    T state;
+};
+
 // The streaming audit. `next` fills the next chunk of cases (bounded, e.g. a
 // few thousand) with their global indices in the whole input and returns
 // false when there are none left. Each chunk is audited on `threads` threads

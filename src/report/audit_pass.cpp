@@ -13,25 +13,26 @@ audit_state run_audit_pass(const case_source& next, const std::vector<audit_targ
                            bool with_points, std::ostream* per_case,
                            const std::function<void(std::size_t done)>& progress) {
     // Per thread: the state, and the chunk's rendered per-case lines (written in order).
-    std::vector<audit_state> states(threads, audit_state(targets));
+    std::vector<per_worker<audit_state>> workers(threads, {audit_state(targets)});
     std::vector<std::string> lines(per_case != nullptr ? case_stream::default_chunk : 0);
     audit_hooks hooks;
     hooks.parallel = [&](const audited_case& c, std::size_t index, std::size_t slot, unsigned worker) {
         const case_stability s = assess_case(c);
-        states[worker].stability.add(c, s, index);
-        if (with_points) states[worker].points.add(c, s, index);
+        workers[worker].state.stability.add(c, s, index);
+        if (with_points) workers[worker].state.points.add(c, s, index);
         if (per_case == nullptr) return;
         lines[slot] = per_case_line(c, targets, s);
     };
     if (per_case != nullptr)
         hooks.ordered = [&](const audited_case&, std::size_t, std::size_t slot) { *per_case << lines[slot] << '\n'; };
     hooks.progress = progress;
-    states[0].audit = audit_stream(next, targets, threads, hooks);
+    audit_state& state = workers[0].state;
+    state.audit = audit_stream(next, targets, threads, hooks);
     for (unsigned w = 1; w < threads; ++w) {
-        states[0].stability.merge(states[w].stability);
-        states[0].points.merge(states[w].points);
+        state.stability.merge(workers[w].state.stability);
+        state.points.merge(workers[w].state.points);
     }
-    return std::move(states[0]);
+    return std::move(state);
 }
 
 }  // namespace rayverify

@@ -73,12 +73,31 @@ std::vector<double> probes(double rounded, precision p, std::mt19937_64& rng) {
     return out;
 }
 
+// A filtered route and its reference: the oracle's own, and the unit-direction
+// idealisation's (a taken to be 1; it has no interval).
+struct route {
+    const char* name;
+    exact_solution (*fast)(const ray_sphere<double>&, precision, std::optional<double>, std::optional<double>);
+    exact_solution (*reference)(const ray_sphere<double>&, precision, std::optional<double>, std::optional<double>);
+};
+
+const route routes[] = {
+    {"solve_exact", solve_exact, solve_exact_reference},
+    {"solve_exact_unit_direction",
+     [](const ray_sphere<double>& g, precision p, std::optional<double>, std::optional<double>) {
+         return solve_exact_unit_direction(g, p);
+     },
+     [](const ray_sphere<double>& g, precision p, std::optional<double>, std::optional<double>) {
+         return solve_exact_unit_direction_reference(g, p);
+     }},
+};
+
 // Fast and reference solutions of one case agree on every field and query.
-testing::AssertionResult identical(const ray_sphere<double>& g, precision p, std::optional<double> tmin,
-                                   std::optional<double> tmax, bool with_queries, std::mt19937_64& rng,
-                                   comparison_tally& tally) {
-    const exact_solution fast = solve_exact(g, p, tmin, tmax);
-    const exact_solution ref = solve_exact_reference(g, p, tmin, tmax);
+testing::AssertionResult identical(const route& way, const ray_sphere<double>& g, precision p,
+                                   std::optional<double> tmin, std::optional<double> tmax, bool with_queries,
+                                   std::mt19937_64& rng, comparison_tally& tally) {
+    const exact_solution fast = way.fast(g, p, tmin, tmax);
+    const exact_solution ref = way.reference(g, p, tmin, tmax);
     ++tally.cases;
     if (fast.valid() && fast.stage == oracle_stage::filter) ++tally.filter_stage;
     std::ostringstream why;
@@ -104,6 +123,13 @@ testing::AssertionResult identical(const ray_sphere<double>& g, precision p, std
                       "hit_point[" + std::to_string(axis) + "]: fast " + hex(fast.hit_point[axis]) + ", reference " +
                           hex(ref.hit_point[axis]));
             if (with_queries) {
+                if (ref.cls == line_class::two_hit) {
+                    const double middle = 0.5 * ref.near_root.rounded + 0.5 * ref.far_root.rounded;
+                    for (double v : {middle, std::nextafter(middle, inf), std::nextafter(middle, -inf), 0.0})
+                        if (std::isfinite(v))
+                            check(fast.compare_midpoint(v) == ref.compare_midpoint(v),
+                                  "compare_midpoint(" + hex(v) + ") differs");
+                }
                 for (root_index i : {root_index::near_root, root_index::far_root}) {
                     const std::string name = i == root_index::near_root ? "near" : "far";
                     for (double v : probes(ref.root(i).rounded, p, rng)) {
@@ -132,20 +158,28 @@ testing::AssertionResult identical(const ray_sphere<double>& g, precision p, std
             }
         }
     }
+    if (ref.valid() && fast.valid() && with_queries)
+        for (double x : {0.0, 1e-7, -1e-7, 1.0, -1.0})
+            check(fast.compare_discriminant(x) == ref.compare_discriminant(x),
+                  "compare_discriminant(" + hex(x) + ") differs");
     if (why.str().empty()) return testing::AssertionSuccess();
-    return testing::AssertionFailure() << precision_name(p) << " " << describe(g, tmin, tmax) << why.str();
+    return testing::AssertionFailure() << way.name << ", " << precision_name(p) << " " << describe(g, tmin, tmax)
+                                       << why.str();
 }
 
 // Both precisions of a case (float when its inputs are representable there).
 void compare_case(const ray_sphere<double>& g, std::optional<double> tmin, std::optional<double> tmax,
                   bool with_queries, std::mt19937_64& rng, comparison_tally& tally) {
-    EXPECT_TRUE(identical(g, precision::binary64, tmin, tmax, with_queries, rng, tally));
-    if (validity<float>(g) != invalid_reason::none) return;
-    const auto narrow = [](std::optional<double> t) -> std::optional<double> {
-        if (!t) return t;
-        return double(float(*t));
-    };
-    EXPECT_TRUE(identical(float_inputs(g), precision::binary32, narrow(tmin), narrow(tmax), with_queries, rng, tally));
+    for (const route& way : routes) {
+        EXPECT_TRUE(identical(way, g, precision::binary64, tmin, tmax, with_queries, rng, tally));
+        if (validity<float>(g) != invalid_reason::none) continue;
+        const auto narrow = [](std::optional<double> t) -> std::optional<double> {
+            if (!t) return t;
+            return double(float(*t));
+        };
+        EXPECT_TRUE(identical(way, float_inputs(g), precision::binary32, narrow(tmin), narrow(tmax), with_queries, rng,
+                              tally));
+    }
 }
 
 // ---------------------------------------------------------------------------
@@ -394,6 +428,31 @@ TEST(FastOracleStage, RefinedEnclosuresSettleDoubleUlpErrorsOfUniformCases) {
     EXPECT_GT(queries, 3000u);
     EXPECT_GT(refined_queries, queries / 4);
     EXPECT_EQ(exact_queries, 0u);
+}
+
+// A unit-direction design that is a miss keeps its own quadratic: its Δ′ is
+// b′² − C (a taken to be 1), not the true b′² − aC. far_sphere-1-000008 of the
+// shipped corpus: a direction normalised in double, a sphere 3·10^8 away; the
+// true line meets it, the unit design misses, and the two Δ′ lie on either
+// side of seed003_reduced's tangent threshold 1e−7. The reference route once
+// rebuilt the true Δ′ for a design that missed (a false_tangent's cause came
+// out algorithmic instead of tangent_threshold).
+TEST(FastOracleUnitDirection, AMissKeepsTheUnitDiscriminant) {
+    const ray_sphere<double> g{{0x1.e70ccffb3f84p-3, -0x1.93d3e9ade454p-2, -0x1.765354a800b8p-2},
+                               {-0x1.84c738e89f704p-2, 0x1.d4815952de202p-1, 0x1.16d889eaf1fb1p-3},
+                               {-0x1.5e708b971ca06p+27, 0x1.a64df7c8fe6b7p+28, 0x1.f6b230e62d047p+25},
+                               0x1.e0b3733da9d3ep+0};
+    const exact_solution line = solve_exact(g, precision::binary64);
+    ASSERT_EQ(line.cls, line_class::two_hit);
+    EXPECT_GT(line.compare_discriminant(1e-7), 0);
+    for (const auto solve : {solve_exact_unit_direction, solve_exact_unit_direction_reference}) {
+        const exact_solution unit = solve(g, precision::binary64);
+        ASSERT_EQ(unit.cls, line_class::miss);
+        EXPECT_LT(unit.compare_discriminant(0.0), 0);
+        EXPECT_LT(unit.compare_discriminant(1e-7), 0);
+        const exact_solution copy = unit;  // a copy asks the same quadratic
+        EXPECT_LT(copy.compare_discriminant(1e-7), 0);
+    }
 }
 
 TEST(FastOracleStage, ExactWhereTheFilterCannotDecide) {

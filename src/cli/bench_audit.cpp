@@ -11,6 +11,7 @@
 #include "bench/timing.h"
 #include "cli/commands.h"
 #include "corpus/case_stream.h"
+#include "corpus/manifest.h"
 #include "oracle/oracle.h"
 #include "report/audit_pass.h"
 #include "report/audit_report.h"
@@ -103,28 +104,42 @@ audit_timing_row time_family(const std::string& family, const std::vector<corpus
 double share(std::uint64_t part, std::uint64_t whole) { return whole ? 100.0 * double(part) / double(whole) : 0; }
 
 std::string format_rows(const std::vector<audit_timing_row>& rows, std::size_t target_count, int repetitions) {
-    std::string out = fmt::format("{:<20} {:>6} {:>9} {:>12} {:>12} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9}\n", "family",
-                                  "cases", "naive_ns", "audit_ns/ct", "audit/naive", "per-case", "solve_exp",
-                                  "solve_ex", "ulp_encl", "ulp_refd", "ulp_exact");
+    std::string out = fmt::format("{:<15} {:>5} {:>8} {:>11} {:>11} {:>8}", "family", "cases", "naive_ns", "audit_ns/ct",
+                                  "audit/naive", "per-case");
+    for (const char* kind : {"solve", "ulp", "cmp", "round"})
+        out += fmt::format(" {:>9} {:>8}", fmt::format("{}_exp", kind), fmt::format("{}_ex", kind));
+    out += '\n';
     for (const audit_timing_row& r : rows) {
         const oracle_stage_counts& c = r.counts;
-        const std::uint64_t solutions = c.solutions.total();
-        const std::uint64_t ulps = c.ulp_errors.total();
-        out += fmt::format(
-            "{:<20} {:>6} {:>9.2f} {:>12.1f} {:>11.1f}x {:>8.2f}x {:>8.2f}% {:>8.2f}% {:>8.2f}% {:>8.2f}% {:>8.2f}%\n",
-            r.family, r.cases, r.naive_ns, r.audit_ns, r.audit_over_naive(), r.per_case_over_audit(),
-            share(c.solutions.expansion, solutions), share(c.solutions.exact, solutions), share(c.ulp_errors.filter, ulps),
-            share(c.ulp_errors.expansion, ulps), share(c.ulp_errors.exact, ulps));
+        out += fmt::format("{:<15} {:>5} {:>8.2f} {:>11.1f} {:>10.1f}x {:>7.2f}x", r.family, r.cases, r.naive_ns,
+                           r.audit_ns, r.audit_over_naive(), r.per_case_over_audit());
+        for (const stage_tally* t : {&c.solutions, &c.ulp_errors, &c.comparisons, &c.roundings})
+            out += fmt::format(" {:>8.2f}% {:>7.2f}%", share(t->expansion, t->total()), share(t->exact, t->total()));
+        out += '\n';
     }
     out += fmt::format(
         "audit_ns/ct = CPU ns per case-target of the audit as `rayverify audit --report` runs it (oracle, {} "
         "targets: the 13 textbook variants in float and double, judge, stability, plot sample), one thread, median "
-        "of {} repetitions; per-case = the same writing --per-case lines, over the audit alone; solve_exp, solve_ex = "
-        "share of solutions (float and double inputs) that needed expansions for an exact zero, or exact arithmetic "
-        "(GMP); ulp_* = share of the ULP errors (roots and hit-point coordinates) "
-        "settled by the roots' enclosures, by their refined enclosures, or exactly.\n",
+        "of {} repetitions; per-case = the same writing --per-case lines, over the audit alone; *_exp, *_ex = share "
+        "of the oracle's answers of each kind (solutions of float and double inputs, ULP errors of roots and "
+        "hit-point coordinates, comparisons with a value, rounded hit coordinates) that needed floating-point "
+        "expansions (no big numbers) or exact arithmetic (GMP); the rest the double-word filter settled.\n",
         target_count, repetitions);
     return out;
+}
+
+// CPU µs per case of `corpus generate --family uniform`, the text written to
+// nowhere: median of `repetitions` runs of `count` cases.
+double time_uniform_generation(int repetitions, std::size_t count) {
+    std::vector<double> us;
+    for (int r = 0; r < repetitions; ++r) {
+        std::size_t bytes = 0;
+        const double start = cpu_seconds();
+        write_generated_corpus("uniform", count, 1, [&](std::string_view piece) { bytes += piece.size(); });
+        us.push_back((cpu_seconds() - start) * 1e6 / double(count));
+        if (bytes == 0) throw std::logic_error("corpus generate wrote nothing");
+    }
+    return bench::median_of(us);
 }
 
 }  // namespace
@@ -150,6 +165,9 @@ int run_audit_timing(const std::vector<corpus_case>& cases, int repetitions, dou
         if (r.family != "all") target(fmt::format("audit / naive double, {}", r.family), r.audit_over_naive(), ordinary ? 40 : 200);
     }
     target("per-case output / audit, all", rows.back().per_case_over_audit(), 2);
+    const double generation_us = time_uniform_generation(repetitions, 20000);
+    fmt::print("  {:<52} {:>7.2f}us  target <= 1us  {}\n", "corpus generate, uniform, per case", generation_us,
+               generation_us <= 1 ? "met" : "MISSED");
     fmt::print("build: {}; CPU: {}\n", build_summary(), bench::cpu_model());
     return exit_ok;
 }

@@ -324,7 +324,9 @@ std::optional<std::string> side_difference(const exact_solution& exact, root_ind
 }
 
 // Both roots of the line.
-case_score judge_line_roots(const variant_output& out, const exact_solution& exact, const t_range& range) {
+// With `measure` false only the verdict is formed (the errors are left empty).
+case_score judge_line_roots(const variant_output& out, const exact_solution& exact, const t_range& range,
+                            bool measure) {
     case_score s;
     const auto& r = out.roots;
     const auto fail = [&](verdict_kind k, std::string why) { return disagreement(s, k, std::move(why)); };
@@ -337,8 +339,10 @@ case_score judge_line_roots(const variant_output& out, const exact_solution& exa
     // With count 1 (a reported tangent) t1 is still the variant's far root.
     const double t[2] = {r.t0, r.t1};
     const root_index wanted[2] = {root_index::near_root, root_index::far_root};
-    measure_root(exact, wanted[0], t[0], s.near_ulp, s.near_bits);
-    measure_root(exact, wanted[1], t[1], s.far_ulp, s.far_bits);
+    if (measure) {
+        measure_root(exact, wanted[0], t[0], s.near_ulp, s.near_bits);
+        measure_root(exact, wanted[1], t[1], s.far_ulp, s.far_bits);
+    }
     for (int i = 0; i < 2; ++i)
         if (std::isnan(t[i]) || (std::isinf(t[i]) && t[i] != exact.root(wanted[i]).rounded))
             return fail(verdict_kind::non_finite, both());
@@ -359,7 +363,7 @@ case_score judge_line_roots(const variant_output& out, const exact_solution& exa
 
 // nearest_hit and any_hit.
 case_score judge_hit(const contract& promises, const variant_output& out, const exact_solution& exact,
-                     const t_range& range) {
+                     const t_range& range, bool measure) {
     case_score s;
     const auto& r = out.roots;
     const auto fail = [&](verdict_kind k, std::string why) { return disagreement(s, k, std::move(why)); };
@@ -385,7 +389,7 @@ case_score judge_hit(const contract& promises, const variant_output& out, const 
 
     const double t = r.t0;
     if (want.what == expected_hit::kind::clamp) {
-        measure_value(exact.prec, want.value, t, s.near_ulp, s.near_bits);
+        if (measure) measure_value(exact.prec, want.value, t, s.near_ulp, s.near_bits);
         if (t == want.value) return s;
         if (std::isinf(t)) return fail(verdict_kind::non_finite, both());
         const root_index k = stands_for(exact, t, root_index::far_root);
@@ -394,7 +398,7 @@ case_score judge_hit(const contract& promises, const variant_output& out, const 
                     fmt::format("t = {} stands for the {} root, where the contract clamps to {}: {}", t, root_word(k),
                                 want.value, both()));
     }
-    measure_root(exact, want.root, t, s.near_ulp, s.near_bits);
+    if (measure) measure_root(exact, want.root, t, s.near_ulp, s.near_bits);
     if (std::isinf(t) && t != want.value) return fail(verdict_kind::non_finite, both());
     const root_index k = stands_for(exact, t, want.root);
     if (auto why = side_difference(exact, k, t, range)) return fail(verdict_kind::wrong_side, *why);
@@ -406,12 +410,12 @@ case_score judge_hit(const contract& promises, const variant_output& out, const 
     return s;
 }
 
-// The verdict and errors, and a cause only where the verdict itself shows it
-// (line_not_ray).
+// The verdict and errors (the verdict alone when `measure` is false), and a
+// cause only where the verdict itself shows it (line_not_ray).
 case_score judge_verdict(const contract& promises, const variant_output& output, const exact_solution& exact,
-                         const t_range& range) {
-    return promises.query == query_kind::line_roots ? judge_line_roots(output, exact, range)
-                                                    : judge_hit(promises, output, exact, range);
+                         const t_range& range, bool measure = true) {
+    return promises.query == query_kind::line_roots ? judge_line_roots(output, exact, range, measure)
+                                                    : judge_hit(promises, output, exact, range, measure);
 }
 
 // Hit point error of an agreeing answer: for the root that is the hit, when
@@ -628,7 +632,7 @@ disagreement_cause cause_of(const contract& promises, const variant_output& outp
     }
     if (unit_assumed_wrongly) {
         const exact_solution& solved = design();
-        if (solved.valid() && judge_verdict(promises, output, solved, range).verdict == verdict_kind::agree)
+        if (solved.valid() && judge_verdict(promises, output, solved, range, false).verdict == verdict_kind::agree)
             return disagreement_cause::unit_direction;
     }
     return rounding_cause(k, input, exact);

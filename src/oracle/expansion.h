@@ -34,6 +34,12 @@ struct expansion {
 
     expansion() = default;
     expansion(const expansion& other) : n(other.n) { std::copy_n(other.c.begin(), n, c.begin()); }
+    // The same value in a larger bound.
+    template <int M>
+        requires(M < N)
+    explicit expansion(const expansion<M>& other) : n(other.n) {
+        std::copy_n(other.c.begin(), n, c.begin());
+    }
     expansion& operator=(const expansion& other) {
         n = other.n;
         std::copy_n(other.c.begin(), n, c.begin());

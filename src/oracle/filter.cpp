@@ -129,7 +129,8 @@ struct filtered_quadratic {
     enclosure roots[2];         // near, far; unknown when the root step failed
 };
 
-filtered_quadratic filter_quadratic(const ray_sphere<double>& g, const std::optional<bounded>& known_discriminant) {
+filtered_quadratic filter_quadratic(const ray_sphere<double>& g, const std::optional<bounded>& known_discriminant,
+                                    bool unit_direction) {
     filtered_quadratic out;
     const double o[3] = {g.origin.x, g.origin.y, g.origin.z};
     const double d[3] = {g.direction.x, g.direction.y, g.direction.z};
@@ -146,12 +147,17 @@ filtered_quadratic filter_quadratic(const ray_sphere<double>& g, const std::opti
     // identity (d·d)(f·f) − (d·f)² = |d × f|² turns b′² − aC into a form
     // without the cancellation b′² − aC suffers for far spheres).
     const bounded r2 = exactly(two_prod(g.radius, g.radius));
-    const bounded a = exactly(two_prod(d[0], d[0])) + exactly(two_prod(d[1], d[1])) + exactly(two_prod(d[2], d[2]));
+    const bounded a = unit_direction ? exactly(1.0)
+                                     : exactly(two_prod(d[0], d[0])) + exactly(two_prod(d[1], d[1])) +
+                                           exactly(two_prod(d[2], d[2]));
     const bounded b_prime = f[0] * d[0] + f[1] * d[1] + f[2] * d[2];
     const bounded C = f[0] * f[0] + f[1] * f[1] + f[2] * f[2] - r2;
     const bounded cross[3] = {f[2] * d[1] - f[1] * d[2], f[0] * d[2] - f[2] * d[0], f[1] * d[0] - f[0] * d[1]};
+    // With a taken to be 1 (unit_direction) Lagrange's identity does not
+    // hold: Δ′ = b′² − C, whose bound settles its sign less often.
     const bounded discriminant =
         known_discriminant ? *known_discriminant
+        : unit_direction   ? b_prime * b_prime - C
                            : a * r2 - (cross[0] * cross[0] + cross[1] * cross[1] + cross[2] * cross[2]);
 
     // Class: the sign of Δ′ when its bound settles it.
@@ -193,9 +199,10 @@ std::optional<double> round_hit_coordinate(precision prec, const ray_sphere<doub
 }
 
 RAYVERIFY_CLONED_FOR_FMA filtered_case
-filter_case(const ray_sphere<double>& g, precision prec, const std::optional<bounded>& discriminant) {
+filter_case(const ray_sphere<double>& g, precision prec, const std::optional<bounded>& discriminant,
+            bool unit_direction) {
     filtered_case out;
-    const filtered_quadratic q = filter_quadratic(g, discriminant);
+    const filtered_quadratic q = filter_quadratic(g, discriminant, unit_direction);
     out.discriminant_sign = q.discriminant_sign;
     if (!q.discriminant_sign || *q.discriminant_sign < 0) return out;
     for (int i = 0; i < 2; ++i) {

@@ -107,8 +107,9 @@ struct filtered_case {
 // The filter on one case: Δ′'s sign, the roots' enclosures, signs and
 // roundings, and the front root's hit point, as far as the bounds settle them.
 // `discriminant`, when given, is a tighter enclosure of Δ′ than the filter's
-// own (refinement.h's, from an expansion, for a near-tangent line).
+// own (refinement.h's, from an expansion, for a near-tangent line). With
+// `unit_direction`, a is taken to be 1 (what a unit-direction formula solves).
 filtered_case filter_case(const ray_sphere<double>& g, precision prec,
-                          const std::optional<bounded>& discriminant = std::nullopt);
+                          const std::optional<bounded>& discriminant = std::nullopt, bool unit_direction = false);
 
 }  // namespace rayverify::oracle_internal

@@ -84,7 +84,8 @@ int slot_of(root_index i) { return i == root_index::near_root ? 0 : 1; }
 struct exact_solution::internal {
     // The case's coefficients as expansions, built on first use and kept.
     static const exact_coefficients& coefficients(const exact_solution& s) {
-        if (!s.expansions_) s.expansions_ = std::make_shared<const exact_coefficients>(coefficients_of(s.geometry_));
+        if (!s.expansions_)
+            s.expansions_ = std::make_shared<const exact_coefficients>(coefficients_of(s.geometry_, s.unit_direction_));
         return *s.expansions_;
     }
 
@@ -201,6 +202,7 @@ struct exact_solution::internal {
         exact_solution solution;
         solution.prec = prec;
         solution.geometry_ = g;
+        solution.unit_direction_ = unit_direction;
         solution.invalid = check_case(g, tmin, tmax);
         if (!solution.valid()) return solution;
         solution.stage = oracle_stage::exact;
@@ -261,26 +263,27 @@ struct exact_solution::internal {
     }
 
     static exact_solution filtered(const ray_sphere<double>& g, precision prec, std::optional<double> tmin,
-                                   std::optional<double> tmax) {
+                                   std::optional<double> tmax, bool unit_direction = false) {
         exact_solution solution;
         solution.prec = prec;
+        solution.unit_direction_ = unit_direction;
         solution.invalid = check_case(g, tmin, tmax);
         if (!solution.valid()) return solution;
-        filtered_case filter = filter_case(g, prec);
+        filtered_case filter = filter_case(g, prec, std::nullopt, unit_direction);
         bool expanded = false;
         if (!filter.discriminant_sign) {
             // Δ′ within the filter's bound of 0 (or inputs outside its range):
             // Δ′'s exact sign from an expansion; a tangent's root from its
             // coefficients, else the filter again with Δ′'s tight approximation.
-            if (!in_filter_range(g)) return reference(g, prec, tmin, tmax);
+            if (!in_filter_range(g)) return reference(g, prec, tmin, tmax, unit_direction);
             solution.geometry_ = g;
-            const exact_discriminant discriminant = discriminant_of(g, coefficients(solution));
+            const exact_discriminant discriminant = discriminant_of(g, coefficients(solution), unit_direction);
             if (discriminant.sign == 0) {
                 if (settle_tangent(solution)) return solution;
-                return reference(g, prec, tmin, tmax);
+                return reference(g, prec, tmin, tmax, unit_direction);
             }
-            filter = filter_case(g, prec, discriminant.approximation);
-            if (!filter.discriminant_sign) return reference(g, prec, tmin, tmax);
+            filter = filter_case(g, prec, discriminant.approximation, unit_direction);
+            if (!filter.discriminant_sign) return reference(g, prec, tmin, tmax, unit_direction);
             expanded = true;
         }
 
@@ -349,7 +352,7 @@ struct exact_solution::internal {
 };
 
 const exact_quadratic& exact_solution::state() const {
-    if (!exact_) exact_ = exact_quadratic_of(geometry_);
+    if (!exact_) exact_ = exact_quadratic_of(geometry_, unit_direction_);
     return *exact_;
 }
 
@@ -450,6 +453,10 @@ double exact_solution::hit_coordinate_in_double(root_index i, int axis) const {
 }
 
 exact_solution solve_exact_unit_direction(const ray_sphere<double>& g, precision prec) {
+    return exact_solution::internal::filtered(g, prec, std::nullopt, std::nullopt, true);
+}
+
+exact_solution solve_exact_unit_direction_reference(const ray_sphere<double>& g, precision prec) {
     return exact_solution::internal::reference(g, prec, std::nullopt, std::nullopt, true);
 }
 

@@ -139,6 +139,7 @@ private:
     double hit_coordinate_in(root_index i, int axis, precision p) const;
 
     ray_sphere<double> geometry_{};
+    bool unit_direction_ = false;  // a taken to be 1 (solve_exact_unit_direction)
     enclosure roots_[2];  // near, far
     enclosure midpoint_;  // of the two roots, −b′/a
     // Built on first use by a ULP query roots_ cannot settle, kept like exact_.
@@ -165,8 +166,11 @@ private:
 // for the given inputs (the roots of the true quadratic when |d| = 1). Its
 // class, signs, roots and discriminant say what such a formula gets in exact
 // arithmetic when |d| is only near 1: a failure it shares is the formula's
-// design, not rounding. Always the exact route.
+// design, not rounding. Filtered like solve_exact (Δ′ = b′² − C);
+// solve_exact_unit_direction_reference takes the exact route, and the tests
+// require both to agree.
 exact_solution solve_exact_unit_direction(const ray_sphere<double>& geometry, precision prec);
+exact_solution solve_exact_unit_direction_reference(const ray_sphere<double>& geometry, precision prec);
 
 // sign(|d|² − x) exactly, for finite d and x.
 int compare_squared_length(const vec3<double>& d, double x);

@@ -9,18 +9,28 @@ namespace rayverify::oracle_internal {
 
 // Each coefficient compressed once (Shewchuk's Compress: the same value in
 // fewer components), which every later product with a double pays for.
-RAYVERIFY_CLONED_FOR_FMA exact_coefficients coefficients_of(const ray_sphere<double>& g) {
+RAYVERIFY_CLONED_FOR_FMA exact_coefficients coefficients_of(const ray_sphere<double>& g, bool unit_direction) {
     exact_coefficients k;
     const double d[3] = {g.direction.x, g.direction.y, g.direction.z};
     for (int axis = 0; axis < 3; ++axis) k.f[axis] = expansion_of(g.origin[axis]) - expansion_of(g.centre[axis]);
     const expansion<2>* f = k.f;
-    k.a = compressed(expansion_of(d[0]) * d[0] + expansion_of(d[1]) * d[1] + expansion_of(d[2]) * d[2]);
+    if (unit_direction)
+        k.a = expansion<6>(expansion_of(1.0));
+    else
+        k.a = compressed(expansion_of(d[0]) * d[0] + expansion_of(d[1]) * d[1] + expansion_of(d[2]) * d[2]);
     k.two_b_prime = compressed(f[0] * (2 * d[0]) + f[1] * (2 * d[1]) + f[2] * (2 * d[2]));
     k.C = compressed(f[0] * f[0] + f[1] * f[1] + f[2] * f[2] - expansion_of(g.radius) * g.radius);
     return k;
 }
 
-RAYVERIFY_CLONED_FOR_FMA exact_discriminant discriminant_of(const ray_sphere<double>& g, const exact_coefficients& k) {
+RAYVERIFY_CLONED_FOR_FMA exact_discriminant discriminant_of(const ray_sphere<double>& g, const exact_coefficients& k,
+                                                            bool unit_direction) {
+    if (unit_direction) {
+        // 4Δ′ = (2b′)² − 4C, scaled back by 1/4 exactly.
+        const expansion<340> four = k.two_b_prime * k.two_b_prime - k.C * 4.0;
+        const bounded quarter = approximate(four);
+        return {sign_of(four), {{quarter.v.h * 0.25, quarter.v.l * 0.25}, quarter.err * 0.25}};
+    }
     const double d[3] = {g.direction.x, g.direction.y, g.direction.z};
     const expansion<2>* f = k.f;
     const expansion<8> cross[3] = {compressed(f[2] * d[1] - f[1] * d[2]), compressed(f[0] * d[2] - f[2] * d[0]),

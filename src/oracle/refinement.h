@@ -18,7 +18,7 @@ using refined_enclosure = exact_solution::refined_enclosure;
 
 // The quadratic's coefficients as exact expansions: f = o − c, a = d·d,
 // 2b′ = 2d·f, C = f·f − r² (Δ′ = a·r² − |d × f|², Lagrange's identity as in
-// the filter, is formed by discriminant_sign). Exact for inputs in the
+// the filter, is formed by discriminant_of). Exact for inputs in the
 // filter range, where every product stays far from underflow and overflow
 // (degree 4: above 2^−528, below 2^330).
 struct exact_coefficients {
@@ -28,7 +28,8 @@ struct exact_coefficients {
     expansion<26> C;
 };
 
-exact_coefficients coefficients_of(const ray_sphere<double>& g);
+// With `unit_direction`, a is taken to be 1 (what a unit-direction formula solves).
+exact_coefficients coefficients_of(const ray_sphere<double>& g, bool unit_direction = false);
 
 // Δ′ = a·r² − |d × f|² from its exact expansion: its sign, and a
 // double-word approximation whose bound is about 2^−100 of |Δ′| (tight enough
@@ -37,7 +38,9 @@ struct exact_discriminant {
     int sign = 0;
     bounded approximation;
 };
-exact_discriminant discriminant_of(const ray_sphere<double>& g, const exact_coefficients& k);
+// With `unit_direction` (k's a is 1), Δ′ = b′² − C.
+exact_discriminant discriminant_of(const ray_sphere<double>& g, const exact_coefficients& k,
+                                   bool unit_direction = false);
 
 // Whether a double u may be substituted into the quadratic's expansions:
 // |u| in [2^−200, 2^200] (or 0) keeps every product exact beside the inputs' range.

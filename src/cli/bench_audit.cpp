@@ -40,12 +40,11 @@ double cpu_seconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC
 struct audit_timing_row {
     std::string family;
     std::size_t cases = 0;
-    double naive_ns = 0;     // per case
-    double audit_ns = 0;     // per case-target, the audit as `rayverify audit --report` runs it
-    double per_case_ns = 0;  // the same with --per-case lines written
+    double naive_ns = 0;     // per case, median over the repetitions
+    double audit_ns = 0;     // per case-target, the audit as `rayverify audit --report` runs it, median
+    double audit_ratio = 0;  // audit_ns / naive_ns, median of the repetitions' ratios
+    double per_case_ratio = 0;  // the audit writing --per-case lines over the audit alone, median of ratios
     oracle_stage_counts counts;
-    double audit_over_naive() const { return naive_ns > 0 ? audit_ns / naive_ns : 0; }
-    double per_case_over_audit() const { return audit_ns > 0 ? per_case_ns / audit_ns : 0; }
 };
 
 audit_timing_row time_family(const std::string& family, const std::vector<corpus_case>& cases,
@@ -56,7 +55,6 @@ audit_timing_row time_family(const std::string& family, const std::vector<corpus
     std::vector<ray_sphere<double>> inputs;
     for (const corpus_case& c : cases)
         if (validity<double>(c.geometry) == invalid_reason::none) inputs.push_back(c.geometry);
-    row.naive_ns = bench::time_naive(inputs, {repetitions, std::max(min_time_s, 0.05)}, family);
 
     const auto pass = [&](std::ostream* per_case) {
         std::size_t at = 0;
@@ -72,26 +70,34 @@ audit_timing_row time_family(const std::string& family, const std::vector<corpus
         audit_state state = run_audit_pass(next, targets, 1, true, per_case);
         return state.audit.cases;
     };
-    // Median over the repetitions of CPU ns per case-target, each repetition
-    // as many passes as fill min_time_s.
+    // CPU ns per case-target of as many passes as fill min_time_s.
     const double case_targets = static_cast<double>(cases.size() * targets.size());
-    const auto median_ns = [&](std::ostream* per_case) {
-        std::vector<double> ns;
-        for (int r = 0; r < repetitions; ++r) {
-            const double start = cpu_seconds();
-            int passes = 0;
-            do {
-                pass(per_case);
-                ++passes;
-            } while (cpu_seconds() - start < min_time_s);
-            ns.push_back((cpu_seconds() - start) * 1e9 / (passes * case_targets));
-        }
-        return bench::median_of(ns);
+    const auto audit_ns = [&](std::ostream* per_case) {
+        const double start = cpu_seconds();
+        int passes = 0;
+        do {
+            pass(per_case);
+            ++passes;
+        } while (cpu_seconds() - start < min_time_s);
+        return (cpu_seconds() - start) * 1e9 / (passes * case_targets);
     };
-    row.audit_ns = median_ns(nullptr);
+    // Each repetition times naive, the audit and the audit with per-case
+    // lines back to back, and the figures are medians of each repetition's
+    // ratios: on a shared machine whose speed drifts, a ratio of neighbours
+    // holds where a ratio of medians taken minutes apart does not.
     std::ostream discard(new discarding_buffer);
-    row.per_case_ns = median_ns(&discard);
+    std::vector<double> naive, audit, ratio, per_case_ratio;
+    for (int r = 0; r < repetitions; ++r) {
+        naive.push_back(bench::time_naive(inputs, {1, std::max(min_time_s, 0.05)}, family));
+        audit.push_back(audit_ns(nullptr));
+        ratio.push_back(audit.back() / naive.back());
+        per_case_ratio.push_back(audit_ns(&discard) / audit.back());
+    }
     delete discard.rdbuf();
+    row.naive_ns = bench::median_of(naive);
+    row.audit_ns = bench::median_of(audit);
+    row.audit_ratio = bench::median_of(ratio);
+    row.per_case_ratio = bench::median_of(per_case_ratio);
 
     // How the oracle settled the figures: one more pass, counted.
     oracle_stage_counts& counts = oracle_stage_counts_this_thread();
@@ -112,7 +118,7 @@ std::string format_rows(const std::vector<audit_timing_row>& rows, std::size_t t
     for (const audit_timing_row& r : rows) {
         const oracle_stage_counts& c = r.counts;
         out += fmt::format("{:<15} {:>5} {:>8.2f} {:>11.1f} {:>10.1f}x {:>7.2f}x", r.family, r.cases, r.naive_ns,
-                           r.audit_ns, r.audit_over_naive(), r.per_case_over_audit());
+                           r.audit_ns, r.audit_ratio, r.per_case_ratio);
         for (const stage_tally* t : {&c.solutions, &c.ulp_errors, &c.comparisons, &c.roundings})
             out += fmt::format(" {:>8.2f}% {:>7.2f}%", share(t->expansion, t->total()), share(t->exact, t->total()));
         out += '\n';
@@ -120,7 +126,8 @@ std::string format_rows(const std::vector<audit_timing_row>& rows, std::size_t t
     out += fmt::format(
         "audit_ns/ct = CPU ns per case-target of the audit as `rayverify audit --report` runs it (oracle, {} "
         "targets: the 13 textbook variants in float and double, judge, stability, plot sample), one thread, median "
-        "of {} repetitions; per-case = the same writing --per-case lines, over the audit alone; *_exp, *_ex = share "
+        "of {} repetitions; audit/naive and per-case (the audit writing --per-case lines, over the audit alone) are "
+        "medians of each repetition's ratio of neighbouring timings; *_exp, *_ex = share "
         "of the oracle's answers of each kind (solutions of float and double inputs, ULP errors of roots and "
         "hit-point coordinates, comparisons with a value, rounded hit coordinates) that needed floating-point "
         "expansions (no big numbers) or exact arithmetic (GMP); the rest the double-word filter settled.\n",
@@ -162,9 +169,9 @@ int run_audit_timing(const std::vector<corpus_case>& cases, int repetitions, dou
     };
     for (const audit_timing_row& r : rows) {
         const bool ordinary = r.family == "uniform" || r.family == "far_sphere";
-        if (r.family != "all") target(fmt::format("audit / naive double, {}", r.family), r.audit_over_naive(), ordinary ? 40 : 200);
+        if (r.family != "all") target(fmt::format("audit / naive double, {}", r.family), r.audit_ratio, ordinary ? 40 : 200);
     }
-    target("per-case output / audit, all", rows.back().per_case_over_audit(), 2);
+    target("per-case output / audit, all", rows.back().per_case_ratio, 2);
     const double generation_us = time_uniform_generation(repetitions, 20000);
     fmt::print("  {:<52} {:>7.2f}us  target <= 1us  {}\n", "corpus generate, uniform, per case", generation_us,
                generation_us <= 1 ? "met" : "MISSED");

@@ -120,10 +120,10 @@ std::optional<disagreement_cause> cause_from_name(std::string_view name) {
 // ---- Exact facts under a contract ----------------------------------------------
 
 bool root_in_range(const exact_solution& exact, root_index i, const t_range& range) {
-    // compare_root(i, x) = sign(x − t*).
+    // compare_root(i, x) = sign(x − t*); against 0 it is the root's exact sign, negated.
     const auto above_lower = [&] {
         if (std::isinf(range.lower)) return range.lower < 0;
-        const int side = exact.compare_root(i, range.lower);
+        const int side = range.lower == 0 ? -exact.root(i).sign : exact.compare_root(i, range.lower);
         return side < 0 || (side == 0 && range.lower_end == end_kind::closed);
     };
     const auto below_upper = [&] {
@@ -498,8 +498,9 @@ double ulp_of_root(const exact_solution& exact, root_index i) {
     const double ulp = ulp_of_in(exact.prec, rounded);
     int exponent = 0;
     const bool power_of_two = rounded != 0 && std::fabs(std::frexp(rounded, &exponent)) == 0.5;
+    if (!power_of_two) return ulp;
     const bool rounded_away = rounded > 0 ? exact.compare_root(i, rounded) > 0 : exact.compare_root(i, rounded) < 0;
-    return power_of_two && rounded_away && ulp > ulp_of_in(exact.prec, std::nextafter(rounded, 0.0)) ? ulp / 2 : ulp;
+    return rounded_away && ulp > ulp_of_in(exact.prec, std::nextafter(rounded, 0.0)) ? ulp / 2 : ulp;
 }
 
 // Does the exact value lie in [lower, upper]? Infinite ends by sign; a NaN end never holds it.

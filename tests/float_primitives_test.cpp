@@ -122,6 +122,10 @@ cpp_int independent_index(T x) {
     return x < 0 ? cpp_int(-index) : index;
 }
 
+TEST(FloatBits, ExactPowersOfTwoAreLdexpsOfOne) {
+    for (int k = -1074; k <= 1024; ++k) ASSERT_EQ(exact_power_of_two(k), std::ldexp(1.0, k)) << k;
+}
+
 template <class T>
 void check_float_bits(std::uint64_t seed) {
     std::mt19937_64 rng(seed);
@@ -146,6 +150,7 @@ void check_float_bits(std::uint64_t seed) {
                                : static_cast<double>(std::nextafter(a, std::numeric_limits<T>::infinity())) -
                                      static_cast<double>(a);
         if (ulp_of(x) != gap) fail("ulp_of", x, y);
+        if (x != 0 && binade_of(x) != std::ilogb(x)) fail("binade_of", x, y);
         // step_by over a short walk matches repeated nextafter.
         const int steps = static_cast<int>(rng() % 7) - 3;
         T walked = x;

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "core/double_word.h"
+#include "core/float_bits.h"
 
 namespace rayverify {
 namespace {
@@ -22,7 +23,7 @@ dword dot(const dd3& a, const dd3& b) { return a.x * b.x + a.y * b.y + a.z * b.z
 int max_exponent(std::initializer_list<double> values) {
     int e = std::numeric_limits<int>::min();
     for (double v : values)
-        if (v != 0) e = std::max(e, std::ilogb(v));
+        if (v != 0) e = std::max(e, binade_of(v));
     return e == std::numeric_limits<int>::min() ? 0 : e;
 }
 
@@ -52,8 +53,12 @@ stability_measures measure_stability(const ray_sphere<double>& input, precision 
     const int position_exponent = max_exponent({g.origin.x, g.origin.y, g.origin.z, g.centre.x, g.centre.y,
                                                 g.centre.z, g.radius});
     const int direction_exponent = max_exponent({g.direction.x, g.direction.y, g.direction.z});
-    const auto position = [&](double v) { return dword{std::ldexp(v, -position_exponent), 0}; };
-    const auto direction = [&](double v) { return dword{std::ldexp(v, -direction_exponent), 0}; };
+    // v·2^−e, correctly rounded (by one multiplication where 2^−e is a normal double).
+    const auto scaled = [](double v, int e) {
+        return -e >= -1022 && -e <= 1023 ? v * exact_power_of_two(-e) : std::ldexp(v, -e);
+    };
+    const auto position = [&](double v) { return dword{scaled(v, position_exponent), 0}; };
+    const auto direction = [&](double v) { return dword{scaled(v, direction_exponent), 0}; };
     const dd3 o{position(g.origin.x), position(g.origin.y), position(g.origin.z)};
     const dd3 c{position(g.centre.x), position(g.centre.y), position(g.centre.z)};
     const dd3 d{direction(g.direction.x), direction(g.direction.y), direction(g.direction.z)};

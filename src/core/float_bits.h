@@ -80,6 +80,21 @@ T step_by(T x, std::int64_t steps) {
     return from_ordered_index<T>(from + steps);
 }
 
+// 2^k exactly, −1074 ≤ k ≤ 1023, from its bits (no libm call); +inf for
+// k = 1024, as ldexp.
+constexpr double exact_power_of_two(int k) {
+    if (k >= -1022) return std::bit_cast<double>(static_cast<std::uint64_t>(k + 1023) << 52);
+    return std::bit_cast<double>(std::uint64_t{1} << (k + 1074));
+}
+
+// e with 2^e ≤ |x| < 2^(e+1) for a finite nonzero x: std::ilogb, from the bits.
+inline int binade_of(double x) {
+    const std::uint64_t magnitude = std::bit_cast<std::uint64_t>(x) & ~(std::uint64_t{1} << 63);
+    const int biased = static_cast<int>(magnitude >> 52);
+    if (biased != 0) return biased - 1023;
+    return -1011 - std::countl_zero(magnitude);  // subnormal: the top bit of the significand
+}
+
 // The exponent of ulp(x) as defined above for 2^e ≤ |x| < 2^(e+1):
 // max(e, emin) − p + 1 (the exponent of ulp(0) for e ≤ emin).
 template <class T>
@@ -93,7 +108,7 @@ constexpr long ulp_exponent_of_binade(long e) {
 template <class T>
 double ulp_of(T x) {
     constexpr int emin = std::numeric_limits<T>::min_exponent - 1;
-    return std::ldexp(1.0, static_cast<int>(ulp_exponent_of_binade<T>(x == 0 ? emin : std::ilogb(x))));
+    return exact_power_of_two(static_cast<int>(ulp_exponent_of_binade<T>(x == 0 ? emin : binade_of(x))));
 }
 
 // How many representable steps separate a and b (0 when equal; ±0 are one

@@ -51,8 +51,8 @@ std::optional<int> ulp_exponent_of(const enclosure& x) {
     if (!side) return std::nullopt;
     const int sign = *side;
     const double approx = x.hi + x.lo;
-    const int e = std::ilogb(approx);
-    const double lower = std::ldexp(1.0, e), upper = std::ldexp(1.0, e + 1);
+    const int e = binade_of(approx);
+    const double lower = exact_power_of_two(e), upper = exact_power_of_two(e + 1);
     const bool in_binade = sign > 0 ? exceeds(x.hi, x.lo, x.err, lower) && exceeds(-x.hi, -x.lo, x.err, -upper)
                                     : exceeds(-x.hi, -x.lo, x.err, lower) && exceeds(x.hi, x.lo, x.err, -upper);
     if (!in_binade) return std::nullopt;
@@ -70,18 +70,21 @@ std::optional<double> rounded_ulp_ratio(bounded difference, int ulp_exponent) {
     if (*position < 0) difference = -difference;
     // Most ratios settle at once: scaled by 2^−k with one multiplication
     // (exact while the words stay normal), the ratio is h + l within e, and
-    // when |l| + e stays below ulp(h)/4 (with a margin for that sum's own
-    // rounding) the whole enclosure lies inside h's rounding interval, which
-    // reaches at least ulp(h)/4 below h (a power of two) and ulp(h)/2 above.
+    // when h + l ∓ e stays inside h's rounding interval (with a margin for
+    // the roundings of l ∓ e) h is its rounding. That interval reaches
+    // ulp(h)/2 above h and below it, or ulp(h)/4 below a power of two.
     if (ulp_exponent >= -1023 && ulp_exponent <= 1022) {
         const double scale = std::bit_cast<double>(static_cast<std::uint64_t>(1023 - ulp_exponent) << 52);
         const double h = difference.v.h * scale;
         if (h >= 0x1p-900 && h <= 0x1p1000) {
             const double l = difference.v.l * scale, e = std::max(difference.err * scale, 0x1p-1000);
-            const double quarter_ulp = std::bit_cast<double>(std::bit_cast<std::uint64_t>(h) & 0x7FF0000000000000ull) * 0x1p-54;
-            if (std::fabs(l) + e < quarter_ulp * (1 - 0x1p-50)) return h;
+            const std::uint64_t bits = std::bit_cast<std::uint64_t>(h);
+            const double half_ulp = std::bit_cast<double>(bits & 0x7FF0000000000000ull) * 0x1p-53;
+            const bool power_of_two = (bits & 0x000FFFFFFFFFFFFFull) == 0;
+            const double below = power_of_two ? half_ulp / 2 : half_ulp, above = half_ulp;
+            if (l + e < above * (1 - 0x1p-50) && l - e > -below * (1 - 0x1p-50)) return h;
             // A bound as wide as half an ulp cannot fit in a rounding interval.
-            if (e >= 2 * quarter_ulp) return std::nullopt;
+            if (e >= half_ulp) return std::nullopt;
         }
     }
     const int scaled_exponent = std::ilogb(difference.v.h) - ulp_exponent;

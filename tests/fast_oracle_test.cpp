@@ -147,6 +147,9 @@ testing::AssertionResult identical(const route& way, const ray_sphere<double>& g
                         check(same_bits(fr, rr), name + " rounded_hit_coordinate differs: fast " + hex(fr) +
                                                      ", reference " + hex(rr));
                         for (double v : {rr, std::nextafter(rr, inf), std::nextafter(rr, -inf), rr * 2 + 1}) {
+                            if (std::isfinite(v))
+                                check(fast.compare_hit_coordinate(i, axis, v) == ref.compare_hit_coordinate(i, axis, v),
+                                      name + " compare_hit_coordinate(" + hex(v) + ") differs");
                             ++tally.ulp_queries;
                             const double a = fast.hit_point_ulp_error(i, axis, v);
                             const double b = ref.hit_point_ulp_error(i, axis, v);
@@ -456,6 +459,40 @@ TEST(FastOracleUnitDirection, AMissKeepsTheUnitDiscriminant) {
         const exact_solution copy = unit;  // a copy asks the same quadratic
         EXPECT_LT(copy.compare_discriminant(1e-7), 0);
     }
+}
+
+// Exact tangents whose hit point has exactly representable coordinates: a
+// variant that returns them has an error of exactly 0, which no enclosure can
+// show; the expansions do, with the reference's answers and no GMP.
+TEST(FastOracleStage, ExpansionsSettleExactHitCoordinatesOfTangents) {
+    oracle_stage_counts& counts = oracle_stage_counts_this_thread();
+    std::size_t queries = 0, exact_zero = 0;
+    std::uint64_t gmp = 0;
+    for (const corpus_case& c :
+         read_corpus_file(fs::path(RAYVERIFY_SOURCE_DIR) / "corpus" / "tangent_exact.txt")) {
+        for (precision p : {precision::binary64, precision::binary32}) {
+            const ray_sphere<double> g = p == precision::binary32 ? float_inputs(c.geometry) : c.geometry;
+            const exact_solution fast = solve_exact(g, p);
+            if (fast.stage == oracle_stage::exact || !fast.nearest_in_front) continue;
+            const exact_solution reference = solve_exact_reference(g, p);
+            const root_index front = *fast.nearest_in_front;
+            for (int axis = 0; axis < 3; ++axis) {
+                const double v = fast.hit_point[axis];
+                counts = {};
+                const double error = fast.hit_point_ulp_error(front, axis, v);
+                const int side = fast.compare_hit_coordinate(front, axis, v);
+                gmp += counts.ulp_errors.exact + counts.comparisons.exact;
+                ASSERT_TRUE(same_bits(error, reference.hit_point_ulp_error(front, axis, v))) << c.id << " axis " << axis;
+                ASSERT_EQ(side, reference.compare_hit_coordinate(front, axis, v)) << c.id << " axis " << axis;
+                exact_zero += error == 0;
+                ++queries;
+            }
+        }
+    }
+    std::printf("%zu hit coordinates, %zu of them exactly the correctly rounded value; %llu GMP answers\n", queries,
+                exact_zero, static_cast<unsigned long long>(gmp));
+    EXPECT_GT(exact_zero, queries / 4);
+    EXPECT_EQ(gmp, 0u);
 }
 
 TEST(FastOracleStage, ExactWhereTheFilterCannotDecide) {

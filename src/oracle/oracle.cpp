@@ -119,13 +119,75 @@ struct exact_solution::internal {
     // sign(t_i − m) exactly with expansions: a tangent's root against m; one
     // of two roots once the other root's enclosure parts m from t_j. Needs
     // the roots' enclosures (the filter range) and m refinable.
+    // When the other root's enclosure cannot part m from t_j (the roots are
+    // close), the midpoint −b′/a does: t_near < −b′/a < t_far, and which side
+    // of it m lies on is the sign of 2b′ + 2a·m.
     static uncertain_sign compare_root_by_expansion(const exact_solution& s, root_index i, double m) {
         const int k = slot_of(i);
         if (s.cls == line_class::miss || !known(s.roots_[k]) || !refinable(m)) return std::nullopt;
         if (s.cls == line_class::tangent) return tangent_root_side(coefficients(s), m);
-        const uncertain_sign other_side = side_of(s.roots_[1 - k], m);  // sign(t_j − m)
-        if (!other_side) return std::nullopt;
+        uncertain_sign other_side = side_of(s.roots_[1 - k], m);  // sign(t_j − m)
+        if (!other_side) {
+            const int midpoint_side = tangent_root_side(coefficients(s), m);  // sign(−b′/a − m)
+            const bool near = i == root_index::near_root;
+            // m beyond the midpoint from t_i: t_i's side is the midpoint's; else t_j's is.
+            if (near && midpoint_side < 0) return -1;
+            if (!near && midpoint_side > 0) return +1;
+            other_side = near ? +1 : -1;
+        }
         return root_side(coefficients(s), m, *other_side);
+    }
+
+    // sign(p_i − v) exactly with expansions, p_i coordinate `axis` of root
+    // i's hit point: a tangent's from its root −b′/a; one of two roots' once
+    // the other's coordinate enclosure parts it from v. Needs the roots'
+    // enclosures (the filter range) and v refinable.
+    static uncertain_sign compare_hit_by_expansion(const exact_solution& s, root_index i, int axis, double v) {
+        const int k = slot_of(i);
+        if (s.cls == line_class::miss || !known(s.roots_[k]) || !refinable(v)) return std::nullopt;
+        const double o = s.geometry_.origin[axis], d = s.geometry_.direction[axis];
+        if (d == 0) return (o > v) - (o < v);
+        if (s.cls == line_class::tangent) return tangent_hit_side(coefficients(s), o, d, v);
+        const uncertain_sign other_side = side_of(hit_enclosure(s, i == root_index::near_root ? root_index::far_root
+                                                                                             : root_index::near_root,
+                                                                axis),
+                                                  v);
+        if (!other_side) return std::nullopt;
+        return hit_side(coefficients(s), o, d, v, *other_side);
+    }
+
+    // |value − p_i| / ulp(p_i) from expansions: the refined enclosure for the
+    // ratio; where the coordinate's enclosure leaves value = p_i or p_i's
+    // binade open (an exactly representable coordinate, one at a power of
+    // two, an exact 0), both decided with compare_hit_by_expansion.
+    static std::optional<double> hit_ulp_error_by_expansion(const exact_solution& s, root_index i, int axis,
+                                                            double value) {
+        const double o = s.geometry_.origin[axis], d = s.geometry_.direction[axis];
+        const refined_enclosure* fine = refined(s, i);
+        const ulp_frame& frame = hit_frame(s, i, axis);
+        if (fine && frame.ulp_exponent)
+            if (const std::optional<double> e = rounded_ulp_ratio(hit_difference(*fine, o, d, value), *frame.ulp_exponent))
+                return e;
+        if (!std::isfinite(value)) return std::nullopt;
+        const uncertain_sign position = compare_hit_by_expansion(s, i, axis, value);  // sign(p − value)
+        if (!position) return std::nullopt;
+        if (*position == 0) return 0.0;
+        if (!fine) return std::nullopt;
+        const uncertain_sign sign = compare_hit_by_expansion(s, i, axis, 0.0);  // sign(p)
+        if (!sign) return std::nullopt;
+        if (*sign == 0) return std::ldexp(std::fabs(value), -ulp_exponent_in(s.prec, std::numeric_limits<long>::min()));
+        const double guess = frame.x.hi + frame.x.lo;
+        if (!(guess != 0 && std::isfinite(guess))) return std::nullopt;
+        const int binade = binade_of(guess);
+        for (int e = binade - 1; e <= binade + 1; ++e) {
+            // 2^e ≤ |p| < 2^(e+1), decided exactly.
+            const uncertain_sign low = compare_hit_by_expansion(s, i, axis, *sign * std::ldexp(1.0, e));
+            const uncertain_sign high = compare_hit_by_expansion(s, i, axis, *sign * std::ldexp(1.0, e + 1));
+            if (!low || !high) return std::nullopt;
+            if (*sign * *low < 0 || *sign * *high >= 0) continue;
+            return rounded_ulp_ratio(hit_difference(*fine, o, d, value), ulp_exponent_in(s.prec, e));
+        }
+        return std::nullopt;
     }
 
     // The root's refined enclosure, built on first use; nullptr when it cannot be.
@@ -376,6 +438,11 @@ int exact_solution::compare_midpoint(double value) const {
             const uncertain_sign side = side_of(midpoint_, value);  // sign(m − value)
             return side ? uncertain_sign(-*side) : side;
         },
+        [&]() -> uncertain_sign {
+            // sign(value − m) = −sign(m − value), m = −b′/a, from 2b′ + 2a·value.
+            if (!known(internal::root_enclosure(*this, root_index::near_root)) || !refinable(value)) return std::nullopt;
+            return -tangent_root_side(internal::coefficients(*this), value);
+        },
         [&] {
             // m = A/den for the roots (A ∓ B√D)/den, so sign(value − m) = sign(value·den − A).
             const quadratic_irrational& root = state().near_root;
@@ -384,8 +451,13 @@ int exact_solution::compare_midpoint(double value) const {
 }
 
 int exact_solution::compare_discriminant(double x) const {
-    ++oracle_stage_counts_this_thread().comparisons.exact;
-    return sign_of(state().discriminant - exact(x));
+    return settle(
+        oracle_stage_counts_this_thread().comparisons, [] { return uncertain_sign(); },
+        [&]() -> uncertain_sign {
+            if (!in_filter_range(geometry_) || !in_filter_range(x)) return std::nullopt;
+            return discriminant_side(geometry_, internal::coefficients(*this), unit_direction_, x);
+        },
+        [&] { return sign_of(state().discriminant - exact(x)); });
 }
 
 double exact_solution::root_ulp_error(root_index i, double value) const {
@@ -412,12 +484,7 @@ double exact_solution::hit_point_ulp_error(root_index i, int axis, double value)
             const ulp_frame& frame = internal::hit_frame(*this, i, axis);
             return ulp_error_from(frame.x, frame.ulp_exponent, value);
         },
-        [&]() -> std::optional<double> {
-            const refined_enclosure* fine = internal::refined(*this, i);
-            const ulp_frame& frame = internal::hit_frame(*this, i, axis);
-            if (!fine || !frame.ulp_exponent) return std::nullopt;
-            return rounded_ulp_ratio(hit_difference(*fine, o, d, value), *frame.ulp_exponent);
-        },
+        [&] { return internal::hit_ulp_error_by_expansion(*this, i, axis, value); },
         [&] { return ulp_error_in(prec, state().hit_coordinate(i, axis), value); });
     // The frame is built by now unless the exact route answered first (d = 0).
     if (frame.built) {
@@ -443,6 +510,10 @@ int exact_solution::compare_hit_coordinate(root_index i, int axis, double value)
         oracle_stage_counts_this_thread().comparisons,
         [&] {
             const uncertain_sign side = side_of(internal::hit_enclosure(*this, i, axis), value);  // sign(p* − value)
+            return side ? uncertain_sign(-*side) : side;
+        },
+        [&] {
+            const uncertain_sign side = internal::compare_hit_by_expansion(*this, i, axis, value);
             return side ? uncertain_sign(-*side) : side;
         },
         [&] { return -state().hit_coordinate(i, axis).compare(exact(value)); });

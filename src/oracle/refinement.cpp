@@ -23,21 +23,33 @@ RAYVERIFY_CLONED_FOR_FMA exact_coefficients coefficients_of(const ray_sphere<dou
     return k;
 }
 
-RAYVERIFY_CLONED_FOR_FMA exact_discriminant discriminant_of(const ray_sphere<double>& g, const exact_coefficients& k,
-                                                            bool unit_direction) {
-    if (unit_direction) {
-        // 4Δ′ = (2b′)² − 4C, scaled back by 1/4 exactly.
-        const expansion<340> four = k.two_b_prime * k.two_b_prime - k.C * 4.0;
-        const bounded quarter = approximate(four);
-        return {sign_of(four), {{quarter.v.h * 0.25, quarter.v.l * 0.25}, quarter.err * 0.25}};
-    }
+namespace {
+
+// Δ′ as an expansion, times 4 with `unit_direction` (4Δ′ = (2b′)² − 4C, with
+// a taken to be 1), else a·r² − |d × f|² (Lagrange's identity).
+expansion<408> scaled_discriminant(const ray_sphere<double>& g, const exact_coefficients& k, bool unit_direction) {
+    if (unit_direction) return expansion<408>(k.two_b_prime * k.two_b_prime - k.C * 4.0);
     const double d[3] = {g.direction.x, g.direction.y, g.direction.z};
     const expansion<2>* f = k.f;
     const expansion<8> cross[3] = {compressed(f[2] * d[1] - f[1] * d[2]), compressed(f[0] * d[2] - f[2] * d[0]),
                                    compressed(f[1] * d[0] - f[0] * d[1])};
-    const expansion<408> discriminant =
-        k.a * (expansion_of(g.radius) * g.radius) - (cross[0] * cross[0] + cross[1] * cross[1] + cross[2] * cross[2]);
-    return {sign_of(discriminant), approximate(discriminant)};
+    return k.a * (expansion_of(g.radius) * g.radius) - (cross[0] * cross[0] + cross[1] * cross[1] + cross[2] * cross[2]);
+}
+
+}  // namespace
+
+RAYVERIFY_CLONED_FOR_FMA exact_discriminant discriminant_of(const ray_sphere<double>& g, const exact_coefficients& k,
+                                                            bool unit_direction) {
+    const expansion<408> scaled = scaled_discriminant(g, k, unit_direction);
+    const bounded approximation = approximate(scaled);
+    if (!unit_direction) return {sign_of(scaled), approximation};
+    // Scaled back by 1/4, exactly.
+    return {sign_of(scaled), {{approximation.v.h * 0.25, approximation.v.l * 0.25}, approximation.err * 0.25}};
+}
+
+RAYVERIFY_CLONED_FOR_FMA int discriminant_side(const ray_sphere<double>& g, const exact_coefficients& k,
+                                               bool unit_direction, double x) {
+    return sign_of(scaled_discriminant(g, k, unit_direction) - expansion_of(unit_direction ? 4 * x : x));
 }
 
 // Every component of P(u) then stays above 2^−720 and below 2^570.
@@ -50,6 +62,16 @@ RAYVERIFY_CLONED_FOR_FMA int tangent_root_side(const exact_coefficients& k, doub
 RAYVERIFY_CLONED_FOR_FMA int root_side(const exact_coefficients& k, double m, int other_side) {
     const int p = sign_of((k.a * m) * m + k.two_b_prime * m + k.C);  // sign(m − t_i)·sign(m − t_j)
     return -p * -other_side;
+}
+
+RAYVERIFY_CLONED_FOR_FMA int tangent_hit_side(const exact_coefficients& k, double o, double d, double v) {
+    const expansion<2> offset = expansion_of(o) - expansion_of(v);
+    return sign_of((k.a * offset) * 2.0 - k.two_b_prime * d);
+}
+
+RAYVERIFY_CLONED_FOR_FMA int hit_side(const exact_coefficients& k, double o, double d, double v, int other_side) {
+    const expansion<2> w = compressed(expansion_of(v) - expansion_of(o));
+    return sign_of(k.a * (w * w) + (k.two_b_prime * w) * d + (k.C * d) * d) * other_side;
 }
 
 namespace {

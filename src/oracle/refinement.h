@@ -42,6 +42,9 @@ struct exact_discriminant {
 exact_discriminant discriminant_of(const ray_sphere<double>& g, const exact_coefficients& k,
                                    bool unit_direction = false);
 
+// sign(Δ′ − x) exactly, x in the filter range (filter.h).
+int discriminant_side(const ray_sphere<double>& g, const exact_coefficients& k, bool unit_direction, double x);
+
 // Whether a double u may be substituted into the quadratic's expansions:
 // |u| in [2^−200, 2^200] (or 0) keeps every product exact beside the inputs' range.
 bool refinable(double u);
@@ -52,6 +55,16 @@ int tangent_root_side(const exact_coefficients& k, double m);
 // sign(t_i − m) for one of two roots, given sign(t_j − m) ≠ 0 of the other:
 // P(m) = a(m − t_i)(m − t_j) exactly; m refinable.
 int root_side(const exact_coefficients& k, double m, int other_side);
+
+// sign(p − v) for the coordinate p = o + d·t of a tangent's root t = −b′/a:
+// p − v = ((o − v)·2a − d·2b′) / 2a, a > 0; v refinable.
+int tangent_hit_side(const exact_coefficients& k, double o, double d, double v);
+
+// sign(p_i − v) for the coordinate p_i = o + d·t_i of one of two roots, d ≠ 0,
+// given sign(p_j − v) ≠ 0 of the other root's: with m = (v − o)/d,
+// Q = d²·P(m) = a(v − o)² + 2b′(v − o)d + C·d² exactly, and sign(p − v) =
+// sign(d)·sign(t − m), so sign(p_i − v) = sign(Q)·sign(p_j − v); v refinable.
+int hit_side(const exact_coefficients& k, double o, double d, double v, int other_side);
 
 // A finer enclosure of the root t_i (of two) from its enclosure's high word,
 // or of a tangent's root; err = +inf where it cannot be built.

@@ -148,7 +148,7 @@ void error_summary::prefetch(double error) const {
 }
 
 void error_summary::count_in(std::uint64_t bucket, std::size_t n) {
-    if (2 * (used_ + 1) > table_.size()) grow();
+    if (2 * (used_ + 1) > table_.size()) grow(used_ + 1);
     const std::size_t mask = table_.size() - 1;
     for (std::size_t i = slot_of(bucket, mask);; i = (i + 1) & mask) {
         slot& s = table_[i];
@@ -165,9 +165,11 @@ void error_summary::count_in(std::uint64_t bucket, std::size_t n) {
     sorted_current_ = false;
 }
 
-void error_summary::grow() {
+void error_summary::grow(std::size_t entries) {
+    std::size_t size = table_.empty() ? 16 : 2 * table_.size();
+    while (2 * entries > size) size *= 2;
     std::vector<slot> old = std::move(table_);
-    table_.assign(old.empty() ? 16 : 2 * old.size(), slot{});
+    table_.assign(size, slot{});
     const std::size_t mask = table_.size() - 1;
     for (const slot& s : old) {
         if (s.key == empty_key) continue;
@@ -198,6 +200,7 @@ void error_summary::merge(const error_summary& other) {
         max_id = other.max_id;
     }
     count += other.count;
+    if (2 * (used_ + other.used_) > table_.size()) grow(used_ + other.used_);  // one rehash, not many
     for (const slot& s : other.table_)
         if (s.key != empty_key) count_in(s.key, s.n);
 }

@@ -103,7 +103,7 @@ private:
     };
     static constexpr std::uint64_t empty_key = ~std::uint64_t{0};  // no bucket key is this large
     void count_in(std::uint64_t bucket, std::size_t n);
-    void grow();
+    void grow(std::size_t entries);  // to hold `entries` keys at most half full
     std::vector<slot> table_;  // size 0 or a power of two
     std::size_t used_ = 0;     // slots holding a key
     mutable histogram_map sorted_;

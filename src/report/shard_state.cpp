@@ -35,8 +35,7 @@ std::vector<std::string> target_labels(const std::vector<audit_target>& targets)
     return labels;
 }
 
-json audit_report_document(const audit_state& state, const run_context& context) {
-    const audit_totals totals = state.audit.finish();
+json audit_report_document(const audit_state& state, const audit_totals& totals, const run_context& context) {
     json report = audit_report_json(totals, context);
     report["stability"] = stability_json(totals, state.stability.finish());
     report["case_points"] = state.points.to_json();

@@ -33,8 +33,10 @@ struct audit_state {
 // The labels the plots and per-case lines use for the targets.
 std::vector<std::string> target_labels(const std::vector<audit_target>& targets);
 
-// The whole report.json of an audit: audit_report_json, then "stability" and "case_points".
-nlohmann::ordered_json audit_report_document(const audit_state& state, const run_context& context);
+// The whole report.json of an audit: audit_report_json of `totals` (the
+// state's audit.finish(), formed once by the caller), then "stability" and "case_points".
+nlohmann::ordered_json audit_report_document(const audit_state& state, const audit_totals& totals,
+                                             const run_context& context);
 
 // Targets as JSON (name, precision, citation, formula, contract) and back
 // (variants that describe, never run: merge renders, it does not audit).

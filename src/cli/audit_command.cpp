@@ -116,10 +116,10 @@ int run(const audit_options& options, const std::string& command_line) {
     run_context context{recorded_command(command_line), {}, {}};
     for (const auto& p : paths) context.corpus_paths.push_back(p.string());
     for (const generate_spec& s : specs) context.generated.push_back(s.text());
-    const audit_totals totals = audited.audit.finish();
+    const audit_totals totals = audited.audit.finish(requested);  // pure computation: every thread asked for
     std::optional<nlohmann::ordered_json> report;
     if (outputs.report || outputs.summary_md != nullptr) {
-        report = audit_report_document(audited, totals, context);
+        report = audit_report_document(audited, totals, context, requested);
         if (state_file != nullptr) {
             nlohmann::ordered_json state = {
                 {"schema_version", schema_version::shard_state},

@@ -293,8 +293,9 @@ int merge_audits(const merge_options& options) {
     open_presentation(outputs, options.presentation);
     if (outputs.per_case != nullptr) interleave_per_case(shards, total, outputs.per_case->stream());
 
-    const audit_totals totals = merged.audit.finish();
-    const std::optional<json> report = audit_report_document(merged, totals, context);
+    const unsigned threads = std::max(1u, std::thread::hardware_concurrency());
+    const audit_totals totals = merged.audit.finish(threads);
+    const std::optional<json> report = audit_report_document(merged, totals, context, threads);
     return publish_audit(totals, report, outputs, options.plots, options.presentation);
 }
 

@@ -8,6 +8,7 @@
 #include <exception>
 #include <iterator>
 #include <thread>
+#include <tuple>
 
 #include "core/case_in_progress.h"
 
@@ -319,19 +320,26 @@ target_tally summarise(const target_samples& s) {
 
 }  // namespace
 
-audit_totals audit_accumulator::finish() const {
+audit_totals audit_accumulator::finish(unsigned threads) const {
     audit_totals totals;
     totals.targets = targets;
     totals.cases = cases;
     totals.cases_by_family = cases_by_family;
     totals.invalid_cases = invalid;
     totals.invalid_list = invalid_list;
-    for (const target_samples& s : overall()) totals.overall.push_back(summarise(s));
-    for (const auto& [family, per_target] : by_family) {
-        auto& out = totals.by_family[family];
-        for (const target_samples& s : per_target) out.push_back(summarise(s));
-    }
+    std::tie(totals.overall, totals.by_family) =
+        summarised(merged_over_families(by_family, targets.size(), threads), by_family, threads, summarise);
     return totals;
+}
+
+void run_in_parallel(std::size_t count, unsigned threads, const std::function<void(std::size_t)>& job) {
+    std::atomic<std::size_t> next{0};
+    const auto work = [&] {
+        for (std::size_t k; (k = next.fetch_add(1)) < count;) job(k);
+    };
+    std::vector<std::jthread> helpers;
+    for (unsigned w = 1; w < std::min<std::size_t>(threads, count); ++w) helpers.emplace_back(work);
+    work();
 }
 
 unsigned audit_threads(const std::vector<audit_target>& targets, unsigned requested) {

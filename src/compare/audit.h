@@ -128,17 +128,42 @@ private:
     std::vector<std::pair<error_summary*, double>> items_;
 };
 
+// Runs job(k) for every k in [0, count) on `threads` threads, the calling one
+// among them, each taking the next k from a shared counter.
+void run_in_parallel(std::size_t count, unsigned threads, const std::function<void(std::size_t)>& job);
+
 // An accumulator tallies each case under its family only (one add per
 // figure); the whole run's tally of each target is the merge of the
-// families', formed when asked for. Tally has merge(const Tally&); both
-// helpers serve the audit and stability accumulators.
+// families', formed when asked for (targets on `threads` threads). Tally has
+// merge(const Tally&); the helpers serve the audit and stability accumulators.
 template <class Tally>
 std::vector<Tally> merged_over_families(const std::map<std::string, std::vector<Tally>>& by_family,
-                                        std::size_t target_count) {
+                                        std::size_t target_count, unsigned threads = 1) {
     std::vector<Tally> overall(target_count);
-    for (const auto& [family, per_target] : by_family)
-        for (std::size_t t = 0; t < per_target.size(); ++t) overall[t].merge(per_target[t]);
+    run_in_parallel(target_count, threads, [&](std::size_t t) {
+        for (const auto& [family, per_target] : by_family)
+            if (t < per_target.size()) overall[t].merge(per_target[t]);
+    });
     return overall;
+}
+
+// Every tally of `overall` and `by_family` summarised (`summarise(samples)`),
+// on `threads` threads; the results in the same shape.
+template <class Samples, class Summarise>
+auto summarised(const std::vector<Samples>& overall, const std::map<std::string, std::vector<Samples>>& by_family,
+                unsigned threads, Summarise summarise) {
+    using tally = decltype(summarise(overall.front()));
+    std::pair<std::vector<tally>, std::map<std::string, std::vector<tally>>> out;
+    out.first.resize(overall.size());
+    std::vector<std::pair<const Samples*, tally*>> jobs;
+    for (std::size_t t = 0; t < overall.size(); ++t) jobs.emplace_back(&overall[t], &out.first[t]);
+    for (const auto& [family, per_target] : by_family) {
+        std::vector<tally>& into = out.second[family];
+        into.resize(per_target.size());
+        for (std::size_t t = 0; t < per_target.size(); ++t) jobs.emplace_back(&per_target[t], &into[t]);
+    }
+    run_in_parallel(jobs.size(), threads, [&](std::size_t k) { *jobs[k].second = summarise(*jobs[k].first); });
+    return out;
 }
 
 // Adds `other`'s per-family tallies to `mine`, both aligned with the same `target_count` targets.
@@ -206,7 +231,8 @@ struct audit_accumulator {
     explicit audit_accumulator(std::vector<audit_target> targets = {});
     void add(const audited_case& c, std::size_t index);
     void merge(const audit_accumulator& other);
-    audit_totals finish() const;
+    // The statistics (histograms sorted, quantiles), formed on `threads` threads.
+    audit_totals finish(unsigned threads = 1) const;
 
     // The whole run's tallies of each target (aligned with targets).
     std::vector<target_samples> overall() const { return merged_over_families(by_family, targets.size()); }

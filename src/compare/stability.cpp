@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <tuple>
 
 #include "core/double_word.h"
 #include "core/float_bits.h"
@@ -227,13 +228,10 @@ stability_tally summarise(const stability_samples& s) {
 
 }  // namespace
 
-stability_totals stability_accumulator::finish() const {
+stability_totals stability_accumulator::finish(unsigned threads) const {
     stability_totals totals;
-    for (const stability_samples& s : overall()) totals.overall.push_back(summarise(s));
-    for (const auto& [family, per_target] : by_family) {
-        auto& out = totals.by_family[family];
-        for (const stability_samples& s : per_target) out.push_back(summarise(s));
-    }
+    std::tie(totals.overall, totals.by_family) =
+        summarised(merged_over_families(by_family, targets.size(), threads), by_family, threads, summarise);
     return totals;
 }
 

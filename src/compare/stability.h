@@ -139,7 +139,7 @@ struct stability_accumulator {
     explicit stability_accumulator(std::vector<audit_target> targets = {});
     void add(const audited_case& c, const case_stability& s, std::size_t index);
     void merge(const stability_accumulator& other);
-    stability_totals finish() const;
+    stability_totals finish(unsigned threads = 1) const;  // on `threads` threads
 
     // The whole run's samples of each target (aligned with targets).
     std::vector<stability_samples> overall() const { return merged_over_families(by_family, targets.size()); }

@@ -35,9 +35,10 @@ std::vector<std::string> target_labels(const std::vector<audit_target>& targets)
     return labels;
 }
 
-json audit_report_document(const audit_state& state, const audit_totals& totals, const run_context& context) {
+json audit_report_document(const audit_state& state, const audit_totals& totals, const run_context& context,
+                           unsigned threads) {
     json report = audit_report_json(totals, context);
-    report["stability"] = stability_json(totals, state.stability.finish());
+    report["stability"] = stability_json(totals, state.stability.finish(threads));
     report["case_points"] = state.points.to_json();
     return report;
 }

@@ -34,9 +34,10 @@ struct audit_state {
 std::vector<std::string> target_labels(const std::vector<audit_target>& targets);
 
 // The whole report.json of an audit: audit_report_json of `totals` (the
-// state's audit.finish(), formed once by the caller), then "stability" and "case_points".
+// state's audit.finish(), formed once by the caller), then "stability" (its
+// statistics formed on `threads` threads) and "case_points".
 nlohmann::ordered_json audit_report_document(const audit_state& state, const audit_totals& totals,
-                                             const run_context& context);
+                                             const run_context& context, unsigned threads = 1);
 
 // Targets as JSON (name, precision, citation, formula, contract) and back
 // (variants that describe, never run: merge renders, it does not audit).

@@ -37,12 +37,12 @@ TEST(JsonLine, NumbersAreWrittenAsNlohmannWritesThem) {
     for (const double x : values) {
         json_line line;
         line.value(x);
-        ASSERT_EQ(line.text(), json(x).dump()) << std::hexfloat << x;
+        ASSERT_EQ(line.take(), json(x).dump()) << std::hexfloat << x;
     }
     for (const double x : {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::quiet_NaN()}) {
         json_line line;
         line.value(x);
-        EXPECT_EQ(line.text(), json(x).dump());
+        EXPECT_EQ(line.take(), json(x).dump());
     }
 }
 
@@ -70,7 +70,8 @@ TEST(JsonLine, StringsNestingAndOrderAreWrittenAsNlohmannWritesThem) {
         .end_object()
         .value("x")
         .end_array()
-        .member(awkward, 2.0)
+        .key_text(awkward)
+        .value(2.0)
         .end_object();
     json want;
     want["text"] = awkward;
@@ -81,7 +82,41 @@ TEST(JsonLine, StringsNestingAndOrderAreWrittenAsNlohmannWritesThem) {
     want["empty"] = json::object();
     want["list"] = json::array({1.5, json::array(), json{{"a", "b"}}, "x"});
     want[awkward] = 2.0;
-    EXPECT_EQ(line.text(), want.dump());
+    EXPECT_EQ(line.take(), want.dump());
+}
+
+// Strings of every length up to 40 with a byte to escape (or none) at every
+// place: the word-at-a-time scan finds each.
+TEST(JsonLine, EveryEscapeIsFoundWhereverItStands) {
+    const std::string specials = std::string("\"\\\b\t\n\f\r\x01\x1f") + std::string(1, '\0');
+    const std::string plain_bytes = "az09 _-.,:()[]{}+*!~\x7f";  // ASCII: any mix is valid UTF-8
+    for (std::size_t length = 0; length <= 40; ++length)
+        for (std::size_t at = 0; at <= length; ++at)
+            for (std::size_t k = 0; k <= specials.size(); ++k) {
+                std::string text;
+                for (std::size_t i = 0; i < length; ++i) text += plain_bytes[(i * 7 + length) % plain_bytes.size()];
+                if (at < length && k < specials.size()) text[at] = specials[k];
+                json_line line;
+                line.value(text);
+                ASSERT_EQ(line.take(), json(text).dump()) << "length " << length << ", byte " << k << " at " << at;
+            }
+}
+
+// hex() writes hex_float's text as a string; a writer given an earlier line's
+// storage writes only its own text.
+TEST(JsonLine, HexFloatsAndReusedStorage) {
+    std::string storage;
+    for (const double x : {0.0, -0.0, 1.0, -0x1.fffffffffffffp-1022, 0x1p-1074, 0x1.8p+1023, 3.0e-310,
+                           std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
+                           std::numeric_limits<double>::quiet_NaN()}) {
+        json_line line(std::move(storage));
+        line.begin_array().hex(x).value(-1).end_array();
+        storage = line.take();
+        EXPECT_EQ(storage, "[\"" + hex_float(x) + "\",-1]");
+    }
+    json_line line(std::string(5000, 'x'));
+    line.begin_object().end_object();
+    EXPECT_EQ(line.take(), "{}");
 }
 
 // Every per-case line of the shipped corpus, with every built-in variant:

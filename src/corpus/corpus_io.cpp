@@ -402,10 +402,7 @@ double parse_exact_double(std::string_view token, const std::string& file, std::
     return negative ? -value : value;
 }
 
-void append_hex_float(std::string& out, double x) {
-    // At most "-0x1.fffffffffffffp-1022": 24 characters, formed in place.
-    char text[32];
-    char* at = text;
+char* write_hex_float(char* at, double x) {
     if (std::signbit(x)) *at++ = '-';
     const auto put = [&](std::string_view s) {
         for (const char ch : s) *at++ = ch;
@@ -433,9 +430,14 @@ void append_hex_float(std::string& out, double x) {
         }
         const int exponent = biased == 0 ? -1022 : biased - 1023;
         put(exponent < 0 ? "p-" : "p+");
-        at = std::to_chars(at, text + sizeof text, exponent < 0 ? -exponent : exponent).ptr;
+        at = std::to_chars(at, at + 4, exponent < 0 ? -exponent : exponent).ptr;
     }
-    out.append(text, static_cast<std::size_t>(at - text));
+    return at;
+}
+
+void append_hex_float(std::string& out, double x) {
+    char text[hex_float_max_size];
+    out.append(text, static_cast<std::size_t>(write_hex_float(text, x) - text));
 }
 
 std::string hex_float(double x) {

@@ -44,6 +44,10 @@ double parse_exact_double(std::string_view token, const std::string& file, std::
 std::string hex_float(double x);
 // The same, appended to `out`.
 void append_hex_float(std::string& out, double x);
+// The same, written at `at` (room for hex_float_max_size characters, no
+// terminating zero); returns the end of the text.
+inline constexpr std::size_t hex_float_max_size = 24;  // "-0x1.fffffffffffffp-1022"
+char* write_hex_float(char* at, double x);
 
 // Shortest round-trip decimal, e.g. "0.1", "5e-324".
 std::string shortest_decimal(double x);

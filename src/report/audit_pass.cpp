@@ -21,7 +21,7 @@ audit_state run_audit_pass(const case_source& next, const std::vector<audit_targ
         workers[worker].state.stability.add(c, s, index);
         if (with_points) workers[worker].state.points.add(c, s, index);
         if (per_case == nullptr) return;
-        lines[slot] = per_case_line(c, targets, s);
+        lines[slot] = per_case_line(c, targets, s, std::move(lines[slot]));
     };
     if (per_case != nullptr)
         hooks.ordered = [&](const audited_case&, std::size_t, std::size_t slot) { *per_case << lines[slot] << '\n'; };

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <utility>
 
@@ -123,16 +124,16 @@ void write_exact(json_line& out, const exact_solution& e) {
     }
     out.member("class", line_class_name(e.cls));
     if (e.cls != line_class::miss) {
-        out.member("t_near", hex_float(e.near_root.rounded));
-        out.member("t_far", hex_float(e.far_root.rounded));
+        out.key("t_near").hex(e.near_root.rounded);
+        out.key("t_far").hex(e.far_root.rounded);
         out.member("near_sign", e.near_root.sign);
         out.member("far_sign", e.far_root.sign);
         // Facts of the line, for any contract: each root's point o + t·d,
         // correctly rounded (which root is "the hit" is each result's "expected").
         out.key("hit_points").begin_object();
         for (root_index i : {root_index::near_root, root_index::far_root}) {
-            out.key(i == root_index::near_root ? "near" : "far").begin_array();
-            for (int axis = 0; axis < 3; ++axis) out.value(hex_float(e.rounded_hit_coordinate(i, axis)));
+            out.key(i == root_index::near_root ? json_name("near") : json_name("far")).begin_array();
+            for (int axis = 0; axis < 3; ++axis) out.hex(e.rounded_hit_coordinate(i, axis));
             out.end_array();
         }
         out.end_object();
@@ -146,9 +147,9 @@ void write_expected(json_line& out, const contract& promises, const exact_soluti
     const expected_hit want = exact.cls == line_class::miss ? expected_hit{} : expect_hit(promises, exact, range);
     switch (want.what) {
         case expected_hit::kind::none: out.member("answer", "none"); break;
-        case expected_hit::kind::clamp: out.member("answer", "clamp").member("t", hex_float(want.value)); break;
+        case expected_hit::kind::clamp: out.member("answer", "clamp").key("t").hex(want.value); break;
         case expected_hit::kind::root:
-            out.member("answer", want.root == root_index::near_root ? "near" : "far").member("t", hex_float(want.value));
+            out.member("answer", want.root == root_index::near_root ? "near" : "far").key("t").hex(want.value);
             break;
     }
     out.end_object();
@@ -270,10 +271,11 @@ json audit_report_json(const audit_totals& totals, const run_context& context) {
 }
 
 std::string per_case_line(const audited_case& audited, const std::vector<audit_target>& targets,
-                          const case_stability& stability) {
+                          const case_stability& stability, std::string buffer) {
     const corpus_case& c = *audited.source;
     const auto& g = c.geometry;
-    json_line line;
+    // About 400 bytes per target and 1 KB for the case's own fields: one allocation.
+    json_line line(std::move(buffer), 1024 + 512 * targets.size());
     line.begin_object();
     line.member("schema_version", schema_version::per_case);
     line.member("id", c.id);
@@ -281,7 +283,7 @@ std::string per_case_line(const audited_case& audited, const std::vector<audit_t
     line.member("source", c.source);
     const auto hex_all = [&](const auto& values) {
         line.begin_array();
-        for (double v : values) line.value(hex_float(v));
+        for (double v : values) line.hex(v);
         line.end_array();
     };
     const auto hex_vec = [&](const vec3<double>& v) { hex_all(std::array<double, 3>{v.x, v.y, v.z}); };
@@ -292,7 +294,7 @@ std::string per_case_line(const audited_case& audited, const std::vector<audit_t
     hex_vec(g.direction);
     line.key("c");
     hex_vec(g.centre);
-    line.member("r", hex_float(g.radius)).end_object();
+    line.key("r").hex(g.radius).end_object();
     line.key("exact");
     write_exact(line, audited.exact_double);
     if (audited.exact_float) {
@@ -301,16 +303,28 @@ std::string per_case_line(const audited_case& audited, const std::vector<audit_t
     }
 
     line.key("results").begin_object();
+    t_range shown_range;
+    std::optional<std::string> range_text;
+    const auto same_range = [](const t_range& a, const t_range& b) {
+        return std::bit_cast<std::uint64_t>(a.lower) == std::bit_cast<std::uint64_t>(b.lower) &&
+               std::bit_cast<std::uint64_t>(a.upper) == std::bit_cast<std::uint64_t>(b.upper) &&
+               a.lower_end == b.lower_end && a.upper_end == b.upper_end;
+    };
     for (std::size_t i = 0; i < targets.size(); ++i) {
         const target_outcome& o = audited.outcomes[i];
-        line.key(targets[i].label()).begin_object();
+        line.key_text(targets[i].label()).begin_object();
         line.member("verdict", verdict_name(o.score.verdict));
         const bool ran = o.score.verdict != verdict_kind::invalid && o.score.verdict != verdict_kind::contract_violation;
         if (o.score.cause) line.member("cause", cause_name(*o.score.cause));
         if (ran) {
             const contract& promises = targets[i].subject.promises;
             const exact_solution& exact = audited.exact_for(targets[i].prec);
-            line.member("range", format_range(o.range));
+            // Targets of a case mostly share one range: its text is formed once.
+            if (!range_text || !same_range(o.range, shown_range)) {
+                shown_range = o.range;
+                range_text = format_range(o.range);
+            }
+            line.member("range", *range_text);
             if (promises.query != query_kind::line_roots) {
                 line.key("expected");
                 write_expected(line, promises, exact, o.range);
@@ -319,8 +333,8 @@ std::string per_case_line(const audited_case& audited, const std::vector<audit_t
             // count-1 tangent's t1 included), the one root of a nearest hit.
             line.member("count", o.output.roots.count);
             if (o.output.roots.count > 0 && promises.query != query_kind::any_hit) {
-                line.member("t0", hex_float(o.output.roots.t0));
-                if (promises.query == query_kind::line_roots) line.member("t1", hex_float(o.output.roots.t1));
+                line.key("t0").hex(o.output.roots.t0);
+                if (promises.query == query_kind::line_roots) line.key("t1").hex(o.output.roots.t1);
             }
             // The outputs beside t, as given (judged: bound_width_ulp, normal_angle, unsound_bound).
             if (o.output.t_bounds) {
@@ -338,7 +352,7 @@ std::string per_case_line(const audited_case& audited, const std::vector<audit_t
                 hex_vec(*o.output.normal);
             }
         }
-        const auto figure = [&](const char* name, const std::optional<double>& x) {
+        const auto figure = [&](json_name name, const std::optional<double>& x) {
             if (!x) return;
             line.key(name);
             write_number(line, *x);
@@ -362,7 +376,7 @@ std::string per_case_line(const audited_case& audited, const std::vector<audit_t
     line.key("stability");
     write_stability_measures(line, stability);
     line.end_object();
-    return line.text();
+    return line.take();
 }
 
 }  // namespace rayverify

@@ -9,26 +9,72 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <array>
+#include <bit>
+#include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
+#include <limits>
 #include <string>
 #include <string_view>
+#include <utility>
+
+#include "corpus/corpus_io.h"
 
 namespace rayverify {
 
+// Does JSON write this byte escaped? Control characters, '"' and '\\'.
+constexpr bool json_escapes(char ch) {
+    const auto byte = static_cast<unsigned char>(ch);
+    return byte <= 0x1F || ch == '"' || ch == '\\';
+}
+
+// A member name fixed in the code ("t0", "near_ulp"): checked when compiled
+// to need no escaping, so that json_line copies it as it is.
+class json_name {
+public:
+    template <std::size_t N>
+    consteval json_name(const char (&text)[N]) : text_(text, N - 1) {  // NOLINT: implicit from a literal
+        for (const char ch : text_)
+            if (json_escapes(ch)) throw "a json_name must be written without escapes; use key_text";
+    }
+    std::string_view text() const { return text_; }
+
+private:
+    std::string_view text_;
+};
+
 class json_line {
 public:
+    json_line() = default;
+    // Written into the given string's storage (its text is dropped), with
+    // room for about expected_size bytes from the start: a caller writing
+    // line after line reuses one allocation.
+    explicit json_line(std::string&& storage, std::size_t expected_size = 0) : out_(std::move(storage)) {
+        out_.resize(std::max(out_.capacity(), expected_size));
+    }
+
     json_line& begin_object() { return open('{'); }
     json_line& end_object() { return close('}'); }
     json_line& begin_array() { return open('['); }
     json_line& end_array() { return close(']'); }
 
-    // A member's name; its value follows.
-    json_line& key(std::string_view name) {
+    // A member's name; its value follows. key_text takes any text and
+    // escapes it as needed.
+    json_line& key(json_name name) {
+        separate();
+        put('"');
+        put(name.text());
+        put(std::string_view("\":"));
+        after_key_ = true;
+        return *this;
+    }
+    json_line& key_text(std::string_view name) {
         separate();
         quoted(name);
-        out_ += ':';
+        put(':');
         after_key_ = true;
         return *this;
     }
@@ -42,51 +88,82 @@ public:
     json_line& value(const std::string& text) { return value(std::string_view(text)); }
     json_line& value(bool b) {
         separate();
-        out_ += b ? "true" : "false";
+        put(b ? std::string_view("true") : std::string_view("false"));
         return *this;
     }
     template <class Integer>
         requires std::is_integral_v<Integer>
     json_line& value(Integer n) {
         separate();
-        out_ += std::to_string(n);
+        char* const at = room(24);
+        used_ += static_cast<std::size_t>(std::to_chars(at, at + 24, n).ptr - at);
+        return *this;
+    }
+    // A double as the string of its C99 hex float (hex_float's text), which
+    // never needs escaping.
+    json_line& hex(double x) {
+        separate();
+        char* const at = room(hex_float_max_size + 2);
+        *at = '"';
+        char* const end = write_hex_float(at + 1, x);
+        *end = '"';
+        used_ += static_cast<std::size_t>(end + 1 - at);
         return *this;
     }
     // A double as nlohmann writes one (null when not finite).
     json_line& value(double x) {
         separate();
         if (!std::isfinite(x)) {
-            out_ += "null";
+            put("null");
             return *this;
         }
-        std::array<char, 64> buffer{};
-        char* const end = nlohmann::detail::to_chars(buffer.data(), buffer.data() + buffer.size(), x);
-        out_.append(buffer.data(), static_cast<std::size_t>(end - buffer.data()));
+        put(shortest_text_of(x));
         return *this;
     }
     json_line& null() {
         separate();
-        out_ += "null";
+        put("null");
         return *this;
     }
 
     // key(name).value(v)
     template <class T>
-    json_line& member(std::string_view name, const T& v) {
+    json_line& member(json_name name, const T& v) {
         return key(name).value(v);
     }
 
-    const std::string& text() const { return out_; }
+    // The text, moved out; the writer is empty afterwards.
+    std::string take() {
+        out_.resize(used_);
+        used_ = 0;
+        first_ = true;
+        after_key_ = false;
+        return std::exchange(out_, {});
+    }
 
 private:
+    // n writable bytes at the end of the text (the string grows geometrically;
+    // its size runs ahead of the text, used_ bytes long, until take()).
+    char* room(std::size_t n) {
+        if (out_.size() - used_ < n) [[unlikely]]
+            grow(n);
+        return out_.data() + used_;
+    }
+    [[gnu::noinline]] void grow(std::size_t n) { out_.resize(std::max(2 * out_.size(), used_ + n + 256)); }
+    void put(char ch) { *room(1) = ch, ++used_; }
+    void put(std::string_view s) {
+        std::copy(s.begin(), s.end(), room(s.size()));
+        used_ += s.size();
+    }
+
     json_line& open(char bracket) {
         separate();
-        out_ += bracket;
+        put(bracket);
         first_ = true;
         return *this;
     }
     json_line& close(char bracket) {
-        out_ += bracket;
+        put(bracket);
         first_ = false;
         return *this;
     }
@@ -96,36 +173,76 @@ private:
             after_key_ = false;
             return;
         }
-        if (!first_ && !out_.empty()) out_ += ',';
+        if (!first_ && used_ != 0) put(',');
         first_ = false;
     }
+    // The length of s's prefix written as it is: eight bytes at a time while
+    // no byte of the word can be one to escape (the word tests below may
+    // report a byte that is not, never miss one), then byte by byte.
+    static std::size_t plain_prefix(std::string_view s) {
+        constexpr std::uint64_t ones = 0x0101010101010101ull, highs = 0x8080808080808080ull;
+        const auto any_below = [&](std::uint64_t w, unsigned n) { return (w - ones * n) & ~w & highs; };
+        std::size_t i = 0;
+        for (; i + 8 <= s.size(); i += 8) {
+            std::uint64_t w;
+            std::memcpy(&w, s.data() + i, 8);
+            if (any_below(w, 0x20) | any_below(w ^ (ones * '"'), 1) | any_below(w ^ (ones * '\\'), 1)) break;
+        }
+        while (i < s.size() && !json_escapes(s[i])) ++i;
+        return i;
+    }
     void quoted(std::string_view s) {
-        out_ += '"';
-        for (const char ch : s) {
+        put('"');
+        // Runs of characters written as they are go in one copy.
+        const std::size_t plain = plain_prefix(s);
+        put(s.substr(0, plain));
+        for (const char ch : s.substr(plain)) {
             const auto byte = static_cast<unsigned char>(ch);
             switch (byte) {
-                case '\b': out_ += "\\b"; break;
-                case '\t': out_ += "\\t"; break;
-                case '\n': out_ += "\\n"; break;
-                case '\f': out_ += "\\f"; break;
-                case '\r': out_ += "\\r"; break;
-                case '"': out_ += "\\\""; break;
-                case '\\': out_ += "\\\\"; break;
+                case '\b': put("\\b"); break;
+                case '\t': put("\\t"); break;
+                case '\n': put("\\n"); break;
+                case '\f': put("\\f"); break;
+                case '\r': put("\\r"); break;
+                case '"': put("\\\""); break;
+                case '\\': put("\\\\"); break;
                 default:
                     if (byte <= 0x1F) {
                         constexpr char hex[] = "0123456789abcdef";
-                        out_ += "\\u00";
-                        out_ += hex[byte >> 4];
-                        out_ += hex[byte & 0xF];
+                        put("\\u00");
+                        put(hex[byte >> 4]);
+                        put(hex[byte & 0xF]);
                     } else {
-                        out_ += ch;
+                        put(ch);
                     }
             }
         }
-        out_ += '"';
+        put('"');
     }
 
-    std::string out_;
+    // nlohmann's text of a finite double. A per-case line repeats many
+    // values (variants that compute alike give the same figures), so the
+    // texts of recent values are kept, per thread, in a small table indexed
+    // by a hash of the bits (a slot holds the last value that hashed to it).
+    static std::string_view shortest_text_of(double x) {
+        struct remembered {
+            std::uint64_t bits = std::bit_cast<std::uint64_t>(std::numeric_limits<double>::quiet_NaN());
+            std::uint32_t size = 0;
+            std::array<char, 28> text{};  // at most 24: "-1.2345678901234567e-308"
+        };
+        static thread_local std::array<remembered, 256> recent;
+        const auto bits = std::bit_cast<std::uint64_t>(x);
+        remembered& slot = recent[(bits * 0x9E3779B97F4A7C15ull) >> 56];
+        if (slot.bits != bits) {
+            char* const begin = slot.text.data();
+            slot.size = static_cast<std::uint32_t>(nlohmann::detail::to_chars(begin, begin + slot.text.size(), x) - begin);
+            slot.bits = bits;
+        }
+        return {slot.text.data(), slot.size};
+    }
+
+    std::string out_;         // the text is its first used_ bytes
+    std::size_t used_ = 0;
     bool first_ = true;       // the next value or key opens its container
     bool after_key_ = false;  // the next value is a member's, after its key
 };

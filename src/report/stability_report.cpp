@@ -114,7 +114,7 @@ json stability_json(const audit_totals& totals, const stability_totals& stabilit
 
 void write_stability_measures(json_line& out, const case_stability& s) {
     out.begin_object();
-    for (const auto& [name, measures] : {std::pair{"float", &s.at_float}, std::pair{"double", &s.at_double}}) {
+    for (const auto& [name, measures] : {std::pair{json_name("float"), &s.at_float}, std::pair{json_name("double"), &s.at_double}}) {
         if (!*measures) continue;
         const stability_measures& m = **measures;
         out.key(name).begin_object();

@@ -684,11 +684,12 @@ exact_solution solve_case(const corpus_case& c, precision p) {
 }
 
 t_range range_for(const contract& promises, const corpus_case& c, precision p) {
-    const auto at = [p](std::optional<double> t) -> std::optional<double> {
-        if (!t || p == precision::binary64) return t;
-        return static_cast<double>(static_cast<float>(*t));
-    };
-    return range_of(promises, at(c.tmin), at(c.tmax));
+    t_range range = range_of(promises, c.tmin, c.tmax);
+    if (p == precision::binary32) {  // the bounds as a float variant receives them (0 and +inf stay)
+        range.lower = static_cast<double>(static_cast<float>(range.lower));
+        range.upper = static_cast<double>(static_cast<float>(range.upper));
+    }
+    return range;
 }
 
 namespace {

@@ -90,24 +90,6 @@ std::optional<inside_rule> inside_rule_from_name(std::string_view name) { return
 std::optional<answer_kind> answer_kind_from_name(std::string_view name) { return value_in(answer_kind_names, name); }
 std::optional<point_bound> point_bound_from_name(std::string_view name) { return value_in(point_bound_names, name); }
 
-t_range range_of(const contract& c, std::optional<double> tmin, std::optional<double> tmax) {
-    t_range r;
-    r.lower_end = c.lower_end;
-    r.upper_end = c.upper_end;
-    switch (c.range) {
-        case range_source::ray: break;
-        case range_source::interval:
-        case range_source::segment:
-            if (tmin) r.lower = *tmin;
-            if (tmax) r.upper = *tmax;
-            break;
-        case range_source::tmax_only:
-            if (tmax) r.upper = *tmax;
-            break;
-    }
-    return r;
-}
-
 std::string format_range(const t_range& r) {
     return (r.lower_end == end_kind::closed ? "[" : "(") + number_text(r.lower) + ", " + number_text(r.upper) +
            (r.upper_end == end_kind::closed ? "]" : ")");

@@ -149,7 +149,24 @@ struct t_range {
 // interval or segment contract's is (tmin, tmax) as given (each defaulting to
 // 0 and +inf), a tmax_only contract's from 0 to tmax; each with the
 // contract's end semantics.
-t_range range_of(const contract& c, std::optional<double> tmin, std::optional<double> tmax);
+// (Inline: the judge forms one for every case and target.)
+inline t_range range_of(const contract& c, const std::optional<double>& tmin, const std::optional<double>& tmax) {
+    t_range r;
+    r.lower_end = c.lower_end;
+    r.upper_end = c.upper_end;
+    switch (c.range) {
+        case range_source::ray: break;
+        case range_source::interval:
+        case range_source::segment:
+            if (tmin) r.lower = *tmin;
+            if (tmax) r.upper = *tmax;
+            break;
+        case range_source::tmax_only:
+            if (tmax) r.upper = *tmax;
+            break;
+    }
+    return r;
+}
 
 // "(0, +inf)", "[tmin, tmax)" with the values: how explain and details print a range.
 std::string format_range(const t_range& r);

@@ -9,6 +9,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <fstream>
 #include <iterator>
 #include <limits>
@@ -402,6 +403,25 @@ double parse_exact_double(std::string_view token, const std::string& file, std::
     return negative ? -value : value;
 }
 
+namespace {
+
+// x's eight hex digits, most significant first, lower case, stored at `at`
+// (eight bytes, no terminating zero): the nibbles spread one to a byte and
+// turned into ASCII a word at a time.
+void store_hex_digits(char* at, std::uint32_t x) {
+    std::uint64_t v = x;
+    v = (v | v << 16) & 0x0000FFFF0000FFFFull;
+    v = (v | v << 8) & 0x00FF00FF00FF00FFull;
+    v = (v | v << 4) & 0x0F0F0F0F0F0F0F0Full;  // byte k holds nibble k (from the least significant)
+    const std::uint64_t letter = ((v + 0x0606060606060606ull) >> 4) & 0x0101010101010101ull;  // nibble ≥ 10
+    v += 0x3030303030303030ull + letter * ('a' - '0' - 10);
+    // The most significant nibble's byte first in memory (big-endian stores it first already).
+    if constexpr (std::endian::native == std::endian::little) v = __builtin_bswap64(v);
+    std::memcpy(at, &v, 8);
+}
+
+}  // namespace
+
 char* write_hex_float(char* at, double x) {
     if (std::signbit(x)) *at++ = '-';
     const auto put = [&](std::string_view s) {
@@ -422,15 +442,21 @@ char* write_hex_float(char* at, double x) {
         put(biased == 0 ? "0x0" : "0x1");
         if (fraction != 0) {
             *at++ = '.';
-            constexpr char digits[] = "0123456789abcdef";
-            for (int shift = 48; fraction != 0; shift -= 4) {
-                *at++ = digits[(fraction >> shift) & 0xF];
-                fraction &= (std::uint64_t{1} << shift) - 1;
-            }
+            // The 13 nibbles as 16 digits (3 zeros after them, overwritten
+            // below), then only up to the last nonzero nibble kept.
+            const std::uint64_t nibbles = fraction << 12;
+            store_hex_digits(at, static_cast<std::uint32_t>(nibbles >> 32));
+            store_hex_digits(at + 8, static_cast<std::uint32_t>(nibbles));
+            at += 13 - std::countr_zero(fraction) / 4;
         }
         const int exponent = biased == 0 ? -1022 : biased - 1023;
         put(exponent < 0 ? "p-" : "p+");
-        at = std::to_chars(at, at + 4, exponent < 0 ? -exponent : exponent).ptr;
+        // |exponent| ≤ 1023: its decimal digits without leading zeros.
+        const int magnitude = exponent < 0 ? -exponent : exponent;
+        if (magnitude >= 1000) *at++ = '1';
+        if (magnitude >= 100) *at++ = static_cast<char>('0' + magnitude / 100 % 10);
+        if (magnitude >= 10) *at++ = static_cast<char>('0' + magnitude / 10 % 10);
+        *at++ = static_cast<char>('0' + magnitude % 10);
     }
     return at;
 }

@@ -474,7 +474,7 @@ std::string hex_float(double x) {
 
 std::string shortest_decimal(double x) { return fmt::format("{}", x); }
 
-std::string format_case_line(const corpus_case& c) {
+void append_case_line(std::string& line, const corpus_case& c) {
     if (!is_plain_token(c.id))
         throw input_error(c.source, 0, "id",
                           fmt::format("cannot be written as one token: '{}'", c.id));
@@ -482,8 +482,6 @@ std::string format_case_line(const corpus_case& c) {
         throw input_error(c.source, 0, "family",
                           fmt::format("cannot be written as one token: '{}'", c.family));
     const auto& g = c.geometry;
-    std::string line;
-    line.reserve(c.id.size() + c.family.size() + 12 * 24);
     line += c.id;
     line += ' ';
     line += c.family.empty() ? "-" : c.family;
@@ -500,6 +498,12 @@ std::string format_case_line(const corpus_case& c) {
             else
                 line += '-';
         }
+}
+
+std::string format_case_line(const corpus_case& c) {
+    std::string line;
+    line.reserve(c.id.size() + c.family.size() + 12 * 24);
+    append_case_line(line, c);
     return line;
 }
 

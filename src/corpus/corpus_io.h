@@ -57,6 +57,8 @@ std::string shortest_decimal(double x);
 // back into a corpus file; parses back to an identical case. Throws
 // input_error when the id or family could not be read back as one token.
 std::string format_case_line(const corpus_case& c);
+// The same, appended to `line` (no newline).
+void append_case_line(std::string& line, const corpus_case& c);
 
 // The comment header every written corpus file starts with (column names),
 // without a trailing newline.

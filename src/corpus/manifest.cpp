@@ -102,7 +102,7 @@ void write_generated_corpus(std::string_view family_name, std::size_t count, std
         for (std::size_t i = first; i < std::min(count, first + block); ++i) indices.push_back(i);
         append_generated_cases(family_name, seed, indices, cases);
         for (const corpus_case& c : cases) {
-            out += format_case_line(c);
+            append_case_line(out, c);
             out += '\n';
         }
         if (out.size() >= piece) {

@@ -620,6 +620,13 @@ std::vector<bad_input> bad_inputs() {
          edited_shard([](nlohmann::ordered_json& j) {
              j["state"]["audit"]["overall"][0]["near_ulp"]["buckets"] = "4611686018427387904:1";
          })},
+        {"merge: a plotted case's verdict that is no verdict", "rayverify merge --report out s1", {}, 2,
+         "s1/shard.json: field 'state.case_points[0].verdict[0]': 'teleported' is not a verdict",
+         edited_shard([](nlohmann::ordered_json& j) { j["state"]["case_points"][0]["verdict"][0] = "teleported"; })},
+        {"merge: a plotted case's near-root error that is no number", "rayverify merge --report out s1", {}, 2,
+         "s1/shard.json: field 'state.case_points[0].near_ulp[0]': is \"0x1p+0\", expected a number, \"inf\", "
+         "\"-inf\", \"nan\" or null",
+         edited_shard([](nlohmann::ordered_json& j) { j["state"]["case_points"][0]["near_ulp"][0] = "0x1p+0"; })},
         {"merge: a per-case path outside the shard directory (`/etc/hostname`)",
          "rayverify merge --report out --per-case out.jsonl s1", {}, 2,
          "s1/shard.json: field 'per_case_file': '/etc/hostname' is not a path inside the shard directory",

@@ -37,6 +37,65 @@ protected:
 
 double cpu_seconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
 
+// Where a whole audit's time goes, per case-target in multiples of naive
+// double's time per case. The targets' answers and the oracle are timed on
+// their own; the other three are differences of neighbouring timings of ever
+// larger parts of the pass (audit_case, audit_stream, run_audit_pass), so on a
+// noisy machine a small part may come out a little below 0.
+struct audit_parts {
+    double targets = 0;     // every target's own answers (answer_of on run_input's inputs)
+    double oracle = 0;      // solve_case on the double and the float inputs
+    double judge = 0;       // audit_case less the two above: outputs widened, ULP errors, verdicts
+    double accumulate = 0;  // audit_stream less audit_case: verdict tallies, error histograms
+    double stability = 0;   // the whole pass less audit_stream: stability figures, plot sample
+    double sum() const { return targets + oracle + judge + accumulate + stability; }
+};
+
+// The parts in the order they are printed, with their names.
+std::vector<std::pair<std::string, double>> named_parts(const audit_parts& p) {
+    return {{"targets", p.targets},
+            {"oracle", p.oracle},
+            {"judge", p.judge},
+            {"accumulate", p.accumulate},
+            {"stability", p.stability}};
+}
+
+// Every target's own answer on every case it runs on, as audit_case asks for it.
+class target_answers {
+public:
+    target_answers(const std::vector<corpus_case>& cases, const std::vector<audit_target>& targets)
+        : cases_(cases), targets_(targets) {
+        for (std::size_t t = 0; t < targets.size(); ++t)
+            for (std::size_t i = 0; i < cases.size(); ++i) {
+                if (targets[t].prec == precision::binary32) {
+                    if (auto in = run_input<float>(targets[t], cases[i])) float_runs_.push_back({t, i, *in});
+                } else if (auto in = run_input<double>(targets[t], cases[i])) {
+                    double_runs_.push_back({t, i, *in});
+                }
+            }
+    }
+    // The number of roots answered: depends on every answer.
+    double run() const { return run_all(float_runs_) + run_all(double_runs_); }
+
+private:
+    template <class T>
+    struct run_of {
+        std::size_t target, at;
+        batch_case<T> input;
+    };
+    template <class T>
+    double run_all(const std::vector<run_of<T>>& runs) const {
+        double roots = 0;
+        for (const run_of<T>& r : runs)
+            roots += answer_of(targets_[r.target], cases_[r.at], r.input.input, r.input.interval).roots.count;
+        return roots;
+    }
+    const std::vector<corpus_case>& cases_;
+    const std::vector<audit_target>& targets_;
+    std::vector<run_of<float>> float_runs_;
+    std::vector<run_of<double>> double_runs_;
+};
+
 struct audit_timing_row {
     std::string family;
     std::size_t cases = 0;
@@ -44,7 +103,9 @@ struct audit_timing_row {
     double audit_ns = 0;     // per case-target, the audit as `rayverify audit --report` runs it, median
     double audit_ratio = 0;  // audit_ns / naive_ns, median of the repetitions' ratios
     double per_case_ratio = 0;  // the audit writing --per-case lines over the audit alone, median of ratios
+    audit_parts parts;          // where the audit's time goes, × naive, medians of each repetition's ratios
     oracle_stage_counts counts;
+    double checksum = 0;  // sums figures of every timed result: proves the results were used
 };
 
 audit_timing_row time_family(const std::string& family, const std::vector<corpus_case>& cases,
@@ -70,16 +131,51 @@ audit_timing_row time_family(const std::string& family, const std::vector<corpus
         audit_state state = run_audit_pass(next, targets, 1, true, per_case);
         return state.audit.cases;
     };
-    // CPU ns per case-target of as many passes as fill min_time_s.
+    // CPU ns per case-target of as many runs of `body` (over every case) as
+    // fill min_time_s. A body returns a figure that depends on every result
+    // it computed, summed into the row's checksum (so nothing is optimised away).
     const double case_targets = static_cast<double>(cases.size() * targets.size());
-    const auto audit_ns = [&](std::ostream* per_case) {
+    const auto ns_per_case_target = [&](const auto& body) {
         const double start = cpu_seconds();
         int passes = 0;
         do {
-            pass(per_case);
+            row.checksum += body();
             ++passes;
         } while (cpu_seconds() - start < min_time_s);
         return (cpu_seconds() - start) * 1e9 / (passes * case_targets);
+    };
+    const auto audit_ns = [&](std::ostream* per_case) {
+        return ns_per_case_target([&] { return static_cast<double>(pass(per_case)); });
+    };
+
+    // The parts, each a larger piece of the pass than the one before.
+    const target_answers answers(cases, targets);
+    const auto oracle_only = [&] {
+        double classes = 0;
+        for (const corpus_case& c : cases)
+            classes += static_cast<double>(solve_case(c, precision::binary64).cls) +
+                       static_cast<double>(solve_case(c, precision::binary32).cls);
+        return classes;
+    };
+    const auto cases_judged = [&] {
+        double agreed = 0;
+        audited_case judged;
+        for (const corpus_case& c : cases) {
+            judged = audit_case(c, targets);
+            for (const target_outcome& o : judged.outcomes) agreed += o.score.verdict == verdict_kind::agree;
+        }
+        return agreed;
+    };
+    const auto stream_only = [&] {
+        std::size_t at = 0;
+        const case_source next = [&](std::vector<corpus_case>& chunk, std::vector<std::size_t>& indices) {
+            for (; at < cases.size() && chunk.size() < case_stream::default_chunk; ++at) {
+                chunk.push_back(cases[at]);
+                indices.push_back(at);
+            }
+            return !chunk.empty();
+        };
+        return static_cast<double>(audit_stream(next, targets, 1, {}).cases);
     };
     // Each repetition times naive, the audit and the audit with per-case
     // lines back to back, and the figures are medians of each repetition's
@@ -87,17 +183,28 @@ audit_timing_row time_family(const std::string& family, const std::vector<corpus
     // holds where a ratio of medians taken minutes apart does not.
     std::ostream discard(new discarding_buffer);
     std::vector<double> naive, audit, ratio, per_case_ratio;
+    std::array<std::vector<double>, 5> parts;  // as named_parts orders them
     for (int r = 0; r < repetitions; ++r) {
         naive.push_back(bench::time_naive(inputs, {1, std::max(min_time_s, 0.05)}, family));
         audit.push_back(audit_ns(nullptr));
         ratio.push_back(audit.back() / naive.back());
         per_case_ratio.push_back(audit_ns(&discard) / audit.back());
+        const double answered = ns_per_case_target([&] { return answers.run(); });
+        const double solved = ns_per_case_target(oracle_only);
+        const double judged = ns_per_case_target(cases_judged);
+        const double streamed = ns_per_case_target(stream_only);
+        const double whole = audit_ns(nullptr);
+        const double in_naive[] = {answered, solved, judged - answered - solved, streamed - judged, whole - streamed};
+        for (std::size_t k = 0; k < parts.size(); ++k) parts[k].push_back(in_naive[k] / naive.back());
     }
     delete discard.rdbuf();
     row.naive_ns = bench::median_of(naive);
     row.audit_ns = bench::median_of(audit);
     row.audit_ratio = bench::median_of(ratio);
     row.per_case_ratio = bench::median_of(per_case_ratio);
+    double* const fields[] = {&row.parts.targets, &row.parts.oracle, &row.parts.judge, &row.parts.accumulate,
+                              &row.parts.stability};
+    for (std::size_t k = 0; k < parts.size(); ++k) *fields[k] = bench::median_of(parts[k]);
 
     // How the oracle settled the figures: one more pass, counted.
     oracle_stage_counts& counts = oracle_stage_counts_this_thread();
@@ -135,6 +242,47 @@ std::string format_rows(const std::vector<audit_timing_row>& rows, std::size_t t
     return out;
 }
 
+// Where each family's audit time goes: the parts in multiples of naive.
+std::string format_parts(const std::vector<audit_timing_row>& rows) {
+    std::string out = "where the audit's time goes, x naive double per case-target (medians of each repetition's ratios):\n";
+    out += fmt::format("{:<15}", "family");
+    for (const auto& [name, value] : named_parts(rows.front().parts)) out += fmt::format(" {:>11}", name);
+    out += fmt::format(" {:>11} {:>11}\n", "sum", "audit");
+    for (const audit_timing_row& r : rows) {
+        out += fmt::format("{:<15}", r.family);
+        for (const auto& [name, value] : named_parts(r.parts)) out += fmt::format(" {:>10.1f}x", value);
+        out += fmt::format(" {:>10.1f}x {:>10.1f}x\n", r.parts.sum(), r.audit_ratio);
+    }
+    out += "targets = the 26 targets' own answers; oracle = solve_case on the double and the float inputs; judge = "
+           "audit_case less those two (outputs widened, ULP errors, verdicts); accumulate = audit_stream less "
+           "audit_case (tallies, error histograms); stability = the whole pass less audit_stream (stability figures, "
+           "plot sample). The last three are differences of timings, so noise can leave one a little below 0.\n";
+    return out;
+}
+
+// For a target the audit missed: how far off it is and what meeting it would
+// take, from this run's parts: the share of the time that must go, and the
+// largest parts that would have to go entirely for the rest to meet it.
+std::string what_it_would_take(const audit_parts& parts, double ratio, double limit) {
+    std::vector<std::pair<std::string, double>> largest = named_parts(parts);
+    std::sort(largest.begin(), largest.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
+    std::string out = fmt::format("      needs {:.1f}x of {:.1f}x gone ({:.0f}%)", ratio - limit, ratio,
+                                  100 * (ratio - limit) / ratio);
+    double left = parts.sum();
+    std::string removed;
+    for (const auto& [name, value] : largest) {
+        if (left <= limit) break;
+        left -= value;
+        removed += (removed.empty() ? "" : " + ") + fmt::format("{} ({:.1f}x)", name, value);
+    }
+    if (left <= limit)
+        out += fmt::format("; removing the largest parts until the rest meets it takes {}, leaving {:.1f}x\n",
+                           removed, left);
+    else
+        out += fmt::format("; even with every other part removed, the targets' own answers take {:.1f}x\n", left);
+    return out;
+}
+
 // CPU µs per case of `corpus generate --family uniform`, the text written to
 // nowhere: median of `repetitions` runs of `count` cases.
 double time_uniform_generation(int repetitions, std::size_t count) {
@@ -162,14 +310,18 @@ int run_audit_timing(const std::vector<corpus_case>& cases, int repetitions, dou
     }
     rows.push_back(time_family("all", cases, targets, repetitions, min_time_s));
     fmt::print("{}", format_rows(rows, targets.size(), repetitions));
+    fmt::print("{}", format_parts(rows));
 
     fmt::print("targets, this run:\n");
     const auto target = [](const std::string& what, double value, double limit) {
         fmt::print("  {:<52} {:>8.2f}x  target <= {:g}x  {}\n", what, value, limit, value <= limit ? "met" : "MISSED");
+        return value <= limit;
     };
     for (const audit_timing_row& r : rows) {
         const bool ordinary = r.family == "uniform" || r.family == "far_sphere";
-        if (r.family != "all") target(fmt::format("audit / naive double, {}", r.family), r.audit_ratio, ordinary ? 40 : 200);
+        const double limit = ordinary ? 40 : 200;
+        if (r.family != "all" && !target(fmt::format("audit / naive double, {}", r.family), r.audit_ratio, limit))
+            fmt::print("{}", what_it_would_take(r.parts, r.audit_ratio, limit));
     }
     target("per-case output / audit, all", rows.back().per_case_ratio, 2);
     const double generation_us = time_uniform_generation(repetitions, 20000);

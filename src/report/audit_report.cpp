@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <limits>
 #include <utility>
 
 #include "core/build_info.h"
@@ -21,6 +22,18 @@ json json_number(double x) {
     if (std::isnan(x)) return "nan";
     if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
     return x;
+}
+
+json optional_number(const std::optional<double>& x) { return x ? json_number(*x) : json(nullptr); }
+
+std::optional<std::optional<double>> number_from_json(const json& j) {
+    using value = std::optional<double>;
+    if (j.is_null()) return value();
+    if (j.is_number()) return value(j.get<double>());
+    if (j == "inf") return value(std::numeric_limits<double>::infinity());
+    if (j == "-inf") return value(-std::numeric_limits<double>::infinity());
+    if (j == "nan") return value(std::numeric_limits<double>::quiet_NaN());
+    return std::nullopt;
 }
 
 void write_number(json_line& out, double x) {

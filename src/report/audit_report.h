@@ -4,6 +4,7 @@
 #pragma once
 
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -46,6 +47,11 @@ extern const char* const quantile_scope;
 nlohmann::ordered_json json_number(double x);
 // The same value written to a line.
 void write_number(json_line& out, double x);
+// json_number of a value, null for none.
+nlohmann::ordered_json optional_number(const std::optional<double>& x);
+// What json_number or optional_number wrote: a JSON number, "inf", "-inf" or
+// "nan" (the value), null (nullopt inside); nullopt outside for anything else.
+std::optional<std::optional<double>> number_from_json(const nlohmann::ordered_json& j);
 
 // A contract as report.json and shard states record it: its spec
 // (format_contract), tangent rule and meaning; and back (a spec that does not

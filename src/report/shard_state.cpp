@@ -258,6 +258,11 @@ private:
         if (!j.is_string()) fail(path, fmt::format("is {}, expected a string", shown(j)));
         return j.get<std::string>();
     }
+    // A plotted figure as optional_number writes it: a number, "inf", "-inf", "nan" or null.
+    void figure(const json& j, const std::string& path) const {
+        if (!number_from_json(j))
+            fail(path, fmt::format("is {}, expected a number, \"inf\", \"-inf\", \"nan\" or null", shown(j)));
+    }
     bool flag(const json& j, const std::string& path) const {
         if (!j.is_boolean()) fail(path, fmt::format("is {}, expected true or false", shown(j)));
         return j.get<bool>();
@@ -522,9 +527,16 @@ private:
                 fail(at, fmt::format("is one more than the {} points a family keeps", case_points::per_family));
             whole(member(p, at, "hash"), at + ".hash");
             case_index(whole(member(p, at, "index"), at + ".index"), at + ".index");
-            for (const char* key : {"family", "ratio", "kappa_float", "kappa_double"}) member(p, at, key);
-            array(member(p, at, "verdict"), at + ".verdict", targets_);
-            array(member(p, at, "near_ulp"), at + ".near_ulp", targets_);
+            text(member(p, at, "family"), at + ".family");
+            for (const char* key : {"ratio", "kappa_float", "kappa_double"}) figure(member(p, at, key), at + "." + key);
+            const json& verdicts = array(member(p, at, "verdict"), at + ".verdict", targets_);
+            for (std::size_t t = 0; t < targets_; ++t) {
+                const std::string path = fmt::format("{}.verdict[{}]", at, t);
+                const std::string name = text(verdicts[t], path);
+                if (!verdict_from_name(name)) fail(path, fmt::format("'{}' is not a verdict", printable(name)));
+            }
+            const json& near = array(member(p, at, "near_ulp"), at + ".near_ulp", targets_);
+            for (std::size_t t = 0; t < targets_; ++t) figure(near[t], fmt::format("{}.near_ulp[{}]", at, t));
         }
     }
 
@@ -581,16 +593,20 @@ json state_json(const audit_state& state) {
     audit.update(per_target_json(a.overall(), a.by_family, samples_json));
     json points = json::array();
     for (const auto& [family, kept] : state.points.sample())
-        for (const auto& [key, r] : kept)
+        for (const auto& [key, r] : kept) {
+            json verdict_names = json::array(), near_ulp = json::array();
+            for (verdict_kind v : r.verdict) verdict_names.push_back(verdict_name(v));
+            for (const std::optional<double>& ulp : r.near_ulp) near_ulp.push_back(optional_number(ulp));
             points.push_back({{"family_key", family},
                               {"hash", key.first},
                               {"index", key.second},
                               {"family", r.family},
-                              {"ratio", r.ratio},
-                              {"kappa_float", r.kappa_float},
-                              {"kappa_double", r.kappa_double},
-                              {"verdict", r.verdict},
-                              {"near_ulp", r.near_ulp}});
+                              {"ratio", optional_number(r.ratio)},
+                              {"kappa_float", optional_number(r.kappa_float)},
+                              {"kappa_double", optional_number(r.kappa_double)},
+                              {"verdict", verdict_names},
+                              {"near_ulp", near_ulp}});
+        }
     return {{"audit", audit},
             {"stability", per_target_json(state.stability.overall(), state.stability.by_family, stability_samples_json)},
             {"case_points", points}};
@@ -611,14 +627,26 @@ audit_state state_from_json(const json& j, const std::vector<audit_target>& targ
     for (const json& p : j.at("case_points")) {
         case_points::row r;
         r.index = p.at("index").get<std::size_t>();
-        r.family = p.at("family");
-        r.ratio = p.at("ratio");
-        r.kappa_float = p.at("kappa_float");
-        r.kappa_double = p.at("kappa_double");
-        r.verdict = p.at("verdict").get<std::vector<json>>();
-        r.near_ulp = p.at("near_ulp").get<std::vector<json>>();
-        if (r.verdict.size() != targets.size() || r.near_ulp.size() != targets.size())
+        // Checked by check_shard_state; a value that is not what it checks fails here too.
+        const auto number = [&p](const json& j, const char* what) {
+            const std::optional<std::optional<double>> x = number_from_json(j);
+            if (!x) throw json::other_error::create(501, fmt::format("case point's {} is not a number", what), &p);
+            return *x;
+        };
+        r.family = p.at("family").get<std::string>();
+        r.ratio = number(p.at("ratio"), "ratio");
+        r.kappa_float = number(p.at("kappa_float"), "kappa_float");
+        r.kappa_double = number(p.at("kappa_double"), "kappa_double");
+        const json& verdicts = p.at("verdict");
+        const json& near = p.at("near_ulp");
+        if (verdicts.size() != targets.size() || near.size() != targets.size())
             throw json::other_error::create(501, "case point with a different target count", &p);
+        for (const json& v : verdicts) {
+            const std::optional<verdict_kind> kind = verdict_from_name(v.get<std::string>());
+            if (!kind) throw json::other_error::create(501, "case point with an unknown verdict", &p);
+            r.verdict.push_back(*kind);
+        }
+        for (const json& ulp : near) r.near_ulp.push_back(number(ulp, "near_ulp"));
         state.points.insert(p.at("family_key").get<std::string>(),
                             {p.at("hash").get<std::uint64_t>(), r.index}, std::move(r));
     }

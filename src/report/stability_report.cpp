@@ -17,8 +17,6 @@ namespace {
 
 constexpr const char* scope = "maximum over this finite corpus";
 
-json optional_number(const std::optional<double>& x) { return x ? json_number(*x) : json(nullptr); }
-
 json bucket_json(const bucket_tally& b) {
     json out = {{"cases", b.cases},
                 {"misclassified", b.misclassified},
@@ -170,20 +168,22 @@ bool case_points::would_keep(const std::string& family, const sample_key& key) c
 void case_points::add(const audited_case& c, const case_stability& s, std::size_t index) {
     const sample_key key{id_hash(c.source->id), index};
     if (!would_keep(c.source->family, key)) return;
-    const auto kappa = [](const std::optional<stability_measures>& m) -> json {
-        if (!m || !m->valid || !m->near_condition) return nullptr;
-        return json_number(*m->near_condition);
+    const auto kappa = [](const std::optional<stability_measures>& m) -> std::optional<double> {
+        if (!m || !m->valid) return std::nullopt;
+        return m->near_condition;
     };
     row r;
     r.index = index;
     r.family = c.source->family;
     r.kappa_float = kappa(s.at_float);
     r.kappa_double = kappa(s.at_double);
-    r.ratio = s.at_double && s.at_double->valid ? json_number(s.at_double->distance_ratio) : json(nullptr);
+    if (s.at_double && s.at_double->valid) r.ratio = s.at_double->distance_ratio;
+    r.verdict.reserve(targets_.size());
+    r.near_ulp.reserve(targets_.size());
     for (std::size_t t = 0; t < targets_.size(); ++t) {
         const case_score& score = c.outcomes[t].score;
-        r.verdict.push_back(std::string(verdict_name(score.verdict)));
-        r.near_ulp.push_back(score.verdict == verdict_kind::agree ? optional_number(score.near_ulp) : json(nullptr));
+        r.verdict.push_back(score.verdict);
+        r.near_ulp.push_back(score.verdict == verdict_kind::agree ? score.near_ulp : std::nullopt);
     }
     insert(c.source->family, key, std::move(r));
 }
@@ -203,12 +203,12 @@ json case_points::to_json() const {
     std::vector<json> verdict(targets_.size(), json::array()), near_ulp(targets_.size(), json::array());
     for (const row* r : rows) {
         family.push_back(r->family);
-        ratio.push_back(r->ratio);
-        kappa_float.push_back(r->kappa_float);
-        kappa_double.push_back(r->kappa_double);
+        ratio.push_back(optional_number(r->ratio));
+        kappa_float.push_back(optional_number(r->kappa_float));
+        kappa_double.push_back(optional_number(r->kappa_double));
         for (std::size_t t = 0; t < targets_.size(); ++t) {
-            verdict[t].push_back(r->verdict[t]);
-            near_ulp[t].push_back(r->near_ulp[t]);
+            verdict[t].push_back(verdict_name(r->verdict[t]));
+            near_ulp[t].push_back(optional_number(r->near_ulp[t]));
         }
     }
     json targets = json::object();

@@ -38,10 +38,14 @@ class case_points {
 public:
     static constexpr std::size_t per_family = 1024;
 
+    // One kept case, in plain values (turned into JSON only by to_json and
+    // the shard state): a row is built for every case a family keeps.
     struct row {
         std::size_t index = 0;
-        nlohmann::ordered_json family, ratio, kappa_float, kappa_double;
-        std::vector<nlohmann::ordered_json> verdict, near_ulp;  // aligned with the targets
+        std::string family;
+        std::optional<double> ratio, kappa_float, kappa_double;  // absent: null in the report
+        std::vector<verdict_kind> verdict;                       // aligned with the targets
+        std::vector<std::optional<double>> near_ulp;             // an agreeing target's near-root ulps
     };
     using sample_key = std::pair<std::uint64_t, std::size_t>;  // (hash of id, global index)
 

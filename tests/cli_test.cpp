@@ -219,6 +219,38 @@ TEST_F(Cli, BenchAuditTimesTheWholeAuditPerFamilyWithItsStages) {
     }
     EXPECT_EQ(rows, (std::set<std::string>{"uniform", "tangent_exact", "all"})) << run.output;
     EXPECT_NE(run.output.find("audit / naive double, uniform"), std::string::npos) << run.output;
+    // Where the time goes: a row per family, five parts and their sum (each printed to 0.1x).
+    const std::size_t parts_at = run.output.find("where the audit's time goes");
+    ASSERT_NE(parts_at, std::string::npos) << run.output;
+    std::istringstream parts(run.output.substr(parts_at));
+    std::getline(parts, line);  // the title
+    std::getline(parts, line);  // the header
+    std::set<std::string> part_rows;
+    for (int k = 0; k < 3 && std::getline(parts, line); ++k) {
+        std::istringstream fields(line);
+        std::string family;
+        std::array<double, 7> x{};  // five parts, their sum, the audit
+        fields >> family;
+        for (double& v : x) {
+            std::string f;
+            ASSERT_TRUE(static_cast<bool>(fields >> f)) << line;
+            ASSERT_EQ(f.back(), 'x') << line;
+            v = std::stod(f);
+        }
+        part_rows.insert(family);
+        EXPECT_NEAR(x[0] + x[1] + x[2] + x[3] + x[4], x[5], 0.3) << line;
+        EXPECT_GT(x[0], 0) << "the targets' own answers take time: " << line;
+        EXPECT_GT(x[1], 0) << "the oracle takes time: " << line;
+    }
+    EXPECT_EQ(part_rows, (std::set<std::string>{"uniform", "tangent_exact", "all"})) << run.output;
+    // Every missed audit target is followed by what meeting it would take.
+    std::istringstream targets_part(run.output.substr(run.output.find("targets, this run:")));
+    std::string previous;
+    while (std::getline(targets_part, line)) {
+        if (previous.find("audit / naive double") != std::string::npos && previous.find("MISSED") != std::string::npos)
+            EXPECT_NE(line.find("      needs "), std::string::npos) << previous << "\n" << line;
+        previous = line;
+    }
     EXPECT_NE(run.output.find("per-case output / audit, all"), std::string::npos) << run.output;
     EXPECT_NE(run.output.find("corpus generate, uniform, per case"), std::string::npos) << run.output;
     EXPECT_NE(run.output.find("build: "), std::string::npos) << run.output;

@@ -683,15 +683,6 @@ exact_solution solve_case(const corpus_case& c, precision p) {
     return solve_exact(input, p, bound(c.tmin), bound(c.tmax));
 }
 
-t_range range_for(const contract& promises, const corpus_case& c, precision p) {
-    t_range range = range_of(promises, c.tmin, c.tmax);
-    if (p == precision::binary32) {  // the bounds as a float variant receives them (0 and +inf stay)
-        range.lower = static_cast<double>(static_cast<float>(range.lower));
-        range.upper = static_cast<double>(static_cast<float>(range.upper));
-    }
-    return range;
-}
-
 namespace {
 
 template <class T>

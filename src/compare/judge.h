@@ -223,7 +223,16 @@ exact_solution solve_case(const corpus_case& c, precision p);
 
 // The range a target answers on for a case: its contract's, with the case's
 // tmin and tmax rounded to the target's precision (as the variant receives them).
-t_range range_for(const contract& promises, const corpus_case& c, precision p);
+// (Inline: formed in registers for every case and target; returned through
+// memory, its fields stored apart and read back whole stalled the judge.)
+inline t_range range_for(const contract& promises, const corpus_case& c, precision p) {
+    t_range range = range_of(promises, c.tmin, c.tmax);
+    if (p == precision::binary32) {  // the bounds as a float variant receives them (0 and +inf stay)
+        range.lower = static_cast<double>(static_cast<float>(range.lower));
+        range.upper = static_cast<double>(static_cast<float>(range.upper));
+    }
+    return range;
+}
 
 struct target_outcome {
     case_score score;

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <set>
+#include <sstream>
 
 #include "bench/far_sphere_sweep.h"
 #include "bench/kernels.h"
@@ -115,11 +116,21 @@ TEST(Bench, OracleTimingTimesEveryRoute) {
         EXPECT_GT(r.algebraic_ns, 0) << r.family;
         EXPECT_GT(r.algebraic_over_fast, 0) << r.family;  // one repetition: its own ratio
         EXPECT_EQ(r.algebraic_over_fast, r.algebraic_ns / r.fast_ns) << r.family;
+        EXPECT_GT(r.filter_ns, 0) << r.family;
+        EXPECT_EQ(r.filter_over_naive, r.filter_ns / r.naive_ns) << r.family;
     }
     EXPECT_EQ(t.all.cases, 160u);
     const std::string table = format_oracle_timing(t);
     EXPECT_NE(table.find("algebraic_ns"), std::string::npos) << table;
     EXPECT_NE(table.find("alg/oracle"), std::string::npos) << table;
+    EXPECT_NE(table.find("filter/naive"), std::string::npos) << table;
+    // Every missed target is followed by what meeting it would take.
+    std::istringstream lines(table);
+    std::string line, previous;
+    while (std::getline(lines, line)) {
+        if (previous.find("MISSED") != std::string::npos) EXPECT_EQ(line.rfind("      needs ", 0), 0u) << previous << "\n" << line;
+        previous = line;
+    }
 }
 
 TEST(Bench, MedianAndSweep) {

@@ -27,6 +27,11 @@ struct oracle_timing_row {
     double fast_ns = 0;       // solve_exact (double inputs, the case's interval)
     double reference_ns = 0;  // solve_exact_reference, same inputs
     double algebraic_ns = 0;  // solve_algebraic, same inputs
+    // The double-word filter alone (oracle_internal::filter_case: Δ′'s sign,
+    // the roots' enclosures, signs and roundings, the hit point), the least a
+    // certified answer of this design costs, and its ratio to naive (median
+    // of each repetition's): why solve_exact cannot come closer to naive.
+    double filter_ns = 0, filter_over_naive = 0;
     // Share of valid solutions with stage == exact, double and float inputs.
     double fallback_double = 0, fallback_float = 0;
     // Medians of each repetition's ratio of neighbouring timings (every
@@ -55,7 +60,8 @@ double time_naive(const std::vector<ray_sphere<double>>& inputs, const oracle_ti
 
 // The figures as a table, with the targets (fast ≤ 10× naive on
 // uniform and far_sphere, ≤ 100× on every other family; reference ≥ 50× fast
-// on the whole corpus) and whether this run met them.
+// on the whole corpus), whether this run met them, and for a missed one how
+// far off it is and what meeting it would take, from this run's figures.
 std::string format_oracle_timing(const oracle_timing& t);
 
 }  // namespace rayverify::bench

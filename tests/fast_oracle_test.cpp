@@ -531,6 +531,63 @@ TEST(FastOracleStage, ExactWhereTheFilterCannotDecide) {
     EXPECT_EQ(plain.cls, line_class::two_hit);
 }
 
+// box_meets_sphere (a hit point's bounds against the surface, filter first)
+// agrees with its exact route on boxes around points on the sphere, a few
+// ulps to a wide margin across, the box's corners pushed in or out by a few
+// ulps, spheres of every scale, degenerate boxes and ones outside the
+// filter's range; and the filter settles the ordinary ones.
+TEST(FastOracleBox, MeetsSphereAsTheExactRouteDoes) {
+    const std::uint64_t seed = 20261126;
+    std::printf("seed %llu\n", static_cast<unsigned long long>(seed));
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> unit(-1, 1), exponent(-90, 90);
+    const auto nudged = [&](double x, int ulps) {
+        for (int k = 0; k < std::abs(ulps); ++k) x = std::nextafter(x, ulps > 0 ? inf : -inf);
+        return x;
+    };
+    stage_tally& tally = oracle_stage_counts_this_thread().comparisons;
+    tally = {};
+    int meets = 0, settled = 0, total = 0;
+    for (int i = 0; i < 40000; ++i) {
+        const double scale = std::ldexp(1.0, static_cast<int>(exponent(rng)));
+        const vec3<double> centre{unit(rng) * scale, unit(rng) * scale, unit(rng) * scale};
+        const double radius = std::fabs(unit(rng)) * scale + std::ldexp(scale, -60);
+        vec3<double> on{unit(rng), unit(rng), unit(rng)};
+        const double length = std::sqrt(on.x * on.x + on.y * on.y + on.z * on.z);
+        // A point at about the radius from the centre (off the surface by rounding or on purpose).
+        const double stretch = i % 3 == 0 ? 1 : 1 + unit(rng) * std::ldexp(1.0, -static_cast<int>(rng() % 60));
+        const vec3<double> p{centre.x + on.x / length * radius * stretch, centre.y + on.y / length * radius * stretch,
+                             centre.z + on.z / length * radius * stretch};
+        const int spread = static_cast<int>(rng() % 4);  // 0: a point; else a box of a few ulps or wider
+        double lower[3], upper[3];
+        const double point[3] = {p.x, p.y, p.z};
+        for (int axis = 0; axis < 3; ++axis) {
+            const double width = spread == 3 ? std::fabs(unit(rng)) * radius * 1e-3 : 0;
+            lower[axis] = nudged(point[axis] - width, -static_cast<int>(spread == 0 ? 0 : rng() % 4));
+            upper[axis] = nudged(point[axis] + width, static_cast<int>(spread == 0 ? 0 : rng() % 4));
+        }
+        const vec3<double> low{lower[0], lower[1], lower[2]}, high{upper[0], upper[1], upper[2]};
+        const std::uint64_t exact_before = tally.exact;
+        const bool fast = box_meets_sphere(low, high, centre, radius);
+        settled += tally.exact == exact_before;
+        ++total;
+        meets += fast;
+        ASSERT_EQ(fast, box_meets_sphere_reference(low, high, centre, radius))
+            << "case " << i << ": box [" << hex(lower[0]) << " " << hex(lower[1]) << " " << hex(lower[2]) << "] .. ["
+            << hex(upper[0]) << " " << hex(upper[1]) << " " << hex(upper[2]) << "], c " << hex(centre.x) << " "
+            << hex(centre.y) << " " << hex(centre.z) << ", r " << hex(radius);
+    }
+    std::printf("%d of %d boxes meet the sphere; the filter settled %d\n", meets, total, settled);
+    EXPECT_GT(meets, total / 10) << "the cases should straddle the surface";
+    EXPECT_LT(meets, total * 9 / 10) << "the cases should straddle the surface";
+    EXPECT_GT(settled, total / 2) << "the filter should settle most boxes";
+    EXPECT_LT(settled, total) << "some boxes should need the exact route";
+    // Outside the filter's range, and a box whose nearest point is exactly r away.
+    EXPECT_EQ(box_meets_sphere({0x1p100, 0, 0}, {0x1p100, 0, 0}, {0, 0, 0}, 0x1p100), true);
+    EXPECT_EQ(box_meets_sphere({0.5, 0, 0}, {1, 0, 0}, {0, 0, 0}, 1), true);
+    EXPECT_EQ(box_meets_sphere({0.25, 0.25, 0.25}, {0.5, 0.5, 0.5}, {0, 0, 0}, 1), false);
+}
+
 // The lazily built exact state answers queries the enclosure cannot: the
 // root itself (value == t*) and copies made before the first query.
 TEST(FastOracleLazyState, CopiesAnswerAlike) {

@@ -553,8 +553,11 @@ int compare_squared_length(const vec3<double>& d, double x) {
         });
 }
 
-bool box_meets_sphere(const vec3<double>& lower, const vec3<double>& upper, const vec3<double>& centre, double radius) {
-    ++oracle_stage_counts_this_thread().comparisons.exact;
+namespace {
+
+// box_meets_sphere's exact route.
+bool box_meets_sphere_exactly(const vec3<double>& lower, const vec3<double>& upper, const vec3<double>& centre,
+                              double radius) {
     exact nearest(0.0), farthest(0.0);
     for (int axis = 0; axis < 3; ++axis) {
         const exact below = exact(lower[axis]) - exact(centre[axis]), above = exact(upper[axis]) - exact(centre[axis]);
@@ -566,6 +569,50 @@ bool box_meets_sphere(const vec3<double>& lower, const vec3<double>& upper, cons
     }
     const exact r_squared = exact(radius) * exact(radius);
     return sign_of(nearest - r_squared) <= 0 && sign_of(farthest - r_squared) >= 0;
+}
+
+}  // namespace
+
+bool box_meets_sphere(const vec3<double>& lower, const vec3<double>& upper, const vec3<double>& centre, double radius) {
+    return settle(
+        oracle_stage_counts_this_thread().comparisons,
+        [&]() -> std::optional<bool> {
+            for (int axis = 0; axis < 3; ++axis)
+                if (!in_filter_range(lower[axis]) || !in_filter_range(upper[axis]) || !in_filter_range(centre[axis]))
+                    return std::nullopt;
+            if (!in_filter_range(radius)) return std::nullopt;
+            // In plain double, as the exact route: a difference rounds once
+            // (keeping its sign, 0 only when exact), a square and the larger
+            // of two squares are within 3·2^−53 of the exact ones, and a sum
+            // of three such non-negative terms within 5·2^−53 of the exact
+            // sum; r² within 2^−53 (no underflow or overflow in the filter
+            // range). So s − r² has the sign of the exact difference once it
+            // exceeds 2^−50·(s + r²); 2^−49 leaves a factor of two.
+            double nearest = 0, farthest = 0;
+            for (int axis = 0; axis < 3; ++axis) {
+                const double below = lower[axis] - centre[axis], above = upper[axis] - centre[axis];
+                if (below > 0) nearest += below * below;
+                else if (above < 0) nearest += above * above;
+                farthest += std::max(below * below, above * above);
+            }
+            const double r_squared = radius * radius;
+            const auto against_r_squared = [&](double s) -> uncertain_sign {
+                const double difference = s - r_squared, bound = 0x1p-49 * (s + r_squared);
+                if (difference > bound) return +1;
+                if (-difference > bound) return -1;
+                return std::nullopt;
+            };
+            const uncertain_sign near = against_r_squared(nearest), far = against_r_squared(farthest);
+            if ((near && *near > 0) || (far && *far < 0)) return false;
+            if (near && far) return true;  // nearest < r² < farthest
+            return std::nullopt;
+        },
+        [&] { return box_meets_sphere_exactly(lower, upper, centre, radius); });
+}
+
+bool box_meets_sphere_reference(const vec3<double>& lower, const vec3<double>& upper, const vec3<double>& centre,
+                                double radius) {
+    return box_meets_sphere_exactly(lower, upper, centre, radius);
 }
 
 int compare_roots(const exact_solution& a, root_index i, const exact_solution& b, root_index j) {

@@ -4,11 +4,15 @@
 // shipped corpus is a document nlohmann dumps to the same bytes.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <bit>
 #include <cstdint>
 #include <cstdio>
 #include <limits>
 #include <random>
+#include <string>
+#include <string_view>
+#include <vector>
 
 #include "compare/audit.h"
 #include "compare/stability.h"
@@ -100,6 +104,19 @@ TEST(JsonLine, EveryEscapeIsFoundWhereverItStands) {
                 line.value(text);
                 ASSERT_EQ(line.take(), json(text).dump()) << "length " << length << ", byte " << k << " at " << at;
             }
+}
+
+// A member's name written from pieces is the name they make, escaped as one
+// text (an escape may stand in any piece, or a piece be empty).
+TEST(JsonLine, AKeyFromPiecesIsTheKeyOfTheirJoin) {
+    const std::vector<std::array<std::string_view, 3>> names = {
+        {"naive", "/", "double"}, {"", "/", ""}, {"a\"b", "/", "c\nd"}, {"plugin\x01", "", "/float"}};
+    for (const auto& pieces : names) {
+        const std::string whole = std::string(pieces[0]) + std::string(pieces[1]) + std::string(pieces[2]);
+        json_line line;
+        line.begin_object().key_text(pieces).value(1).end_object();
+        ASSERT_EQ(line.take(), (json{{whole, 1}}.dump())) << whole;
+    }
 }
 
 // hex() writes hex_float's text as a string; a writer given an earlier line's

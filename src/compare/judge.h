@@ -199,7 +199,14 @@ struct audit_target {
     variant subject;
     precision prec = precision::binary64;
     std::shared_ptr<const answer_book> recorded{};
-    std::string label() const { return subject.name + "/" + precision_name(prec); }
+    // "name/precision": label() whole, label_parts() in pieces (written
+    // without building the string, as per-case lines do for every case).
+    std::array<std::string_view, 3> label_parts() const { return {subject.name, "/", precision_name(prec)}; }
+    std::string label() const {
+        std::string out;
+        for (std::string_view part : label_parts()) out += part;
+        return out;
+    }
 };
 
 // The target's whole answer on a case, in precision T: its function run on the

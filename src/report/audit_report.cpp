@@ -326,7 +326,8 @@ std::string per_case_line(const audited_case& audited, const std::vector<audit_t
     };
     for (std::size_t i = 0; i < targets.size(); ++i) {
         const target_outcome& o = audited.outcomes[i];
-        line.key_text(targets[i].label()).begin_object();
+        const std::array<std::string_view, 3> label = targets[i].label_parts();
+        line.key_text(label).begin_object();
         line.member("verdict", verdict_name(o.score.verdict));
         const bool ran = o.score.verdict != verdict_kind::invalid && o.score.verdict != verdict_kind::contract_violation;
         if (o.score.cause) line.member("cause", cause_name(*o.score.cause));

@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <span>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -71,10 +72,13 @@ public:
         after_key_ = true;
         return *this;
     }
-    json_line& key_text(std::string_view name) {
+    json_line& key_text(std::string_view name) { return key_text(std::span<const std::string_view>(&name, 1)); }
+    // A name written from pieces, escaped as the one text they make.
+    json_line& key_text(std::span<const std::string_view> pieces) {
         separate();
-        quoted(name);
-        put(':');
+        put('"');
+        for (std::string_view piece : pieces) escaped(piece);
+        put(std::string_view("\":"));
         after_key_ = true;
         return *this;
     }
@@ -193,6 +197,11 @@ private:
     }
     void quoted(std::string_view s) {
         put('"');
+        escaped(s);
+        put('"');
+    }
+    // s escaped as JSON requires (the quotes around it are the caller's).
+    void escaped(std::string_view s) {
         // Runs of characters written as they are go in one copy.
         const std::size_t plain = plain_prefix(s);
         put(s.substr(0, plain));
@@ -217,7 +226,6 @@ private:
                     }
             }
         }
-        put('"');
     }
 
     // nlohmann's text of a finite double. A per-case line repeats many

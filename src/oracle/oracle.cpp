@@ -602,10 +602,29 @@ bool box_meets_sphere(const vec3<double>& lower, const vec3<double>& upper, cons
                 if (-difference > bound) return -1;
                 return std::nullopt;
             };
-            const uncertain_sign near = against_r_squared(nearest), far = against_r_squared(farthest);
-            if ((near && *near > 0) || (far && *far < 0)) return false;
-            if (near && far) return true;  // nearest < r² < farthest
-            return std::nullopt;
+            const auto decided = [](uncertain_sign near, uncertain_sign far) -> std::optional<bool> {
+                if ((near && *near > 0) || (far && *far < 0)) return false;
+                if (near && far) return true;  // nearest < r² < farthest
+                return std::nullopt;
+            };
+            if (const std::optional<bool> answer = decided(against_r_squared(nearest), against_r_squared(farthest)))
+                return answer;
+            // Then in double-words (an engine's bounds are often a few ulps
+            // around the surface): the differences exact, their squares and
+            // sums with rigorous bounds; the larger square chosen by the sign
+            // of below + above, left to the exact route when it is uncertain.
+            bounded nearest_dw = exactly(0.0), farthest_dw = exactly(0.0);
+            for (int axis = 0; axis < 3; ++axis) {
+                const bounded below = exactly(two_sum(lower[axis], -centre[axis])),
+                              above = exactly(two_sum(upper[axis], -centre[axis]));
+                if (below.v.h > 0) nearest_dw = nearest_dw + below * below;
+                else if (above.v.h < 0) nearest_dw = nearest_dw + above * above;
+                const uncertain_sign below_nearer = sign_of(below + above);  // > 0: |above| is the larger
+                if (!below_nearer) return std::nullopt;
+                farthest_dw = farthest_dw + (*below_nearer > 0 ? above * above : below * below);
+            }
+            const bounded r_squared_dw = exactly(two_prod(radius, radius));
+            return decided(sign_of(nearest_dw - r_squared_dw), sign_of(farthest_dw - r_squared_dw));
         },
         [&] { return box_meets_sphere_exactly(lower, upper, centre, radius); });
 }

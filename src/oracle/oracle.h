@@ -178,7 +178,7 @@ int compare_squared_length(const vec3<double>& d, double x);
 // Whether the box [lower, upper] (finite ends, lower ≤ upper per coordinate)
 // holds some point of the sphere |x − c| = r, exactly: its nearest point to c
 // is at most r away and its farthest at least r.
-// Filter first (plain double with an error bound), exact when it cannot
+// Filter first (plain double, then double-words, with error bounds), exact when it cannot
 // settle; box_meets_sphere_reference always takes the exact route (the tests
 // require both to agree).
 bool box_meets_sphere(const vec3<double>& lower, const vec3<double>& upper, const vec3<double>& centre, double radius);

@@ -106,6 +106,19 @@ private:
     std::vector<run_of<double>> double_runs_;
 };
 
+// `cases` in chunks as the audit reads a corpus, each case's index its place.
+case_source chunks_of(const std::vector<corpus_case>& cases) {
+    return [&cases, at = std::size_t{0}](std::vector<corpus_case>& chunk, std::vector<std::size_t>& indices) mutable {
+        chunk.clear();
+        indices.clear();
+        for (; at < cases.size() && chunk.size() < case_stream::default_chunk; ++at) {
+            chunk.push_back(cases[at]);
+            indices.push_back(at);
+        }
+        return !chunk.empty();
+    };
+}
+
 struct audit_timing_row {
     std::string family;
     std::size_t cases = 0;
@@ -129,18 +142,7 @@ audit_timing_row time_family(const std::string& family, const std::vector<corpus
         if (validity<double>(c.geometry) == invalid_reason::none) inputs.push_back(c.geometry);
 
     const auto pass = [&](std::ostream* per_case) {
-        std::size_t at = 0;
-        const case_source next = [&](std::vector<corpus_case>& chunk, std::vector<std::size_t>& indices) {
-            chunk.clear();
-            indices.clear();
-            for (; at < cases.size() && chunk.size() < case_stream::default_chunk; ++at) {
-                chunk.push_back(cases[at]);
-                indices.push_back(at);
-            }
-            return !chunk.empty();
-        };
-        audit_state state = run_audit_pass(next, targets, 1, true, per_case);
-        return state.audit.cases;
+        return run_audit_pass(chunks_of(cases), targets, 1, true, per_case).audit.cases;
     };
     // CPU ns per case-target of as many runs of `body` (over every case) as
     // fill min_time_s. A body returns a figure that depends on every result
@@ -177,17 +179,7 @@ audit_timing_row time_family(const std::string& family, const std::vector<corpus
         }
         return agreed;
     };
-    const auto stream_only = [&] {
-        std::size_t at = 0;
-        const case_source next = [&](std::vector<corpus_case>& chunk, std::vector<std::size_t>& indices) {
-            for (; at < cases.size() && chunk.size() < case_stream::default_chunk; ++at) {
-                chunk.push_back(cases[at]);
-                indices.push_back(at);
-            }
-            return !chunk.empty();
-        };
-        return static_cast<double>(audit_stream(next, targets, 1, {}).cases);
-    };
+    const auto stream_only = [&] { return static_cast<double>(audit_stream(chunks_of(cases), targets, 1, {}).cases); };
     // Each repetition times naive, the audit and the audit with per-case
     // lines back to back, and the figures are medians of each repetition's
     // ratios: on a shared machine whose speed drifts, a ratio of neighbours

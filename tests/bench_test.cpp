@@ -11,6 +11,7 @@
 #include "bench/kernels.h"
 #include "bench/long_double.h"
 #include "bench/oracle_timing.h"
+#include "bench/robust_fallback.h"
 #include "bench/timing.h"
 #include "corpus/generators.h"
 #include "intersectors/registry.h"
@@ -57,10 +58,11 @@ TEST(Bench, LongDoubleVariantsComputeInLongDouble) {
     std::size_t written_for_long_double = 0;
     for_each_kernel([&](std::string_view, auto kernel) { written_for_long_double += has_long_double<decltype(kernel)>; });
     ASSERT_EQ(variants.size(), written_for_long_double);
-    // Every formula (no engine build) has a long double form but robust_sphere.h's three (float and double only).
+    // Every formula (no engine build) has a long double form but robust_sphere.h's variants (float and double only).
     const auto formulas = std::count_if(builtin_variants().begin(), builtin_variants().end(),
                                         [](const variant& v) { return v.build.empty(); });
-    EXPECT_EQ(static_cast<std::ptrdiff_t>(written_for_long_double), formulas - 3);
+    EXPECT_EQ(static_cast<std::ptrdiff_t>(written_for_long_double),
+              formulas - static_cast<std::ptrdiff_t>(std::size(robust_variant_names)));
     // naive on a far sphere: long double keeps C = f·f − r² that double loses.
     const ray_sphere<double> far{{-1e9, 0, 0}, {1, 0, 0}, {0, 0.5, 0}, 1};
     const root_pair<double> wide = variants[0].run_double(far);

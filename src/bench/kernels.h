@@ -60,6 +60,8 @@ void for_each_kernel(Visitor&& visit) {
     RAYVERIFY_KERNEL(robust);
     RAYVERIFY_INTERVAL_KERNEL(robust_nearest);
     RAYVERIFY_INTERVAL_KERNEL(robust_any_hit);
+    RAYVERIFY_KERNEL(robust_bounded);
+    RAYVERIFY_INTERVAL_KERNEL(robust_bounded_nearest);
 #undef RAYVERIFY_INTERVAL_KERNEL
 #undef RAYVERIFY_KERNEL
 }

@@ -8,15 +8,28 @@
 namespace rayverify::bench {
 namespace {
 
-// Does the fast path alone answer variant `name` on this case?
-template <class T>
-bool fast_path_answers(std::string_view name, const ray_sphere<T>& s, ray_interval<T> interval) {
-    const auto r = intersectors::robust_ray(s);
-    const auto target = intersectors::robust_target(s);
-    if (name == "robust") return robust_sphere::intersect_line_fast(r, target).has_value();
-    if (name == "robust_nearest")
-        return robust_sphere::nearest_hit_fast(r, target, interval.tmin, interval.tmax).has_value();
-    return robust_sphere::any_hit_fast(r, target, interval.tmin, interval.tmax).has_value();
+// Does variant `name`'s query settle this case with a solver of stage
+// `Refine` (false: the static filter alone; true: with the double-word stage)?
+template <bool Refine, class T>
+bool settles(std::string_view name, const ray_sphere<T>& s, ray_interval<T> interval) {
+    namespace rs = robust_sphere;
+    using rs::ends;
+    rs::detail::fast_solver<T, Refine> solver(intersectors::robust_ray(s), intersectors::robust_target(s));
+    if (name == "robust" || name == "robust_bounded") {
+        rs::line_roots<T> out;
+        return name == "robust" ? rs::detail::query_line<rs::roots::correctly_rounded, T>(solver, out)
+                                : rs::detail::query_line<rs::roots::bounded, T>(solver, out);
+    }
+    if (name == "robust_nearest" || name == "robust_bounded_nearest") {
+        rs::ray_hit<T> out;
+        return name == "robust_nearest"
+                   ? rs::detail::query_nearest<ends::open, ends::open, rs::roots::correctly_rounded>(
+                         solver, interval.tmin, interval.tmax, out)
+                   : rs::detail::query_nearest<ends::open, ends::open, rs::roots::bounded>(solver, interval.tmin,
+                                                                                          interval.tmax, out);
+    }
+    bool out = false;
+    return rs::detail::query_any<ends::open, ends::open>(solver, interval.tmin, interval.tmax, out);
 }
 
 template <class T>
@@ -26,9 +39,13 @@ robust_fallback_row count(const std::string& family, std::string_view name, cons
     for (const corpus_case& c : cases) {
         if (validity<T>(c.geometry) != invalid_reason::none) continue;
         const t_range range = range_for(intersectors::robust_nearest_contract, c, prec);
+        const ray_sphere<T> s = rounded_to<T>(c.geometry);
+        const ray_interval<T> interval{static_cast<T>(range.lower), static_cast<T>(range.upper)};
         ++row.cases;
-        if (!fast_path_answers<T>(name, rounded_to<T>(c.geometry),
-                                  {static_cast<T>(range.lower), static_cast<T>(range.upper)}))
+        if (settles<false>(name, s, interval)) continue;
+        if (settles<true>(name, s, interval))
+            ++row.refined;
+        else
             ++row.exact;
     }
     return row;

@@ -1,7 +1,8 @@
-// How often robust_sphere.h's fast path leaves a case to its exact path, per
-// family: the share of cases whose answer needed exact arithmetic, for each
-// query level and precision. The answers are the same either way; this is
-// what the fast path's cost figures leave out (bench prints both).
+// Which stage of robust_sphere.h answers a case, per family: its static
+// filter alone (plain double with a priori bounds, inlined), its double-word
+// refinement (double only, out of line), or its exact path, for each query
+// level, tier and precision. The answers are the same either way; this is
+// what the fast path's cost figures average over (bench prints both).
 #pragma once
 
 #include <cstddef>
@@ -15,14 +16,16 @@ namespace rayverify::bench {
 
 struct robust_fallback_row {
     std::string family;
-    std::string variant;    // robust, robust_nearest or robust_any_hit
-    std::string precision;  // "float" or "double"
-    std::size_t cases = 0;  // valid at that precision
-    std::size_t exact = 0;  // of them, left to the exact path
+    std::string variant;      // robust, robust_nearest, robust_any_hit, robust_bounded or robust_bounded_nearest
+    std::string precision;    // "float" or "double"
+    std::size_t cases = 0;    // valid at that precision
+    std::size_t refined = 0;  // of them, left by the static filter to the double-word stage (which answered)
+    std::size_t exact = 0;    // left to the exact path
 };
 
 // The robust variants' names, in registry order.
-inline const char* const robust_variant_names[] = {"robust", "robust_nearest", "robust_any_hit"};
+inline const char* const robust_variant_names[] = {"robust", "robust_nearest", "robust_any_hit", "robust_bounded",
+                                                   "robust_bounded_nearest"};
 
 // Every robust variant in float and double on each family's cases (the
 // interval ones asked on each case's interval, as the audit asks them).

@@ -99,7 +99,7 @@ variant with_exact_decisions(variant v) {
     return v;
 }
 
-const std::array<variant, 26> registry{{
+const std::array<variant, 28> registry{{
     {"naive", "seed 000 / seed 001 (textbook quadratic)",
      "b = 2d·f, C = f·f − r², Δ = b² − 4aC, t = (−b ∓ √Δ)/2a", intersectors::naive_contract,
      RAYVERIFY_BOTH_PRECISIONS(naive)},
@@ -154,6 +154,13 @@ const std::array<variant, 26> registry{{
     with_exact_decisions(RAYVERIFY_INTERVAL_VARIANT(
         robust_any_hit, "rayverify robust_sphere.h, any root in (tmin, tmax) (shadow rays)",
         "as robust_nearest, answering only whether a root lies in the interval")),
+    with_exact_decisions(
+        {"robust_bounded", "rayverify robust_sphere.h, bounded tier (roots::bounded)",
+         "as robust; double roots q/a and C/q from the static filter, within 2^-44 relative (float: as robust)",
+         intersectors::robust_bounded_contract, RAYVERIFY_BOTH_PRECISIONS(robust_bounded)}),
+    with_exact_decisions(RAYVERIFY_INTERVAL_VARIANT(
+        robust_bounded_nearest, "rayverify robust_sphere.h, bounded tier, nearest root in (tmin, tmax)",
+        "as robust_nearest; double roots within 2^-44 relative (float: as robust_nearest)")),
     // Engines, as published (each header cites its source and states the build it models).
     engine_variant("pbrt_v4", "pbrt-v4 Sphere::BasicIntersect (src/pbrt/shapes.h, mmp/pbrt-v4 5f7a6068)",
                    "interval arithmetic: a, b, c, v = o − (b/2a)d, Δ = 4a(r + |v|)(r − |v|), q = −½(b ± √Δ), "

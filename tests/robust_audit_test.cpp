@@ -34,7 +34,8 @@ namespace fs = std::filesystem;
 
 std::vector<audit_target> robust_targets() {
     std::vector<variant> robust;
-    for (const char* name : {"robust", "robust_nearest", "robust_any_hit"}) robust.push_back(*find_builtin_variant(name));
+    for (const char* name : {"robust", "robust_nearest", "robust_any_hit", "robust_bounded", "robust_bounded_nearest"})
+        robust.push_back(*find_builtin_variant(name));
     return targets_for(robust);
 }
 
@@ -75,6 +76,20 @@ std::string direct_check(const corpus_case& c) {
         if (t >= tmax) t = std::nextafter(tmax, tmin);
         if (nearest.t0 != t) return "nearest root";
     }
+    // The bounded tier: the same decisions; float roots the same, double roots
+    // within 2^-44 of the correctly rounded ones (2^-44·|t*| of t*, less half an ulp).
+    const auto within = [](T got, T promised) {
+        if (std::is_same_v<T, float> || promised == 0 || std::isinf(promised)) return got == promised;
+        return std::fabs(double(got) - double(promised)) <= 0x1p-44 * std::fabs(double(promised));
+    };
+    const root_pair<T> bounded = intersectors::robust_bounded(in);
+    if (bounded.count != count) return "bounded line class";
+    if (count > 0 && (!within(bounded.t0, line.t0) || !within(bounded.t1, line.t1))) return "bounded line roots";
+    const root_pair<T> bounded_nearest = intersectors::robust_bounded_nearest(in, tmin, tmax);
+    if (bounded_nearest.count != nearest.count) return "bounded interval hit";
+    if (nearest.count == 1 && (!within(bounded_nearest.t0, nearest.t0) || !(bounded_nearest.t0 > tmin) ||
+                               !(bounded_nearest.t0 < tmax)))
+        return "bounded nearest root";
     return "";
 }
 
@@ -149,8 +164,9 @@ TEST(RobustAudit, NoWrongRayInEveryShippedScene) {
 // ---------------------------------------------------------------------------
 // The bounded hunt: --objective misclass on every robust variant, 60 s per
 // precision (RAYVERIFY_HUNT_SECONDS overrides it: the docs' 10-minute hunts
-// are this test with 600), split evenly among the three query levels, start
-// cases cycling through every generator family.
+// are this test with 600), split evenly among the five variants (three query
+// levels, two of them also in the bounded tier), start cases cycling through
+// every generator family.
 
 std::uint64_t seed_from_env() {
     if (const char* s = std::getenv("RAYVERIFY_SEED")) return std::strtoull(s, nullptr, 10);
@@ -168,11 +184,12 @@ TEST(LongSweepRobustAudit, MisclassificationHuntFindsNothing) {
     const double seconds_per_precision = env_seconds ? std::strtod(env_seconds, nullptr) : 60;
     ASSERT_GT(seconds_per_precision, 0) << "RAYVERIFY_HUNT_SECONDS";
     std::printf("%g s per precision\n", seconds_per_precision);
-    for (const audit_target& t : robust_targets()) {
+    const std::vector<audit_target> targets = robust_targets();
+    for (const audit_target& t : targets) {
         hunt_options options;
         options.objective = hunt_objective::misclass;
         options.seed = seed;
-        options.max_seconds = seconds_per_precision / 3;
+        options.max_seconds = seconds_per_precision / static_cast<double>(targets.size() / 2);
         options.max_finds = 5;
         const hunt_result r = hunt(t, start, options);
         std::printf("%s: %llu evaluations from %llu starts in %.1f s\n", t.label().c_str(),

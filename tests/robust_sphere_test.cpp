@@ -109,8 +109,39 @@ std::string check_interval(const ray_sphere<T>& g, const exact_solution& e, T tm
     return "";
 }
 
+// The bounded tier's promise for a root t of T: float, correctly rounded as
+// the other tier; double, within 2^-44·|t*| of t* (checked against RN(t*),
+// which is within half an ulp of it).
+template <class T>
+bool within_bound(T got, T promised) {
+    if (std::is_same_v<T, float> || promised == 0 || std::isinf(promised))
+        return got == promised && std::signbit(got) == std::signbit(promised);
+    return std::fabs(double(got) - double(promised)) <= 0x1p-44 * std::fabs(double(promised)) &&
+           std::signbit(got) == std::signbit(promised);
+}
+
+// The bounded tier's nearest hit on one interval: the same decision and root
+// as the exact one, within the bound and inside the interval.
+template <class T, ends Lower, ends Upper>
+std::string check_bounded_interval(const ray_sphere<T>& g, const exact_solution& e, T tmin, T tmax) {
+    const rs::ray_hit<T> exact = rs::nearest_hit<Lower, Upper>(ray_of(g), sphere_of(g), tmin, tmax);
+    const rs::ray_hit<T> h = rs::nearest_hit<Lower, Upper, rs::roots::bounded>(ray_of(g), sphere_of(g), tmin, tmax);
+    if (h.found != exact.found) return "bounded nearest_hit found " + std::to_string(h.found);
+    if (!h.found) return "";
+    if (h.which != exact.which && e.cls == line_class::two_hit) return "bounded nearest_hit names the wrong root";
+    const bool in = (Lower == ends::open ? h.t > tmin : h.t >= tmin) && (Upper == ends::open ? h.t < tmax : h.t <= tmax);
+    if (!in || !within_bound(h.t, promised_root<T>(e, h.which == rs::root::near_root ? root_index::near_root
+                                                                                         : root_index::far_root))) {
+        if (within_bound(h.t, exact.t)) return "";  // the exact tier's own value (moved inside an open end)
+        char buf[128];
+        std::snprintf(buf, sizeof buf, "bounded nearest_hit t = %a, exact tier %a", double(h.t), double(exact.t));
+        return buf;
+    }
+    return "";
+}
+
 // The whole contract on one case: line roots, then the interval queries on
-// intervals placed at and around the roots.
+// intervals placed at and around the roots, in both tiers.
 template <class T>
 std::string check_case(const ray_sphere<T>& g) {
     const exact_solution e = exact_of(g);
@@ -118,6 +149,14 @@ std::string check_case(const ray_sphere<T>& g) {
     const rs::line_roots<T> line = rs::intersect_line(ray_of(g), sphere_of(g));
     const int count = e.cls == line_class::miss ? 0 : (e.cls == line_class::tangent ? 1 : 2);
     if (line.count != count) return "line count " + std::to_string(line.count) + ", exact " + std::to_string(count);
+    const rs::line_roots<T> bounded = rs::intersect_line<rs::roots::bounded>(ray_of(g), sphere_of(g));
+    if (bounded.count != count) return "bounded line count " + std::to_string(bounded.count);
+    if (count > 0 && (!within_bound(bounded.t0, promised_root<T>(e, root_index::near_root)) ||
+                      !within_bound(bounded.t1, promised_root<T>(e, root_index::far_root)))) {
+        char buf[160];
+        std::snprintf(buf, sizeof buf, "bounded line roots %a, %a", double(bounded.t0), double(bounded.t1));
+        return buf;
+    }
     if (count > 0) {
         const T near = promised_root<T>(e, root_index::near_root), far = promised_root<T>(e, root_index::far_root);
         if (!(line.t0 == near && std::signbit(line.t0) == std::signbit(near)) ||
@@ -144,6 +183,8 @@ std::string check_case(const ray_sphere<T>& g) {
         if (why.empty()) why = check_interval<T, ends::closed, ends::closed>(g, e, tmin, tmax);
         if (why.empty()) why = check_interval<T, ends::open, ends::closed>(g, e, tmin, tmax);
         if (why.empty()) why = check_interval<T, ends::closed, ends::open>(g, e, tmin, tmax);
+        if (why.empty()) why = check_bounded_interval<T, ends::open, ends::open>(g, e, tmin, tmax);
+        if (why.empty()) why = check_bounded_interval<T, ends::closed, ends::closed>(g, e, tmin, tmax);
         if (!why.empty()) {
             char buf[96];
             std::snprintf(buf, sizeof buf, " on (%a, %a)", double(tmin), double(tmax));
@@ -430,6 +471,12 @@ void fast_matches_exact(std::uint64_t seed, int count) {
                 why = "nearest hit";
         if (const auto f = rs::any_hit_fast(r, s, tmin, T(INFINITY)))
             if (*f != exact_any) why = "any hit";
+        // The static filter alone (stage 1, as inlined into a caller's loop).
+        rs::detail::fast_solver<T, false> filter(r, s);
+        rs::line_roots<T> filtered;
+        if (rs::detail::query_line<rs::roots::correctly_rounded, T>(filter, filtered) &&
+            (filtered.count != exact.count || !same(filtered.t0, exact.t0) || !same(filtered.t1, exact.t1)))
+            why = "line roots from the static filter";
         if (!why.empty()) {
             ++failures;
             ADD_FAILURE() << "seed " << seed << " case " << i << ": fast and exact paths differ on " << why << "\n  "
@@ -568,6 +615,44 @@ namespace {
 // -Wall -Wextra -Wpedantic -Werror and with FMA contraction allowed (the
 // double path's products then use std::fma): the same answers, bit for bit,
 // as this build's (which the tests above check against the oracle).
+
+// The exact path's expansions live in fixed arrays whose capacities follow
+// from Shewchuk's bounds (a sum of m and n components has at most m + n, a
+// product at most 2mn). At the bound: operands whose components lie far
+// apart (an unbounded exponent allows it) fill a sum and a product exactly.
+TEST(RobustSphereExpansions, SumsAndProductsReachTheirCapacityAndNoMore) {
+    using namespace rs::detail;
+    const auto spread = [](double x, int high, int low) {  // x·2^high + x·2^low, two components
+        expansion<2> e;
+        e.push_back(to_xfloat(x, low));
+        e.push_back(to_xfloat(x, high));
+        return e;
+    };
+    const double odd = 1 + 0x1p-30 + 0x1p-52;  // a full significand: each product has a low part
+    const expansion<2> e = spread(odd, 0, -500), f = spread(odd, 0, -2000);
+    const expansion<4> s = sum(e, f);
+    static_assert(decltype(s)::capacity == 4);
+    EXPECT_EQ(s.size, 3);  // the two leading components add up to one
+    const expansion<4> s2 = sum(e, spread(odd, -1000, -1500));
+    EXPECT_EQ(s2.size, 4);
+    const expansion<8> p = product(e, f);
+    static_assert(decltype(p)::capacity == 8);
+    EXPECT_EQ(p.size, 8);  // four products 2^0, 2^-500, 2^-2000, 2^-2500, each hi + lo
+    // The value is exact: the top component is RN of the whole, its sign the product's.
+    EXPECT_EQ(sign(p), 1);
+    EXPECT_EQ(p.back().m, to_xfloat(odd * odd).m);
+    // The solver's stated capacities: Δ′'s 408 and a comparison's 218 and 36.
+    static_assert(decltype(product(expansion<8>{}, expansion<8>{}))::capacity == 128);
+    static_assert(decltype(sum(product(expansion<6>{}, expansion<2>{}), expansion<384>{}))::capacity == 408);
+    static_assert(decltype(sum(product(expansion<6>{}, expansion<2>{}), expansion<12>{}))::capacity == 36);
+    // The most spread inputs a double allows still fit (o − c of 2^1000 and
+    // 2^-1000, a direction of 2^-1074 and 2^1023, r near the overflow).
+    const ray_sphere<double> extreme = geometry({0x1p1000, -0x1p-1000, 0x1.fffffffffffffp1000},
+                                                {0x1p-1074, 0x1.fffffffffffffp1023, -0x1.8p-1000},
+                                                {-0x1p-1000, 0x1p1000, 0x1.8p-1074}, 0x1.fffffffffffffp1022);
+    SCOPED_TRACE(show(extreme));
+    EXPECT_EQ(check_case(extreme), "");
+}
 
 TEST(RobustSphereVendored, HeaderAloneWithFmaContractionGivesTheSameAnswers) {
     if (!__builtin_cpu_supports("fma")) GTEST_SKIP() << "this CPU has no FMA to run an -mfma build on";

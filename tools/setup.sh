@@ -20,6 +20,7 @@ packages=(
   parallel                     # GNU parallel: the docs/scaling_out.md recipe a test runs
   python3-numpy nodejs         # tests: intersectors in NumPy and JavaScript audited through results files
   python3-jsonschema           # tests: exported cases and answers checked against docs/schema
+  clang-14                     # tests: robust_sphere.h compiled for a GPU in CUDA mode, without the CUDA SDK
 )
 slurm=false
 for option in "$@"; do

@@ -14,7 +14,9 @@ template <bool Refine, class T>
 bool settles(std::string_view name, const ray_sphere<T>& s, ray_interval<T> interval) {
     namespace rs = robust_sphere;
     using rs::ends;
-    rs::detail::fast_solver<T, Refine> solver(intersectors::robust_ray(s), intersectors::robust_target(s));
+    const rs::ray<T> ray = intersectors::robust_ray(s);  // the solver keeps references to both
+    const rs::sphere<T> target = intersectors::robust_target(s);
+    rs::detail::fast_solver<T, Refine> solver(ray, target);
     if (name == "robust" || name == "robust_bounded") {
         rs::line_roots<T> out;
         return name == "robust" ? rs::detail::query_line<rs::roots::correctly_rounded, T>(solver, out)

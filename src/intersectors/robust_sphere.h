@@ -547,6 +547,7 @@ public:
             words_.have_bC = words_.have_a = words_.have_D = false;
             cache2_[0].done = cache2_[1].done = false;
             undecided_.done = undecided_.valid = undecided_.ok = false;
+            undecided_.t = {0, 0}, undecided_.w = 0;
         }
     }
 

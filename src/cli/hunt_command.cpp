@@ -6,6 +6,7 @@
 #include "compare/hunt.h"
 #include "core/input_error.h"
 #include "corpus/corpus_io.h"
+#include "corpus/exchange.h"
 #include "corpus/external_program.h"
 #include "corpus/generators.h"
 #include "report/audit_report.h"
@@ -88,6 +89,7 @@ int run(const hunt_command_options& o, const std::string& command_line) {
         judge = [&](std::span<const corpus_case> cases) {
             audit_target answered = target;
             answered.recorded = program->answer(cases);
+            check_recorded_values(target.subject.promises, *answered.recorded);
             std::vector<hunt_evaluation> evals;
             for (const corpus_case& c : cases) evals.push_back(evaluate_for_hunt(answered, c, options.objective));
             return evals;

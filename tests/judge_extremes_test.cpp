@@ -266,6 +266,12 @@ TEST(SidePreservingRounding, RootsBeyondTheRangeAnsweredInfOrTheLargestValueAgre
     EXPECT_EQ(verdict(line, g, {2, -big, big}), verdict_kind::wrong_side);
     const case_score far_answer = judge(line, g, {2, std::nextafter(big, 0.0), big});
     EXPECT_EQ(far_answer.verdict, verdict_kind::agree) << far_answer.detail;
+    // In float: roots 2^140 and 2^141 round to +inf; FLT_MAX is the float one step inside, DBL_MAX is not a float.
+    const ray_sphere<double> f{{-0x3p40, 0, 0}, {0x1p-100, 0, 0}, {0, 0, 0}, 0x1p40};
+    const double flt_max = std::numeric_limits<float>::max();
+    EXPECT_EQ(judge(line, f, {2, flt_max, flt_max}, precision::binary32).verdict, verdict_kind::agree);
+    EXPECT_EQ(judge(line, f, {2, flt_max, inf}, precision::binary32).verdict, verdict_kind::agree);
+    EXPECT_EQ(judge(line, f, {2, -flt_max, flt_max}, precision::binary32).verdict, verdict_kind::wrong_side);
 }
 
 }  // namespace

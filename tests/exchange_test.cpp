@@ -128,7 +128,7 @@ TEST(ExchangeResults, BadAnswersAreInputErrorsNamingLineAndField) {
               "nx, ny, nz)");
     EXPECT_EQ(error_of(csv_head + "id,count,t0,t1,px,py,pz\na,2,1,2,1,,3\n"),
               "a.csv:3: field 'py': missing while others of its group are given (all or none)");
-    EXPECT_EQ(error_of(csv_head + "id,count,t0\n"), "a.csv:2: field 't1': required column is missing from the header");
+    EXPECT_EQ(error_of(csv_head + "id,t0,t1\n"), "a.csv:2: field 'count': required column is missing from the header");
     EXPECT_EQ(error_of("# rayverify cases v1 precision=float fingerprint=0123456789abcdef cases=1\n"),
               "a.csv:1: field 'header': 'cases' (expected results: a cases file is not an answer file)");
     EXPECT_EQ(error_of("{\"rayverify\":\"results\",\"version\":2,\"precision\":\"float\",\"fingerprint\":"
@@ -282,6 +282,84 @@ TEST(ExchangeResults, OutputsBesideTAreJudgedAndTheContractsOutputsRequired) {
     EXPECT_NE(lacking.output.find("answers.csv:4: field 'nx ny nz'"), std::string::npos) << lacking.output;
     EXPECT_NE(lacking.output.find("answer 'loose' is a hit without"), std::string::npos) << lacking.output;
     EXPECT_FALSE(fs::exists(dir / "cases.jsonl")) << "a refused results file leaves no output";
+    fs::remove_all(dir);
+}
+
+// An absent t0 or t1 has one meaning or is refused, never judged: count 1
+// without t1 is a tangent's root written once (t1 = t0); a nearest_hit
+// answer needs no t1 column and an any_hit answer no t at all; a value the
+// contract needs and the answer leaves out is an input error naming the
+// file, line and field.
+TEST(ExchangeResults, AbsentValuesHaveOneMeaningOrAreInputErrors) {
+    const std::string head = "# rayverify results v1 precision=double fingerprint=0123456789abcdef\n";
+    const results_file r = parse_results("a.csv", head + "id,count,t0,t1\ntan,1,5,\nmiss,0,,\nhalf,2,4,\n",
+                                         exchange_format::csv);
+    const recorded_answer* tan = r.book->find("tan");
+    ASSERT_NE(tan, nullptr);
+    EXPECT_EQ(tan->roots.t1, 5.0);
+    EXPECT_TRUE(tan->t0_given && tan->t1_given);
+    const recorded_answer* half = r.book->find("half");
+    ASSERT_NE(half, nullptr);
+    EXPECT_FALSE(half->t1_given);
+    const auto refusal = [&](const std::string& spec) -> std::string {
+        try {
+            check_recorded_values(parse_contract(spec), *r.book);
+        } catch (const input_error& e) {
+            return e.what();
+        }
+        return "(no error)";
+    };
+    EXPECT_EQ(refusal("query=line_roots"),
+              "a.csv:5: field 't1': missing: answer 'half' has count 2, and a line_roots answer with that count needs t1");
+    EXPECT_EQ(refusal("query=any_hit"), "(no error)");
+    // nearest_hit: no t1 column at all; a hit without t0 is refused (JSON lines: a null is absent too).
+    const results_file nearest = parse_results("a.csv", head + "id,count,t0\nhit,1,4\nnone,0,\n", exchange_format::csv);
+    EXPECT_NO_THROW(check_recorded_values(parse_contract("query=nearest_hit"), *nearest.book));
+    const results_file lost = parse_results(
+        "a.jsonl",
+        "{\"rayverify\":\"results\",\"version\":1,\"precision\":\"double\",\"fingerprint\":\"0123456789abcdef\"}\n"
+        "{\"id\":\"a\",\"count\":0}\n{\"id\":\"b\",\"count\":1,\"t0\":null}\n",
+        exchange_format::jsonl);
+    try {
+        check_recorded_values(parse_contract("query=nearest_hit"), *lost.book);
+        ADD_FAILURE() << "an absent t0 of a hit was judged";
+    } catch (const input_error& e) {
+        EXPECT_STREQ(e.what(),
+                     "a.jsonl:3: field 't0': missing: answer 'b' has count 1, and a nearest_hit answer with that count "
+                     "needs t0");
+    }
+}
+
+// The whole command: a tangent written once agrees (it was non_finite, t1 read as NaN), and a hit
+// without its t0 is exit 2 with no report.
+TEST(ExchangeResults, ATangentsRootWrittenOnceAgrees) {
+    using test_support::run_cli;
+    const fs::path dir = fs::temp_directory_path() / "rayverify_exchange_absent";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    // A tangent at t* = 5 and two roots 4, 6.
+    std::ofstream(dir / "two.txt") << "tan hand 1 0 -5 0 0 1 0 0 0 1 - -\n"
+                                      "two hand 0 0 -5 0 0 1 0 0 0 1 - -\n";
+    const std::string corpus = (dir / "two.txt").string();
+    ASSERT_EQ(run_cli("corpus export --corpus " + corpus + " -o " + (dir / "cases.csv").string()).exit_code, 0);
+    const std::string text = test_support::read_text(dir / "cases.csv");
+    const std::string fingerprint = text.substr(text.find("fingerprint=") + 12, 16);
+    const auto audit = [&](const std::string& body, const std::string& contract) {
+        std::ofstream(dir / "answers.csv") << "# rayverify results v1 precision=double fingerprint=" << fingerprint
+                                           << "\n" << body;
+        return run_cli("audit --corpus " + corpus + " --results " + (dir / "answers.csv").string() + " --contract " +
+                       contract + " --name mine --report " + (dir / "report").string());
+    };
+    const auto line = audit("id,count,t0,t1\ntan,1,5,\ntwo,2,4,6\n", "query=line_roots,reports_tangent=yes");
+    EXPECT_EQ(line.exit_code, 0) << line.output;
+    const auto nearest = audit("id,count,t0\ntan,1,5\ntwo,1,4\n", "query=nearest_hit");
+    EXPECT_EQ(nearest.exit_code, 0) << nearest.output;
+    fs::remove_all(dir / "report");
+    const auto missing = audit("id,count,t0,t1\ntan,1,5,\ntwo,2,4,\n", "query=line_roots");
+    EXPECT_EQ(missing.exit_code, 2) << missing.output;
+    EXPECT_NE(missing.output.find("answers.csv:4: field 't1': missing: answer 'two' has count 2"), std::string::npos)
+        << missing.output;
+    EXPECT_FALSE(fs::exists(dir / "report" / "report.json")) << "a refused results file leaves no report";
     fs::remove_all(dir);
 }
 

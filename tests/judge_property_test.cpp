@@ -228,8 +228,25 @@ brute_expected brute_expect(const contract& k, const brute_case& e, const brute_
     return brute_in_range(e, +1, r) ? root(+1) : none;
 }
 
+// The answer one step inside T's range for a root beyond it, on the root's
+// side: ±denorm_min for a nonzero root that rounds to ±0, ±max for one that
+// rounds to ±inf (robust_sphere.h's side-preserving rounding).
+bool brute_side_preserving(const brute_case& e, int s, double t, precision p) {
+    const double rn = brute_rn(e, s, p);
+    const bool single = p == precision::binary32;
+    if (rn == 0 && compare_root_with(e, s, 0.0) != 0) {
+        const double smallest = single ? std::numeric_limits<float>::denorm_min() : std::numeric_limits<double>::denorm_min();
+        return t == (compare_root_with(e, s, 0.0) > 0 ? smallest : -smallest);
+    }
+    if (std::isinf(rn)) {
+        const double largest = single ? std::numeric_limits<float>::max() : std::numeric_limits<double>::max();
+        return t == std::copysign(largest, rn);
+    }
+    return false;
+}
+
 int brute_stands_for(const brute_case& e, double t, int wanted, precision p) {
-    if (e.cls == 0 || t == brute_rn(e, wanted, p)) return wanted;
+    if (e.cls == 0 || t == brute_rn(e, wanted, p) || brute_side_preserving(e, wanted, t, p)) return wanted;
     const int side = compare_with_midpoint(e, t);
     return side == 0 ? wanted : (side < 0 ? -1 : +1);
 }
@@ -241,52 +258,51 @@ bool rounded_out_of_range(const brute_case& e, int s, double t, precision p) {
     return (std::isinf(rn) || rn == 0) && t == rn && std::signbit(t) == std::signbit(rn);
 }
 
-verdict_kind brute_line(const brute_case& e, root_pair<double> r, const brute_range& range, precision p) {
-    if (r.count < 0 || r.count > 2) return verdict_kind::malformed_output;
-    if (e.cls < 0) return r.count > 0 ? verdict_kind::false_hit : verdict_kind::agree;
-    if (r.count == 0) return e.cls == 0 ? verdict_kind::tangent_missed : verdict_kind::false_miss;
-    const double t[2] = {r.t0, r.t1};
-    const int want[2] = {-1, +1};
-    for (int i = 0; i < 2; ++i)
-        if (std::isnan(t[i]) || (std::isinf(t[i]) && t[i] != brute_rn(e, want[i], p))) return verdict_kind::non_finite;
-    if (t[0] > t[1]) return verdict_kind::malformed_output;
-    if (e.cls == 0 && t[0] != t[1]) return verdict_kind::tangent_split;
-    if (e.cls > 0 && brute_rn(e, -1, p) != brute_rn(e, +1, p) && (r.count == 1 || t[0] == t[1]))
-        return verdict_kind::false_tangent;
-    int stands[2];
-    for (int i = 0; i < 2; ++i) stands[i] = brute_stands_for(e, t[i], want[i], p);
-    for (int i = 0; i < 2; ++i)
-        if (!rounded_out_of_range(e, stands[i], t[i], p) && brute_in_range(e, stands[i], range) != range.contains(t[i]))
-            return verdict_kind::wrong_side;
-    for (int i = 0; i < 2; ++i)
-        if (stands[i] != want[i]) return verdict_kind::wrong_root;
-    return verdict_kind::agree;
-}
-
-verdict_kind brute_hit(const contract& k, const brute_case& e, root_pair<double> r, const brute_range& range,
-                       precision p, bool nan_seen) {
-    if (r.count < 0 || r.count > 1) return verdict_kind::malformed_output;
-    const bool any = k.query == query_kind::any_hit;
-    if (r.count == 1 && (any ? nan_seen : std::isnan(r.t0))) return verdict_kind::non_finite;
-    const brute_expected want = brute_expect(k, e, range, p);
-    if (want.what == brute_expected::none) return r.count > 0 ? verdict_kind::false_hit : verdict_kind::agree;
-    if (r.count == 0) return e.cls == 0 ? verdict_kind::tangent_missed : verdict_kind::false_miss;
-    if (any) return verdict_kind::agree;
-    const double t = r.t0;
-    if (want.what == brute_expected::clamp) {
-        if (t == want.value) return verdict_kind::agree;
-        return std::isinf(t) ? verdict_kind::non_finite : verdict_kind::wrong_root;
-    }
-    if (std::isinf(t) && t != want.value) return verdict_kind::non_finite;
-    const int s = brute_stands_for(e, t, want.s, p);
-    if (!rounded_out_of_range(e, s, t, p) && brute_in_range(e, s, range) != range.contains(t))
-        return verdict_kind::wrong_side;
-    return s != want.s ? verdict_kind::wrong_root : verdict_kind::agree;
-}
-
+// The table of docs/verdicts.md, row by row; the first row that holds is the verdict.
 verdict_kind brute_judge(const contract& k, const brute_case& e, root_pair<double> r, const brute_range& range,
                          precision p, bool nan_seen = false) {
-    return k.query == query_kind::line_roots ? brute_line(e, r, range, p) : brute_hit(k, e, r, range, p, nan_seen);
+    const bool line = k.query == query_kind::line_roots, any = k.query == query_kind::any_hit;
+    // 1. malformed_output: a count the query does not allow.
+    if (r.count < 0 || r.count > (line ? 2 : 1)) return verdict_kind::malformed_output;
+    const double t[2] = {r.t0, r.t1};
+    const int judged = r.count == 0 || any ? 0 : (line ? 2 : 1);
+    // 2. non_finite: a NaN among the judged values.
+    for (int i = 0; i < judged; ++i)
+        if (std::isnan(t[i])) return verdict_kind::non_finite;
+    if (any && r.count == 1 && nan_seen) return verdict_kind::non_finite;
+    const brute_expected want = line ? brute_expected{} : brute_expect(k, e, range, p);
+    const bool expected = line ? e.cls >= 0 : want.what != brute_expected::none;
+    // 3. false_hit; 4. tangent_missed; 5. false_miss.
+    if (!expected) return r.count > 0 ? verdict_kind::false_hit : verdict_kind::agree;
+    if (r.count == 0) return e.cls == 0 ? verdict_kind::tangent_missed : verdict_kind::false_miss;
+    if (any) return verdict_kind::agree;
+    // What each judged value is judged against: root −1 or +1, or a clamp (0).
+    int asked[2] = {-1, +1};
+    if (!line) asked[0] = want.what == brute_expected::clamp ? 0 : want.s;
+    const auto target = [&](int i) { return asked[i] == 0 ? want.value : brute_rn(e, asked[i], p); };
+    // 6. non_finite: an infinity that is not what it is judged against.
+    for (int i = 0; i < judged; ++i)
+        if (std::isinf(t[i]) && t[i] != target(i)) return verdict_kind::non_finite;
+    if (line) {
+        // 7. out of order; 8. tangent_split; 9. false_tangent.
+        if (t[0] > t[1]) return verdict_kind::malformed_output;
+        if (e.cls == 0 && t[0] != t[1]) return verdict_kind::tangent_split;
+        if (e.cls > 0 && brute_rn(e, -1, p) != brute_rn(e, +1, p) && (r.count == 1 || t[0] == t[1]))
+            return verdict_kind::false_tangent;
+    }
+    // The root each value stands for; a clamp answered by its start stands for nothing.
+    int stands[2] = {0, 0};
+    for (int i = 0; i < judged; ++i)
+        if (!(asked[i] == 0 && t[i] == want.value)) stands[i] = brute_stands_for(e, t[i], asked[i] == 0 ? +1 : asked[i], p);
+    // 10. wrong_side.
+    for (int i = 0; i < judged; ++i)
+        if (stands[i] != 0 && !rounded_out_of_range(e, stands[i], t[i], p) &&
+            brute_in_range(e, stands[i], range) != range.contains(t[i]))
+            return verdict_kind::wrong_side;
+    // 11. wrong_root.
+    for (int i = 0; i < judged; ++i)
+        if (stands[i] != 0 && stands[i] != asked[i]) return verdict_kind::wrong_root;
+    return verdict_kind::agree;
 }
 
 // The renderer's filter of a raw answer into the ray's range (docs/scenes.md).
@@ -393,7 +409,7 @@ struct generator {
         }
     }
 
-    // An answer value: a root's RN ± k steps, the midpoint, 0, −0, NaN, ±inf, the range start, random.
+    // An answer value: a root's RN ± k steps, the midpoint, ±0, ±denorm_min, ±max, NaN, ±inf, the range start, random.
     double value(const exact_solution& e, const brute_case& b, std::optional<double> tmin) {
         const double near = e.cls != line_class::miss ? e.near_root.rounded : uniform(-5, 5);
         const double far = e.cls != line_class::miss ? e.far_root.rounded : uniform(-5, 5);
@@ -412,7 +428,16 @@ struct generator {
                 const double m = static_cast<double>(static_cast<long double>(-b.b) / static_cast<long double>(b.a));
                 return m;
             }
-            case 6: return pick(2) ? 0.0 : -0.0;
+            case 6: {  // ±0, and one step inside the format's range: ±denorm_min, ±max
+                const bool single = e.prec == precision::binary32;
+                const double sign = pick(2) ? 1.0 : -1.0;
+                switch (pick(4)) {
+                    case 0: return 0.0;
+                    case 1: return -0.0;
+                    case 2: return sign * (single ? std::numeric_limits<float>::denorm_min() : std::numeric_limits<double>::denorm_min());
+                    default: return sign * (single ? std::numeric_limits<float>::max() : std::numeric_limits<double>::max());
+                }
+            }
             case 7: return pick(4) == 0 ? nan : (pick(2) ? inf : -inf);
             case 8: return tmin.value_or(0);
             default: return uniform(-10, 10);

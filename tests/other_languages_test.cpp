@@ -271,4 +271,28 @@ TEST_F(OtherLanguages, ProgramThatDiesHangsOrAnswersGarbageIsNamedWithItsCase) {
     }
 }
 
+// A program that leaves out a value its contract needs (count 2 without t1
+// under line_roots) is stopped and named with its case, as for any answer that
+// is not one: no value it left out is judged.
+TEST_F(OtherLanguages, ProgramThatLeavesOutAValueItsContractNeedsIsNamedWithItsCase) {
+    // A shell loop, line by line (mawk would wait for more input than a batch).
+    std::ofstream(at("half.sh")) << R"(while IFS= read -r line; do
+  case $line in
+    "# rayverify cases"*) h=""; for w in $line; do case $w in fingerprint=*|precision=*) h="$h $w";; esac; done
+                          echo "# rayverify results v1$h";;
+    id,*) echo "id,count,t0,t1";;
+    *) echo "${line%%,*},2,1,";;
+  esac
+done
+)";
+    const auto r = run_cli("hunt --command 'sh " + at("half.sh") + "' --format csv --contract " + naive_contract +
+                           " --name half --evaluations 20 --budget 0 --batch 1 -o " + at("finds.txt"));
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find("left out a value its contract needs"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("field 't1': missing: answer 'hunt-evaluation-1' has count 2"), std::string::npos)
+        << r.output;
+    EXPECT_NE(r.output.find("the case, as a corpus line"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(at("finds.txt")));
+}
+
 }  // namespace

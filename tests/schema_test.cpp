@@ -135,6 +135,96 @@ TEST_F(Schema, BenchReportAndGoogleBenchmarkJsonValidate) {
     EXPECT_EQ(checked, 20u);
 }
 
+// The shipped corpus and corpus/edge, whole: the report with every variant,
+// and the per-case lines of one target of each output shape (line roots with
+// t1, a clamping nearest hit with its expected answer, t intervals and a point
+// bound, a normal): python's validator takes about 10 ms per line with every
+// target, so the lines carry four. The edge families hold the extremes: roots
+// near overflow and below the subnormals, NaN answers, infinities as figures.
+TEST_F(Schema, ReportAndPerCaseLinesOfTheShippedCorpusAndEdgeCasesValidate) {
+    for (const std::string corpus : {corpus_dir, corpus_dir + "/edge"}) {
+        SCOPED_TRACE(corpus);
+        const fs::path whole = dir_ / "whole", lines = dir_ / "lines";
+        fs::remove_all(whole);
+        fs::remove_all(lines);
+        const command_result all = run_cli("audit --corpus " + corpus + " --report " + whole.string());
+        ASSERT_EQ(all.exit_code, 1) << all.output;
+        const command_result report = validate("report", whole / "report.json");
+        EXPECT_EQ(report.exit_code, 0) << report.output;
+        const command_result some =
+            run_cli("audit --corpus " + corpus + " --variant naive --variant seed004_early_out --variant pbrt_v4 "
+                    "--variant embree4 --report " + lines.string() + " --per-case " + (lines / "cases.jsonl").string());
+        ASSERT_EQ(some.exit_code, 1) << some.output;
+        const command_result per_case = validate("per-case", lines / "cases.jsonl", true);
+        EXPECT_EQ(per_case.exit_code, 0) << per_case.output;
+        EXPECT_NE(per_case.output.find(corpus == corpus_dir ? "valid: 3000 object(s)" : "valid: 7200 object(s)"),
+                  std::string::npos)
+            << per_case.output;
+    }
+}
+
+// Every scene of the shipped corpus: its report.
+TEST_F(Schema, EveryShippedSceneReportValidates) {
+    for (const auto& entry : fs::directory_iterator(corpus_dir + "/scenes")) {
+        if (entry.path().extension() != ".json") continue;
+        SCOPED_TRACE(entry.path());
+        const fs::path out = dir_ / entry.path().stem();
+        const command_result scene =
+            run_cli("audit --scene " + entry.path().string() + " --variant naive --variant seed004_early_out "
+                    "--variant hearn_baker_any_hit --variant pbrt_v4 --report " + out.string());
+        ASSERT_LE(scene.exit_code, 1) << scene.output;
+        const command_result r = validate("scene-report", out / "scene_report.json");
+        EXPECT_EQ(r.exit_code, 0) << r.output;
+    }
+}
+
+// The exchange files (docs/schema/rayverify-exchange-v1.json): the shipped
+// corpus and corpus/edge exported as JSON lines and as .npy (its companion),
+// and a results file with every shape of answer, absent values included.
+TEST_F(Schema, ExchangeFilesOfTheShippedCorpusAndEdgeCasesValidate) {
+    const std::string check = "/usr/bin/python3 " + source_dir + "/tests/support/check_exchange_schema.py " +
+                              source_dir + "/docs/schema/rayverify-exchange-v1.json ";
+    std::string files;
+    for (const auto& [corpus, name] : {std::pair{corpus_dir, std::string("corpus")},
+                                       std::pair{corpus_dir + "/edge", std::string("edge")}}) {
+        for (const std::string format : {"jsonl", "npy"}) {
+            const fs::path out = dir_ / (name + "." + format);
+            const command_result r = run_cli("corpus export --corpus " + corpus + " -o " + out.string());
+            ASSERT_EQ(r.exit_code, 0) << r.output;
+            files += " " + (format == "npy" ? (dir_ / (name + ".json")).string() : out.string());
+        }
+    }
+    const command_result float_export =
+        run_cli("corpus export --corpus " + corpus_dir + "/edge --precision float --numbers hex -o " +
+                (dir_ / "edge_f32.jsonl").string());
+    ASSERT_EQ(float_export.exit_code, 0) << float_export.output;
+    files += " " + (dir_ / "edge_f32.jsonl").string();
+    std::ofstream(dir_ / "results.jsonl")
+        << R"({"rayverify": "results", "version": 1, "precision": "double", "fingerprint": "0123456789abcdef"})" "\n"
+        << R"({"id": "miss", "count": 0})" "\n"
+        << R"({"id": "tangent", "count": 1, "t0": 5})" "\n"
+        << R"({"id": "nearest", "count": 1, "t0": "0x1.8p+2", "t1": null})" "\n"
+        << R"({"id": "two", "count": 2, "t0": 4, "t1": "inf", "t0_bounds": [3.5, 4.5], "t1_bounds": ["nan", "inf"],)"
+           R"( "hit_point": [0, 0, -1], "normal": [0, 0, -1]})" "\n";
+    files += " " + (dir_ / "results.jsonl").string();
+    const command_result checked = run_shell(check + files);
+    EXPECT_EQ(checked.exit_code, 0) << checked.output;
+}
+
+// A key the schema does not declare is an error: an output cannot drift from
+// its schema unseen (the per-case schema once named front_root, hit_point and
+// hits_interval while the tool wrote hit_points).
+TEST_F(Schema, ValidatorRejectsAKeyItsSchemaDoesNotDeclare) {
+    std::ofstream(dir_ / "drift.json")
+        << R"({"schema_version": 1, "variants": [{"name": "naive", "citation": "", "formula": "",)"
+           R"( "contract": {"spec": "query=line_roots", "tangent_rule": "", "meaning": ""},)"
+           R"( "precisions": ["double"], "front_root": "near"}]})";
+    const command_result r = validate("variants", dir_ / "drift.json");
+    EXPECT_EQ(r.exit_code, 1) << r.output;
+    EXPECT_NE(r.output.find("at '/variants/0/front_root': not declared in the schema"), std::string::npos)
+        << r.output;
+}
+
 TEST_F(Schema, ValidatorRejectsAnOutputWithoutItsVersion) {
     std::ofstream(dir_ / "old.json") << R"({"variants": [{"name": "naive"}]})";
     const command_result r = validate("variants", dir_ / "old.json");

@@ -6,6 +6,7 @@
 #include "compare/hunt.h"
 #include "core/input_error.h"
 #include "corpus/corpus_io.h"
+#include "corpus/exchange.h"
 #include "corpus/external_program.h"
 #include "corpus/generators.h"
 #include "report/audit_report.h"
@@ -88,6 +89,14 @@ int run(const hunt_command_options& o, const std::string& command_line) {
         judge = [&](std::span<const corpus_case> cases) {
             audit_target answered = target;
             answered.recorded = program->answer(cases);
+            try {
+                check_recorded_values(target.subject.promises, *answered.recorded);
+            } catch (const input_error& e) {  // named with its batch, as any answer that is not one
+                throw case_failure("", "--command",
+                                   fmt::format("command '{}' left out a value its contract needs ({})", o.command,
+                                               e.what()),
+                                   cases.empty() ? corpus_case{} : cases.front());
+            }
             std::vector<hunt_evaluation> evals;
             for (const corpus_case& c : cases) evals.push_back(evaluate_for_hunt(answered, c, options.objective));
             return evals;

@@ -119,6 +119,7 @@ std::optional<audit_target> results_target(const results_options& options,
     answer_matcher matcher(results);
     const std::string input_fingerprint = feed(matcher);
     target.recorded = matcher.finish(input_fingerprint);
+    check_recorded_values(target.subject.promises, *target.recorded);
     check_named_outputs(target.subject.promises, *target.recorded);
     return target;
 }

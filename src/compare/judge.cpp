@@ -162,8 +162,24 @@ expected_hit expect_hit(const contract& promises, const exact_solution& exact, c
     return root_in_range(exact, root_index::far_root, range) ? root(root_index::far_root) : none;
 }
 
+bool side_preserving_rounding(const exact_solution& exact, root_index i, double t) {
+    const exact_root& root = exact.root(i);
+    const bool single = exact.prec == precision::binary32;
+    if (root.rounded == 0 && root.sign != 0) {
+        const double smallest = single ? std::numeric_limits<float>::denorm_min() : std::numeric_limits<double>::denorm_min();
+        return t == std::copysign(smallest, static_cast<double>(root.sign));
+    }
+    if (std::isinf(root.rounded)) {
+        const double largest = single ? std::numeric_limits<float>::max() : std::numeric_limits<double>::max();
+        return t == std::copysign(largest, root.rounded);
+    }
+    return false;
+}
+
 root_index stands_for(const exact_solution& exact, double t, root_index wanted) {
-    if (exact.cls != line_class::two_hit || t == exact.root(wanted).rounded) return wanted;
+    if (exact.cls != line_class::two_hit || t == exact.root(wanted).rounded ||
+        side_preserving_rounding(exact, wanted, t))
+        return wanted;
     const int side = exact.compare_midpoint(t);
     if (side == 0) return wanted;  // equidistant: the benefit of the doubt
     return side < 0 ? root_index::near_root : root_index::far_root;
@@ -323,99 +339,141 @@ std::optional<std::string> side_difference(const exact_solution& exact, root_ind
                        exact.root(k).rounded, format_range(range), t);
 }
 
-// Both roots of the line.
-// With `measure` false only the verdict is formed (the errors are left empty).
-case_score judge_line_roots(const variant_output& out, const exact_solution& exact, const t_range& range,
-                            bool measure) {
-    case_score s;
-    const auto& r = out.roots;
-    const auto fail = [&](verdict_kind k, std::string why) { return disagreement(s, k, std::move(why)); };
-    const auto both = [&] { return describe_exact(exact) + "; " + describe_output(out, query_kind::line_roots); };
-    if (r.count < 0 || r.count > 2) return fail(verdict_kind::malformed_output, fmt::format("hit count {}", r.count));
-    if (exact.cls == line_class::miss) return r.count > 0 ? fail(verdict_kind::false_hit, both()) : s;
-    if (r.count == 0)
-        return fail(exact.cls == line_class::tangent ? verdict_kind::tangent_missed : verdict_kind::false_miss, both());
+// What each returned t is judged against: its slot (t0
+// or t1) and the exact root, or the exact range start of a clamp.
+struct judged_value {
+    int slot = 0;
+    std::optional<root_index> root;  // empty: a clamp to `start`
+    double start = 0;
+};
 
-    // With count 1 (a reported tangent) t1 is still the variant's far root.
-    const double t[2] = {r.t0, r.t1};
-    const root_index wanted[2] = {root_index::near_root, root_index::far_root};
-    if (measure) {
-        measure_root(exact, wanted[0], t[0], s.near_ulp, s.near_bits);
-        measure_root(exact, wanted[1], t[1], s.far_ulp, s.far_bits);
+// At most two (line_roots), so kept in place.
+struct judged_list {
+    std::array<judged_value, 2> values{};
+    std::size_t size = 0;
+    const judged_value* begin() const { return values.data(); }
+    const judged_value* end() const { return values.data() + size; }
+};
+
+// `want`: expect_hit's answer (nearest_hit; unused otherwise).
+judged_list judged_values(query_kind query, const exact_solution& exact, const expected_hit& want) {
+    switch (query) {
+        case query_kind::any_hit: return {};
+        case query_kind::line_roots:
+            if (exact.cls == line_class::miss) return {};
+            return {{{{0, root_index::near_root}, {1, root_index::far_root}}}, 2};
+        case query_kind::nearest_hit: break;
     }
-    for (int i = 0; i < 2; ++i)
-        if (std::isnan(t[i]) || (std::isinf(t[i]) && t[i] != exact.root(wanted[i]).rounded))
-            return fail(verdict_kind::non_finite, both());
-    if (t[0] > t[1]) return fail(verdict_kind::malformed_output, "roots out of order: " + describe_output(out, query_kind::line_roots));
-    if (exact.cls == line_class::tangent && t[0] != t[1]) return fail(verdict_kind::tangent_split, both());
-    const bool distinct_after_rounding = exact.near_root.rounded != exact.far_root.rounded;
-    if (exact.cls == line_class::two_hit && distinct_after_rounding && (r.count == 1 || t[0] == t[1]))
-        return fail(verdict_kind::false_tangent, both());
-    const root_index stands[2] = {stands_for(exact, t[0], wanted[0]), stands_for(exact, t[1], wanted[1])};
-    for (int i = 0; i < 2; ++i)
-        if (auto why = side_difference(exact, stands[i], t[i], range)) return fail(verdict_kind::wrong_side, *why);
-    for (int i = 0; i < 2; ++i)
-        if (stands[i] != wanted[i])
-            return fail(verdict_kind::wrong_root,
-                        fmt::format("t{} = {} stands for the {} root: {}", i, t[i], root_word(stands[i]), both()));
-    return s;
+    if (want.what == expected_hit::kind::root) return {{{{0, want.root}}}, 1};
+    if (want.what == expected_hit::kind::clamp) return {{{{0, std::nullopt, want.value}}}, 1};
+    return {};
 }
 
-// nearest_hit and any_hit.
-case_score judge_hit(const contract& promises, const variant_output& out, const exact_solution& exact,
-                     const t_range& range, bool measure) {
+// The verdict, as the one table in docs/verdicts.md reads, top to bottom: the
+// first row whose condition holds is the verdict. Every query runs the same
+// rows (a row that cannot apply to a query is skipped). With `measure` false
+// only the verdict is formed (the errors are left empty); a cause is set only
+// where the verdict itself shows it (line_not_ray).
+case_score judge_verdict(const contract& promises, const variant_output& out, const exact_solution& exact,
+                         const t_range& range, bool measure = true) {
     case_score s;
     const auto& r = out.roots;
+    const query_kind query = promises.query;
+    const bool line = query == query_kind::line_roots, any = query == query_kind::any_hit;
     const auto fail = [&](verdict_kind k, std::string why) { return disagreement(s, k, std::move(why)); };
-    const expected_hit want = expect_hit(promises, exact, range);
     const auto both = [&] {
-        return describe_expected(promises, exact, range) + "; " + describe_output(out, promises.query);
+        return (line ? describe_exact(exact) : describe_expected(promises, exact, range)) + "; " +
+               describe_output(out, query);
     };
-    if (r.count < 0 || r.count > 1) return fail(verdict_kind::malformed_output, fmt::format("hit count {}", r.count));
-    const bool any = promises.query == query_kind::any_hit;
-    // A NaN the answer rests on (any_hit: one the renderer looked at) never agrees.
-    if (r.count == 1 && (any ? out.nan_seen : std::isnan(r.t0))) return fail(verdict_kind::non_finite, both());
-    if (!want.hit()) {
+    // 1. malformed_output: a hit count the query does not allow.
+    const int allowed = line ? 2 : 1;
+    if (r.count < 0 || r.count > allowed) return fail(verdict_kind::malformed_output, fmt::format("hit count {}", r.count));
+    // The values judged (line_roots: t0 and t1 whatever the count, t1 of a
+    // reported tangent too; nearest_hit: t0) and what each is judged against.
+    const int values = r.count == 0 || any ? 0 : (line ? 2 : 1);
+    const double t[2] = {r.t0, r.t1};
+    const expected_hit want = line ? expected_hit{} : expect_hit(promises, exact, range);
+    const bool hit_expected = line ? exact.cls != line_class::miss : want.hit();
+    const judged_list judged = r.count > 0 && hit_expected ? judged_values(query, exact, want) : judged_list{};
+    if (measure)
+        for (const judged_value& j : judged) {
+            std::optional<double>& ulp = j.slot == 0 ? s.near_ulp : s.far_ulp;
+            std::optional<double>& bits = j.slot == 0 ? s.near_bits : s.far_bits;
+            if (j.root)
+                measure_root(exact, *j.root, t[j.slot], ulp, bits);
+            else
+                measure_value(exact.prec, j.start, t[j.slot], ulp, bits);
+        }
+    // 2. non_finite: a NaN among the values judged (any_hit: one the renderer looked at).
+    for (int i = 0; i < values; ++i)
+        if (std::isnan(t[i])) return fail(verdict_kind::non_finite, both());
+    if (any && r.count == 1 && out.nan_seen) return fail(verdict_kind::non_finite, both());
+    // 3. false_hit: no hit expected, one reported.
+    if (!hit_expected) {
         if (r.count == 0) return s;
         // A t that stands for a root outside the range, itself outside it: the formula tests the line.
-        if (!any && exact.cls != line_class::miss && std::isfinite(r.t0) &&
+        if (query == query_kind::nearest_hit && exact.cls != line_class::miss && std::isfinite(r.t0) &&
             !root_in_range(exact, stands_for(exact, r.t0, root_index::near_root), range) && !range.contains(r.t0))
             s.cause = disagreement_cause::line_not_ray;
         return fail(verdict_kind::false_hit, both());
     }
+    // 4, 5. tangent_missed, false_miss: a hit expected, none reported.
     if (r.count == 0)
         return fail(exact.cls == line_class::tangent ? verdict_kind::tangent_missed : verdict_kind::false_miss, both());
     if (any) return s;
-
-    const double t = r.t0;
-    if (want.what == expected_hit::kind::clamp) {
-        if (measure) measure_value(exact.prec, want.value, t, s.near_ulp, s.near_bits);
-        if (t == want.value) return s;
-        if (std::isinf(t)) return fail(verdict_kind::non_finite, both());
-        const root_index k = stands_for(exact, t, root_index::far_root);
-        if (!root_in_range(exact, k, range) && !range.contains(t)) s.cause = disagreement_cause::line_not_ray;
-        return fail(verdict_kind::wrong_root,
-                    fmt::format("t = {} stands for the {} root, where the contract clamps to {}: {}", t, root_word(k),
-                                want.value, both()));
+    // 6. non_finite: an infinity that is not the value it is judged against.
+    for (const judged_value& j : judged) {
+        const double want_value = j.root ? exact.root(*j.root).rounded : j.start;
+        if (std::isinf(t[j.slot]) && t[j.slot] != want_value) return fail(verdict_kind::non_finite, both());
     }
-    if (measure) measure_root(exact, want.root, t, s.near_ulp, s.near_bits);
-    if (std::isinf(t) && t != want.value) return fail(verdict_kind::non_finite, both());
-    const root_index k = stands_for(exact, t, want.root);
-    if (auto why = side_difference(exact, k, t, range)) return fail(verdict_kind::wrong_side, *why);
-    if (k != want.root) {
+    if (line) {
+        // 7. malformed_output: roots out of order.
+        if (t[0] > t[1])
+            return fail(verdict_kind::malformed_output, "roots out of order: " + describe_output(out, query));
+        // 8. tangent_split: exactly tangent, two distinct roots.
+        if (exact.cls == line_class::tangent && t[0] != t[1]) return fail(verdict_kind::tangent_split, both());
+        // 9. false_tangent: two roots distinct after rounding, one reported.
+        const bool distinct_after_rounding = exact.near_root.rounded != exact.far_root.rounded;
+        if (exact.cls == line_class::two_hit && distinct_after_rounding && (r.count == 1 || t[0] == t[1]))
+            return fail(verdict_kind::false_tangent, both());
+    }
+    // Which exact root each t stands for: a clamp's range start stands for
+    // itself; any other t of a clamp for the root on its side of the midpoint.
+    struct stand {
+        const judged_value* j;
+        root_index root;
+    };
+    std::array<stand, 2> stands{};
+    std::size_t standing = 0;
+    for (const judged_value& j : judged) {
+        if (!j.root && t[j.slot] == j.start) continue;
+        stands[standing++] = {&j, stands_for(exact, t[j.slot], j.root.value_or(root_index::far_root))};
+    }
+    // 10. wrong_side: a t and the exact root it stands for on opposite sides of a range bound.
+    for (std::size_t i = 0; i < standing; ++i)
+        if (auto why = side_difference(exact, stands[i].root, t[stands[i].j->slot], range))
+            return fail(verdict_kind::wrong_side, *why);
+    // 11. wrong_root: a t stands for another root than the one asked for (a clamp: any t but the start).
+    for (std::size_t i = 0; i < standing; ++i) {
+        const judged_value& j = *stands[i].j;
+        const root_index k = stands[i].root;
+        const double value = t[j.slot];
+        if (j.root && k == *j.root) continue;
         // Both outside the range: the formula returns a root its range excludes.
-        if (!root_in_range(exact, k, range)) s.cause = disagreement_cause::line_not_ray;
-        return fail(verdict_kind::wrong_root, fmt::format("t = {} stands for the {} root: {}", t, root_word(k), both()));
+        if (!line && !root_in_range(exact, k, range) && (j.root || !range.contains(value)))
+            s.cause = disagreement_cause::line_not_ray;
+        if (line)
+            return fail(verdict_kind::wrong_root,
+                        fmt::format("t{} = {} stands for the {} root: {}", j.slot, value, root_word(k), both()));
+        if (!j.root)
+            return fail(verdict_kind::wrong_root,
+                        fmt::format("t = {} stands for the {} root, where the contract clamps to {}: {}", value,
+                                    root_word(k), j.start, both()));
+        return fail(verdict_kind::wrong_root,
+                    fmt::format("t = {} stands for the {} root: {}", value, root_word(k), both()));
     }
+    // 12. unsound_bound is decided on the outputs beside t (measure_outputs); 13. agree.
     return s;
-}
-
-// The verdict and errors (the verdict alone when `measure` is false), and a
-// cause only where the verdict itself shows it (line_not_ray).
-case_score judge_verdict(const contract& promises, const variant_output& output, const exact_solution& exact,
-                         const t_range& range, bool measure = true) {
-    return promises.query == query_kind::line_roots ? judge_line_roots(output, exact, range, measure)
-                                                    : judge_hit(promises, output, exact, range, measure);
 }
 
 // Hit point error of an agreeing answer: for the root that is the hit, when
@@ -461,36 +519,6 @@ void measure_hit_point(const contract& promises, const variant_output& output, c
     s.hit_point_ulp = errors;
 }
 
-// What each returned t of an agreeing answer is judged against: its slot (t0
-// or t1) and the exact root, or the exact range start of a clamp.
-struct judged_value {
-    int slot = 0;
-    std::optional<root_index> root;  // empty: a clamp to `start`
-    double start = 0;
-};
-
-// At most two (line_roots), so kept in place.
-struct judged_list {
-    std::array<judged_value, 2> values{};
-    std::size_t size = 0;
-    const judged_value* begin() const { return values.data(); }
-    const judged_value* end() const { return values.data() + size; }
-};
-
-judged_list judged_values(const contract& promises, const exact_solution& exact, const t_range& range) {
-    switch (promises.query) {
-        case query_kind::any_hit: return {};
-        case query_kind::line_roots:
-            if (exact.cls == line_class::miss) return {};
-            return {{{{0, root_index::near_root}, {1, root_index::far_root}}}, 2};
-        case query_kind::nearest_hit: break;
-    }
-    const expected_hit want = expect_hit(promises, exact, range);
-    if (want.what == expected_hit::kind::root) return {{{{0, want.root}}}, 1};
-    if (want.what == expected_hit::kind::clamp) return {{{{0, std::nullopt, want.value}}}, 1};
-    return {};
-}
-
 // ulp(t*) of the exact root as the oracle's ULP errors use it: RN(t*)'s,
 // halved when t* lies below a power of two that it rounds up to.
 double ulp_of_root(const exact_solution& exact, root_index i) {
@@ -511,15 +539,97 @@ bool holds(double lower, double upper, const std::function<int(double)>& compare
     return above && below;
 }
 
+// A positive length or error as m·2^e (m a double, e an int): the scale
+// figures multiply and divide values from 2^−1074 to 2^1024 whose products
+// leave the double range although the figure itself does not. Scaling by
+// powers of two is exact, so where nothing under- or overflows the figure is
+// the same double as the plain formula's.
+struct scaled {
+    double m = 0;  // 0 only for an exact zero
+    int e = 0;
+
+    static scaled of(double x) {
+        scaled s;
+        s.m = std::frexp(std::fabs(x), &s.e);
+        return s;
+    }
+    friend scaled operator*(scaled a, scaled b) { return {a.m * b.m, a.e + b.e}; }
+    friend scaled operator/(scaled a, scaled b) { return {a.m / b.m, a.e - b.e}; }
+    // RN to double of m·2^e (one rounding, in ldexp), except that a nonzero
+    // value below the smallest subnormal is that subnormal, never 0; above
+    // the largest double, +inf.
+    double value() const {
+        if (m == 0) return 0;
+        int k = 0;
+        const double mantissa = std::frexp(m, &k);
+        const long exponent = static_cast<long>(e) + k;
+        if (exponent > 1100) return std::numeric_limits<double>::infinity();
+        if (exponent < -1100) return std::numeric_limits<double>::denorm_min();
+        const double x = std::ldexp(mantissa, static_cast<int>(exponent));
+        return x == 0 ? std::numeric_limits<double>::denorm_min() : x;
+    }
+};
+
+// |a − b| for finite doubles, without overflow: halved first where either is
+// that large (halving is exact there).
+scaled distance_between(double a, double b) {
+    const double huge = 0x1p1022;
+    if (std::fabs(a) < huge && std::fabs(b) < huge) return scaled::of(a - b);
+    scaled s = scaled::of(a / 2 - b / 2);
+    if (s.m != 0) ++s.e;
+    return s;
+}
+
+// The Euclidean length of v (finite components), scaled by the largest
+// component's binade first so that neither the squares nor their sum leave
+// the range; sqrt(4^k·x) = 2^k·sqrt(x) exactly.
+scaled euclidean_length(const vec3<double>& v) {
+    const double largest = std::max({std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)});
+    if (largest == 0) return {};
+    const int k = std::ilogb(largest);
+    const vec3<double> w{std::ldexp(v.x, -k), std::ldexp(v.y, -k), std::ldexp(v.z, -k)};
+    scaled s = scaled::of(std::sqrt(dot(w, w)));
+    s.e += k;
+    return s;
+}
+
+// |o − c| alike, each difference formed without overflow.
+scaled origin_to_centre(const ray_sphere<double>& input) {
+    const double huge = 0x1p1022;
+    bool halve = false;
+    for (int axis = 0; axis < 3; ++axis)
+        halve = halve || std::fabs(input.origin[axis]) >= huge || std::fabs(input.centre[axis]) >= huge;
+    const double h = halve ? 0.5 : 1.0;
+    scaled s = euclidean_length({input.origin.x * h - input.centre.x * h, input.origin.y * h - input.centre.y * h,
+                                 input.origin.z * h - input.centre.z * h});
+    if (halve && s.m != 0) ++s.e;
+    return s;
+}
+
+// |t − t*| for a finite t: |t| where t* is exactly 0; the ULP error times
+// ulp(t*) (a power of two: the product kept as m·2^e); where the ULP error
+// itself overflows (t beyond 2^1024 ulps of t*: |t − t*| > 2^−50), t − RN(t*),
+// whose relative error is then below 2^−1000.
+scaled root_error(const exact_solution& exact, root_index i, double t) {
+    if (exact.root(i).sign == 0) return scaled::of(t);
+    const double ulps = exact.root_ulp_error(i, t);
+    if (!std::isfinite(ulps)) return distance_between(t, exact.root(i).rounded);
+    scaled s = scaled::of(ulps);
+    s.e += std::ilogb(ulp_of_root(exact, i));
+    return s;
+}
+
 // An agreeing answer's outputs beside t (contract::outputs) and its error in
 // the scene's length scale: measured, and the bounds checked (a bound that
 // leaves out the exact value turns the verdict into unsound_bound).
 void measure_outputs(const contract& promises, const variant_output& output, const exact_solution& exact,
                      const t_range& range, const ray_sphere<double>& input, case_score& s) {
-    const judged_list judged = judged_values(promises, exact, range);
+    const judged_list judged = judged_values(
+        promises.query, exact,
+        promises.query == query_kind::nearest_hit ? expect_hit(promises, exact, range) : expected_hit{});
     const double t[2] = {output.roots.t0, output.roots.t1};
-    const double d_length = judged.size ? std::sqrt(dot(input.direction, input.direction)) : 0;
-    const double distance = judged.size ? std::sqrt(length_squared(input.origin - input.centre)) : 0;
+    const scaled d_length = judged.size ? euclidean_length(input.direction) : scaled{};
+    const scaled distance = judged.size ? origin_to_centre(input) : scaled{};
     std::optional<std::string> unsound;
     for (const judged_value& j : judged) {
         const double value = t[j.slot];
@@ -528,13 +638,11 @@ void measure_outputs(const contract& promises, const variant_output& output, con
         // none where t* rounds to an infinity (beyond the precision, no length to measure).
         const auto keep_max = [](std::optional<double>& figure, double x) { figure = std::max(figure.value_or(0), x); };
         if (!j.root || std::isfinite(exact.root(*j.root).rounded)) {
-            const double error = !j.root                              ? std::fabs(value - j.start)
-                                 : exact.root(*j.root).sign == 0 ? std::fabs(value)
-                                                                 : exact.root_ulp_error(*j.root, value) *
-                                                                       ulp_of_root(exact, *j.root);
+            const scaled error = j.root ? root_error(exact, *j.root, value) : distance_between(value, j.start);
             // Each where its length is not 0 (a point sphere, an origin at the centre).
-            if (input.radius > 0) keep_max(s.scale_error_radius, error * d_length / input.radius);
-            if (distance > 0) keep_max(s.scale_error_distance, error * d_length / distance);
+            if (input.radius > 0)
+                keep_max(s.scale_error_radius, (error * d_length / scaled::of(input.radius)).value());
+            if (distance.m != 0) keep_max(s.scale_error_distance, (error * d_length / distance).value());
         }
         if (!output.t_bounds) continue;
         const auto [lower, upper] = (*output.t_bounds)[static_cast<std::size_t>(j.slot)];

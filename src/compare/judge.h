@@ -151,7 +151,16 @@ bool root_in_range(const exact_solution& exact, root_index i, const t_range& ran
 bool starts_inside(const exact_solution& exact, const t_range& range);
 // The nearest exact root (or clamp) in the range under the contract (see above).
 expected_hit expect_hit(const contract& promises, const exact_solution& exact, const t_range& range);
-// Which exact root the finite value t stands for when root `wanted` is asked for.
+// Is t the side-preserving rounding of exact root i, the answer one step
+// inside T's range for a root beyond it: ±denorm_min of T for a root t* ≠ 0
+// whose RN(t*) is ±0 (robust_sphere.h returns +denorm_min for a positive
+// root too small for T, so that it stays in front), ±max of T for a root
+// whose RN(t*) is ±inf? Signs as t*'s.
+bool side_preserving_rounding(const exact_solution& exact, root_index i, double t);
+// Which exact root the finite value t stands for when root `wanted` is asked
+// for: `wanted` when t is RN(t*), its side-preserving rounding, or the exact
+// midpoint (equidistant: the benefit of the doubt); otherwise the root on
+// t's side of the midpoint, decided exactly.
 root_index stands_for(const exact_solution& exact, double t, root_index wanted);
 
 // ---- Judging --------------------------------------------------------------------

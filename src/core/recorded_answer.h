@@ -22,6 +22,11 @@ namespace rayverify {
 // conservative interval around each t, its own hit point, and the normal.
 struct recorded_answer {
     root_pair<double> roots;
+    // Whether t0 and t1 were given. An absent one is NaN here and never
+    // judged: the reader takes count 1 without t1 as a tangent's root written
+    // once (t1 = t0), and the audit refuses an answer whose contract needs a
+    // value it left out (corpus/exchange.h, check_recorded_values).
+    bool t0_given = true, t1_given = true;
     std::optional<std::array<double, 2>> t0_bounds, t1_bounds;  // [lo, hi]
     std::optional<vec3<double>> hit_point;
     std::optional<vec3<double>> normal;

@@ -69,7 +69,10 @@ constexpr std::size_t first_number_column = 2;  // ox
 constexpr std::size_t npy_case_columns = 12;    // ox … r, tmin, tmax
 
 // The answer columns: required, then the optional groups (each all or none).
-constexpr std::array<std::string_view, 3> required_answer_columns = {"count", "t0", "t1"};
+// t0 and t1 may be left out: an any_hit answer needs neither, a nearest_hit
+// answer no t1 (check_recorded_values says which values a contract needs).
+constexpr std::array<std::string_view, 3> answer_t_columns = {"count", "t0", "t1"};
+constexpr std::array<std::string_view, 1> required_answer_columns = {"count"};
 constexpr std::array<std::array<std::string_view, 4>, 3> optional_groups = {{
     {"t0_lo", "t0_hi", "t1_lo", "t1_hi"},
     {"px", "py", "pz", ""},
@@ -81,7 +84,7 @@ constexpr std::array<std::array<std::string_view, 4>, 3> optional_groups = {{
 std::vector<std::string> case_columns() { return {case_column_names.begin(), case_column_names.end()}; }
 
 std::vector<std::string> answer_columns() {
-    std::vector<std::string> names(required_answer_columns.begin(), required_answer_columns.end());
+    std::vector<std::string> names(answer_t_columns.begin(), answer_t_columns.end());
     for (const auto& group : optional_groups)
         for (std::string_view n : group)
             if (!n.empty()) names.emplace_back(n);
@@ -445,7 +448,7 @@ public:
             throw input_error(file_, line_, "count", fmt::format("'{}' is not a whole number", shortest_decimal(c)));
         answer_.roots.count = static_cast<int>(c);
     }
-    // A number of the results' precision; absent is NaN for t0 and t1.
+    // A number of the results' precision; absent is NaN for t0 and t1 (and flagged, see t()).
     double value(std::optional<double> v, const char* field) const {
         if (!v) return std::numeric_limits<double>::quiet_NaN();
         if (prec_ == precision::binary64) return *v;
@@ -456,9 +459,18 @@ public:
                                       "digits)",
                                       shortest_decimal(*v)));
     }
+    // Count 1 without t1 is a tangent's root written once: t1 = t0. Any
+    // other absent value stays absent (t0_given, t1_given), for the audit to
+    // refuse where the contract needs it.
     void t(std::optional<double> t0, std::optional<double> t1) {
         answer_.roots.t0 = value(t0, "t0");
         answer_.roots.t1 = value(t1, "t1");
+        answer_.t0_given = t0.has_value();
+        answer_.t1_given = t1.has_value();
+        if (!t1 && t0 && answer_.roots.count == 1) {
+            answer_.roots.t1 = answer_.roots.t0;
+            answer_.t1_given = true;
+        }
     }
     // An optional group: every member or none.
     template <std::size_t N>
@@ -540,7 +552,7 @@ results_file parse_csv_results(const std::string& file, std::string_view text) {
                     throw input_error(file, number, name, "unknown column (known: id, " + fmt::format("{}", fmt::join(known, ", ")) + ")");
                 if (!at.emplace(name, i).second) throw input_error(file, number, name, "column appears twice");
             }
-            for (std::string_view required : {"id", "count", "t0", "t1"})
+            for (std::string_view required : {"id", "count"})
                 if (!at.count(std::string(required)))
                     throw input_error(file, number, std::string(required), "required column is missing from the header");
             columns.assign(cells.begin(), cells.end());
@@ -702,6 +714,32 @@ results_file parse_npy_results(const std::string& file, std::string_view bytes, 
 }
 
 }  // namespace
+
+void check_recorded_values(const contract& promises, const answer_book& book) {
+    const recorded_answer* first = nullptr;
+    std::string first_id;
+    const char* field = nullptr;
+    for (const auto& [id, a] : book.by_id) {
+        if (first && first->line < a.line) continue;
+        const int n = a.roots.count;
+        const char* lacks = nullptr;
+        switch (promises.query) {
+            case query_kind::any_hit: break;
+            case query_kind::nearest_hit: lacks = n == 1 && !a.t0_given ? "t0" : nullptr; break;
+            case query_kind::line_roots:
+                lacks = (n == 1 || n == 2) && !a.t0_given ? "t0" : n == 2 && !a.t1_given ? "t1" : nullptr;
+                break;
+        }
+        if (!lacks) continue;
+        first = &a;
+        first_id = id;
+        field = lacks;
+    }
+    if (first)
+        throw input_error(book.source, first->line, field,
+                          fmt::format("missing: answer '{}' has count {}, and a {} answer with that count needs {}",
+                                      first_id, first->roots.count, query_kind_name(promises.query), field));
+}
 
 results_file parse_results(const std::string& name, std::string_view text, exchange_format format,
                            const std::optional<std::string>& sidecar) {

@@ -27,6 +27,7 @@
 #include <unordered_set>
 #include <vector>
 
+#include "core/contract.h"
 #include "core/ray_sphere_case.h"
 #include "core/recorded_answer.h"
 
@@ -81,9 +82,9 @@ private:
 
 // The columns of a cases file, in order (CSV header, npy columns).
 std::vector<std::string> case_columns();
-// The columns an answer may have: count, t0, t1 (required), then the
-// optional groups t0_lo t0_hi t1_lo t1_hi, px py pz, nx ny nz (each group all
-// or none).
+// The columns an answer may have: count (required), t0, t1 (as the contract
+// needs them: check_recorded_values), then the optional groups t0_lo t0_hi
+// t1_lo t1_hi, px py pz, nx ny nz (each group all or none).
 std::vector<std::string> answer_columns();
 
 // A results file, read and checked on its own (header, columns, every value).
@@ -111,6 +112,14 @@ results_file read_results(const std::filesystem::path& path);
 // companion's (required for npy).
 results_file parse_results(const std::string& name, std::string_view text, exchange_format format,
                            const std::optional<std::string>& sidecar = std::nullopt);
+
+// Every value the contract needs is given (docs/other-languages.md): a
+// line_roots answer with count 1 or 2 needs t0 (count 1 without t1 was read
+// as t1 = t0), with count 2 also t1; a nearest_hit answer with count 1 needs
+// t0; an any_hit answer only its count. Throws input_error naming the file,
+// the line of the first answer (in the file's order) that leaves one out, and
+// the field, so that no absent value is ever judged.
+void check_recorded_values(const contract& promises, const answer_book& book);
 
 // Ties a results file to the input it must answer: every case of the input,
 // in order, then finish() with the input's fingerprint. Throws input_error

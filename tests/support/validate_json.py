@@ -5,8 +5,10 @@ usage: validate_json.py SCHEMA_DIR --check-schemas
        validate_json.py SCHEMA_DIR NAME FILE [--lines]
 
 NAME is a schema file's name without .schema.json (report, per-case, ...).
-With --lines, FILE is JSON Lines and every line is validated. Prints each
-error with its path and exits 1 when there is one; exits 0 otherwise.
+With --lines, FILE is JSON Lines and every line is validated. A key the
+schema does not declare, in an object whose properties it declares, is an
+error too (the output drifted from its schema). Prints each error with its
+path and exits 1 when there is one; exits 0 otherwise.
 Run by tests/schema_test.cpp with Debian's python3-jsonschema.
 """
 import json
@@ -24,6 +26,47 @@ def load_store(directory):
                 schema = json.load(f)
             store[name[: -len(".schema.json")]] = schema
     return store
+
+
+def undeclared(value, schema, base, store, where, found):
+    """Keys of an object whose schema declares its properties but not this
+    one (and has no additionalProperties schema): an output that drifted
+    from its schema. An object whose schema declares no properties at all
+    is free-form (e.g. a shard state's internal accumulators)."""
+    if not isinstance(schema, dict):
+        return
+    subs, i = [(schema, base)], 0
+    while i < len(subs):
+        s, b = subs[i]
+        i += 1
+        if "$ref" in s:
+            target, _, fragment = s["$ref"].partition("#")
+            doc = store[target[: -len(".schema.json")]] if target else b
+            node = doc
+            for part in fragment.strip("/").split("/"):
+                if part:
+                    node = node[part]
+            subs.append((node, doc))
+        for key in ("allOf", "anyOf", "oneOf"):
+            subs.extend((x, b) for x in s.get(key, []))
+    if isinstance(value, dict):
+        declared, extra, shaped = {}, [], False
+        for s, b in subs:
+            for key, x in s.get("properties", {}).items():
+                declared.setdefault(key, []).append((x, b))
+                shaped = True
+            if isinstance(s.get("additionalProperties"), dict):
+                extra.append((s["additionalProperties"], b))
+        for key, x in value.items():
+            for s, b in declared.get(key, []) or extra:
+                undeclared(x, s, b, store, where + "/" + key, found)
+            if shaped and key not in declared and not extra:
+                found.append(where + "/" + key)
+    elif isinstance(value, list):
+        for s, b in subs:
+            if isinstance(s.get("items"), dict):
+                for index, x in enumerate(value):
+                    undeclared(x, s["items"], b, store, where + "/" + str(index), found)
 
 
 def main():
@@ -46,6 +89,13 @@ def main():
         documents = [json.loads(line) for line in f if line.strip()] if lines else [json.load(f)]
     errors = 0
     for number, document in enumerate(documents, 1):
+        found = []
+        undeclared(document, schema, schema, store, "", found)
+        for where in sorted(set(found)):
+            errors += 1
+            print("%s:%s: at '%s': not declared in the schema" % (path, number if lines else 0, where))
+            if errors >= 20:
+                sys.exit(1)
         for error in validator.iter_errors(document):
             errors += 1
             where = "/".join(str(p) for p in error.absolute_path)

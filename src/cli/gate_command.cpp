@@ -58,11 +58,12 @@ int run(const gate_options& options) {
     declare_inputs(outputs, paths, options.corpus.empty() ? "the default corpus" : "--corpus");
     declare_inputs(outputs, {options.plugins.begin(), options.plugins.end()}, "--plugin");
     if (!options.update) declare_inputs(outputs, {baseline_path}, "--baseline");
+    declare_results_inputs(outputs, options.results);
     output_file* updated = options.update ? &outputs.file(baseline_path, "--baseline") : nullptr;
     output_file* junit = !options.update && !options.junit.empty() ? &outputs.file(options.junit, "--junit") : nullptr;
     const std::vector<corpus_case> cases = read_corpus(paths);
-    const std::optional<audit_target> results = results_target(options.results, [&](answer_matcher& matcher) {
-        for (const corpus_case& c : cases) matcher.add(c);
+    const std::optional<audit_target> results = results_target(options.results, [&](const case_sink& add) {
+        for (const corpus_case& c : cases) add(c);
         return fingerprint_of(cases);
     });
     const std::vector<audit_target> targets =

@@ -56,6 +56,7 @@ public:
         return dom_.end_array();
     }
     bool parse_error(std::size_t position, const std::string&, const nlohmann::detail::exception& e) override {
+        value();  // the value that failed is where the error is
         position_ = position;
         problem_ = e.what();
         // "[json.exception.out_of_range.406] number overflow ...": the library's prefix says nothing to a user.

@@ -752,7 +752,8 @@ std::vector<bad_input> bad_inputs() {
         {"`hunt --command`: an answer beyond double range (`1e400`)",
          "rayverify hunt --command 'python3 big.py' --contract query=line_roots --name prog --seconds 0 "
          "--evaluations 1 -o finds.txt",
-         {{"big.py", edited(answering_program("''", "''"), "'count': 0}", "'count': 0, 't0': 1e400}")}}, 2,
+         {{"big.py", edited(answering_program("''", "''"), "json.dumps({'id': i, 'count': 0})",
+                                  "json.dumps({'id': i, 'count': 0})[:-1] + ', \"t0\": 1e400}'")}}, 2,
          "number overflow parsing '1e400'"},
         // Results files that are not files, or larger than their input can need.
         {"`--results` a FIFO (would block until a writer comes)",

@@ -323,6 +323,12 @@ TEST_F(ShardMerge, PerCaseFilesAreCheckedAsStatesAre) {
     std::ofstream(dir_ / "s1/cases.jsonl") << one;
     const command_result ok = in_dir(fmt::format("'{}' merge --report out --per-case out.jsonl s1 s2", RAYVERIFY_CLI));
     EXPECT_NE(ok.exit_code, 2) << ok.output;
+    // A state that is a FIFO is refused before it is opened, too.
+    fs::rename(dir_ / "s2/shard.json", dir_ / "s2.json");
+    ASSERT_EQ(::mkfifo((dir_ / "s2/shard.json").c_str(), 0600), 0);
+    const command_result fifo = in_dir(fmt::format("timeout 60 '{}' merge --report fifo s1 s2", RAYVERIFY_CLI));
+    EXPECT_EQ(fifo.exit_code, 2) << fifo.output;
+    EXPECT_NE(fifo.output.find("s2/shard.json: is not a regular file"), std::string::npos) << fifo.output;
 }
 
 TEST_F(ShardMerge, ThePlotSampleIsBoundedPerFamily) {

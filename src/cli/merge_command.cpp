@@ -79,6 +79,10 @@ private:
 // A shard's state file: whole (read into memory first: parsing from a string
 // is faster than from a stream), or (`header_only`) without its "state".
 json read_state_file(const fs::path& file, bool header_only) {
+    std::error_code error;
+    if (fs::exists(file, error) && !fs::is_regular_file(file, error))  // a FIFO would block the merge
+        throw input_error(file.string(), 0, "",
+                          "is not a regular file (a FIFO, a device or a socket): a shard's state is a file");
     std::ifstream in(file, std::ios::binary);
     if (!in)
         throw input_error(file.string(), 0, "",

@@ -382,6 +382,7 @@ TEST(ExchangeResults, ReadingIsBoundedByTheInput) {
     }
     EXPECT_LT(scope.max_bytes(exchange_format::csv), std::size_t{1} << 20);
     EXPECT_EQ(scope.max_bytes(exchange_format::npy), (std::size_t{1} << 16) + answer_columns().size() * 8);
+    EXPECT_EQ(scope.max_bytes(exchange_format::npy, true), (std::size_t{1} << 16) + 6 + 16);
 }
 
 // JSON: a number beyond double range and a key given twice are input errors

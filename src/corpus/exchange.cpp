@@ -749,13 +749,14 @@ results_file parse_results(const std::string& name, std::string_view text, excha
 }
 
 std::size_t results_scope::max_bytes(exchange_format format, bool companion) const {
-    // A header and column names, then per case: every answer column written
-    // at full length (with a JSON key, quotes and separators), and the id,
-    // escaped (JSON's \uXXXX takes at most six bytes per byte of UTF-8).
+    // A header, column names and comments, then per case: every answer
+    // column written at full length (with a JSON key, quotes and
+    // separators), and the id, escaped (JSON's \uXXXX takes at most six
+    // bytes per byte of UTF-8) and indented.
     constexpr std::size_t header = std::size_t{1} << 16, per_value = 48;
     const std::size_t values = answer_columns().size();
     if (format == exchange_format::npy)
-        return companion ? header + 6 * id_bytes + 4 * cases : header + cases * values * sizeof(double);
+        return companion ? header + 6 * id_bytes + 16 * cases : header + cases * values * sizeof(double);
     return header + cases * (values * per_value + 64) + 6 * id_bytes;
 }
 

@@ -818,6 +818,25 @@ std::vector<bad_input> bad_inputs() {
                                           << "\nid,count,t0,t1\n\"q\"\"uote\",2,4,6\n";
          },
          false, "", "mine"},
+        {"gate: `--baseline` a FIFO (would block until a writer comes)",
+         "rayverify gate --corpus good.txt --baseline b.txt", {{"good.txt", good}}, 2,
+         "b.txt: field '--baseline': is not a regular file",
+         [](const fs::path& dir) { ASSERT_EQ(::mkfifo((dir / "b.txt").c_str(), 0600), 0); }},
+        {"diff: a report that is a FIFO", "rayverify diff a.json b.json", {}, 2,
+         "b.json: field 'report': is not a regular file",
+         [](const fs::path& dir) {
+             two_reports(good, "naive", good, "naive")(dir);
+             fs::remove(dir / "b.json");
+             ASSERT_EQ(::mkfifo((dir / "b.json").c_str(), 0600), 0);
+         }},
+        {"diff: a report with a number beyond double range (`1e400`)", "rayverify diff a.json b.json", {}, 2,
+         "b.json: field 'report': not JSON: [json.exception.out_of_range.406] number overflow parsing '1e400'",
+         [](const fs::path& dir) {
+             two_reports(good, "naive", good, "naive")(dir);
+             std::string text = read_text(dir / "b.json");
+             text.insert(text.find('{') + 1, "\"overflow\": 1e400, ");
+             std::ofstream(dir / "b.json", std::ios::trunc) << text;
+         }},
         // diff exits as gate would fail.
         {"diff: two reports with no figure in common", "rayverify diff a.json b.json", {}, 1,
          "diff: no figure of B has a counterpart in A with the same case count",

@@ -33,6 +33,8 @@ std::string read_text_file(const std::filesystem::path& path, const std::string&
     std::error_code error;
     if (std::filesystem::is_directory(path, error))
         throw input_error(path.string(), 0, field, "is a directory, not a baseline file");
+    if (std::filesystem::exists(path, error) && !std::filesystem::is_regular_file(path, error))
+        throw input_error(path.string(), 0, field, "is not a regular file (a FIFO, a device or a socket)");
     std::ifstream in(path, std::ios::binary);
     if (!in) throw input_error(path.string(), 0, field, "cannot open for reading");
     std::ostringstream text;

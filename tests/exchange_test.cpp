@@ -419,6 +419,10 @@ TEST(ExchangeResults, CsvIdsAreUnescapedAsRfc4180Says) {
         exchange_format::csv);
     EXPECT_NE(r.book->find("q\"uote"), nullptr);
     EXPECT_NE(r.book->find("a\",b"), nullptr);
+    // And the export writes such ids so: "q""uote".
+    corpus_case c = unit_case();
+    c.id = "q\"uote";
+    EXPECT_NE(written(exchange_format::csv, precision::binary64, {c}).find("\n\"q\"\"uote\",hand,"), std::string::npos);
 }
 
 // A hex value is exact: in a float file it must be a float. A decimal of at

@@ -259,12 +259,16 @@ json header_json(const char* kind, precision p, const std::string& fingerprint) 
     return {{"rayverify", kind}, {"version", exchange_version}, {"precision", precision_name(p)}, {"fingerprint", fingerprint}};
 }
 
-// A text cell of a cases CSV: quoted when it holds a comma (a scene ray's id
-// "px3,7/shadow/..."); a quote or a line break cannot be written.
+// A text cell of a cases CSV, quoted as RFC 4180 says when it holds a comma
+// (a scene ray's id "px3,7/shadow/...") or a quote (written ""); a line
+// break cannot be written.
 std::string csv_cell(const std::string& text, const std::string& source, const char* field) {
-    if (text.find_first_of("\"\r\n") != std::string::npos)
+    if (text.find_first_of("\r\n") != std::string::npos)
         throw input_error(source, 0, field, fmt::format("'{}' cannot be written as one CSV cell", text));
-    return text.find(',') == std::string::npos ? text : "\"" + text + "\"";
+    if (text.find_first_of(",\"") == std::string::npos) return text;
+    std::string quoted = "\"";
+    for (const char c : text) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
+    return quoted + "\"";
 }
 
 }  // namespace

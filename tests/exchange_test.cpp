@@ -3,6 +3,7 @@
 // answers judged exactly as the built-in variant that computed them.
 #include <gtest/gtest.h>
 
+#include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <cstring>
@@ -364,6 +365,91 @@ TEST(ExchangeCases, JsonLinesDecimalKeepsEveryValueOfTheShippedCorpusNegativeZer
             }
         }
         EXPECT_GE(negative_zeros, 3u);
+    }
+}
+
+// The same in every other format and number style: CSV and JSON lines in
+// decimal and hex, and npy, each value read back as the same bits.
+TEST(ExchangeCases, EveryFormatKeepsEveryValueNegativeZeroIncluded) {
+    std::vector<corpus_case> cases =
+        read_corpus({fs::path(RAYVERIFY_CORPUS_DIR), fs::path(RAYVERIFY_CORPUS_DIR) / "edge"});
+    corpus_case zeros = unit_case();
+    zeros.id = "negative-zeros";
+    zeros.geometry.origin = {-0.0, 0.0, -5};
+    zeros.geometry.centre = {-0.0, -0.0, 0};
+    cases.push_back(zeros);
+    const auto values_of = [](const corpus_case& c, precision p) {
+        const auto& g = c.geometry;
+        std::vector<double> v = {g.origin.x, g.origin.y, g.origin.z, g.direction.x, g.direction.y,
+                                 g.direction.z, g.centre.x, g.centre.y, g.centre.z, g.radius};
+        for (double& x : v)
+            if (p == precision::binary32) x = static_cast<double>(static_cast<float>(x));
+        return v;
+    };
+    const auto same_bits = [](double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; };
+    // As a reader in the export's precision reads it (a float decimal with strtof, as documented).
+    const auto read_back = [](const std::string& text, precision p) {
+        if (p == precision::binary32 && text.find('x') == std::string::npos) {
+            float f = 0;
+            std::from_chars(text.data(), text.data() + text.size(), f);
+            return static_cast<double>(f);
+        }
+        return parse_exact_double(text, "", 0, "v");
+    };
+    for (const precision p : {precision::binary32, precision::binary64}) {
+        for (const number_style style : {number_style::decimal, number_style::hex}) {
+            SCOPED_TRACE(std::string(precision_name(p)) + (style == number_style::hex ? " hex" : " decimal"));
+            // CSV: the cells ox … r after id and family.
+            std::istringstream csv(written(exchange_format::csv, p, cases, nullptr, style));
+            std::string line;
+            std::getline(csv, line);
+            std::getline(csv, line);
+            for (const corpus_case& c : cases) {
+                ASSERT_TRUE(std::getline(csv, line));
+                const std::vector<std::string> cells = split_csv_row(line, "csv", 0);
+                ASSERT_EQ(cells[0], c.id);
+                const std::vector<double> expected = values_of(c, p);
+                for (std::size_t i = 0; i < expected.size(); ++i)
+                    EXPECT_TRUE(same_bits(read_back(cells[2 + i], p), expected[i]))
+                        << c.id << " column " << i << ": " << cells[2 + i];
+            }
+            // JSON lines in hex: strings.
+            if (style == number_style::hex) {
+                std::istringstream jsonl(written(exchange_format::jsonl, p, cases, nullptr, style));
+                std::getline(jsonl, line);
+                const char* names[10] = {"ox", "oy", "oz", "dx", "dy", "dz", "cx", "cy", "cz", "r"};
+                for (const corpus_case& c : cases) {
+                    ASSERT_TRUE(std::getline(jsonl, line));
+                    const auto j = nlohmann::json::parse(line);
+                    const std::vector<double> expected = values_of(c, p);
+                    for (int i = 0; i < 10; ++i)
+                        EXPECT_TRUE(same_bits(read_back(j.at(names[i]).get<std::string>(), p),
+                                              expected[static_cast<std::size_t>(i)]))
+                            << c.id << " " << names[i];
+                }
+            }
+        }
+        // npy: the values' own bits, row by row.
+        std::string sidecar;
+        const std::string npy = written(exchange_format::npy, p, cases, &sidecar);
+        const std::size_t header = 10 + (static_cast<unsigned char>(npy[8]) | static_cast<unsigned char>(npy[9]) << 8);
+        const std::size_t size = p == precision::binary32 ? 4 : 8;
+        ASSERT_EQ(npy.size(), header + cases.size() * 12 * size);
+        for (std::size_t row = 0; row < cases.size(); ++row) {
+            const std::vector<double> expected = values_of(cases[row], p);
+            for (std::size_t i = 0; i < expected.size(); ++i) {
+                const char* at = npy.data() + header + (row * 12 + i) * size;
+                double back;
+                if (size == 4) {
+                    float f;
+                    std::memcpy(&f, at, 4);
+                    back = f;
+                } else {
+                    std::memcpy(&back, at, 8);
+                }
+                EXPECT_TRUE(same_bits(back, expected[i])) << cases[row].id << " column " << i;
+            }
+        }
     }
 }
 

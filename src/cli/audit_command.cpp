@@ -168,7 +168,7 @@ int run(const audit_options& options, const std::string& command_line) {
     // A shard's per-case file is digested as it is written: merge checks it is that very file.
     std::optional<digesting_buffer> per_case_digest;
     std::optional<std::ostream> per_case_stream;
-    if (outputs.per_case != nullptr) {
+    if (outputs.per_case != nullptr && !per_case_location_in_shard.empty()) {
         per_case_digest.emplace(outputs.per_case->stream());
         per_case_stream.emplace(&*per_case_digest);
         per_case_stream->exceptions(std::ios::badbit);
@@ -179,7 +179,9 @@ int run(const audit_options& options, const std::string& command_line) {
         return stream.next(cases, indices);
     };
     audit_state audited = run_audit_pass(next, targets, threads, static_cast<bool>(outputs.report),
-                                       per_case_stream ? &*per_case_stream : nullptr,
+                                       per_case_stream                ? &*per_case_stream
+                                       : outputs.per_case != nullptr ? &outputs.per_case->stream()
+                                                                     : nullptr,
                                        progress.reporter());
     progress.finish();
 

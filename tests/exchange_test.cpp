@@ -3,6 +3,7 @@
 // answers judged exactly as the built-in variant that computed them.
 #include <gtest/gtest.h>
 
+#include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <cstring>
@@ -15,6 +16,8 @@
 #include "corpus/corpus_io.h"
 #include "corpus/exchange.h"
 #include "support/process.h"
+
+#include <nlohmann/json.hpp>
 
 namespace rayverify {
 namespace {
@@ -392,6 +395,209 @@ TEST(ExchangeResults, ResultsThatDoNotMatchTheExportAreRefusedWithNoReport) {
     EXPECT_NE(ok.exit_code, 2) << ok.output;
     EXPECT_TRUE(fs::exists(dir / "report" / "report.json")) << ok.output;
     fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace rayverify
+
+namespace rayverify {
+namespace {
+
+// Every value of the shipped corpus, exported to JSON lines in decimal (the
+// format `hunt --command` sends), reads back as the same bits in the export's
+// precision: a negative zero stays negative (it used to be written as 0).
+TEST(ExchangeCases, JsonLinesDecimalKeepsEveryValueOfTheShippedCorpusNegativeZeroIncluded) {
+    std::vector<corpus_case> cases =
+        read_corpus({fs::path(RAYVERIFY_CORPUS_DIR), fs::path(RAYVERIFY_CORPUS_DIR) / "edge"});
+    ASSERT_GT(cases.size(), 1000u);
+    corpus_case zeros = unit_case();  // negative zeros in double too
+    zeros.id = "negative-zeros";
+    zeros.geometry.origin = {-0.0, 0.0, -5};
+    zeros.geometry.centre = {-0.0, -0.0, 0};
+    cases.push_back(zeros);
+    for (const precision p : {precision::binary32, precision::binary64}) {
+        SCOPED_TRACE(precision_name(p));
+        std::istringstream lines(written(exchange_format::jsonl, p, cases));
+        std::string line;
+        std::getline(lines, line);  // the header
+        std::size_t negative_zeros = 0;
+        for (const corpus_case& c : cases) {
+            ASSERT_TRUE(std::getline(lines, line));
+            const auto j = nlohmann::json::parse(line);
+            ASSERT_EQ(j.at("id").get<std::string>(), c.id);
+            const auto& g = c.geometry;
+            const double values[10] = {g.origin.x, g.origin.y, g.origin.z, g.direction.x, g.direction.y,
+                                       g.direction.z, g.centre.x, g.centre.y, g.centre.z, g.radius};
+            const char* names[10] = {"ox", "oy", "oz", "dx", "dy", "dz", "cx", "cy", "cz", "r"};
+            for (int i = 0; i < 10; ++i) {
+                const double expected =
+                    p == precision::binary64 ? values[i] : static_cast<double>(static_cast<float>(values[i]));
+                const auto& v = j.at(names[i]);
+                const double back = v.is_string() ? parse_exact_double(v.get<std::string>(), "", 0, names[i])
+                                                   : v.get<double>();
+                const double read = p == precision::binary64 ? back : static_cast<double>(static_cast<float>(back));
+                if (std::isnan(expected)) continue;
+                EXPECT_EQ(std::signbit(read), std::signbit(expected)) << c.id << " " << names[i] << ": " << line;
+                EXPECT_EQ(read, expected) << c.id << " " << names[i];
+                if (expected == 0 && std::signbit(expected)) ++negative_zeros;
+            }
+        }
+        EXPECT_GE(negative_zeros, 3u);
+    }
+}
+
+// The same in every other format and number style: CSV and JSON lines in
+// decimal and hex, and npy, each value read back as the same bits.
+TEST(ExchangeCases, EveryFormatKeepsEveryValueNegativeZeroIncluded) {
+    std::vector<corpus_case> cases =
+        read_corpus({fs::path(RAYVERIFY_CORPUS_DIR), fs::path(RAYVERIFY_CORPUS_DIR) / "edge"});
+    corpus_case zeros = unit_case();
+    zeros.id = "negative-zeros";
+    zeros.geometry.origin = {-0.0, 0.0, -5};
+    zeros.geometry.centre = {-0.0, -0.0, 0};
+    cases.push_back(zeros);
+    const auto values_of = [](const corpus_case& c, precision p) {
+        const auto& g = c.geometry;
+        std::vector<double> v = {g.origin.x, g.origin.y, g.origin.z, g.direction.x, g.direction.y,
+                                 g.direction.z, g.centre.x, g.centre.y, g.centre.z, g.radius};
+        for (double& x : v)
+            if (p == precision::binary32) x = static_cast<double>(static_cast<float>(x));
+        return v;
+    };
+    const auto same_bits = [](double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; };
+    // As a reader in the export's precision reads it (a float decimal with strtof, as documented).
+    const auto read_back = [](const std::string& text, precision p) {
+        if (p == precision::binary32 && text.find('x') == std::string::npos) {
+            float f = 0;
+            std::from_chars(text.data(), text.data() + text.size(), f);
+            return static_cast<double>(f);
+        }
+        return parse_exact_double(text, "", 0, "v");
+    };
+    for (const precision p : {precision::binary32, precision::binary64}) {
+        for (const number_style style : {number_style::decimal, number_style::hex}) {
+            SCOPED_TRACE(std::string(precision_name(p)) + (style == number_style::hex ? " hex" : " decimal"));
+            // CSV: the cells ox … r after id and family.
+            std::istringstream csv(written(exchange_format::csv, p, cases, nullptr, style));
+            std::string line;
+            std::getline(csv, line);
+            std::getline(csv, line);
+            for (const corpus_case& c : cases) {
+                ASSERT_TRUE(std::getline(csv, line));
+                const std::vector<std::string> cells = split_csv_row(line, "csv", 0);
+                ASSERT_EQ(cells[0], c.id);
+                const std::vector<double> expected = values_of(c, p);
+                for (std::size_t i = 0; i < expected.size(); ++i)
+                    EXPECT_TRUE(same_bits(read_back(cells[2 + i], p), expected[i]))
+                        << c.id << " column " << i << ": " << cells[2 + i];
+            }
+            // JSON lines in hex: strings.
+            if (style == number_style::hex) {
+                std::istringstream jsonl(written(exchange_format::jsonl, p, cases, nullptr, style));
+                std::getline(jsonl, line);
+                const char* names[10] = {"ox", "oy", "oz", "dx", "dy", "dz", "cx", "cy", "cz", "r"};
+                for (const corpus_case& c : cases) {
+                    ASSERT_TRUE(std::getline(jsonl, line));
+                    const auto j = nlohmann::json::parse(line);
+                    const std::vector<double> expected = values_of(c, p);
+                    for (int i = 0; i < 10; ++i)
+                        EXPECT_TRUE(same_bits(read_back(j.at(names[i]).get<std::string>(), p),
+                                              expected[static_cast<std::size_t>(i)]))
+                            << c.id << " " << names[i];
+                }
+            }
+        }
+        // npy: the values' own bits, row by row.
+        std::string sidecar;
+        const std::string npy = written(exchange_format::npy, p, cases, &sidecar);
+        const std::size_t header = 10 + (static_cast<unsigned char>(npy[8]) | static_cast<unsigned char>(npy[9]) << 8);
+        const std::size_t size = p == precision::binary32 ? 4 : 8;
+        ASSERT_EQ(npy.size(), header + cases.size() * 12 * size);
+        for (std::size_t row = 0; row < cases.size(); ++row) {
+            const std::vector<double> expected = values_of(cases[row], p);
+            for (std::size_t i = 0; i < expected.size(); ++i) {
+                const char* at = npy.data() + header + (row * 12 + i) * size;
+                double back;
+                if (size == 4) {
+                    float f;
+                    std::memcpy(&f, at, 4);
+                    back = f;
+                } else {
+                    std::memcpy(&back, at, 8);
+                }
+                EXPECT_TRUE(same_bits(back, expected[i])) << cases[row].id << " column " << i;
+            }
+        }
+    }
+}
+
+// A results file is read with the input's ids known: reading stops at the
+// first answer to no case, an npy of more rows than cases is refused by its
+// header, and a file larger than the answers can take is not read.
+TEST(ExchangeResults, ReadingIsBoundedByTheInput) {
+    results_scope scope;
+    scope.add("a");
+    const std::string head = "# rayverify results v1 precision=double fingerprint=0123456789abcdef\nid,count,t0,t1\n";
+    try {
+        parse_results("a.csv", head + "a,0,,\nb,0,,\nbad,one,,\n", exchange_format::csv, std::nullopt, &scope);
+        ADD_FAILURE() << "an answer to no case was accepted";
+    } catch (const input_error& e) {
+        EXPECT_EQ(std::string(e.what()), "a.csv:4: field 'id': answer for 'b', which is not a case of this input");
+    }
+    EXPECT_LT(scope.max_bytes(exchange_format::csv), std::size_t{1} << 20);
+    EXPECT_EQ(scope.max_bytes(exchange_format::npy), (std::size_t{1} << 16) + answer_columns().size() * 8);
+    EXPECT_EQ(scope.max_bytes(exchange_format::npy, true), (std::size_t{1} << 16) + 6 + 16);
+}
+
+// JSON: a number beyond double range and a key given twice are input errors
+// naming line and field (they were an internal error, and last-wins).
+TEST(ExchangeResults, JsonOverflowAndDuplicateKeysAreInputErrors) {
+    const std::string head =
+        "{\"rayverify\":\"results\",\"version\":1,\"precision\":\"double\",\"fingerprint\":\"0123456789abcdef\"}\n";
+    const auto error = [](const std::string& text, exchange_format f, const std::optional<std::string>& sidecar) {
+        try {
+            parse_results(f == exchange_format::npy ? "a.npy" : "a.jsonl", text, f, sidecar);
+        } catch (const input_error& e) {
+            return std::string(e.what());
+        }
+        return std::string("accepted");
+    };
+    EXPECT_EQ(error(head + "{\"id\":\"a\",\"count\":2,\"t0\":4,\"t1\":1e400}\n", exchange_format::jsonl, std::nullopt),
+              "a.jsonl:2: field 't1': number overflow parsing '1e400'");
+    EXPECT_EQ(error(head + "{\"id\":\"a\",\"count\":2,\"t0\":4,\"hit_point\":[1,-1e999,0],\"t1\":5}\n",
+                    exchange_format::jsonl, std::nullopt),
+              "a.jsonl:2: field 'hit_point[1]': number overflow parsing '-1e999'");
+    EXPECT_EQ(error(head + "{\"id\":\"a\",\"id\":\"b\",\"count\":0}\n", exchange_format::jsonl, std::nullopt),
+              "a.jsonl:2: field 'id': the key \"id\" is given twice in one object");
+    EXPECT_EQ(error(std::string("\x93NUMPY\x01\x00", 8), exchange_format::npy,
+                    std::string("{\"rayverify\":\"results\",\n\"version\":1e400}")),
+              "a.json:2: field 'version': number overflow parsing '1e400'");
+}
+
+// RFC 4180: in a quoted cell, "" is a quote (and a comma is text).
+TEST(ExchangeResults, CsvIdsAreUnescapedAsRfc4180Says) {
+    const results_file r = parse_results(
+        "a.csv",
+        "# rayverify results v1 precision=double fingerprint=0123456789abcdef\nid,count,t0,t1\n\"q\"\"uote\",0,,\n"
+        "\"a\"\",b\",0,,\n",
+        exchange_format::csv);
+    EXPECT_NE(r.book->find("q\"uote"), nullptr);
+    EXPECT_NE(r.book->find("a\",b"), nullptr);
+    // And the export writes such ids so: "q""uote".
+    corpus_case c = unit_case();
+    c.id = "q\"uote";
+    EXPECT_NE(written(exchange_format::csv, precision::binary64, {c}).find("\n\"q\"\"uote\",hand,"), std::string::npos);
+}
+
+// A hex value is exact: in a float file it must be a float. A decimal of at
+// most 9 significant digits is still read as the nearest float.
+TEST(ExchangeResults, HexDoublesInAFloatFileAreRefused) {
+    const std::string head = "# rayverify results v1 precision=float fingerprint=0123456789abcdef\nid,count,t0,t1\n";
+    EXPECT_THROW(parse_results("a.csv", head + "a,1,0x1.999999999999ap-4,\n", exchange_format::csv), input_error);
+    const results_file decimal = parse_results("a.csv", head + "a,1,0.1,\n", exchange_format::csv);
+    EXPECT_EQ(decimal.book->find("a")->roots.t0, static_cast<double>(0.1f));
+    const results_file hex_float = parse_results("a.csv", head + "a,1,0x1.99999ap-4,\n", exchange_format::csv);
+    EXPECT_EQ(hex_float.book->find("a")->roots.t0, static_cast<double>(0.1f));
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 
 #include "../fuzz/baseline_fuzz_checks.h"
 #include "../fuzz/fuzz_checks.h"
+#include "../fuzz/results_fuzz_checks.h"
 #include "../fuzz/scene_fuzz_checks.h"
 
 namespace {
@@ -54,6 +55,10 @@ TEST(FuzzRegression, OracleSeedsAndFindings) { replay("oracle", rayverify::fuzz:
 
 TEST(FuzzRegression, SceneReaderSeedsAndFindings) {
     replay("scene_reader", rayverify::fuzz::check_scene_reader_input);
+}
+
+TEST(FuzzRegression, ResultsReaderSeedsAndFindings) {
+    replay("results_reader", rayverify::fuzz::check_results_reader_input);
 }
 
 TEST(FuzzRegression, BaselineReaderSeedsAndFindings) {

@@ -10,6 +10,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <array>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -27,7 +28,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "corpus/case_stream.h"
 #include "corpus/corpus_io.h"
+#include "corpus/exchange.h"
 
 namespace {
 
@@ -178,6 +181,73 @@ std::function<void(const fs::path&)> two_reports(std::string a_corpus, std::stri
             ASSERT_LE(WEXITSTATUS(std::system(command.c_str())), 1);
         }
     };
+}
+
+
+// ---- Answers computed outside rayverify for good.txt's one case (hit at 4 and 6) ----
+
+// The fingerprint a results file for good.txt repeats, in precision `p`.
+std::string good_fingerprint(rayverify::precision p = rayverify::precision::binary64) {
+    rayverify::case_fingerprint fingerprint;
+    for (const rayverify::corpus_case& c : rayverify::parse_corpus("good.txt", good, false)) fingerprint.add(c);
+    return rayverify::exchange_fingerprint(fingerprint.text(), p);
+}
+
+std::string answers_csv(const std::string& rows, rayverify::precision p = rayverify::precision::binary64) {
+    return fmt::format("# rayverify results v1 precision={} fingerprint={}\nid,count,t0,t1\n",
+                       rayverify::precision_name(p), good_fingerprint(p)) +
+           rows;
+}
+const std::string good_answers = answers_csv("good,2,4,6\n");
+
+std::string answers_jsonl(const std::string& rows) {
+    return fmt::format("{{\"rayverify\":\"results\",\"version\":1,\"precision\":\"double\",\"fingerprint\":\"{}\"}}\n",
+                       good_fingerprint()) +
+           rows;
+}
+
+// An npy of float64 rows (count, t0, t1) and its companion, `extra` added to the companion's fields.
+std::string answers_npy(const std::vector<std::array<double, 3>>& rows) {
+    std::string dict = fmt::format("{{'descr': '<f8', 'fortran_order': False, 'shape': ({}, 3), }}", rows.size());
+    dict.append((64 - (10 + dict.size() + 1) % 64) % 64, ' ');
+    dict += '\n';
+    std::string out = std::string("\x93NUMPY\x01\x00", 8);
+    out += static_cast<char>(dict.size() & 0xff);
+    out += static_cast<char>(dict.size() >> 8);
+    out += dict;
+    for (const auto& row : rows)
+        for (double v : row) out.append(reinterpret_cast<const char*>(&v), sizeof v);
+    return out;
+}
+std::string answers_companion(const std::string& extra = "") {
+    return fmt::format("{{\"rayverify\":\"results\",\"version\":1,\"precision\":\"double\",\"fingerprint\":\"{}\","
+                       "\"columns\":[\"count\",\"t0\",\"t1\"]{}}}\n",
+                       good_fingerprint(), extra);
+}
+
+// Runs rayverify in `dir` while a row is prepared; the setup must succeed (exit 0 or 1).
+void setup_run(const fs::path& dir, const std::string& arguments) {
+    const int status =
+        std::system(fmt::format("cd '{}' && '{}' {} >/dev/null 2>&1", dir.string(), RAYVERIFY_CLI, arguments).c_str());
+    ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) <= 1) << arguments;
+}
+
+// A program for `hunt --command` (python3): it answers every batch with a miss per case, then
+// writes `after_batch` after each answer and `at_end` when its input ends.
+std::string answering_program(const std::string& after_batch, const std::string& at_end) {
+    return "import json, sys\n"
+           "while True:\n"
+           "    header = sys.stdin.readline()\n"
+           "    if not header:\n"
+           "        break\n"
+           "    h = json.loads(header)\n"
+           "    ids = [json.loads(sys.stdin.readline())['id'] for _ in range(h['cases'])]\n"
+           "    out = [json.dumps({'rayverify': 'results', 'version': 1, 'precision': h['precision'],\n"
+           "                       'fingerprint': h['fingerprint']})]\n"
+           "    out += [json.dumps({'id': i, 'count': 0}) for i in ids]\n"
+           "    sys.stdout.write('\\n'.join(out) + '\\n' + " + after_batch + ")\n"
+           "    sys.stdout.flush()\n"
+           "sys.stdout.write(" + at_end + ")\n";
 }
 
 const std::string modal_plugin = RAYVERIFY_FIXTURE_PLUGIN_MODAL;
@@ -634,6 +704,139 @@ std::vector<bad_input> bad_inputs() {
         {"merge: into a shard's own directory", "rayverify merge --report s1 s1", {}, 2,
          "s1: field '-o': is the same directory as the input s1 (a shard directory)",
          edited_shard([](nlohmann::ordered_json&) {})},
+        // Inputs that are not corpus files: results files and companions, shard contents, hunt outputs.
+        {"audit: `--per-case` onto the `--results` file",
+         "rayverify audit --corpus good.txt --results ans.csv --contract query=line_roots --name mine --per-case ans.csv",
+         {{"good.txt", good}, {"ans.csv", good_answers}}, 2,
+         "ans.csv: field '--per-case': is the same file as the input ans.csv (--results)"},
+        {"audit: `--per-case` through a symbolic link to the `--results` file",
+         "rayverify audit --corpus good.txt --results ans.csv --contract query=line_roots --name mine --per-case "
+         "link.jsonl",
+         {{"good.txt", good}, {"ans.csv", good_answers}}, 2,
+         "link.jsonl: field '--per-case': is the same file as the input ans.csv (--results)",
+         [](const fs::path& dir) { fs::create_symlink("ans.csv", dir / "link.jsonl"); }},
+        {"audit: `--report DIR` whose report.json is the `--results` npy's companion",
+         "rayverify audit --corpus good.txt --results report.npy --contract query=line_roots --name mine --report .",
+         {{"good.txt", good}, {"report.npy", answers_npy({{2, 4, 6}})}, {"report.json", answers_companion()}}, 2,
+         "is the same file as the input report.json (--results, its JSON companion)"},
+        {"gate: `--junit` onto the `--results` file",
+         "rayverify gate --corpus good.txt --results ans.csv --contract query=line_roots --name mine --baseline b.txt "
+         "--junit ans.csv",
+         {{"good.txt", good}, {"ans.csv", good_answers}, {"b.txt", baseline_head + "mine/double all cases 1\n"}}, 2,
+         "ans.csv: field '--junit': is the same file as the input ans.csv (--results)"},
+        {"merge: `--per-case` onto a shard's own per-case file",
+         "rayverify merge --report out --per-case s1/cases.jsonl s1", {}, 2,
+         "s1/cases.jsonl: field '--per-case': is the same file as the input s1/cases.jsonl (a shard's per-case file)",
+         edited_shard([](nlohmann::ordered_json&) {})},
+        {"merge: `-o` onto one of the hunt outputs it merges", "rayverify merge -o h1.txt h1.txt h2.txt", {}, 2,
+         "h1.txt: field '-o': is the same file as the input h1.txt (a hunt output)",
+         [](const fs::path& dir) {
+             for (int k : {1, 2})
+                 setup_run(dir, fmt::format("hunt --variant naive --seconds 0 --evaluations 4 --shard {}/2 -o h{}.txt",
+                                            k, k));
+         }},
+        // JSON in results files, companions and a program's answers.
+        {"results JSON lines: a number beyond double range (`1e400`)",
+         "rayverify audit --corpus good.txt --results ans.jsonl --contract query=line_roots --name mine",
+         {{"good.txt", good}, {"ans.jsonl", answers_jsonl("{\"id\":\"good\",\"count\":2,\"t0\":1e400,\"t1\":6}\n")}}, 2,
+         "ans.jsonl:2: field 't0': number overflow parsing '1e400'"},
+        {"results JSON lines: a key given twice",
+         "rayverify audit --corpus good.txt --results ans.jsonl --contract query=line_roots --name mine",
+         {{"good.txt", good},
+          {"ans.jsonl", answers_jsonl("{\"id\":\"good\",\"count\":2,\"t0\":4,\"t0\":5,\"t1\":6}\n")}}, 2,
+         "ans.jsonl:2: field 't0': the key \"t0\" is given twice in one object"},
+        {"npy companion: a number beyond double range (`1e400`)",
+         "rayverify audit --corpus good.txt --results ans.npy --contract query=line_roots --name mine",
+         {{"good.txt", good}, {"ans.npy", answers_npy({{2, 4, 6}})}, {"ans.json", answers_companion(",\"note\":1e400")}},
+         2, "ans.json:1: field 'note': number overflow parsing '1e400'"},
+        {"`hunt --command`: an answer beyond double range (`1e400`)",
+         "rayverify hunt --command 'python3 big.py' --contract query=line_roots --name prog --seconds 0 "
+         "--evaluations 1 -o finds.txt",
+         {{"big.py", edited(answering_program("''", "''"), "json.dumps({'id': i, 'count': 0})",
+                                  "json.dumps({'id': i, 'count': 0})[:-1] + ', \"t0\": 1e400}'")}}, 2,
+         "number overflow parsing '1e400'"},
+        // Results files that are not files, or larger than their input can need.
+        {"`--results` a FIFO (would block until a writer comes)",
+         "rayverify audit --corpus good.txt --results ans.csv --contract query=line_roots --name mine",
+         {{"good.txt", good}}, 2, "ans.csv: field '--results': is not a regular file",
+         [](const fs::path& dir) { ASSERT_EQ(::mkfifo((dir / "ans.csv").c_str(), 0600), 0); }},
+        {"`--results` a 300 MB (sparse) npy for one case",
+         "rayverify audit --corpus good.txt --results ans.npy --contract query=line_roots --name mine",
+         {{"good.txt", good}, {"ans.json", answers_companion()}}, 2,
+         "ans.npy: field '--results': is 300000000 bytes, more than answers to the input's cases can take",
+         [](const fs::path& dir) {
+             std::ofstream(dir / "ans.npy", std::ios::binary) << answers_npy({{2, 4, 6}});
+             fs::resize_file(dir / "ans.npy", 300000000);
+         }},
+        {"results: reading stops at the first answer to no case (line 4), before the bad line 5",
+         "rayverify audit --corpus good.txt --results ans.csv --contract query=line_roots --name mine",
+         {{"good.txt", good}, {"ans.csv", answers_csv("good,2,4,6\nother,0,,\nbad,one,,\n")}}, 2,
+         "ans.csv:4: field 'id': answer for 'other', which is not a case of this input"},
+        {"npy: more rows than the input has cases",
+         "rayverify audit --corpus good.txt --results ans.npy --contract query=line_roots --name mine",
+         {{"good.txt", good}, {"ans.npy", answers_npy({{2, 4, 6}, {0, 0, 0}})}, {"ans.json", answers_companion()}}, 2,
+         "ans.npy:2: field 'id': row 2 answers no case: the input has 1 cases"},
+        // A program's output beyond its answers.
+        {"`hunt --command`: an extra answer after the last batch's",
+         "rayverify hunt --command 'python3 extra.py' --contract query=line_roots --name prog --seconds 0 "
+         "--evaluations 1 --no-shrink -o finds.txt",
+         {{"extra.py", answering_program("json.dumps({'id': 'extra', 'count': 0}) + '\\n'", "''")}}, 2,
+         "field '--command': command 'python3 extra.py' wrote more after its answer to the last batch"},
+        {"`hunt --command`: trailing output when its input ends",
+         "rayverify hunt --command 'python3 trailing.py' --contract query=line_roots --name prog --seconds 0 "
+         "--evaluations 1 --no-shrink -o finds.txt",
+         {{"trailing.py", answering_program("''", "'done\\n'")}}, 2,
+         "field '--command': command 'python3 trailing.py' wrote more after its answer to the last batch"},
+        // Names and values.
+        {"`--name` with a newline (it would split a gate baseline's line)",
+         "rayverify audit --corpus good.txt --results ans.csv --contract query=line_roots --name \"$(printf 'a\\nb')\"",
+         {{"good.txt", good}, {"ans.csv", good_answers}}, 2,
+         "field '--name': 'a\\x0Ab' must be one token without spaces, '/', '#' or control characters"},
+        {"`hunt --command --name` with a terminal escape sequence",
+         "rayverify hunt --command 'python3 p.py' --contract query=line_roots --name \"$(printf '\\033[31mred')\" "
+         "--seconds 0 --evaluations 1 -o finds.txt",
+         {{"p.py", answering_program("''", "''")}}, 2,
+         "field '--name': '\\x1B[31mred' must be one token without spaces, '/', '#' or control characters"},
+        {"`--contract` with a key given twice",
+         "rayverify audit --corpus good.txt --results ans.csv --contract query=line_roots,query=any_hit --name mine",
+         {{"good.txt", good}, {"ans.csv", good_answers}}, 2, "field '--contract': contract: 'query' is given twice"},
+        {"a hex double in a float results file (`0x1.999999999999ap-4`, the double nearest 0.1)",
+         "rayverify audit --corpus good.txt --results ans.csv --contract query=line_roots --name mine",
+         {{"good.txt", good},
+          {"ans.csv", answers_csv("good,2,0x1.999999999999ap-4,6\n", rayverify::precision::binary32)}}, 2,
+         "ans.csv:3: field 't0': 0x1.999999999999ap-4 is a hex double that is not a float (binary32) value"},
+        {"a CSV id with RFC 4180's `\"\"` escape (`\"q\"\"uote\"` is `q\"uote`)",
+         "rayverify audit --corpus q.txt --results q.csv --contract query=line_roots --name mine --summary",
+         {{"q.txt", "q\"uote - 0 0 -5 0 0 1 0 0 0 1\n"}}, 0, "mine", 
+         [](const fs::path& dir) {
+             rayverify::case_fingerprint fingerprint;
+             for (const auto& c : rayverify::parse_corpus("q.txt", "q\"uote - 0 0 -5 0 0 1 0 0 0 1\n", false))
+                 fingerprint.add(c);
+             std::ofstream(dir / "q.csv") << "# rayverify results v1 precision=double fingerprint="
+                                          << rayverify::exchange_fingerprint(fingerprint.text(),
+                                                                             rayverify::precision::binary64)
+                                          << "\nid,count,t0,t1\n\"q\"\"uote\",2,4,6\n";
+         },
+         false, "", "mine"},
+        {"gate: `--baseline` a FIFO (would block until a writer comes)",
+         "rayverify gate --corpus good.txt --baseline b.txt", {{"good.txt", good}}, 2,
+         "b.txt: field '--baseline': is not a regular file",
+         [](const fs::path& dir) { ASSERT_EQ(::mkfifo((dir / "b.txt").c_str(), 0600), 0); }},
+        {"diff: a report that is a FIFO", "rayverify diff a.json b.json", {}, 2,
+         "b.json: field 'report': is not a regular file",
+         [](const fs::path& dir) {
+             two_reports(good, "naive", good, "naive")(dir);
+             fs::remove(dir / "b.json");
+             ASSERT_EQ(::mkfifo((dir / "b.json").c_str(), 0600), 0);
+         }},
+        {"diff: a report with a number beyond double range (`1e400`)", "rayverify diff a.json b.json", {}, 2,
+         "b.json: field 'report': not JSON: [json.exception.out_of_range.406] number overflow parsing '1e400'",
+         [](const fs::path& dir) {
+             two_reports(good, "naive", good, "naive")(dir);
+             std::string text = read_text(dir / "b.json");
+             text.insert(text.find('{') + 1, "\"overflow\": 1e400, ");
+             std::ofstream(dir / "b.json", std::ios::trunc) << text;
+         }},
         // diff exits as gate would fail.
         {"diff: two reports with no figure in common", "rayverify diff a.json b.json", {}, 1,
          "diff: no figure of B has a counterpart in A with the same case count",
@@ -710,6 +913,8 @@ TEST(BadInput, EveryRowAnswersAsExpectedAndLeavesNothingBehind) {
         EXPECT_NE(answer.find(row.expect), std::string::npos) << "answer: " << answer;
         if (row.exit_code == 2) {
             EXPECT_EQ(o.after, o.before) << "a file appeared or vanished";
+            for (std::size_t i = 0; i < row.files.size() && !row.unprivileged; ++i)  // mode 000: unreadable
+                EXPECT_EQ(o.contents_after[i], row.files[i].second) << row.files[i].first << " was rewritten";
             EXPECT_EQ(o.result.out, "") << "nothing on stdout after an input error";
             EXPECT_EQ(answer.find("internal error"), std::string::npos);
         }

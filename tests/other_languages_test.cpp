@@ -8,11 +8,15 @@
 // table, gate and finds, the fast-math build must not.
 #include <gtest/gtest.h>
 
+#include <signal.h>
+
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <regex>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "support/process.h"
@@ -293,6 +297,46 @@ done
         << r.output;
     EXPECT_NE(r.output.find("the case, as a corpus line"), std::string::npos) << r.output;
     EXPECT_FALSE(fs::exists(at("finds.txt")));
+}
+
+// The program runs in a session of its own, and the whole session is killed
+// when the hunt ends: a process it started in another process group (which
+// a kill of its group missed) does not outlive the hunt.
+TEST_F(OtherLanguages, WhatTheProgramStartsDoesNotOutliveTheHunt) {
+    std::ofstream(at("p.py")) << "import json, os, sys, time\n"
+                                 "child = os.fork()\n"
+                                 "if child == 0:\n"
+                                 "    os.setpgid(0, 0)\n"
+                                 "    sys.stdout.close()\n"
+                                 "    os.close(1)\n"
+                                 "    open(sys.argv[1], 'w').write(str(os.getpid()))\n"
+                                 "    time.sleep(120)\n"
+                                 "    os._exit(0)\n"
+                                 "while True:\n"
+                                 "    header = sys.stdin.readline()\n"
+                                 "    if not header:\n"
+                                 "        break\n"
+                                 "    h = json.loads(header)\n"
+                                 "    ids = [json.loads(sys.stdin.readline())['id'] for _ in range(h['cases'])]\n"
+                                 "    out = [json.dumps({'rayverify': 'results', 'version': 1, 'precision': h['precision'],\n"
+                                 "                       'fingerprint': h['fingerprint']})]\n"
+                                 "    out += [json.dumps({'id': i, 'count': 0}) for i in ids]\n"
+                                 "    sys.stdout.write('\\n'.join(out) + '\\n')\n"
+                                 "    sys.stdout.flush()\n";
+    const auto r = run_cli("hunt --command 'python3 " + at("p.py") + " " + at("pid") + "' --contract " +
+                           naive_contract + " --name leaver --evaluations 4 --budget 0 --no-shrink -o " + at("f.txt"));
+    ASSERT_NE(r.exit_code, 2) << r.output;
+    const std::string pid = read_text(at("pid"));
+    ASSERT_FALSE(pid.empty());
+    // Killed, then reaped by whoever inherited it: gone, or at most a zombie, within seconds.
+    bool gone = false;
+    for (int i = 0; i < 100 && !gone; ++i) {
+        const std::string stat = read_text("/proc/" + pid + "/stat");
+        gone = stat.empty() || stat.substr(stat.rfind(')') + 2, 1) == "Z";
+        if (!gone) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    EXPECT_TRUE(gone) << "process " << pid << " outlived the hunt";
+    if (!gone) ::kill(std::stoi(pid), SIGKILL);
 }
 
 }  // namespace

@@ -3,12 +3,15 @@
 // into exactly the report of one run.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <random>
+#include <sstream>
 
 #include <nlohmann/json.hpp>
 
@@ -229,6 +232,103 @@ TEST_F(ShardMerge, ShardsSpelledFromOtherDirectoriesAndInstallsMerge) {
     const command_result order = in_dir(fmt::format("'{}' merge -o refused s1 s2 u3", RAYVERIFY_CLI));
     EXPECT_EQ(order.exit_code, 2) << order.output;
     EXPECT_NE(order.output.find("the same options in another order"), std::string::npos) << order.output;
+}
+
+// Shards judged against answers computed outside rayverify: the state
+// records a digest of the answers, and merge compares digests, not the
+// spelling of the --results path. Shards of different answers are refused
+// (they used to merge into a report of no single run); the same answers
+// under another path merge.
+TEST_F(ShardMerge, ShardsOfOtherAnswersAreRefusedAndTheSameAnswersElsewhereMerge) {
+    const std::string input = "--generate uniform:6:3";
+    ASSERT_EQ(in_dir(fmt::format("'{}' corpus export {} -o cases.csv", RAYVERIFY_CLI, input)).exit_code, 0);
+    std::istringstream cases(read_text(dir_ / "cases.csv"));
+    std::string header, columns, line;
+    std::getline(cases, header);
+    std::getline(cases, columns);
+    const std::size_t at = header.find("fingerprint=");
+    ASSERT_NE(at, std::string::npos) << header;
+    const std::string head = "# rayverify results v1 precision=double " + header.substr(at, 28) + "\nid,count,t0,t1\n";
+    std::string misses = head, other = head;
+    for (bool first = true; std::getline(cases, line); first = false) {
+        const std::string id = line.substr(0, line.find(','));
+        misses += id + ",0,,\n";
+        other += id + (first ? ",1,1,\n" : ",0,,\n");
+    }
+    fs::create_directories(dir_ / "elsewhere");
+    std::ofstream(dir_ / "a.csv") << misses;
+    std::ofstream(dir_ / "elsewhere/a.csv") << misses;
+    std::ofstream(dir_ / "b.csv") << other;
+    const auto shard = [&](const std::string& results, const std::string& spec, const std::string& dir) {
+        const command_result r =
+            in_dir(fmt::format("'{}' audit {} --results {} --contract query=line_roots --name mine --shard {} --report {}",
+                               RAYVERIFY_CLI, input, results, spec, dir));
+        ASSERT_NE(r.exit_code, 2) << r.output;
+    };
+    shard("a.csv", "1/2", "s1");
+    shard("b.csv", "2/2", "other2");
+    shard("./elsewhere/../elsewhere/a.csv", "2/2", "same2");
+    const command_result mixed = in_dir(fmt::format("'{}' merge --report out s1 other2", RAYVERIFY_CLI));
+    EXPECT_EQ(mixed.exit_code, 2) << mixed.output;
+    EXPECT_NE(mixed.output.find("other2/shard.json: field 'input': differs from s1/shard.json"), std::string::npos)
+        << mixed.output;
+    EXPECT_FALSE(fs::exists(dir_ / "out"));
+    const command_result same = in_dir(fmt::format("'{}' merge --report out s1 same2", RAYVERIFY_CLI));
+    EXPECT_NE(same.exit_code, 2) << same.output;
+    EXPECT_TRUE(fs::exists(dir_ / "out/report.json"));
+}
+
+// merge --per-case reads each shard's per-case file as it reads its state:
+// the very file the shard's audit wrote (by its digest), a regular file
+// inside the shard directory once links are resolved. Each refusal leaves
+// no output.
+TEST_F(ShardMerge, PerCaseFilesAreCheckedAsStatesAre) {
+    for (int k = 1; k <= 2; ++k)
+        ASSERT_NE(in_dir(fmt::format("'{}' audit --generate uniform:40 --variant naive --shard {}/2 --report s{} "
+                                     "--per-case s{}/cases.jsonl",
+                                     RAYVERIFY_CLI, k, k, k))
+                      .exit_code,
+                  2);
+    const std::string one = read_text(dir_ / "s1/cases.jsonl"), two = read_text(dir_ / "s2/cases.jsonl");
+    const auto refused = [&](const std::string& message) {
+        // timeout: a FIFO used to block the merge for ever
+        const command_result r = in_dir(
+            fmt::format("timeout 60 '{}' merge --report out --per-case out.jsonl s1 s2", RAYVERIFY_CLI));
+        EXPECT_EQ(r.exit_code, 2) << r.output;
+        EXPECT_NE(r.output.find(message), std::string::npos) << r.output;
+        EXPECT_FALSE(fs::exists(dir_ / "out.jsonl"));
+        EXPECT_FALSE(fs::exists(dir_ / "out"));
+    };
+    // Swapped between the shards (the same number of lines).
+    std::ofstream(dir_ / "s1/cases.jsonl", std::ios::trunc) << two;
+    std::ofstream(dir_ / "s2/cases.jsonl", std::ios::trunc) << one;
+    refused("s1/cases.jsonl: field '--per-case': its digest is");
+    std::ofstream(dir_ / "s2/cases.jsonl", std::ios::trunc) << two;
+    // One line edited.
+    std::string edited = one;
+    edited[edited.find("\"id\":") + 6] ^= 1;
+    std::ofstream(dir_ / "s1/cases.jsonl", std::ios::trunc) << edited;
+    refused("not the per-case file that shard's audit wrote");
+    // A link out of the shard directory (to a copy of the right file).
+    std::ofstream(dir_ / "copy.jsonl") << one;
+    fs::remove(dir_ / "s1/cases.jsonl");
+    fs::create_symlink("../copy.jsonl", dir_ / "s1/cases.jsonl");
+    refused("outside the shard directory");
+    // A FIFO.
+    fs::remove(dir_ / "s1/cases.jsonl");
+    ASSERT_EQ(::mkfifo((dir_ / "s1/cases.jsonl").c_str(), 0600), 0);
+    refused("s1/cases.jsonl: field '--per-case': is not a regular file");
+    // Put back: the merge succeeds.
+    fs::remove(dir_ / "s1/cases.jsonl");
+    std::ofstream(dir_ / "s1/cases.jsonl") << one;
+    const command_result ok = in_dir(fmt::format("'{}' merge --report out --per-case out.jsonl s1 s2", RAYVERIFY_CLI));
+    EXPECT_NE(ok.exit_code, 2) << ok.output;
+    // A state that is a FIFO is refused before it is opened, too.
+    fs::rename(dir_ / "s2/shard.json", dir_ / "s2.json");
+    ASSERT_EQ(::mkfifo((dir_ / "s2/shard.json").c_str(), 0600), 0);
+    const command_result fifo = in_dir(fmt::format("timeout 60 '{}' merge --report fifo s1 s2", RAYVERIFY_CLI));
+    EXPECT_EQ(fifo.exit_code, 2) << fifo.output;
+    EXPECT_NE(fifo.output.find("s2/shard.json: is not a regular file"), std::string::npos) << fifo.output;
 }
 
 TEST_F(ShardMerge, ThePlotSampleIsBoundedPerFamily) {

@@ -11,7 +11,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-60}
-all_targets=(corpus_reader oracle scene_reader baseline_reader)
+all_targets=(corpus_reader oracle scene_reader baseline_reader results_reader)
 targets=("${@:2}")
 [ ${#targets[@]} -eq 0 ] && targets=("${all_targets[@]}")
 build=${FUZZ_BUILD_DIR:-build-fuzz}

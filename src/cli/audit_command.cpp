@@ -1,7 +1,9 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include <array>
 #include <filesystem>
+#include <fstream>
 #include <thread>
 
 #include "cli/commands.h"
@@ -52,6 +54,64 @@ std::string per_case_location(const std::filesystem::path& per_case, const std::
     return relative.generic_string();
 }
 
+// 16 hex digits of the files' contents, one after the other (64-bit FNV-1a), read in pieces.
+std::string files_digest(const std::vector<std::filesystem::path>& paths, const std::string& option) {
+    std::uint64_t hash = 0xcbf29ce484222325ULL;
+    std::array<char, 1 << 16> buffer{};
+    for (const std::filesystem::path& path : paths) {
+        std::ifstream in(path, std::ios::binary);
+        if (!in) throw input_error(path.string(), 0, option, "cannot open for reading");
+        while (in.read(buffer.data(), buffer.size()) || in.gcount() > 0) {
+            for (std::streamsize i = 0; i < in.gcount(); ++i)
+                hash = (hash ^ static_cast<unsigned char>(buffer[static_cast<std::size_t>(i)])) * 0x100000001b3ULL;
+            if (!in) break;
+        }
+        hash = (hash ^ 0xff) * 0x100000001b3ULL;  // where one file ends
+    }
+    return fmt::format("{:016x}", hash);
+}
+
+// A stream that passes everything to `out` and digests it on the way.
+class digesting_buffer : public std::streambuf {
+public:
+    explicit digesting_buffer(std::ostream& out) : out_(out) {}
+    const content_digest& digest() const { return digest_; }
+
+protected:
+    int_type overflow(int_type c) override {
+        if (traits_type::eq_int_type(c, traits_type::eof())) return traits_type::not_eof(c);
+        const char byte = traits_type::to_char_type(c);
+        xsputn(&byte, 1);
+        return c;
+    }
+    std::streamsize xsputn(const char* data, std::streamsize n) override {
+        digest_.add(std::string_view(data, static_cast<std::size_t>(n)));
+        out_.write(data, n);
+        return n;
+    }
+
+private:
+    std::ostream& out_;
+    content_digest digest_;
+};
+
+// What decides a shard's result besides its cases (whose fingerprint the
+// state records): the answers of a results file (with an npy's companion),
+// the plugin libraries. `merge` requires the same digests of every shard,
+// however the paths were spelled.
+nlohmann::ordered_json input_digests(const audit_options& options) {
+    nlohmann::ordered_json results = nullptr;
+    if (!options.results.file.empty()) {
+        std::vector<std::filesystem::path> files{options.results.file};
+        if (exchange_format_of(options.results.file) == exchange_format::npy)
+            files.push_back(sidecar_of(options.results.file));
+        results = files_digest(files, "--results");
+    }
+    nlohmann::ordered_json plugins = nlohmann::ordered_json::array();
+    for (const std::string& p : options.plugins) plugins.push_back(files_digest({p}, "--plugin"));
+    return {{"results", results}, {"plugins", plugins}};
+}
+
 int run(const audit_options& options, const std::string& command_line) {
     if (!options.scene.empty()) {
         if (!options.corpus.empty() || !options.generate.empty() || !options.shard.empty() ||
@@ -73,12 +133,12 @@ int run(const audit_options& options, const std::string& command_line) {
             : per_case_location(options.per_case_file, options.report_dir);
     case_stream stream = input.open(shard);
     // A results file answers the whole input (every shard's cases), checked before any case is judged.
-    const std::optional<audit_target> results = results_target(options.results, [&](answer_matcher& matcher) {
+    const std::optional<audit_target> results = results_target(options.results, [&](const case_sink& add) {
         case_stream whole = input.open();
         std::vector<corpus_case> cases;
         std::vector<std::size_t> indices;
         while (whole.next(cases, indices)) {
-            for (const corpus_case& c : cases) matcher.add(c);
+            for (const corpus_case& c : cases) add(c);
             cases.clear();
             indices.clear();
         }
@@ -98,18 +158,30 @@ int run(const audit_options& options, const std::string& command_line) {
     audit_outputs outputs;
     declare_inputs(outputs.files, paths, options.corpus.empty() && specs.empty() ? "the default corpus" : "--corpus");
     declare_inputs(outputs.files, {options.plugins.begin(), options.plugins.end()}, "--plugin");
+    declare_results_inputs(outputs.files, options.results);
     outputs.open_report(report_dir, "--report");  // first: it creates the directory, which may hold the per-case file
     if (!options.per_case_file.empty()) outputs.per_case = &outputs.files.file(options.per_case_file, "--per-case");
     open_presentation(outputs, options.presentation);
     output_file* state_file =
         options.shard.empty() ? nullptr : &outputs.files.file(report_dir / shard_state_file, "--report");
 
+    // A shard's per-case file is digested as it is written: merge checks it is that very file.
+    std::optional<digesting_buffer> per_case_digest;
+    std::optional<std::ostream> per_case_stream;
+    if (outputs.per_case != nullptr && !per_case_location_in_shard.empty()) {
+        per_case_digest.emplace(outputs.per_case->stream());
+        per_case_stream.emplace(&*per_case_digest);
+        per_case_stream->exceptions(std::ios::badbit);
+    }
+
     audit_progress progress(paths, specs, shard);
     const case_source next = [&](std::vector<corpus_case>& cases, std::vector<std::size_t>& indices) {
         return stream.next(cases, indices);
     };
     audit_state audited = run_audit_pass(next, targets, threads, static_cast<bool>(outputs.report),
-                                       outputs.per_case != nullptr ? &outputs.per_case->stream() : nullptr,
+                                       per_case_stream                ? &*per_case_stream
+                                       : outputs.per_case != nullptr ? &outputs.per_case->stream()
+                                                                     : nullptr,
                                        progress.reporter());
     progress.finish();
 
@@ -129,12 +201,16 @@ int run(const audit_options& options, const std::string& command_line) {
                 {"input", {{"paths", context.corpus_paths},
                            {"generated", context.generated},
                            {"cases", stream.total()},
-                           {"fingerprint", stream.fingerprint()}}},
+                           {"fingerprint", stream.fingerprint()},
+                           {"digests", input_digests(options)}}},
                 {"shard", {{"index", shard.index}, {"count", shard.count}, {"cases", audited.audit.cases}}},
                 {"targets", targets_json(targets)},
                 {"per_case_file", per_case_location_in_shard.empty()
                                       ? nlohmann::ordered_json(nullptr)
                                       : nlohmann::ordered_json(per_case_location_in_shard)},
+                {"per_case_digest", per_case_location_in_shard.empty()
+                                        ? nlohmann::ordered_json(nullptr)
+                                        : nlohmann::ordered_json(per_case_digest->digest().text())},
                 {"state", state_json(audited)}};
             state_file->stream() << state.dump() << '\n';
             (*report)["shard"] = {{"index", shard.index},
@@ -155,6 +231,8 @@ shard_spec chosen_shard(const std::string& text, const char* command) {
     if (text.starts_with("auto")) fmt::print(stderr, "{}: {}\n", command, resolved.origin);
     return resolved.shard;
 }
+
+std::string content_digest::text() const { return fmt::format("{:016x}", hash_); }
 
 std::string recorded_command(const std::string& command_line) {
     // Options that choose where the outputs go or how the work is spread or

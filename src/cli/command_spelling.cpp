@@ -14,9 +14,11 @@ namespace rayverify::cli {
 
 namespace {
 
-// Options whose value is a path; its spelling is set aside.
+// Options whose value is a path; its spelling is set aside (what the file
+// holds is compared instead: the input's fingerprint, the digests of results
+// files and plugins).
 bool takes_path(const std::string& option) {
-    static const char* const options[] = {"--corpus", "--plugin", "--scene"};
+    static const char* const options[] = {"--corpus", "--plugin", "--scene", "--results"};
     return std::find(std::begin(options), std::end(options), option) != std::end(options);
 }
 

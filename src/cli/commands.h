@@ -8,6 +8,7 @@
 #include <functional>
 #include <limits>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <filesystem>
@@ -107,13 +108,19 @@ std::vector<corpus_case> scene_cases(const scene& s);
 std::string fingerprint_of(std::span<const corpus_case> cases);
 
 void add_results_options(CLI::App* sub, results_options& options);
+// Declares the results file (and an npy's JSON companion) as inputs of the
+// run, so that no output overwrites them.
+void declare_results_inputs(run_outputs& outputs, const results_options& options);
 
 // The target the results file stands for, nullopt without --results. `feed`
-// passes every case of the command's input, in order, to the matcher and
+// passes every case of the command's input, in order, to its argument and
 // returns the input's fingerprint; answers that do not match that input
 // exactly are an input_error (corpus/exchange.h), before anything is judged.
+// The input is read first, so that the file is read only as far as it
+// answers cases of it.
+using case_sink = std::function<void(const corpus_case&)>;
 std::optional<audit_target> results_target(const results_options& options,
-                                           const std::function<std::string(answer_matcher&)>& feed);
+                                           const std::function<std::string(const case_sink&)>& feed);
 
 // A target answering from outside rayverify (a results file, a --command):
 // its name (one token, not a built-in's), contract spec (core/contract.h's
@@ -211,6 +218,19 @@ void open_presentation(audit_outputs& outputs, const audit_presentation& present
 // exit_findings when any target disagrees with the oracle on some case.
 int publish_audit(const audit_totals& totals, const std::optional<nlohmann::ordered_json>& report,
                   audit_outputs& outputs, bool plots, const audit_presentation& presentation = {});
+
+// 64-bit FNV-1a of bytes added piece by piece, as 16 hex digits: the digest
+// a shard records of its per-case file, and merge checks.
+class content_digest {
+public:
+    void add(std::string_view bytes) {
+        for (const char c : bytes) hash_ = (hash_ ^ static_cast<unsigned char>(c)) * 0x100000001b3ULL;
+    }
+    std::string text() const;
+
+private:
+    std::uint64_t hash_ = 0xcbf29ce484222325ULL;
+};
 
 // Files a command reads (corpus files and directories, plugins, a baseline,
 // a scene), declared as inputs of its run so that no output overwrites them;

@@ -15,12 +15,14 @@ figure_table read_report(const std::string& path) {
     std::error_code error;
     if (std::filesystem::is_directory(path, error))
         throw input_error(path, 0, "report", "is a directory, expected a report.json file");
+    if (std::filesystem::exists(path, error) && !std::filesystem::is_regular_file(path, error))
+        throw input_error(path, 0, "report", "is not a regular file (a FIFO, a device or a socket), expected a report.json file");
     std::ifstream in(path);
     if (!in) throw input_error(path, 0, "report", "cannot open for reading");
     nlohmann::json report;
     try {
         report = nlohmann::json::parse(in);
-    } catch (const nlohmann::json::parse_error& e) {
+    } catch (const nlohmann::json::exception& e) {  // a syntax error, or a number beyond double range
         throw input_error(path, 0, "report", fmt::format("not JSON: {}", e.what()));
     }
     try {

@@ -130,8 +130,8 @@ int run(const explain_options& options) {
         corpus = read_corpus(paths);
     }
     const corpus_case c = options.case_id.empty() ? case_from_arguments(options.values) : case_from_corpus(options, corpus);
-    const std::optional<audit_target> results = results_target(options.results, [&](answer_matcher& matcher) {
-        for (const corpus_case& k : corpus) matcher.add(k);
+    const std::optional<audit_target> results = results_target(options.results, [&](const case_sink& add) {
+        for (const corpus_case& k : corpus) add(k);
         return fingerprint_of(corpus);
     });
     const std::vector<audit_target> targets =

@@ -33,6 +33,8 @@ std::string read_text_file(const std::filesystem::path& path, const std::string&
     std::error_code error;
     if (std::filesystem::is_directory(path, error))
         throw input_error(path.string(), 0, field, "is a directory, not a baseline file");
+    if (std::filesystem::exists(path, error) && !std::filesystem::is_regular_file(path, error))
+        throw input_error(path.string(), 0, field, "is not a regular file (a FIFO, a device or a socket)");
     std::ifstream in(path, std::ios::binary);
     if (!in) throw input_error(path.string(), 0, field, "cannot open for reading");
     std::ostringstream text;
@@ -58,11 +60,12 @@ int run(const gate_options& options) {
     declare_inputs(outputs, paths, options.corpus.empty() ? "the default corpus" : "--corpus");
     declare_inputs(outputs, {options.plugins.begin(), options.plugins.end()}, "--plugin");
     if (!options.update) declare_inputs(outputs, {baseline_path}, "--baseline");
+    declare_results_inputs(outputs, options.results);
     output_file* updated = options.update ? &outputs.file(baseline_path, "--baseline") : nullptr;
     output_file* junit = !options.update && !options.junit.empty() ? &outputs.file(options.junit, "--junit") : nullptr;
     const std::vector<corpus_case> cases = read_corpus(paths);
-    const std::optional<audit_target> results = results_target(options.results, [&](answer_matcher& matcher) {
-        for (const corpus_case& c : cases) matcher.add(c);
+    const std::optional<audit_target> results = results_target(options.results, [&](const case_sink& add) {
+        for (const corpus_case& c : cases) add(c);
         return fingerprint_of(cases);
     });
     const std::vector<audit_target> targets =

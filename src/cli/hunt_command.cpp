@@ -116,6 +116,7 @@ int run(const hunt_command_options& o, const std::string& command_line) {
     };
     const hunt_result result = hunt(target, start, options, judge);
     progress.finish();
+    if (program) program->finish();  // nothing may follow its last answer
 
     const std::string label = target.label();
     const bool ulp = maximises_error(options.objective);

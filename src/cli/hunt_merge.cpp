@@ -100,6 +100,10 @@ void rank_finds(std::vector<hunt_file_find>& finds, bool ulp, const fs::path& an
 }  // namespace
 
 int merge_hunts(const std::vector<std::string>& files, const std::string& output, std::size_t keep) {
+    // The output, declared before the work: it may not be one of the hunt files it merges.
+    run_outputs outputs;
+    for (const std::string& path : files) outputs.input(path, "a hunt output");
+    output_file& merged_file = outputs.file(output, "-o");
     std::vector<hunt_input> inputs;
     for (const std::string& path : files) inputs.push_back({path, read_hunt_file(path)});
     hunt_file merged;
@@ -118,7 +122,7 @@ int merge_hunts(const std::vector<std::string>& files, const std::string& output
     } catch (const json::exception& e) {
         throw input_error(inputs.front().path.string(), 0, "", fmt::format("a hunt file is malformed: {}", e.what()));
     }
-    write_file_atomically(output, render_hunt_file(merged));
+    merged_file.stream() << render_hunt_file(merged);
 
     std::uint64_t evaluations = 0;
     for (const json& run : merged.hunt.at("runs")) evaluations += run.at("evaluations").get<std::uint64_t>();
@@ -135,6 +139,8 @@ int merge_hunts(const std::vector<std::string>& files, const std::string& output
                    p.at("evaluation").get<std::uint64_t>(), format_case_line(f.shrunk));
     }
     fmt::print("wrote {}\n", output);
+    check_standard_output();
+    outputs.commit();
     bool disagreement = merged.hunt.at("objective") == "misclass" && !merged.finds.empty();
     for (const json& run : merged.hunt.at("runs")) disagreement = disagreement || run.contains("first_disagreement");
     return disagreement ? exit_findings : exit_ok;

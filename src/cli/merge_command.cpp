@@ -40,7 +40,13 @@ struct shard_input {
     shard_spec shard;
     std::size_t cases = 0;       // the cases this shard audited
     json per_case_file;          // as the shard recorded it (null: none)
+    std::string per_case_digest;  // of its contents, as the audit wrote them
     fs::path file() const { return dir / shard_state_file; }
+    // The per-case file as the shard recorded it, inside its directory; nullopt: none.
+    std::optional<fs::path> per_case() const {
+        if (!per_case_file.is_string()) return std::nullopt;
+        return dir / fs::path(per_case_file.get<std::string>());
+    }
 };
 
 // Builds a document up to the top-level key "state" and stops there: the
@@ -73,6 +79,10 @@ private:
 // A shard's state file: whole (read into memory first: parsing from a string
 // is faster than from a stream), or (`header_only`) without its "state".
 json read_state_file(const fs::path& file, bool header_only) {
+    std::error_code error;
+    if (fs::exists(file, error) && !fs::is_regular_file(file, error))  // a FIFO would block the merge
+        throw input_error(file.string(), 0, "",
+                          "is not a regular file (a FIFO, a device or a socket): a shard's state is a file");
     std::ifstream in(file, std::ios::binary);
     if (!in)
         throw input_error(file.string(), 0, "",
@@ -139,16 +149,27 @@ audit_state merged_states(const std::vector<shard_input>& shards, const std::vec
 }
 
 shard_input shard_from_header(const fs::path& dir, const json& header) {
-    shard_input input{dir, {}, 0, nullptr};
+    shard_input input{dir, {}, 0, nullptr, {}};
     try {
         input.shard.index = header.at("shard").at("index").get<std::size_t>();
         input.shard.count = header.at("shard").at("count").get<std::size_t>();
         input.cases = header.at("shard").at("cases").get<std::size_t>();
         input.per_case_file = header.at("per_case_file");
+        if (input.per_case_file.is_string()) input.per_case_digest = header.at("per_case_digest").get<std::string>();
     } catch (const json::exception& e) {
         throw input_error(input.file().string(), 0, "shard", fmt::format("not a shard state: {}", e.what()));
     }
     return input;
+}
+
+// The targets as merge compares them: a results file's target cites the file
+// by the path its shard spelled, which the digest of its contents stands for.
+json targets_up_to_spelling(json targets) {
+    for (json& t : targets)
+        if (t.is_object() && t.contains("citation") && t["citation"].is_string() &&
+            t["citation"].get<std::string>().starts_with("results file "))
+            t["citation"] = "results file PATH";
+    return targets;
 }
 
 // Two shards come from one audit: the same build, input (by its size and
@@ -164,13 +185,13 @@ void check_same_audit(const json& first, const fs::path& first_file, const json&
         if (a != b) throw differs(field, fmt::format("{} vs {}", b.dump(), a.dump()));
     };
     compare("build", first.at("build"), other.at("build"));
-    for (const char* field : {"cases", "fingerprint", "generated"})
+    for (const char* field : {"cases", "fingerprint", "generated", "digests"})
         compare("input", first.at("input").at(field), other.at("input").at(field));
     if (const auto what = command_difference(first.at("command").get<std::string>(),
                                              other.at("command").get<std::string>(), first_file.string(),
                                              other_file.string()))
         throw differs("command", *what);
-    compare("targets", first.at("targets"), other.at("targets"));
+    compare("targets", targets_up_to_spelling(first.at("targets")), targets_up_to_spelling(other.at("targets")));
     const std::size_t n = first.at("shard").at("count").get<std::size_t>();
     if (other.at("shard").at("count").get<std::size_t>() != n)
         throw input_error(other_file.string(), 0, "shard",
@@ -213,33 +234,63 @@ void allow_open_files(std::size_t shards) {
                                       shards, wanted, limit.rlim_max));
 }
 
+// A shard's per-case file, checked as its state is: a regular file inside the
+// shard directory once links are resolved (a link out of it, a FIFO or a
+// device is refused before it is opened).
+fs::path per_case_path(const shard_input& s) {
+    if (!s.per_case())
+        throw input_error(s.file().string(), 0, "--per-case",
+                          "this shard wrote no per-case file (run every shard with --per-case)");
+    const fs::path path = *s.per_case();
+    std::error_code error;
+    const fs::path real = fs::canonical(path, error);
+    if (error) throw input_error(path.string(), 0, "--per-case", "cannot open the shard's per-case file: " + error.message());
+    const fs::path dir = fs::canonical(s.dir, error);
+    const fs::path relative = real.lexically_relative(dir);
+    if (error || relative.empty() || *relative.begin() == ".." || relative.is_absolute())
+        throw input_error(path.string(), 0, "--per-case",
+                          fmt::format("leads to {}, outside the shard directory {}", real.string(), s.dir.string()));
+    if (!fs::is_regular_file(real, error))
+        throw input_error(path.string(), 0, "--per-case",
+                          "is not a regular file (a FIFO, a device or a socket): a shard's per-case file is a file");
+    return path;
+}
+
 // The whole run's per-case lines: case i is line i div N of shard (i mod N) + 1.
+// Each file must be, byte for byte, the one its shard's audit wrote (the
+// digest its state records): a file swapped between shards, from another run
+// or edited is refused, and nothing is committed.
 void interleave_per_case(const std::vector<shard_input>& shards, std::size_t total, std::ostream& out) {
     allow_open_files(shards.size());
     std::vector<std::ifstream> files;
     std::vector<fs::path> names;
     for (const shard_input& s : shards) {
-        if (s.per_case_file.is_null())
-            throw input_error(s.file().string(), 0, "--per-case",
-                              "this shard wrote no per-case file (run every shard with --per-case)");
-        fs::path path(s.per_case_file.get<std::string>());
-        if (path.is_relative()) path = s.dir / path;
+        const fs::path path = per_case_path(s);
         files.emplace_back(path, std::ios::binary);
         if (!files.back()) throw input_error(path.string(), 0, "--per-case", "cannot open the shard's per-case file");
         names.push_back(path);
     }
+    std::vector<content_digest> digests(files.size());
     std::string line;
     for (std::size_t i = 0; i < total; ++i) {
         const std::size_t k = i % shards.size();
         if (!std::getline(files[k], line))
             throw input_error(names[k].string(), i / shards.size() + 1, "--per-case",
                               "ends early: the shard's per-case file does not match its state");
-        out << line << '\n';
+        line += '\n';
+        digests[k].add(line);
+        out << line;
     }
-    for (std::size_t k = 0; k < files.size(); ++k)
+    for (std::size_t k = 0; k < files.size(); ++k) {
         if (std::getline(files[k], line))
             throw input_error(names[k].string(), 0, "--per-case",
                               "has more lines than the shard has cases: it does not match its state");
+        if (digests[k].text() != shards[k].per_case_digest)
+            throw input_error(names[k].string(), 0, "--per-case",
+                              fmt::format("its digest is {}, its shard's state records {}: not the per-case file "
+                                          "that shard's audit wrote (swapped, from another run, or edited)",
+                                          digests[k].text(), shards[k].per_case_digest));
+    }
 }
 
 // The run as the report records it: its command and input as `file` spells them.
@@ -287,7 +338,11 @@ int merge_audits(const merge_options& options) {
 
     const run_context context = spelled_as_in(shards.front().file());  // shard 1, whatever the order given
     audit_outputs outputs;
-    for (const shard_input& s : shards) outputs.files.input(s.dir, "a shard directory");
+    for (const shard_input& s : shards) {
+        outputs.files.input(s.dir, "a shard directory");
+        outputs.files.input(s.file(), "a shard's state");
+        if (const auto per_case = s.per_case()) outputs.files.input(*per_case, "a shard's per-case file");
+    }
     outputs.open_report(options.output, "-o");
     if (!options.per_case_file.empty()) outputs.per_case = &outputs.files.file(options.per_case_file, "--per-case");
     open_presentation(outputs, options.presentation);

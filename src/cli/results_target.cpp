@@ -7,6 +7,7 @@
 
 #include "cli/commands.h"
 #include "core/input_error.h"
+#include "core/target_name.h"
 #include "scene/scene.h"
 
 namespace rayverify::cli {
@@ -52,6 +53,13 @@ void add_results_options(CLI::App* sub, results_options& options) {
         ->needs(results);
 }
 
+void declare_results_inputs(run_outputs& outputs, const results_options& options) {
+    if (options.file.empty()) return;
+    outputs.input(options.file, "--results");
+    if (exchange_format_of(options.file) == exchange_format::npy)
+        outputs.input(sidecar_of(options.file), "--results, its JSON companion");
+}
+
 namespace {
 
 contract contract_from(const std::string& spec) {
@@ -95,8 +103,12 @@ void check_named_outputs(const contract& promises, const answer_book& book) {
 
 audit_target outside_target(const std::string& name, const std::string& contract_spec, const std::string& citation,
                             precision prec) {
-    if (name.empty() || name.find_first_of(" \t/") != std::string::npos)
+    if (name.empty())
         throw input_error("", 0, "--name", "answers computed outside rayverify need --name NAME (one token, no '/')");
+    if (!is_target_name(name))
+        throw input_error("", 0, "--name",
+                          fmt::format("'{}' must be one token without spaces, '/', '#' or control characters",
+                                      escaped_control(name)));
     if (find_builtin_variant(name))
         throw input_error("", 0, "--name", fmt::format("'{}' is a built-in variant's name: choose another", name));
     audit_target target;
@@ -111,14 +123,24 @@ audit_target outside_target(const std::string& name, const std::string& contract
 }
 
 std::optional<audit_target> results_target(const results_options& options,
-                                           const std::function<std::string(answer_matcher&)>& feed) {
+                                           const std::function<std::string(const case_sink&)>& feed) {
     if (options.file.empty()) return std::nullopt;
     contract_from(options.contract_spec);  // a bad contract before reading the file
-    results_file results = read_results(options.file);
+    // The input first: what the file may answer bounds what is read of it.
+    results_scope scope;
+    std::vector<corpus_case> input;  // id and where it was read: all the matcher needs
+    scope.input_fingerprint = feed([&](const corpus_case& c) {
+        scope.add(c.id);
+        corpus_case named;
+        named.id = c.id;
+        named.source = c.source;
+        input.push_back(std::move(named));
+    });
+    results_file results = read_results(options.file, &scope);
     audit_target target = outside_target(options.name, options.contract_spec, "results file " + options.file, results.prec);
     answer_matcher matcher(results);
-    const std::string input_fingerprint = feed(matcher);
-    target.recorded = matcher.finish(input_fingerprint);
+    for (const corpus_case& c : input) matcher.add(c);
+    target.recorded = matcher.finish(scope.input_fingerprint);
     check_recorded_values(target.subject.promises, *target.recorded);
     check_named_outputs(target.subject.promises, *target.recorded);
     return target;

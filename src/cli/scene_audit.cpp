@@ -170,9 +170,9 @@ int run_scene_audit(const scene_audit_request& request) {
     if (!request.precisions.empty())
         throw input_error("", 0, "--precision", "a scene fixes its precision (its \"precision\" field); drop --precision");
     const scene s = read_scene(request.scene_file);
-    const std::optional<audit_target> results = results_target(request.results, [&](answer_matcher& matcher) {
+    const std::optional<audit_target> results = results_target(request.results, [&](const case_sink& add) {
         const std::vector<corpus_case> cases = scene_cases(s);
-        for (const corpus_case& c : cases) matcher.add(c);
+        for (const corpus_case& c : cases) add(c);
         return fingerprint_of(cases);
     });
     std::vector<audit_target> targets;
@@ -183,6 +183,7 @@ int run_scene_audit(const scene_audit_request& request) {
     run_outputs outputs;  // declared before the work; committed after it
     declare_inputs(outputs, {request.scene_file}, "--scene");
     declare_inputs(outputs, {request.plugins.begin(), request.plugins.end()}, "--plugin");
+    declare_results_inputs(outputs, request.results);
     output_file* report = nullptr;
     if (!request.report_dir.empty()) {
         outputs.directory(request.report_dir, "--report");

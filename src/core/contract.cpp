@@ -1,11 +1,13 @@
 #include "core/contract.h"
 
+#include <algorithm>
 #include <array>
 #include <deque>
 #include <mutex>
 #include <charconv>
 #include <stdexcept>
 #include <utility>
+#include <vector>
 
 namespace rayverify {
 namespace {
@@ -179,6 +181,7 @@ contract parse_contract(std::string_view spec, contract c) {
         if (value == "no") return false;
         throw fail(key, value, "yes or no");
     };
+    std::vector<std::string_view> given;  // the keys so far
     while (!spec.empty()) {
         const std::size_t comma = spec.find(',');
         const std::string_view item = spec.substr(0, comma);
@@ -187,6 +190,10 @@ contract parse_contract(std::string_view spec, contract c) {
         if (item.empty() || equals == std::string_view::npos)
             throw std::invalid_argument("contract: '" + std::string(item) + "' is not key=value");
         const std::string_view key = item.substr(0, equals), value = item.substr(equals + 1);
+        // One value per key: "query=line_roots,query=any_hit" says two things, and neither wins.
+        if (std::find(given.begin(), given.end(), key) != given.end())
+            throw std::invalid_argument("contract: '" + std::string(key) + "' is given twice");
+        given.push_back(key);
         if (key == "query") {
             const auto v = query_kind_from_name(value);
             if (!v) throw fail(key, value, allowed(query_kind_names));

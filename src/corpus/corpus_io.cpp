@@ -208,7 +208,7 @@ std::vector<corpus_case> parse_text(const std::string& file, std::string_view co
 // The cells of a CSV row (RFC 4180 quoting on one line): a cell in double
 // quotes may hold commas, and "" stands for a quote; blanks around a cell are
 // trimmed.
-std::vector<std::string> split_csv_row(std::string_view line, const std::string& file, std::size_t number) {
+std::vector<std::string> csv_row_cells(std::string_view line, const std::string& file, std::size_t number) {
     std::vector<std::string> cells;
     for (std::size_t at = 0;;) {
         while (at < line.size() && is_space(line[at])) ++at;
@@ -257,7 +257,7 @@ std::vector<corpus_case> parse_csv(const std::string& file, std::string_view con
     std::size_t header_line = 0, width = 0;
     for_each_line(file, contents, [&](std::size_t number, std::string_view line) {
         if (trim(line).empty() || trim(line).front() == '#') return;
-        const std::vector<std::string> cells = split_csv_row(line, file, number);
+        const std::vector<std::string> cells = csv_row_cells(line, file, number);
         if (header_line == 0) {
             header_line = number;
             width = cells.size();
@@ -599,22 +599,8 @@ void for_each_text_line(const std::string& file, std::string_view contents,
     for_each_line(file, contents, on_line);
 }
 
-std::vector<std::string_view> split_csv_cells(std::string_view line) {
-    std::vector<std::string_view> cells;
-    for (std::size_t start = 0;;) {
-        // A quoted cell runs to its closing quote, commas included (a scene ray's id).
-        const std::size_t first = line.find_first_not_of(" \t", start);
-        std::size_t end = std::min(line.find(',', start), line.size());
-        if (first < line.size() && line[first] == '"') {
-            const std::size_t closing = line.find('"', first + 1);
-            if (closing != std::string_view::npos) end = std::min(line.find(',', closing), line.size());
-        }
-        std::string_view cell = trim(line.substr(start, end - start));
-        if (cell.size() >= 2 && cell.front() == '"' && cell.back() == '"') cell = cell.substr(1, cell.size() - 2);
-        cells.push_back(cell);
-        if (end == line.size()) return cells;
-        start = end + 1;
-    }
+std::vector<std::string> split_csv_row(std::string_view line, const std::string& file, std::size_t number) {
+    return csv_row_cells(line, file, number);
 }
 
 }  // namespace rayverify

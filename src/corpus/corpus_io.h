@@ -95,8 +95,11 @@ std::vector<corpus_case> read_corpus(const std::vector<std::filesystem::path>& p
 // 1 MB, a NUL byte, invalid UTF-8 or a byte order mark inside.
 void for_each_text_line(const std::string& file, std::string_view contents,
                         const std::function<void(std::size_t number, std::string_view line)>& on_line);
-// One CSV row's cells, trimmed, each stripped of one pair of surrounding double quotes.
-std::vector<std::string_view> split_csv_cells(std::string_view line);
+// One CSV row's cells, as RFC 4180 quotes them on one line: a cell in double
+// quotes may hold commas, and "" in it stands for a quote; blanks around a
+// cell are trimmed. Throws input_error for a quote left open, text after a
+// closing quote, or a quote in an unquoted cell.
+std::vector<std::string> split_csv_row(std::string_view line, const std::string& file, std::size_t number);
 
 // Write cases as a text corpus, whole or not at all (write_file_atomically,
 // core/outputs.h): corpus_header_comment(), then each of header_comments

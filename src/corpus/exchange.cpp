@@ -16,8 +16,11 @@
 #include <ostream>
 #include <sstream>
 #include <stdexcept>
+#include <sys/stat.h>
+
 #include "core/input_error.h"
 #include "corpus/corpus_io.h"
+#include "corpus/json_input.h"
 
 namespace rayverify {
 
@@ -109,6 +112,8 @@ std::string number_text(double x, precision p, number_style style) {
 
 json number_json(double x, precision p, number_style style) {
     if (!std::isfinite(x) || style == number_style::hex) return number_text(x, p, style);
+    // "-0" would read back as the integer 0: a negative zero is written -0.0.
+    if (x == 0 && std::signbit(x)) return json(-0.0);
     // The decimal as text, parsed back: nlohmann then writes the double's shortest form,
     // which for a float value is its float shortest form read as a double.
     return json::parse(number_text(x, p, style));
@@ -257,12 +262,16 @@ json header_json(const char* kind, precision p, const std::string& fingerprint) 
     return {{"rayverify", kind}, {"version", exchange_version}, {"precision", precision_name(p)}, {"fingerprint", fingerprint}};
 }
 
-// A text cell of a cases CSV: quoted when it holds a comma (a scene ray's id
-// "px3,7/shadow/..."); a quote or a line break cannot be written.
+// A text cell of a cases CSV, quoted as RFC 4180 says when it holds a comma
+// (a scene ray's id "px3,7/shadow/...") or a quote (written ""); a line
+// break cannot be written.
 std::string csv_cell(const std::string& text, const std::string& source, const char* field) {
-    if (text.find_first_of("\"\r\n") != std::string::npos)
+    if (text.find_first_of("\r\n") != std::string::npos)
         throw input_error(source, 0, field, fmt::format("'{}' cannot be written as one CSV cell", text));
-    return text.find(',') == std::string::npos ? text : "\"" + text + "\"";
+    if (text.find_first_of(",\"") == std::string::npos) return text;
+    std::string quoted = "\"";
+    for (const char c : text) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
+    return quoted + "\"";
 }
 
 }  // namespace
@@ -510,13 +519,19 @@ private:
 
 void add_answer(results_file& r, std::string id, const recorded_answer& a, const std::string& file) {
     if (id.empty()) throw input_error(file, a.line, "id", "empty");
+    // Stop at the first answer to no case: nothing after it is read or kept.
+    if (r.scope && !r.scope->ids.count(id))
+        throw input_error(file, a.line, "id", fmt::format("answer for '{}', which is not a case of this input", id));
     const auto [at, inserted] = r.book->by_id.emplace(std::move(id), a);
     if (!inserted)
         throw input_error(file, a.line, "id",
                           fmt::format("duplicate answer for case '{}', first given on line {}", at->first, at->second.line));
 }
 
-results_file start_results(const std::string& file, exchange_format format, const parsed_header& h, std::size_t line) {
+void check_fingerprint(const results_file& results_, const std::string& input_fingerprint);
+
+results_file start_results(const std::string& file, exchange_format format, const parsed_header& h, std::size_t line,
+                           const results_scope* scope) {
     results_file r;
     r.file = file;
     r.header_line = line;
@@ -526,10 +541,30 @@ results_file start_results(const std::string& file, exchange_format format, cons
     r.book = std::make_shared<answer_book>();
     r.book->source = file;
     r.book->prec = h.prec;
+    r.scope = scope;
+    // Answers for other cases are refused at their header, before a row is read.
+    if (scope && !scope->input_fingerprint.empty()) check_fingerprint(r, scope->input_fingerprint);
     return r;
 }
 
-results_file parse_csv_results(const std::string& file, std::string_view text) {
+// A number written as text in a results file. A hex float is exact by its
+// nature, so in a float file it must be a float: the 9-digit decimal rule
+// (float_value) is for decimals, which cannot spell a float exactly.
+std::optional<double> answer_number(std::string_view text, const std::string& file, std::size_t line,
+                                    const std::string& field, precision p) {
+    const double x = parse_exact_double(text, file, line, field);
+    std::string_view digits = text.substr(std::min(text.find_first_not_of(" \t"), text.size()));
+    if (!digits.empty() && (digits.front() == '-' || digits.front() == '+')) digits.remove_prefix(1);
+    const bool hex = digits.size() > 1 && digits[0] == '0' && (digits[1] == 'x' || digits[1] == 'X');
+    if (p == precision::binary32 && hex && std::isfinite(x) && static_cast<double>(static_cast<float>(x)) != x)
+        throw input_error(file, line, field,
+                          fmt::format("{} is a hex double that is not a float (binary32) value, and the results are "
+                                      "in float: a double answer? (a hex value is read exactly, never rounded)",
+                                      text));
+    return x;
+}
+
+results_file parse_csv_results(const std::string& file, std::string_view text, const results_scope* scope) {
     std::optional<results_file> r;
     std::vector<std::string> columns;
     // Column index of each answer column (by name), when present.
@@ -537,12 +572,12 @@ results_file parse_csv_results(const std::string& file, std::string_view text) {
     std::size_t header_row = 0;
     for_each_text_line(file, text, [&](std::size_t number, std::string_view line) {
         if (!r) {
-            r = start_results(file, exchange_format::csv, header_from_comment(line, file, number), number);
+            r = start_results(file, exchange_format::csv, header_from_comment(line, file, number), number, scope);
             return;
         }
         const std::string_view trimmed = line.substr(0, line.find_last_not_of(" \t") + 1);
         if (trimmed.empty() || trimmed.front() == '#') return;
-        const std::vector<std::string_view> cells = split_csv_cells(line);
+        const std::vector<std::string> cells = split_csv_row(line, file, number);
         if (header_row == 0) {
             header_row = number;
             const std::vector<std::string> known = answer_columns();
@@ -565,7 +600,7 @@ results_file parse_csv_results(const std::string& file, std::string_view text) {
         const auto cell = [&](std::string_view name) -> std::optional<double> {
             const auto found = at.find(std::string(name));
             if (found == at.end() || cells[found->second].empty()) return std::nullopt;
-            return parse_exact_double(cells[found->second], file, number, std::string(name));
+            return answer_number(cells[found->second], file, number, std::string(name), r->prec);
         };
         answer_builder b(file, number, r->prec);
         b.count(cell("count"));
@@ -581,42 +616,38 @@ results_file parse_csv_results(const std::string& file, std::string_view text) {
 }
 
 // A JSON value that is a number, or a string holding one (hex, nan, inf); null is absent.
-std::optional<double> json_value(const json& v, const std::string& file, std::size_t line, const std::string& field) {
+std::optional<double> json_value(const json& v, const std::string& file, std::size_t line, const std::string& field,
+                                 precision p) {
     if (v.is_null()) return std::nullopt;
     if (v.is_number()) return v.get<double>();
-    if (v.is_string()) return parse_exact_double(v.get<std::string>(), file, line, field);
+    if (v.is_string()) return answer_number(v.get<std::string>(), file, line, field, p);
     throw input_error(file, line, field, fmt::format("expected a number, got {}", v.dump()));
 }
 
 template <std::size_t N>
 std::array<std::optional<double>, N> json_array(const json& object, const char* key, const std::string& file,
-                                                std::size_t line) {
+                                                std::size_t line, precision p) {
     std::array<std::optional<double>, N> out{};
     if (!object.contains(key) || object[key].is_null()) return out;
     const json& v = object[key];
     if (!v.is_array() || v.size() != N)
         throw input_error(file, line, key, fmt::format("expected an array of {} numbers, got {}", N, v.dump()));
     for (std::size_t i = 0; i < N; ++i) {
-        out[i] = json_value(v[i], file, line, key);
+        out[i] = json_value(v[i], file, line, key, p);
         if (!out[i]) throw input_error(file, line, key, "null inside the array");
     }
     return out;
 }
 
-results_file parse_jsonl_results(const std::string& file, std::string_view text) {
+results_file parse_jsonl_results(const std::string& file, std::string_view text, const results_scope* scope) {
     std::optional<results_file> r;
     static const std::unordered_set<std::string> keys = {"id",        "count",     "t0",     "t1",
                                                          "t0_bounds", "t1_bounds", "hit_point", "normal"};
     for_each_text_line(file, text, [&](std::size_t number, std::string_view line) {
         if (line.find_first_not_of(" \t") == std::string_view::npos) return;
-        json object;
-        try {
-            object = json::parse(line);
-        } catch (const json::parse_error& e) {
-            throw input_error(file, number, "", fmt::format("not a JSON object: {}", e.what()));
-        }
+        json object = parse_json_input(line, file, number);
         if (!r) {
-            r = start_results(file, exchange_format::jsonl, header_from_json(object, file, number, "results"), number);
+            r = start_results(file, exchange_format::jsonl, header_from_json(object, file, number, "results"), number, scope);
             return;
         }
         if (!object.is_object()) throw input_error(file, number, "", "expected a JSON object");
@@ -627,19 +658,19 @@ results_file parse_jsonl_results(const std::string& file, std::string_view text)
         if (!object.contains("id") || !object["id"].is_string())
             throw input_error(file, number, "id", "missing, or not a string");
         const auto get = [&](const char* key) -> std::optional<double> {
-            return object.contains(key) ? json_value(object[key], file, number, key) : std::nullopt;
+            return object.contains(key) ? json_value(object[key], file, number, key, r->prec) : std::nullopt;
         };
         answer_builder b(file, number, r->prec);
         b.count(get("count"));
         b.t(get("t0"), get("t1"));
-        const auto t0 = json_array<2>(object, "t0_bounds", file, number);
-        const auto t1 = json_array<2>(object, "t1_bounds", file, number);
+        const auto t0 = json_array<2>(object, "t0_bounds", file, number, r->prec);
+        const auto t1 = json_array<2>(object, "t1_bounds", file, number, r->prec);
         if (t0[0].has_value() != t1[0].has_value())
             throw input_error(file, number, t0[0] ? "t1_bounds" : "t0_bounds",
                               "missing while the other root's bounds are given (both or none)");
         b.bounds({t0[0], t0[1], t1[0], t1[1]});
-        b.point(json_array<3>(object, "hit_point", file, number));
-        b.normal(json_array<3>(object, "normal", file, number));
+        b.point(json_array<3>(object, "hit_point", file, number, r->prec));
+        b.normal(json_array<3>(object, "normal", file, number, r->prec));
         add_answer(*r, object["id"].get<std::string>(), b.answer(), file);
     });
     if (!r) throw input_error(file, 0, "rayverify", "empty file: expected the header line {\"rayverify\": \"results\", ...}");
@@ -647,15 +678,13 @@ results_file parse_jsonl_results(const std::string& file, std::string_view text)
 }
 
 results_file parse_npy_results(const std::string& file, std::string_view bytes, const std::string& sidecar_name,
-                               const std::string& sidecar) {
-    json h;
-    try {
-        h = json::parse(sidecar);
-    } catch (const json::parse_error& e) {
-        throw input_error(sidecar_name, 0, "", fmt::format("not JSON: {}", e.what()));
-    }
-    results_file r = start_results(sidecar_name, exchange_format::npy, header_from_json(h, sidecar_name, 1, "results"), 1);
+                               const std::string& sidecar, const results_scope* scope) {
+    const json h = parse_json_input(sidecar, sidecar_name);
+    results_file r = start_results(sidecar_name, exchange_format::npy, header_from_json(h, sidecar_name, 1, "results"), 1, scope);
     const npy_array a = parse_npy(file, bytes);
+    if (scope && a.rows > scope->cases)
+        throw input_error(file, scope->cases + 1, "id",
+                          fmt::format("row {} answers no case: the input has {} cases", scope->cases + 1, scope->cases));
     if (a.prec != r.prec)
         throw input_error(file, 0, "dtype",
                           fmt::format("{} values, while {} says precision {}", precision_name(a.prec), sidecar_name,
@@ -742,22 +771,51 @@ void check_recorded_values(const contract& promises, const answer_book& book) {
 }
 
 results_file parse_results(const std::string& name, std::string_view text, exchange_format format,
-                           const std::optional<std::string>& sidecar) {
-    switch (format) {
-        case exchange_format::csv: return parse_csv_results(name, text);
-        case exchange_format::jsonl: return parse_jsonl_results(name, text);
-        case exchange_format::npy:
-            if (!sidecar) throw input_error(name, 0, "", "an npy file needs its JSON companion");
-            return parse_npy_results(name, text, sidecar_of(name).string(), *sidecar);
+                           const std::optional<std::string>& sidecar, const results_scope* scope) {
+    results_file r;
+    try {
+        switch (format) {
+            case exchange_format::csv: r = parse_csv_results(name, text, scope); break;
+            case exchange_format::jsonl: r = parse_jsonl_results(name, text, scope); break;
+            case exchange_format::npy:
+                if (!sidecar) throw input_error(name, 0, "", "an npy file needs its JSON companion");
+                r = parse_npy_results(name, text, sidecar_of(name).string(), *sidecar, scope);
+                break;
+        }
+    } catch (const json::exception& e) {
+        // Whatever the checks above missed is still a bad input, never an internal error.
+        throw input_error(name, 0, "", fmt::format("not a results file: {}", e.what()));
     }
-    return {};
+    r.scope = nullptr;
+    return r;
+}
+
+std::size_t results_scope::max_bytes(exchange_format format, bool companion) const {
+    // A header, column names and comments, then per case: every answer
+    // column written at full length (with a JSON key, quotes and
+    // separators), and the id, escaped (JSON's \uXXXX takes at most six
+    // bytes per byte of UTF-8) and indented.
+    constexpr std::size_t header = std::size_t{1} << 16, per_value = 48;
+    const std::size_t values = answer_columns().size();
+    if (format == exchange_format::npy)
+        return companion ? header + 6 * id_bytes + 16 * cases : header + cases * values * sizeof(double);
+    return header + cases * (values * per_value + 64) + 6 * id_bytes;
 }
 
 namespace {
 
-std::string read_whole(const fs::path& path, const char* what) {
+std::string read_whole(const fs::path& path, const char* what, std::optional<std::size_t> max_bytes) {
     std::error_code error;
     if (fs::is_directory(path, error)) throw input_error(path.string(), 0, what, "is a directory, not a file");
+    // Never opened: a FIFO would block until a writer comes, a device may never end.
+    struct stat s {};
+    if (::stat(path.c_str(), &s) == 0 && !S_ISREG(s.st_mode))
+        throw input_error(path.string(), 0, what,
+                          "is not a regular file (a FIFO, a device or a socket): results are read from a file");
+    if (max_bytes && s.st_size >= 0 && static_cast<std::uintmax_t>(s.st_size) > *max_bytes)
+        throw input_error(path.string(), 0, what,
+                          fmt::format("is {} bytes, more than answers to the input's cases can take (at most {})",
+                                      s.st_size, *max_bytes));
     std::ifstream in(path, std::ios::binary);
     if (!in) throw input_error(path.string(), 0, what, "cannot open for reading");
     std::ostringstream bytes;
@@ -768,11 +826,15 @@ std::string read_whole(const fs::path& path, const char* what) {
 
 }  // namespace
 
-results_file read_results(const fs::path& path) {
+results_file read_results(const fs::path& path, const results_scope* scope) {
     const auto format = exchange_format_of(path);
     if (!format)
         throw input_error(path.string(), 0, "--results", "unknown extension (expected .csv, .jsonl or .npy)");
-    const std::string text = read_whole(path, "--results");
+    const auto bound = [&](bool companion) -> std::optional<std::size_t> {
+        if (!scope) return std::nullopt;
+        return scope->max_bytes(*format, companion);
+    };
+    const std::string text = read_whole(path, "--results", bound(false));
     std::optional<std::string> sidecar;
     if (*format == exchange_format::npy) {
         const fs::path companion = sidecar_of(path);
@@ -782,9 +844,9 @@ results_file read_results(const fs::path& path) {
                               fmt::format("missing: {} needs this JSON companion with the header (rayverify, version, "
                                           "precision, fingerprint) and its column names",
                                           path.filename().string()));
-        sidecar = read_whole(companion, "--results");
+        sidecar = read_whole(companion, "--results", bound(true));
     }
-    return parse_results(path.string(), text, *format, sidecar);
+    return parse_results(path.string(), text, *format, sidecar, scope);
 }
 
 // ---- Matching answers to the input ---------------------------------------------------
@@ -807,7 +869,10 @@ void answer_matcher::add(const corpus_case& c) {
         first_missing_ = fmt::format("'{}' ({})", c.id, c.source);
 }
 
-std::shared_ptr<const answer_book> answer_matcher::finish(const std::string& input_fingerprint) {
+namespace {
+
+// The answers are for this input, in this precision: else an error on the header's line.
+void check_fingerprint(const results_file& results_, const std::string& input_fingerprint) {
     const std::string expected = exchange_fingerprint(input_fingerprint, results_.prec);
     if (results_.fingerprint != expected) {
         const precision other = results_.prec == precision::binary32 ? precision::binary64 : precision::binary32;
@@ -822,6 +887,12 @@ std::shared_ptr<const answer_book> answer_matcher::finish(const std::string& inp
                                       "--generate or --scene)",
                                       results_.fingerprint, precision_name(results_.prec), expected));
     }
+}
+
+}  // namespace
+
+std::shared_ptr<const answer_book> answer_matcher::finish(const std::string& input_fingerprint) {
+    check_fingerprint(results_, input_fingerprint);
     const std::string answers = results_.by_row ? sidecar_of(results_.file).replace_extension(".npy").string()
                                                 : results_.file;
     if (first_missing_) throw input_error(answers, 0, "id", "no answer for case " + *first_missing_);

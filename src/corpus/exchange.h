@@ -87,6 +87,24 @@ std::vector<std::string> case_columns();
 // t1_lo t1_hi, px py pz, nx ny nz (each group all or none).
 std::vector<std::string> answer_columns();
 
+// The cases a results file may answer, known before it is read: an answer
+// to any other id is refused at its row, before the rest is read, and the
+// file may be no larger than answers to these cases can take.
+struct results_scope {
+    std::unordered_set<std::string> ids;
+    std::size_t cases = 0;
+    std::size_t id_bytes = 0;  // the ids' total length
+    std::string input_fingerprint;  // checked against the header as soon as it is read
+    void add(const std::string& id) {
+        ids.insert(id);
+        ++cases;
+        id_bytes += id.size();
+    }
+    // The most bytes answers to these cases can take in a file of `format`
+    // (its companion's, for npy with `companion`).
+    std::size_t max_bytes(exchange_format format, bool companion = false) const;
+};
+
 // A results file, read and checked on its own (header, columns, every value).
 struct results_file {
     std::string file;          // the file the header is in (an npy's companion)
@@ -100,18 +118,23 @@ struct results_file {
     std::shared_ptr<answer_book> book;
     std::vector<recorded_answer> rows;
     bool by_row = false;
+    const results_scope* scope = nullptr;  // while reading: the ids it may answer
 };
 
 // Reads a results file in the format of its extension. Throws input_error
 // naming file, line (or npy row) and field: an unknown header or version,
 // an unknown or incomplete column group, a value that is not a number or not
-// of the stated precision, a count other than 0, 1 or 2, a duplicate id.
-results_file read_results(const std::filesystem::path& path);
+// of the stated precision, a count other than 0, 1 or 2, a duplicate id;
+// with a scope, an answer to no case of it (or an npy of more rows than it
+// has cases) and a file larger than its answers can take. Only regular files
+// are read: a FIFO or a device (which could block, or never end) is refused.
+results_file read_results(const std::filesystem::path& path, const results_scope* scope = nullptr);
 
 // The same from memory: `text` is the file's contents, `sidecar` the npy
 // companion's (required for npy).
 results_file parse_results(const std::string& name, std::string_view text, exchange_format format,
-                           const std::optional<std::string>& sidecar = std::nullopt);
+                           const std::optional<std::string>& sidecar = std::nullopt,
+                           const results_scope* scope = nullptr);
 
 // Every value the contract needs is given (docs/other-languages.md): a
 // line_roots answer with count 1 or 2 needs t0 (count 1 without t1 was read

@@ -12,6 +12,8 @@
 #include <climits>
 #include <csignal>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <sstream>
 #include <thread>
 
@@ -70,7 +72,7 @@ external_program::external_program(std::string command, exchange_format format, 
     if (pid == 0) {
         ::prctl(PR_SET_PDEATHSIG, SIGKILL);  // killed with rayverify
         if (::getppid() != parent) ::_exit(127);
-        ::setpgid(0, 0);  // a group of its own: what the shell starts is stopped with it
+        ::setsid();  // a session of its own: what the shell starts is stopped with it
         std::signal(SIGPIPE, SIG_DFL);
         if (::dup2(in[0], STDIN_FILENO) < 0 || ::dup2(out[1], STDOUT_FILENO) < 0) ::_exit(127);
         ::close_range(3, ~0u, 0);
@@ -82,7 +84,6 @@ external_program::external_program(std::string command, exchange_format format, 
     to_program_ = in[1];
     from_program_ = out[0];
     pid_ = pid;
-    ::setpgid(pid, pid);  // also here: whichever runs first
     ::fcntl(to_program_, F_SETFL, ::fcntl(to_program_, F_GETFL) | O_NONBLOCK);
 }
 
@@ -97,13 +98,68 @@ std::string external_program::ended() {
     if (pid_ <= 0) return "ended";
     // With its input closed the program should exit; one that lingers is killed.
     const std::optional<int> status = reap_child(pid_, -pid_, std::min(timeout_seconds_, 5.0));
-    if (!status) {
-        pid_ = -1;
-        return "ended";
-    }
-    ::kill(-pid_, SIGKILL);  // anything it started and left running
+    kill_session();  // anything it started and left running
     pid_ = -1;
-    return describe_wait_status(*status);
+    return status ? describe_wait_status(*status) : "ended";
+}
+
+void external_program::kill_session() {
+    if (pid_ <= 0) return;
+    ::kill(-pid_, SIGKILL);  // its process group, the session's first
+    // A process that moved to a group of its own is still in the session:
+    // /proc/PID/stat's sixth field is the session id.
+    std::error_code error;
+    for (const auto& entry : std::filesystem::directory_iterator("/proc", error)) {
+        const std::string name = entry.path().filename().string();
+        if (name.empty() || name.find_first_not_of("0123456789") != std::string::npos) continue;
+        std::ifstream stat(entry.path() / "stat");
+        std::string text;
+        if (!std::getline(stat, text)) continue;
+        const std::size_t after_name = text.rfind(')');  // the command name may hold spaces
+        if (after_name == std::string::npos) continue;
+        std::istringstream fields(text.substr(after_name + 1));
+        std::string state;
+        long long parent = 0, group = 0, session = 0;
+        if (!(fields >> state >> parent >> group >> session)) continue;
+        if (session == pid_) ::kill(static_cast<pid_t>(std::stoll(name)), SIGKILL);
+    }
+}
+
+void external_program::finish() {
+    if (pid_ <= 0) return;
+    if (to_program_ >= 0) {
+        ::close(to_program_);
+        to_program_ = -1;
+    }
+    // Its output to the end: what follows the last answer must be nothing (or blank lines).
+    std::string rest = std::move(pending_);
+    pending_.clear();
+    const steady::time_point deadline = deadline_after(std::min(timeout_seconds_, 5.0));
+    while (from_program_ >= 0 && rest.size() < (std::size_t{1} << 16)) {
+        const auto left = std::chrono::ceil<std::chrono::milliseconds>(deadline - steady::now()).count();
+        if (left <= 0) break;
+        pollfd fd{from_program_, POLLIN, 0};
+        const int events = ::poll(&fd, 1, static_cast<int>(std::min<long long>(left, INT_MAX)));
+        if (events < 0 && errno != EINTR) break;
+        if (events <= 0) continue;
+        char chunk[65536];
+        const ssize_t n = ::read(from_program_, chunk, sizeof chunk);
+        if (n < 0 && (errno == EINTR || errno == EAGAIN)) continue;
+        if (n <= 0) break;
+        rest.append(chunk, static_cast<std::size_t>(n));
+    }
+    ended();
+    const std::size_t text = rest.find_first_not_of(" \t\r\n");
+    if (text == std::string::npos) return;
+    std::string first = rest.substr(text, rest.find('\n', text) - text);
+    if (first.size() > 80) first = first.substr(0, 77) + "...";
+    for (char& c : first)
+        if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
+    throw input_error("", 0, "--command",
+                      fmt::format("command '{}' wrote more after its answer to the last batch (an extra answer, or "
+                                  "trailing output), beginning '{}': every batch is answered by exactly one "
+                                  "results file",
+                                  command_, first));
 }
 
 void external_program::fail(const std::string& happened, std::span<const corpus_case> cases) {
@@ -138,7 +194,7 @@ std::shared_ptr<const answer_book> external_program::answer(std::span<const corp
     while (end == std::string::npos) {
         const auto left = std::chrono::ceil<std::chrono::milliseconds>(deadline - steady::now()).count();
         if (left <= 0) {
-            ::kill(-pid_, SIGKILL);
+            kill_session();
             ended();
             fail(fmt::format("gave no answer within {:g} s (it was killed)", timeout_seconds_), cases);
         }
@@ -170,13 +226,16 @@ std::shared_ptr<const answer_book> external_program::answer(std::span<const corp
 
     // The answer must be a results file for exactly these cases.
     try {
+        results_scope scope;
+        for (const corpus_case& c : cases) scope.add(c.id);
+        scope.input_fingerprint = input_fingerprint;
         results_file results =
-            parse_results(fmt::format("answer to batch {}", batches_), reply, format_, std::nullopt);
+            parse_results(fmt::format("answer to batch {}", batches_), reply, format_, std::nullopt, &scope);
         answer_matcher matcher(results);
         for (const corpus_case& c : cases) matcher.add(c);
         return matcher.finish(input_fingerprint);
     } catch (const input_error& e) {
-        ::kill(-pid_, SIGKILL);
+        kill_session();
         ended();
         fail(fmt::format("answered with something that is not an answer to its batch ({}); it was stopped", e.what()),
              cases);

@@ -9,7 +9,10 @@
 // Like an isolated plugin (plugin/plugin_host.h), a program that exits, is
 // killed, does not answer a batch within the timeout (it is then killed), or
 // answers with anything but one valid answer per case makes answer() throw
-// case_failure naming the command and the batch's first case.
+// case_failure naming the command and the batch's first case. The program is
+// started in a session of its own; when it ends, every process still in that
+// session (what it started and left running, even in another process group)
+// is killed.
 #pragma once
 
 #include <sys/types.h>
@@ -38,12 +41,19 @@ public:
     // already in the program's precision).
     std::shared_ptr<const answer_book> answer(std::span<const corpus_case> cases);
 
+    // After the last batch: closes the program's input and reads its output
+    // to the end (killing it past the timeout). Throws input_error (field
+    // "--command") when it wrote anything after its answer to the last batch:
+    // an extra answer, or trailing output.
+    void finish();
+
     const std::string& command() const { return command_; }
     std::size_t batches() const { return batches_; }
 
 private:
     [[noreturn]] void fail(const std::string& happened, std::span<const corpus_case> cases);
     std::string ended();  // closes the pipes, reaps the program, says how it ended
+    void kill_session();  // SIGKILL to every process of the program's session
 
     std::string command_;
     exchange_format format_;

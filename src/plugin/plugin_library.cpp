@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "core/case_in_progress.h"
+#include "core/target_name.h"
 
 namespace rayverify::plugin_internal {
 namespace {
@@ -31,8 +32,7 @@ std::string escaped(const std::string& text) {
 
 void check_name(const std::string& name) {
     if (name.empty()) fail("the plugin's name is empty");
-    if (name.find_first_of(" /#") != std::string::npos ||
-        std::any_of(name.begin(), name.end(), [](char c) { return is_control(static_cast<unsigned char>(c)); }))
+    if (!is_target_name(name))
         fail(fmt::format("the plugin's name '{}' must be one token without '/', '#' or control characters",
                          escaped(name)));
 }

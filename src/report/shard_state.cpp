@@ -217,6 +217,7 @@ public:
         const std::string fingerprint = text(member(input, "input", "fingerprint"), "input.fingerprint");
         if (fingerprint.size() != 16 || fingerprint.find_first_not_of("0123456789abcdef") != std::string::npos)
             fail("input.fingerprint", fmt::format("'{}' is not 16 hex digits", printable(fingerprint)));
+        check_digests(member(input, "input", "digests"));
         cases_ = whole(member(shard, "shard", "cases"), "shard.cases");
         text(member(doc_, "", "command"), "command");
         if (!member(doc_, "", "build").is_object()) fail("build", "is not a JSON object");
@@ -310,6 +311,20 @@ private:
     }
 
     // Relative, and inside the shard directory: merge reads nothing else.
+    // The digests of the files besides the cases that decide the result: a
+    // results file's (and its companion's) contents, each plugin library's.
+    void check_digests(const json& digests) const {
+        const auto digest = [&](const json& j, const std::string& path) {
+            const std::string d = text(j, path);
+            if (d.size() != 16 || d.find_first_not_of("0123456789abcdef") != std::string::npos)
+                fail(path, fmt::format("'{}' is not 16 hex digits", printable(d)));
+        };
+        const json& results = member(digests, "input.digests", "results");
+        if (!results.is_null()) digest(results, "input.digests.results");
+        const json& plugins = array(member(digests, "input.digests", "plugins"), "input.digests.plugins");
+        for (std::size_t i = 0; i < plugins.size(); ++i) digest(plugins[i], fmt::format("input.digests.plugins[{}]", i));
+    }
+
     void check_per_case_file() const {
         const json& recorded = member(doc_, "", "per_case_file");
         if (recorded.is_null()) return;
@@ -318,6 +333,10 @@ private:
                             std::none_of(path.begin(), path.end(), [](const auto& part) { return part == ".."; });
         if (!inside)
             fail("per_case_file", fmt::format("'{}' is not a path inside the shard directory", printable(path.string())));
+        // The digest of the per-case file's contents as the audit wrote them.
+        const std::string digest = text(member(doc_, "", "per_case_digest"), "per_case_digest");
+        if (digest.size() != 16 || digest.find_first_not_of("0123456789abcdef") != std::string::npos)
+            fail("per_case_digest", fmt::format("'{}' is not 16 hex digits", printable(digest)));
     }
 
     // An error_summary; returns its count.

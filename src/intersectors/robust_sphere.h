@@ -1400,6 +1400,7 @@ ROBUST_SPHERE_INLINE ROBUST_SPHERE_HD bool query_line(S& s, line_roots<T>& out) 
     }
     const uncertain_value<T> t1 = returned<R, T>(s, root::far_root);
     if (!t1) return false;
+    if (*t1 < *t0) return false;  // bounded roots of a line that nearly touches: let a finer stage order them
     out = {2, *t0, *t1};
     return true;
 }

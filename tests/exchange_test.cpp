@@ -572,6 +572,11 @@ TEST(ExchangeResults, JsonOverflowAndDuplicateKeysAreInputErrors) {
     EXPECT_EQ(error(std::string("\x93NUMPY\x01\x00", 8), exchange_format::npy,
                     std::string("{\"rayverify\":\"results\",\n\"version\":1e400}")),
               "a.json:2: field 'version': number overflow parsing '1e400'");
+    // A count is 0, 1 or 2, as the format says (the results-reader fuzzer found 3 accepted).
+    EXPECT_EQ(error(head + "{\"id\":\"a\",\"count\":3,\"t0\":4,\"t1\":5}\n", exchange_format::jsonl, std::nullopt),
+              "a.jsonl:2: field 'count': 3 is not 0 (a miss), 1 or 2 (hits)");
+    EXPECT_EQ(error(head + "{\"id\":\"a\",\"count\":-1}\n", exchange_format::jsonl, std::nullopt),
+              "a.jsonl:2: field 'count': -1 is not 0 (a miss), 1 or 2 (hits)");
 }
 
 // RFC 4180: in a quoted cell, "" is a quote (and a comma is text).

@@ -455,6 +455,8 @@ public:
         const double c = *value;
         if (!(c == std::floor(c)) || std::fabs(c) > 1e9)
             throw input_error(file_, line_, "count", fmt::format("'{}' is not a whole number", shortest_decimal(c)));
+        if (c < 0 || c > 2)
+            throw input_error(file_, line_, "count", fmt::format("{} is not 0 (a miss), 1 or 2 (hits)", shortest_decimal(c)));
         answer_.roots.count = static_cast<int>(c);
     }
     // A number of the results' precision; absent is NaN for t0 and t1 (and flagged, see t()).

@@ -76,12 +76,8 @@ std::string direct_check(const corpus_case& c) {
         if (t >= tmax) t = std::nextafter(tmax, tmin);
         if (nearest.t0 != t) return "nearest root";
     }
-    // The bounded tier: the same decisions; float roots the same, double roots
-    // within 2^-44 of the correctly rounded ones (2^-44·|t*| of t*, less half an ulp).
-    const auto within = [](T got, T promised) {
-        if (std::is_same_v<T, float> || promised == 0 || std::isinf(promised)) return got == promised;
-        return std::fabs(double(got) - double(promised)) <= 0x1p-44 * std::fabs(double(promised));
-    };
+    // The bounded tier: the same decisions, roots within its bound.
+    const auto within = [](T got, T promised) { return test_support::within_bound(got, promised); };
     const root_pair<T> bounded = intersectors::robust_bounded(in);
     if (bounded.count != count) return "bounded line class";
     if (count > 0 && (!within(bounded.t0, line.t0) || !within(bounded.t1, line.t1))) return "bounded line roots";

@@ -55,6 +55,7 @@ exact_solution exact_of(const ray_sphere<T>& g) {
 }
 
 using test_support::promised_root;
+using test_support::within_bound;
 
 std::string show(const ray_sphere<double>& g) {
     char buf[512];
@@ -107,17 +108,6 @@ std::string check_interval(const ray_sphere<T>& g, const exact_solution& e, T tm
         return buf;
     }
     return "";
-}
-
-// The bounded tier's promise for a root t of T: float, correctly rounded as
-// the other tier; double, within 2^-44·|t*| of t* (checked against RN(t*),
-// which is within half an ulp of it).
-template <class T>
-bool within_bound(T got, T promised) {
-    if (std::is_same_v<T, float> || promised == 0 || std::isinf(promised))
-        return got == promised && std::signbit(got) == std::signbit(promised);
-    return std::fabs(double(got) - double(promised)) <= 0x1p-44 * std::fabs(double(promised)) &&
-           std::signbit(got) == std::signbit(promised);
 }
 
 // The bounded tier's nearest hit on one interval: the same decision and root

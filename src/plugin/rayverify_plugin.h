@@ -174,6 +174,15 @@ RAYVERIFY_PLUGIN_EXPORT void rayverify_plugin_intersect_batch_double(const rayve
 RAYVERIFY_PLUGIN_EXPORT void rayverify_plugin_intersect_batch_float(const rayverify_case_float* cases,
                                                                     rayverify_answer_float* answers, size_t count);
 
+/* ---- Either version: the library a plugin calls ------------------------- */
+
+/* Optional. A plugin that wraps a library (an engine as its package installs
+ * it: Embree, Bullet, ...) may say which version of it answered, as the
+ * library itself reports it at run time (e.g. "3.13.5"); rayverify records it
+ * in reports and `rayverify engines` prints it. NULL or absent: not known. */
+typedef const char* (*rayverify_library_version_fn)(void);
+RAYVERIFY_PLUGIN_EXPORT const char* rayverify_plugin_library_version(void);
+
 #ifdef __cplusplus
 }
 #endif

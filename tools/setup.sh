@@ -21,6 +21,9 @@ packages=(
   python3-numpy nodejs         # tests: intersectors in NumPy and JavaScript audited through results files
   python3-jsonschema           # tests: exported cases and answers checked against docs/schema
   clang-14                     # tests: robust_sphere.h compiled for a GPU in CUDA mode, without the CUDA SDK
+  # the engines' libraries audited as shipped (rayverify engines; docs/engines.md)
+  libembree-dev libbullet-dev libode-dev libirrlicht-dev libopenscenegraph-dev
+  pkg-config                   # finds ODE's and OpenSceneGraph's build flags
 )
 slurm=false
 for option in "$@"; do
@@ -37,7 +40,27 @@ for package in "${packages[@]}"; do
     missing+=("$package")
   fi
 done
-[ ${#missing[@]} -eq 0 ] && exit 0
+
+# The JavaScript engines audited as shipped: exactly the versions the committed
+# package-lock.json pins, installed by `npm ci` into engines/js/node_modules
+# (node and npm come with the machine; Debian's npm is not used). Skipped when
+# node_modules already holds that lock's install.
+install_javascript_engines() {
+  local dir
+  dir="$(cd "$(dirname "$0")/.." && pwd)/engines/js"
+  [ -f "$dir/package-lock.json" ] || return 0
+  if [ -f "$dir/node_modules/.package-lock.json" ] && [ "$dir/node_modules/.package-lock.json" -nt "$dir/package-lock.json" ]; then
+    return 0
+  fi
+  command -v npm >/dev/null || { echo "setup: npm not found; the JavaScript engines need node 18 or later with npm" >&2; exit 2; }
+  echo "setup: npm ci in $dir" >&2
+  npm ci --prefix "$dir" --no-audit --no-fund --loglevel=error >&2
+}
+
+if [ ${#missing[@]} -eq 0 ]; then
+  install_javascript_engines
+  exit 0
+fi
 
 sudo=""
 [ "$(id -u)" -ne 0 ] && sudo="sudo"
@@ -53,3 +76,4 @@ fi
 echo "setup: installing ${missing[*]}" >&2
 $sudo apt-get update -qq
 DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >&2
+install_javascript_engines

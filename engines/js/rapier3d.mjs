@@ -16,16 +16,19 @@
 // What it computes (parry's source): in the collider's frame (o − c in f32),
 // a = d·d, b = (o − c)·d, C = |o − c|² − r²; a miss if C > 0 and b > 0;
 // a miss if b² − aC < 0 (a tangent is a hit); t = (−b − √(b² − aC))/a, and
-// with solid = true t ≤ 0 (inside, or on the surface) is a hit at 0; a hit
-// only if t ≤ maxToi. t is in units of d (the point is o + t·d), no unit
-// direction assumed. There is no tmin: maxToi is the case's tmax (+inf when
-// the case has none; Infinity reaches the f32 as +inf and works), so the
-// range is [0, tmax].
+// with solid = true t ≤ 0 (inside, or on the surface) is a hit at 0. t is in
+// units of d (the point is o + t·d), no unit direction assumed. There is no
+// tmin: maxToi is the case's tmax (+inf when the case has none; Infinity
+// reaches the f32 as +inf and works). The ball's own test keeps t ≤ maxToi
+// (Collider.castRay answers t = maxToi), but world.castRay's traversal only
+// keeps a hit closer than maxToi: a hit at exactly t = maxToi is a miss
+// through the world (tested; also t = 0 with maxToi = 0), so the range is
+// [0, tmax), open at tmax.
 //
 // Answer: timeOfImpact, an f32 widened to a JavaScript number (exactly a
 // float), as t0 with count 1; null is count 0.
 //
-// Contract: query=nearest_hit,range=tmax_only,ends=[],inside=clamp,
+// Contract: query=nearest_hit,range=tmax_only,ends=[),inside=clamp,
 //           tangent=hit,faces=both,unit_direction=no
 // Precision: float. The WebAssembly build is parry3d with f32 reals: every
 // coordinate the API takes is converted to f32 and every computation is in

@@ -5,13 +5,19 @@
 //   world.castRay(ray, maxToi, solid = true)   → RayColliderHit.timeOfImpact
 //   (parry3d's ray_toi_with_ball through the world's broad-phase BVH)
 //
-// after `await RAPIER.init()`, on a World made once (gravity 0) holding one
-// ball collider (ColliderDesc.ball, no rigid body), moved and resized per
-// case (Collider.setTranslation, Collider.setRadius). castRay answers from
-// the broad phase, which only sees a collider's new position and radius after
-// world.step() (0.21 has no separate scene-query update): without the step it
-// misses (tested), so each case costs one step (no bodies: the broad-phase
-// update of one collider) besides the cast; the Ray object is reused.
+// after `await RAPIER.init()` (once), on a World made per case (gravity 0)
+// holding one ball collider (ColliderDesc.ball(r).setTranslation(c), no
+// rigid body), freed after the cast (World.free). castRay answers from the
+// broad phase, which only sees a collider after world.step() (0.21 has no
+// separate scene-query update): without the step it misses (tested). One
+// World is not reused across cases on purpose: once its ball had been given
+// an infinite centre and radius (corpus/edge's near_overflow exported in
+// float, where every coordinate overflows to inf) and stepped, the world
+// missed every later case, the ball moved back and stepped again (its
+// broad phase never recovered: tested), so reusing it would make answers
+// depend on earlier cases. Cost per case: a World (wasm allocations), a collider, one
+// step (no bodies: the broad-phase insertion of one collider), a Ray and the
+// cast; about 1.5 ms on the shared 2-core VM, the step most of it.
 //
 // What it computes (parry's source): in the collider's frame (o − c in f32),
 // a = d·d, b = (o − c)·d, C = |o − c|² − r²; a miss if C > 0 and b > 0;
@@ -32,28 +38,27 @@
 //           tangent=hit,faces=both,unit_direction=no
 // Precision: float. The WebAssembly build is parry3d with f32 reals: every
 // coordinate the API takes is converted to f32 and every computation is in
-// f32 (the f64 build is another package), so the batch must be a float
-// export; double batches are refused.
+// f32 (built from the f32 crates, rapier3d and parry3d, not their -f64
+// twins; its answers are float32 values, tested), so the batch must be a
+// float export; double batches are refused.
 import RAPIER from "@dimforge/rapier3d-compat";
 import { serve, manifestEntry } from "./protocol.mjs";
-
-let world, collider, ray;
 
 await serve({
   ...manifestEntry("rapier3d"),
   async setup() {
     await RAPIER.init();
-    world = new RAPIER.World({ x: 0, y: 0, z: 0 });
-    collider = world.createCollider(RAPIER.ColliderDesc.ball(1));
-    ray = new RAPIER.Ray({ x: 0, y: 0, z: 0 }, { x: 0, y: 0, z: 1 });
   },
   answer({ o, d, c, r, tmax }) {
-    collider.setTranslation({ x: c[0], y: c[1], z: c[2] });
-    collider.setRadius(r);
-    world.step();
-    ray.origin = { x: o[0], y: o[1], z: o[2] };
-    ray.dir = { x: d[0], y: d[1], z: d[2] };
-    const hit = world.castRay(ray, tmax === null ? Infinity : tmax, true);
-    return hit === null ? { count: 0 } : { count: 1, t0: hit.timeOfImpact };
+    const world = new RAPIER.World({ x: 0, y: 0, z: 0 });
+    try {
+      world.createCollider(RAPIER.ColliderDesc.ball(r).setTranslation(c[0], c[1], c[2]));
+      world.step();
+      const ray = new RAPIER.Ray({ x: o[0], y: o[1], z: o[2] }, { x: d[0], y: d[1], z: d[2] });
+      const hit = world.castRay(ray, tmax === null ? Infinity : tmax, true);
+      return hit === null ? { count: 0 } : { count: 1, t0: hit.timeOfImpact };
+    } finally {
+      world.free();
+    }
   },
 });

@@ -224,6 +224,11 @@ test("rapier3d: World.castRay's time of impact, in float", () => {
     kase("tmin_ignored", [0, 0, -5], Z, C0, 1, 4.5, 10), // no tmin: still t = 4
     kase("leave", [0, 0, 1], Z, C0, 1), // on the surface, leaving: solid, t = 0
     kase("tenth", [0.1, 0.1, -5], Z, C0, 1), // float inputs: 0.1 read as float32
+    // A ball at an infinite centre with an infinite radius (a double case
+    // overflowed to float), then the plain hit again: each case is answered
+    // on its own (a reused World's broad phase kept missing after such a case).
+    kase("overflowed", ["inf", "inf", "-inf"], [1, 0, 0], ["inf", "-inf", "inf"], "inf"),
+    kase("hit_again", [0, 0, -5], Z, C0, 1),
   ]);
   const t = (x) => {
     assert.equal(x.count, 1, JSON.stringify(x));
@@ -244,6 +249,7 @@ test("rapier3d: World.castRay's time of impact, in float", () => {
   assert.equal(t(a.tmax_past), 4);
   assert.equal(t(a.tmin_ignored), 4);
   assert.equal(t(a.leave), 0);
+  assert.equal(t(a.hit_again), 4);
   // |(0.1, 0.1)|² in float32 arithmetic: the nearest root is 5 − √(1 − 0.02) in
   // f32; it must be a float32 value, within a few float ulps of the exact root.
   const tenth = t(a.tenth);

@@ -1,4 +1,6 @@
-// Babylon.js (npm `@babylonjs/core`, 9.x; pinned in package-lock.json),
+// Babylon.js (npm `@babylonjs/core` 9.35.0, pinned in package-lock.json; the
+// code below is read from that version's Culling/ray.core.js and
+// Culling/boundingSphere.js; the adapter is checked with that version only),
 // audited as an application calls it:
 //
 //   BoundingSphere.CreateFromCenterAndRadius(center, radius)

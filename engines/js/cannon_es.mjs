@@ -1,5 +1,6 @@
-// cannon-es (npm `cannon-es`, 0.20; pinned in package-lock.json), audited as
-// an application calls it:
+// cannon-es (npm `cannon-es` 0.20.0, pinned in package-lock.json; the code
+// below is read from that version's dist/cannon-es.js; the adapter is
+// checked with that version only), audited as an application calls it:
 //
 //   world.raycastClosest(from, to, {}, result)   (World, Ray.intersectWorld,
 //                                                 Ray._intersectSphere)

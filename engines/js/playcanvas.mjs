@@ -1,5 +1,7 @@
-// PlayCanvas (npm `playcanvas`, 2.x; pinned in package-lock.json), audited as
-// an application calls it:
+// PlayCanvas (npm `playcanvas` 2.23.3, pinned in package-lock.json; the code
+// below is read from that version's src/core/shape/bounding-sphere.js; the
+// adapter is checked with that version only), audited as an application
+// calls it:
 //
 //   boundingSphere.intersectsRay(ray, point)   (src/core/shape/bounding-sphere.js)
 //

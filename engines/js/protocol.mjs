@@ -131,7 +131,7 @@ export async function serve(engine) {
   }
   if (args.includes("--help") || args.length > 0) {
     const text =
-      `usage: node ${engine.name} adapter [--version] < cases.jsonl > answers.jsonl\n` +
+      `usage: node engines/js/${engine.adapter} [--version] < cases.jsonl > answers.jsonl\n` +
       `${engine.package} ${engine.api} in ${engine.precision}; contract ${engine.contract}\n`;
     if (args.includes("--help")) return void process.stdout.write(text);
     fail(engine.name, `unknown argument '${args.find((a) => a !== "--help")}'\n${text}`);

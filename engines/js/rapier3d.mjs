@@ -1,6 +1,7 @@
-// Rapier 3D (npm `@dimforge/rapier3d-compat`, 0.21: Rust compiled to
-// WebAssembly, the wasm inlined; pinned in package-lock.json), audited as an
-// application calls it:
+// Rapier 3D (npm `@dimforge/rapier3d-compat` 0.21.0, pinned in
+// package-lock.json: Rust compiled to WebAssembly, the wasm inlined; the
+// adapter is checked with that version only: older releases name the hit's
+// field `toi`, not `timeOfImpact`), audited as an application calls it:
 //
 //   world.castRay(ray, maxToi, solid = true)   → RayColliderHit.timeOfImpact
 //   (parry3d's ray_toi_with_ball through the world's broad-phase BVH)

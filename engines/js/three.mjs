@@ -1,5 +1,6 @@
-// three.js (npm `three`, r150 and later: the ES-class Ray with the `t1 < 0`
-// early-out; pinned in package-lock.json), audited as an application calls it:
+// three.js (npm `three` 0.187.0, pinned in package-lock.json; the code below
+// is read from that version's src/math/Ray.js; the adapter is checked with
+// that version only), audited as an application calls it:
 //
 //   ray.intersectSphere(sphere, target)   (src/math/Ray.js)
 //

@@ -45,7 +45,7 @@ export function installedVersion(pkg) {
 
 // A C99 hex float ("0x1.8p+1", "-0x0p+0"), read exactly (the export's
 // --numbers hex writes only values of its precision, 53 bits at most).
-function hexFloat(text) {
+export function hexFloat(text) {
   const m = /^([-+]?)0[xX]([0-9a-fA-F]*)\.?([0-9a-fA-F]*)(?:[pP]([-+]?[0-9]+))?$/.exec(text);
   if (!m || (m[2] === "" && m[3] === "")) return NaN;
   const mantissa = BigInt("0x" + (m[2] + m[3] || "0"));

@@ -132,8 +132,8 @@ int run(const audit_options& options, const std::string& command_line) {
             ? std::string()
             : per_case_location(options.per_case_file, options.report_dir);
     case_stream stream = input.open(shard);
-    // A results file answers the whole input (every shard's cases), checked before any case is judged.
-    const std::optional<audit_target> results = results_target(options.results, [&](const case_sink& add) {
+    // A results file or a program answers the whole input (every shard's cases), checked before any case is judged.
+    const std::vector<audit_target> outside = outside_targets(options.results, options.precisions, [&](const case_sink& add) {
         case_stream whole = input.open();
         std::vector<corpus_case> cases;
         std::vector<std::size_t> indices;
@@ -145,7 +145,8 @@ int run(const audit_options& options, const std::string& command_line) {
         return whole.fingerprint();
     });
     const std::vector<audit_target> targets =
-        targets_with_results(options.variants, options.plugins, options.precisions, options.isolation, results);
+        targets_with_results(options.variants, options.plugins, options.precisions, options.isolation, options.results,
+                             outside);
     if (targets.empty()) throw input_error("", 0, "--precision", "no variant runs in the chosen precision");
     const unsigned requested = options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency());
     const unsigned threads = audit_threads(targets, requested);
@@ -263,6 +264,17 @@ void audit_outputs::open_report(const std::filesystem::path& dir, const std::str
     summary = &files.file(dir / "summary.txt", option);
 }
 
+void print_libraries(const std::vector<audit_target>& targets) {
+    std::vector<std::string> named;
+    for (const audit_target& t : targets) {
+        if (!t.subject.library || std::find(named.begin(), named.end(), t.subject.name) != named.end()) continue;
+        named.push_back(t.subject.name);
+        const library_identity& l = *t.subject.library;
+        fmt::print("library: {} is {}{} ({})\n", t.subject.name, l.name.empty() ? "a library" : l.name,
+                   l.version.empty() ? ", version unknown" : " " + l.version, l.source.empty() ? "source unknown" : l.source);
+    }
+}
+
 int publish_audit(const audit_totals& totals, const std::optional<nlohmann::ordered_json>& report,
                   audit_outputs& outputs, bool plots, const audit_presentation& presentation) {
     const std::string table = render_summary_table(totals);
@@ -274,6 +286,7 @@ int publish_audit(const audit_totals& totals, const std::optional<nlohmann::orde
     if (outputs.summary_md != nullptr) outputs.summary_md->stream() << render_summary_markdown(*report);
     fmt::print("{}", presentation.summary ? render_family_summary(totals) : table);
     fmt::print("build: {}\n", build_summary());
+    print_libraries(totals.targets);
     if (outputs.report) {
         fmt::print("report: {}\n", (outputs.report->dir() / "report.json").string());
         fmt::print("plots: {}\n", drawn.message);

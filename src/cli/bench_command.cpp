@@ -34,6 +34,7 @@ struct bench_options {
     std::vector<std::string> corpus;
     std::vector<std::string> variants;
     std::vector<std::string> plugins;
+    std::vector<std::string> engines;  // shipped libraries (cli/shipped_libraries.h)
     plugin_isolation isolation;
     std::vector<std::string> families;
     std::vector<std::string> precisions;  // float, double, long_double; empty: all three
@@ -231,10 +232,21 @@ int run(const bench_options& options, const std::string& command_line) {
     std::vector<audit_target> targets =
         judged_precisions.empty() ? std::vector<audit_target>{} : select_targets(options.variants, judged_precisions);
     const std::vector<audit_target> plugin_targets =
-        options.plugins.empty() || judged_precisions.empty()
+        (options.plugins.empty() && options.engines.empty()) || judged_precisions.empty()
             ? std::vector<audit_target>{}
-            : select_targets({}, options.plugins, judged_precisions, options.isolation);
+            : select_targets({}, options.plugins, judged_precisions, options.isolation, options.engines);
     targets.insert(targets.end(), plugin_targets.begin(), plugin_targets.end());
+    // An engine's library run as a program is audited beside the others but
+    // not timed: bench times functions called in this process.
+    results_options programs;
+    programs.engines = options.engines;
+    const std::vector<audit_target> program_targets =
+        judged_precisions.empty() ? std::vector<audit_target>{}
+                                  : outside_targets(programs, judged_precisions, [&](const case_sink& add) {
+                                        for (const corpus_case& c : cases) add(c);
+                                        return fingerprint_of(cases);
+                                    });
+    targets.insert(targets.end(), program_targets.begin(), program_targets.end());
     std::vector<std::string> labels;
     for (const audit_target& t : targets) labels.push_back(t.label());
     const std::size_t audited = targets.size();
@@ -290,6 +302,14 @@ int run(const bench_options& options, const std::string& command_line) {
     fmt::print("{} cases; ns per ray–sphere test, CPU time, median of {} repetitions per family, case-weighted; "
                "ratio to {} in this run.\n",
                cases.size(), options.repetitions, reference_label);
+    for (const audit_target& t : plugin_targets)
+        if (t.subject.library)
+            fmt::print("{}: {} {} as shipped ({}): its time includes the library's own call overhead (see "
+                       "docs/engines.md)\n",
+                       t.label(), t.subject.library->name, t.subject.library->version, t.subject.library->source);
+    for (const audit_target& t : program_targets)
+        fmt::print("{}: {} {} ({}) audited, not timed: it runs as a node program answering through a pipe\n",
+                   t.label(), t.subject.library->name, t.subject.library->version, t.subject.library->source);
     const json robust = robust_figures(rows, by_family);
     fmt::print("build: {}; CPU: {}\n", build_summary(), bench::cpu_model());
     if (!bundle) {
@@ -349,6 +369,10 @@ command add_bench_command(CLI::App& app, const std::string& command_line) {
     sub->add_option("--plugin", options->plugins,
                     "Shared library implementing rayverify_plugin.h, audited and timed beside the built-in variants "
                     "(called through a function pointer; repeatable)");
+    sub->add_option("--engine", options->engines,
+                    "An engine's library as its package installs it (`rayverify engines`), audited and, when called "
+                    "through a plugin, timed beside the built-in variants, its own call overhead included "
+                    "(repeatable)");
     add_isolation_options(sub, options->isolation);
     sub->add_flag("--oracle", options->oracle,
                   "Time the exact oracles instead: the filtered oracle and the reference route against the naive "

@@ -38,6 +38,7 @@ struct command {
 };
 
 command add_variants_command(CLI::App& app);
+command add_engines_command(CLI::App& app);  // cli/engines_command.cpp
 command add_audit_command(CLI::App& app, const std::string& command_line);
 command add_explain_command(CLI::App& app);
 command add_corpus_command(CLI::App& app);
@@ -54,9 +55,17 @@ command add_recommend_command(CLI::App& app);  // issue 6: cli/recommend_command
 // hunt, every shard once, as one hunt file at `output` keeping the `keep`
 // worst finds. Returns exit_findings when a disagreement is kept.
 int merge_hunts(const std::vector<std::string>& files, const std::string& output, std::size_t keep);
-// --results FILE --contract SPEC --name NAME (audit, gate, explain).
+// Targets answered outside rayverify's process (audit, gate, explain, audit
+// --scene): a results file (--results FILE --contract SPEC --name NAME), a
+// program asked batch by batch (--command PROGRAM --contract SPEC --name
+// NAME), and the engines' libraries as shipped (--engine NAME: a plugin or a
+// program, cli/shipped_libraries.h).
 struct results_options {
     std::string file, contract_spec, name;
+    std::string command;
+    std::string format = "jsonl";  // of --command's batches
+    double command_timeout = 60;   // seconds a --command program may take over one batch
+    std::vector<std::string> engines;
 };
 
 // issue 6: `audit --scene FILE` (cli/scene_audit.cpp), called by the audit command.
@@ -72,7 +81,8 @@ int run_scene_audit(const scene_audit_request& request);
 // The chosen variants (all by default), each in the scene's precision.
 std::vector<audit_target> scene_audit_targets(const scene& s, const std::vector<std::string>& variant_names,
                                               const std::vector<std::string>& plugin_paths,
-                                              const plugin_isolation& isolation = {});
+                                              const plugin_isolation& isolation = {},
+                                              const std::vector<std::string>& engine_names = {});
 
 // The corpus a command reads when given none: the installed copy
 // (<prefix>/share/rayverify/corpus) when this executable is the installed
@@ -81,16 +91,20 @@ std::string default_corpus();
 
 // Shared by the commands: the targets named by --variant and --precision
 // (all of them when empty). Throws input_error for an unknown name.
+// (--engine NAME: the libraries called through plugins are chosen here, those
+// run as programs by outside_targets.)
 std::vector<audit_target> select_targets(const std::vector<std::string>& variant_names,
                                          const std::vector<std::string>& precisions);
 
 // The same with --plugin libraries (plugin/plugin_loader.h) after the named
-// variants, loaded as `isolation` says. With plugins and no --variant, only
-// the plugins are chosen. Two targets with one name are an input error.
+// variants, loaded as `isolation` says, then the --engine libraries that are
+// plugins. With plugins or engines and no --variant, only those are chosen.
+// Two targets with one name are an input error.
 std::vector<audit_target> select_targets(const std::vector<std::string>& variant_names,
                                          const std::vector<std::string>& plugin_paths,
                                          const std::vector<std::string>& precisions,
-                                         const plugin_isolation& isolation = {});
+                                         const plugin_isolation& isolation = {},
+                                         const std::vector<std::string>& engine_names = {});
 
 // The cases a command reads: corpus files (the shipped corpus when neither is
 // given) or generated families (cli/results_target.cpp).
@@ -112,15 +126,23 @@ void add_results_options(CLI::App* sub, results_options& options);
 // run, so that no output overwrites them.
 void declare_results_inputs(run_outputs& outputs, const results_options& options);
 
-// The target the results file stands for, nullopt without --results. `feed`
-// passes every case of the command's input, in order, to its argument and
-// returns the input's fingerprint; answers that do not match that input
-// exactly are an input_error (corpus/exchange.h), before anything is judged.
-// The input is read first, so that the file is read only as far as it
-// answers cases of it.
+// The targets answered outside rayverify's process, in this order: the
+// results file, the --command program, the --engine libraries run as
+// programs; none without those options. `feed` passes every case of the
+// command's input, in order, to its argument and returns the input's
+// fingerprint (it is called once per target). Answers that do not match that
+// input exactly are an input_error (corpus/exchange.h), before anything is
+// judged; the input is read first, so that a file is read only as far as it
+// answers cases of it. A program answers the input in batches, in one
+// precision: the one --precision names (double when none), or the scene's
+// (`scene_precision`); an engine's program in its own, left out when
+// --precision leaves that out, and not run on a scene of another precision
+// (its target then has no answers, and the scene audit says why).
 using case_sink = std::function<void(const corpus_case&)>;
-std::optional<audit_target> results_target(const results_options& options,
-                                           const std::function<std::string(const case_sink&)>& feed);
+using case_feed = std::function<std::string(const case_sink&)>;
+std::vector<audit_target> outside_targets(const results_options& options, const std::vector<std::string>& precisions,
+                                          const case_feed& feed,
+                                          std::optional<precision> scene_precision = std::nullopt);
 
 // A target answering from outside rayverify (a results file, a --command):
 // its name (one token, not a built-in's), contract spec (core/contract.h's
@@ -128,13 +150,13 @@ std::optional<audit_target> results_target(const results_options& options,
 audit_target outside_target(const std::string& name, const std::string& contract_spec, const std::string& citation,
                             precision prec);
 
-// select_targets, with the results target last; with results and neither
-// --variant nor --plugin, the results target alone.
+// select_targets (with `options.engines`), then the outside targets; with
+// outside targets and no --variant, --plugin or --engine, those alone.
 std::vector<audit_target> targets_with_results(const std::vector<std::string>& variant_names,
                                                const std::vector<std::string>& plugin_paths,
                                                const std::vector<std::string>& precisions,
-                                               const plugin_isolation& isolation,
-                                               const std::optional<audit_target>& results);
+                                               const plugin_isolation& isolation, const results_options& options,
+                                               const std::vector<audit_target>& outside);
 
 // Checks of a numeric option's text (cli/numeric_options.cpp), for every
 // numeric option: a whole number in [min, max] written in plain digits (no
@@ -211,6 +233,9 @@ struct audit_presentation {
 void add_presentation_options(CLI::App* sub, audit_presentation& presentation);
 // Declares --summary-md's file as an output of the run when one is named.
 void open_presentation(audit_outputs& outputs, const audit_presentation& presentation);
+
+// One line per target that is a library as shipped: its name, version and source.
+void print_libraries(const std::vector<audit_target>& targets);
 
 // Writes the report files, prints the summary table or one line per variant
 // family (and where the report went), checks standard output, commits the

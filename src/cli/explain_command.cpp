@@ -130,12 +130,16 @@ int run(const explain_options& options) {
         corpus = read_corpus(paths);
     }
     const corpus_case c = options.case_id.empty() ? case_from_arguments(options.values) : case_from_corpus(options, corpus);
-    const std::optional<audit_target> results = results_target(options.results, [&](const case_sink& add) {
-        for (const corpus_case& k : corpus) add(k);
-        return fingerprint_of(corpus);
+    // A results file answers its corpus, found by id; a program is asked this one case.
+    const std::vector<audit_target> outside = outside_targets(options.results, options.precisions, [&](const case_sink& add) {
+        const std::span<const corpus_case> asked =
+            options.results.file.empty() ? std::span<const corpus_case>(&c, 1) : std::span<const corpus_case>(corpus);
+        for (const corpus_case& k : asked) add(k);
+        return fingerprint_of(asked);
     });
     const std::vector<audit_target> targets =
-        targets_with_results(options.variants, options.plugins, options.precisions, options.isolation, results);
+        targets_with_results(options.variants, options.plugins, options.precisions, options.isolation, options.results,
+                             outside);
     const audited_case audited = audit_case(c, targets);
 
     const auto& g = c.geometry;

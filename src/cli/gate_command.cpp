@@ -64,12 +64,13 @@ int run(const gate_options& options) {
     output_file* updated = options.update ? &outputs.file(baseline_path, "--baseline") : nullptr;
     output_file* junit = !options.update && !options.junit.empty() ? &outputs.file(options.junit, "--junit") : nullptr;
     const std::vector<corpus_case> cases = read_corpus(paths);
-    const std::optional<audit_target> results = results_target(options.results, [&](const case_sink& add) {
+    const std::vector<audit_target> outside = outside_targets(options.results, options.precisions, [&](const case_sink& add) {
         for (const corpus_case& c : cases) add(c);
         return fingerprint_of(cases);
     });
     const std::vector<audit_target> targets =
-        targets_with_results(options.variants, options.plugins, options.precisions, options.isolation, results);
+        targets_with_results(options.variants, options.plugins, options.precisions, options.isolation, options.results,
+                             outside);
     if (targets.empty()) throw input_error("", 0, "--precision", "no variant runs in the chosen precision");
 
     const unsigned threads = options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency());

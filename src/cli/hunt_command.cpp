@@ -2,6 +2,7 @@
 
 #include "cli/app.h"
 #include "cli/commands.h"
+#include "cli/shipped_libraries.h"
 #include "cli/terminal.h"
 #include "compare/hunt.h"
 #include "core/input_error.h"
@@ -37,16 +38,45 @@ struct hunt_command_options {
     std::string format = "jsonl";
     double command_timeout = 10;
     std::size_t batch = 0;  // 0: 1 for a variant or plugin, 64 for a command
+    bool precision_given = false;
+    std::string engine;     // an engine's library as shipped: a plugin or a program (cli/shipped_libraries.h)
 };
 
+// An --engine hunted as what it is: its plugin, or its program with the
+// contract, name and precision it states.
+hunt_command_options with_engine(hunt_command_options o, std::optional<library_identity>& library) {
+    if (o.engine.empty()) return o;
+    if (!o.variant.empty() || !o.plugin.empty() || !o.command.empty())
+        throw input_error("", 0, "--engine",
+                          "name exactly one target: --variant NAME, --plugin LIBRARY, --command 'PROGRAM' or "
+                          "--engine NAME");
+    const shipped_library lib = available_library(o.engine);
+    library = lib.identity;
+    if (lib.how == shipped_library::runner::plugin) {
+        o.plugin = lib.plugin.string();
+        return o;
+    }
+    const std::string prec(precision_name(lib.precisions.front()));
+    if (o.precision != prec && o.precision_given)
+        throw input_error("", 0, "--precision", fmt::format("engine library '{}' computes in {}", lib.name, prec));
+    o.precision = prec;
+    o.command = lib.command;
+    o.contract_spec = lib.contract;
+    o.name = lib.name;
+    o.command_timeout = std::max(o.command_timeout, 60.0);  // node starts the library within the first batch
+    return o;
+}
 
-int run(const hunt_command_options& o, const std::string& command_line) {
+
+int run(const hunt_command_options& given, const std::string& command_line) {
+    std::optional<library_identity> library;
+    const hunt_command_options o = with_engine(given, library);
     if (int(!o.variant.empty()) + int(!o.plugin.empty()) + int(!o.command.empty()) != 1)
         throw input_error("", 0, "--variant",
-                          "name exactly one target: --variant NAME, --plugin LIBRARY or --command 'PROGRAM'");
+                          "name exactly one target: --variant NAME, --plugin LIBRARY, --command 'PROGRAM' or --engine NAME");
     const std::vector<std::string> names = o.variant.empty() ? std::vector<std::string>{} : std::vector{o.variant};
     const std::vector<std::string> plugins = o.plugin.empty() ? std::vector<std::string>{} : std::vector{o.plugin};
-    const std::vector<audit_target> targets = o.command.empty()
+    std::vector<audit_target> targets = o.command.empty()
                                                   ? select_targets(names, plugins, {o.precision}, o.isolation)
                                                   : std::vector<audit_target>{outside_target(o.name, o.contract_spec, "command " + o.command,
                                                                                    o.precision == "float" ? precision::binary32
@@ -54,6 +84,7 @@ int run(const hunt_command_options& o, const std::string& command_line) {
     if (targets.empty())
         throw input_error("", 0, "--precision",
                           fmt::format("{} does not run in {}", o.variant.empty() ? o.plugin : o.variant, o.precision));
+    if (library) targets.front().subject.library = library;
     const audit_target& target = targets.front();
     const family_info* family = find_generator_family(o.family);
     if (family == nullptr) {
@@ -244,9 +275,12 @@ command add_hunt_command(CLI::App& app, const std::string& command_line) {
                     "Cases judged together (start cases, or candidates moved from the same case); default 1, and "
                     "64 with --command")
         ->check(CLI::Range(std::size_t{1}, std::size_t{1} << 20));
-    sub->add_option("--precision", o->precision, "float or double")
+    sub->add_option("--precision", o->precision, "float or double (an --engine: the one it computes in)")
         ->check(CLI::IsMember({"float", "double"}))
-        ->capture_default_str();
+        ->capture_default_str()
+        ->each([o](const std::string&) { o->precision_given = true; });
+    sub->add_option("--engine", o->engine,
+                    "Hunt an engine's library as its package installs it instead (`rayverify engines` lists them)");
     sub->add_option("--family", o->family, "Generator family the searches start from")->capture_default_str();
     sub->add_option("--seconds", o->budget, "Search time in seconds (0: no time limit)")
         ->check(finite_number(0, 1e9))

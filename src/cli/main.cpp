@@ -68,7 +68,8 @@ int main(int argc, char** argv) {
                  "rayverify"};
     cli::global_options global;
     cli::configure_app(app, global);
-    const cli::command commands[] = {cli::add_variants_command(app), cli::add_audit_command(app, command_line),
+    const cli::command commands[] = {cli::add_variants_command(app), cli::add_engines_command(app),
+                                     cli::add_audit_command(app, command_line),
                                      cli::add_explain_command(app), cli::add_corpus_command(app),
                                      cli::add_bench_command(app, command_line), cli::add_gate_command(app), cli::add_diff_command(app),
                                      cli::add_hunt_command(app, command_line),

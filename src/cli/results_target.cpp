@@ -7,7 +7,9 @@
 
 #include "cli/commands.h"
 #include "core/input_error.h"
+#include "cli/shipped_libraries.h"
 #include "core/target_name.h"
+#include "corpus/external_program.h"
 #include "scene/scene.h"
 
 namespace rayverify::cli {
@@ -40,17 +42,34 @@ std::string fingerprint_of(std::span<const corpus_case> cases) {
 }
 
 void add_results_options(CLI::App* sub, results_options& options) {
-    CLI::Option* results = sub->add_option(
+    sub->add_option(
         "--results", options.file,
         "Answers computed outside rayverify for these cases (.csv, .jsonl, or .npy with its .json companion; "
         "docs/other-languages.md), judged as a variant named --name under --contract");
+    CLI::Option* command = sub->add_option(
+        "--command", options.command,
+        "A program in any language that answers the cases (docs/other-languages.md): run once with /bin/sh -c, "
+        "it reads batches of cases on stdin and answers each on stdout, in --format; judged as a variant named "
+        "--name under --contract, in the one --precision given (double by default). It dying, hanging or "
+        "answering garbage is an input error naming it and the case (exit 2)");
     sub->add_option("--contract", options.contract_spec,
-                    "The contract of the --results answers, as `rayverify variants` prints contracts, e.g. "
-                    "query=line_roots, or query=nearest_hit with range=ray, ends=[) and inside=clamp joined by "
-                    "commas")
-        ->needs(results);
-    sub->add_option("--name", options.name, "The name the --results answers are reported under (one token)")
-        ->needs(results);
+                    "The contract of the --results or --command answers, as `rayverify variants` prints contracts, "
+                    "e.g. query=line_roots, or query=nearest_hit with range=ray, ends=[) and inside=clamp joined by "
+                    "commas");
+    sub->add_option("--name", options.name,
+                    "The name the --results or --command answers are reported under (one token)");
+    sub->add_option("--format", options.format, "With --command: jsonl or csv")
+        ->check(CLI::IsMember({"jsonl", "csv"}))
+        ->needs(command)
+        ->capture_default_str();
+    sub->add_option("--command-timeout", options.command_timeout,
+                    "With --command: seconds the program may take over one batch of cases before it is killed")
+        ->check(CLI::Range(0.001, 86400.0))
+        ->needs(command)
+        ->capture_default_str();
+    sub->add_option("--engine", options.engines,
+                    "An engine's library as its package installs it (`rayverify engines` lists them: Embree, "
+                    "Bullet, ODE, three.js, ...), audited as a variant under its own name (repeatable)");
 }
 
 void declare_results_inputs(run_outputs& outputs, const results_options& options) {
@@ -122,9 +141,10 @@ audit_target outside_target(const std::string& name, const std::string& contract
     return target;
 }
 
-std::optional<audit_target> results_target(const results_options& options,
-                                           const std::function<std::string(const case_sink&)>& feed) {
-    if (options.file.empty()) return std::nullopt;
+namespace {
+
+// The target a results file stands for.
+audit_target results_file_target(const results_options& options, const case_feed& feed) {
     contract_from(options.contract_spec);  // a bad contract before reading the file
     // The input first: what the file may answer bounds what is read of it.
     results_scope scope;
@@ -146,23 +166,119 @@ std::optional<audit_target> results_target(const results_options& options,
     return target;
 }
 
+// Cases a program is sent at once: few enough to keep a batch's text small,
+// enough that starting a batch costs nothing beside answering it.
+constexpr std::size_t program_batch_cases = 4096;
+// The longest an engine's program may take over one batch: a guard against a
+// hang (a batch takes well under a second), generous for a loaded machine.
+constexpr double engine_program_timeout = 300;
+
+// `target` (an outside target) answered by a program: the whole input sent
+// batch by batch, each answer checked against its batch (corpus/external_program.h).
+void answer_by_program(audit_target& target, const std::string& command, exchange_format format, double timeout,
+                       const case_feed& feed) {
+    external_program program(command, format, target.prec, timeout);
+    auto book = std::make_shared<answer_book>();
+    book->source = "command " + command;
+    book->prec = target.prec;
+    std::vector<corpus_case> batch;
+    std::size_t answered = 0;
+    const auto ask = [&] {
+        const std::shared_ptr<const answer_book> answers = program.answer(batch);
+        for (const auto& [id, a] : answers->by_id) {
+            recorded_answer numbered = a;
+            numbered.line += answered;  // its position among all the program's answers
+            book->by_id.emplace(id, numbered);
+        }
+        answered += batch.size();
+        batch.clear();
+    };
+    feed([&](const corpus_case& c) {
+        batch.push_back(c);
+        if (batch.size() == program_batch_cases) ask();
+    });
+    if (!batch.empty()) ask();
+    program.finish();  // nothing may follow its last answer
+    check_recorded_values(target.subject.promises, *book);
+    check_named_outputs(target.subject.promises, *book);
+    target.recorded = std::move(book);
+}
+
+// The one precision a --command program answers in.
+precision program_precision(const std::vector<std::string>& precisions, std::optional<precision> scene_precision) {
+    if (scene_precision) return *scene_precision;
+    if (precisions.size() > 1)
+        throw input_error("", 0, "--precision", "a --command program answers in one precision: give --precision once");
+    return precisions.empty() ? precision::binary64 : *precision_from_name(precisions.front());
+}
+
+}  // namespace
+
+std::vector<audit_target> outside_targets(const results_options& options, const std::vector<std::string>& precisions,
+                                          const case_feed& feed, std::optional<precision> scene_precision) {
+    if (!options.file.empty() && !options.command.empty())
+        throw input_error("", 0, "--command", "give either --results or --command, not both");
+    if (options.file.empty() && options.command.empty())
+        for (const auto& [given, option] : {std::pair{!options.contract_spec.empty(), "--contract"},
+                                            std::pair{!options.name.empty(), "--name"}})
+            if (given)
+                throw input_error("", 0, option,
+                                  fmt::format("{} is for the answers of --results or --command: give one of those",
+                                              option));
+    std::vector<audit_target> targets;
+    if (!options.file.empty()) targets.push_back(results_file_target(options, feed));
+    if (!options.command.empty()) {
+        contract_from(options.contract_spec);  // a bad contract before the program starts
+        audit_target target = outside_target(options.name, options.contract_spec, "command " + options.command,
+                                             program_precision(precisions, scene_precision));
+        answer_by_program(target, options.command, *exchange_format_from_name(options.format),
+                          options.command_timeout, feed);
+        targets.push_back(std::move(target));
+    }
+    for (const std::string& name : options.engines) {
+        const shipped_library lib = available_library(name);
+        if (lib.how != shipped_library::runner::program) continue;  // a plugin: select_targets
+        const precision prec = lib.precisions.front();
+        const std::string prec_name(precision_name(prec));
+        if (!scene_precision && !precisions.empty() &&
+            std::find(precisions.begin(), precisions.end(), prec_name) == precisions.end())
+            continue;
+        audit_target target = outside_target(lib.name, lib.contract,
+                                             fmt::format("{} {} ({}), {} through {}", lib.identity.name,
+                                                         lib.identity.version, lib.identity.source, lib.api,
+                                                         lib.command),
+                                             prec);
+        target.subject.library = lib.identity;
+        if (!scene_precision || *scene_precision == prec)
+            answer_by_program(target, lib.command, exchange_format::jsonl, engine_program_timeout, feed);
+        else
+            target.recorded = std::make_shared<answer_book>();  // no answers: the scene audit says why
+        targets.push_back(std::move(target));
+    }
+    return targets;
+}
+
 std::vector<audit_target> targets_with_results(const std::vector<std::string>& variant_names,
                                                const std::vector<std::string>& plugin_paths,
                                                const std::vector<std::string>& precisions,
-                                               const plugin_isolation& isolation,
-                                               const std::optional<audit_target>& results) {
-    if (!results) return select_targets(variant_names, plugin_paths, precisions, isolation);
-    const std::string prec = precision_name(results->prec);
-    if (!precisions.empty() && std::find(precisions.begin(), precisions.end(), prec) == precisions.end())
-        throw input_error("", 0, "--precision",
-                          fmt::format("the --results answers are in {}, which --precision leaves out", prec));
+                                               const plugin_isolation& isolation, const results_options& options,
+                                               const std::vector<audit_target>& outside) {
     std::vector<audit_target> targets;
-    if (!variant_names.empty() || !plugin_paths.empty())
-        targets = select_targets(variant_names, plugin_paths, precisions, isolation);
-    for (const audit_target& t : targets)
-        if (t.subject.name == results->subject.name)
-            throw input_error("", 0, "--name", fmt::format("two targets named '{}'", t.subject.name));
-    targets.push_back(*results);
+    const bool only_outside = !outside.empty() && variant_names.empty() && plugin_paths.empty() &&
+                              options.engines.empty();
+    if (!only_outside) targets = select_targets(variant_names, plugin_paths, precisions, isolation, options.engines);
+    if (!options.file.empty()) {
+        const std::string prec = precision_name(outside.front().prec);
+        if (!precisions.empty() && std::find(precisions.begin(), precisions.end(), prec) == precisions.end())
+            throw input_error("", 0, "--precision",
+                              fmt::format("the --results answers are in {}, which --precision leaves out", prec));
+    }
+    for (const audit_target& o : outside) {
+        for (const audit_target& t : targets)
+            if (t.subject.name == o.subject.name)
+                throw input_error("", 0, "--name", fmt::format("two targets named '{}'", t.subject.name));
+        targets.push_back(o);
+    }
     return targets;
 }
 

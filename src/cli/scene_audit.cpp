@@ -156,9 +156,10 @@ nlohmann::ordered_json scene_report_json(const scene& s, const scene_audit_resul
 // does not run in it is kept so the report can say why it is not applicable.
 std::vector<audit_target> scene_audit_targets(const scene& s, const std::vector<std::string>& variant_names,
                                               const std::vector<std::string>& plugin_paths,
-                                              const plugin_isolation& isolation) {
+                                              const plugin_isolation& isolation,
+                                              const std::vector<std::string>& engine_names) {
     std::vector<audit_target> targets;
-    for (const audit_target& t : select_targets(variant_names, plugin_paths, {}, isolation)) {
+    for (const audit_target& t : select_targets(variant_names, plugin_paths, {}, isolation, engine_names)) {
         const bool seen = std::any_of(targets.begin(), targets.end(),
                                       [&](const audit_target& u) { return u.subject.name == t.subject.name; });
         if (!seen) targets.push_back({t.subject, s.prec});
@@ -170,15 +171,23 @@ int run_scene_audit(const scene_audit_request& request) {
     if (!request.precisions.empty())
         throw input_error("", 0, "--precision", "a scene fixes its precision (its \"precision\" field); drop --precision");
     const scene s = read_scene(request.scene_file);
-    const std::optional<audit_target> results = results_target(request.results, [&](const case_sink& add) {
-        const std::vector<corpus_case> cases = scene_cases(s);
-        for (const corpus_case& c : cases) add(c);
-        return fingerprint_of(cases);
-    });
+    const std::vector<audit_target> outside = outside_targets(
+        request.results, {},
+        [&](const case_sink& add) {
+            const std::vector<corpus_case> cases = scene_cases(s);
+            for (const corpus_case& c : cases) add(c);
+            return fingerprint_of(cases);
+        },
+        s.prec);
     std::vector<audit_target> targets;
-    if (!results || !request.variants.empty() || !request.plugins.empty())
-        targets = scene_audit_targets(s, request.variants, request.plugins, request.isolation);
-    if (results) targets.push_back(*results);
+    if (outside.empty() || !request.variants.empty() || !request.plugins.empty() || !request.results.engines.empty())
+        targets = scene_audit_targets(s, request.variants, request.plugins, request.isolation, request.results.engines);
+    for (const audit_target& o : outside) {
+        for (const audit_target& t : targets)
+            if (t.subject.name == o.subject.name)
+                throw input_error("", 0, "--name", fmt::format("two targets named '{}'", t.subject.name));
+        targets.push_back(o);
+    }
 
     run_outputs outputs;  // declared before the work; committed after it
     declare_inputs(outputs, {request.scene_file}, "--scene");

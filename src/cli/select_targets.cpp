@@ -1,6 +1,7 @@
 #include <fmt/format.h>
 
 #include "cli/commands.h"
+#include "cli/shipped_libraries.h"
 #include "core/input_error.h"
 #include "plugin/plugin_loader.h"
 
@@ -14,9 +15,10 @@ std::vector<audit_target> select_targets(const std::vector<std::string>& variant
 std::vector<audit_target> select_targets(const std::vector<std::string>& variant_names,
                                          const std::vector<std::string>& plugin_paths,
                                          const std::vector<std::string>& precisions,
-                                         const plugin_isolation& isolation) {
+                                         const plugin_isolation& isolation,
+                                         const std::vector<std::string>& engine_names) {
     std::vector<variant> chosen;
-    if (variant_names.empty() && plugin_paths.empty()) {
+    if (variant_names.empty() && plugin_paths.empty() && engine_names.empty()) {
         const auto all = builtin_variants();
         chosen.assign(all.begin(), all.end());
     }
@@ -38,6 +40,19 @@ std::vector<audit_target> select_targets(const std::vector<std::string>& variant
                                   fmt::format("two targets named '{}' (a plugin's name must differ from the "
                                               "built-in variants and other plugins)",
                                               chosen[i].name));
+    // The engines' libraries called through plugins (the others run as programs: outside_targets).
+    for (const std::string& name : engine_names) {
+        const shipped_library lib = available_library(name);
+        if (lib.how != shipped_library::runner::plugin) continue;
+        variant v = load_plugin(lib.plugin, isolation);
+        if (v.name != lib.name)
+            throw input_error(lib.plugin.string(), 0, "--engine",
+                              fmt::format("the plugin of engine library '{}' calls itself '{}'", lib.name, v.name));
+        if (std::any_of(chosen.begin(), chosen.end(), [&](const variant& c) { return c.name == v.name; }))
+            throw input_error("", 0, "--engine", fmt::format("two targets named '{}'", v.name));
+        v.library = lib.identity;
+        chosen.push_back(std::move(v));
+    }
     std::vector<audit_target> targets;
     for (audit_target& t : targets_for(chosen)) {
         const bool wanted = precisions.empty() ||

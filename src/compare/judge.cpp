@@ -204,6 +204,10 @@ answer<T> answer_of(const audit_target& target, const corpus_case& c, const ray_
         }
     if (r->hit_point) a.point = vec3_cast<T>(*r->hit_point);
     if (r->normal) a.normal = vec3_cast<T>(*r->normal);
+    // A point answer stands for the t derived from its point, as a built-in
+    // point engine's or a plugin's does (a t written beside it is not judged).
+    if (target.subject.promises.answer == answer_kind::point && r->hit_point)
+        a.roots.t0 = a.roots.t1 = parameter_of_point(input, a.point);
     return a;
 }
 

@@ -756,7 +756,10 @@ void check_recorded_values(const contract& promises, const answer_book& book) {
         const char* lacks = nullptr;
         switch (promises.query) {
             case query_kind::any_hit: break;
-            case query_kind::nearest_hit: lacks = n == 1 && !a.t0_given ? "t0" : nullptr; break;
+            case query_kind::nearest_hit:
+                // A point answer's t is derived from its point (px py pz, required beside a hit).
+                lacks = n == 1 && !a.t0_given && promises.answer != answer_kind::point ? "t0" : nullptr;
+                break;
             case query_kind::line_roots:
                 lacks = (n == 1 || n == 2) && !a.t0_given ? "t0" : n == 2 && !a.t1_given ? "t1" : nullptr;
                 break;

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <functional>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -20,6 +21,15 @@ template <class T>
 struct batch_case {
     ray_sphere<T> input;
     ray_interval<T> interval;
+};
+
+// A library audited as its package installs it (an --engine target, or a
+// plugin that says which version of the library it wraps answered): named in
+// reports beside the target.
+struct library_identity {
+    std::string name;     // e.g. "Embree 3"; empty when only the version is known
+    std::string version;  // as the library reports it, else as its package manager does; empty when unknown
+    std::string source;   // where it comes from, e.g. "Debian package libembree-dev", "npm package three"
 };
 
 struct variant {
@@ -59,6 +69,8 @@ struct variant {
     // reciprocal is computed, flags that change rounding); empty for a
     // formula. Printed beside the variant.
     std::string build{};
+    // Set for a target that is a library as shipped (see library_identity).
+    std::optional<library_identity> library{};
 
     bool runs_in(precision p) const {
         return p == precision::binary32 ? static_cast<bool>(run_float) : static_cast<bool>(run_double);

@@ -123,12 +123,14 @@ void encode_version_2(std::string& out, const plugin_description& d) {
     put_u32(out, static_cast<std::uint32_t>(d.abi));
     put_text(out, d.contract_spec);
     put_text(out, d.build);
+    put_text(out, d.library_version);
     put_u32(out, std::uint32_t{d.has_double});
 }
 
 bool decode_version_2(reader& in, plugin_description& d) {
     std::uint32_t abi = 0, has_double = 0;
-    if (!in.u32(abi) || !in.text(d.contract_spec) || !in.text(d.build) || !in.u32(has_double)) return false;
+    if (!in.u32(abi) || !in.text(d.contract_spec) || !in.text(d.build) || !in.text(d.library_version) ||
+        !in.u32(has_double)) return false;
     d.abi = static_cast<int>(abi);
     d.has_double = has_double != 0;
     return true;

@@ -100,6 +100,9 @@ opened_library open_library(const std::filesystem::path& library) {
             fail(fmt::format("missing symbol {} (see rayverify_plugin.h; in C++ declare it extern \"C\")", name));
         return address;
     };
+    if (const auto version =
+            reinterpret_cast<rayverify_library_version_fn>(symbol("rayverify_plugin_library_version", false)))
+        opened.description.library_version = escaped(text_or(version(), ""));
     if (const auto describe_v2 =
             reinterpret_cast<rayverify_describe_v2_fn>(symbol("rayverify_plugin_describe_v2", false))) {
         open_v2(opened, describe_v2, library, symbol);
@@ -138,6 +141,7 @@ variant described_variant(const plugin_description& d) {
     v.citation = d.citation;
     v.formula = d.formula;
     v.thread_safe = false;  // rayverify_plugin.h: "Called from one thread"
+    if (!d.library_version.empty()) v.library = library_identity{"", d.library_version, ""};
     if (d.abi == RAYVERIFY_PLUGIN_ABI_VERSION_2) {
         v.build = d.build;
         v.promises = parse_contract(d.contract_spec);  // checked by open_library

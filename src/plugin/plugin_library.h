@@ -30,6 +30,8 @@ struct plugin_description {
     bool assumes_unit_direction = false, reports_tangent = false, clamps_to_zero = false;
     // Version 2: the contract spec (core/contract.h), checked, and the build.
     std::string contract_spec, build;
+    // Either version: rayverify_plugin_library_version(), when exported; empty otherwise.
+    std::string library_version;
     bool has_float = false;
     bool has_double = true;  // version 1 always
 };

@@ -113,6 +113,10 @@ json tally_json(const target_tally& t, const char* scope) {
 
 }  // namespace
 
+json library_json(const library_identity& library) {
+    return {{"name", library.name}, {"version", library.version}, {"source", library.source}};
+}
+
 json contract_json(const contract& c) {
     return {{"spec", format_contract(c)}, {"tangent_rule", std::string(c.tangent_rule)}, {"meaning", describe_contract(c)}};
 }
@@ -273,6 +277,7 @@ json audit_report_json(const audit_totals& totals, const run_context& context) {
                       {"citation", target.subject.citation},
                       {"formula", target.subject.formula},
                       {"contract", contract_json(target.subject.promises)}};
+        if (target.subject.library) entry["library"] = library_json(*target.subject.library);
         entry.update(tally_json(totals.overall[i], scope));
         json families = json::object();
         for (const auto& [family, tallies] : totals.by_family) families[family] = tally_json(tallies[i], scope);

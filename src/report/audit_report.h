@@ -59,4 +59,7 @@ std::optional<std::optional<double>> number_from_json(const nlohmann::ordered_js
 nlohmann::ordered_json contract_json(const contract& c);
 contract contract_from_json(const nlohmann::ordered_json& j);
 
+// A shipped library's identity (an --engine target's) as report.json and shard states record it.
+nlohmann::ordered_json library_json(const library_identity& library);
+
 }  // namespace rayverify

@@ -307,6 +307,9 @@ private:
                 fail(path + ".contract.spec", fmt::format("'{}': {}", printable(spec), e.what()));
             }
             text(member(c, path + ".contract", "tangent_rule"), path + ".contract.tangent_rule");
+            if (target.contains("library"))
+                for (const char* key : {"name", "version", "source"})
+                    text(member(target["library"], path + ".library", key), path + ".library." + key);
         }
     }
 
@@ -580,6 +583,7 @@ json targets_json(const std::vector<audit_target>& targets) {
                        {"citation", t.subject.citation},
                        {"formula", t.subject.formula},
                        {"contract", contract_json(t.subject.promises)}});
+        if (t.subject.library) out.back()["library"] = library_json(*t.subject.library);
     }
     return out;
 }
@@ -595,6 +599,10 @@ std::vector<audit_target> targets_from_json(const json& j) {
         target.subject.citation = t.at("citation").get<std::string>();
         target.subject.formula = t.at("formula").get<std::string>();
         target.subject.promises = contract_from_json(t.at("contract"));
+        if (t.contains("library"))
+            target.subject.library = library_identity{t["library"].at("name").get<std::string>(),
+                                                      t["library"].at("version").get<std::string>(),
+                                                      t["library"].at("source").get<std::string>()};
         targets.push_back(std::move(target));
     }
     return targets;

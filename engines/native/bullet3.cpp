@@ -72,7 +72,7 @@ RAYVERIFY_PLUGIN_EXPORT const rayverify_plugin_info_v2* rayverify_plugin_describ
         "GJK convex cast of a point along from->to against the sphere (|v|^2 <= 1e-4, 32 iterations); "
         "point = lerp(from, to, fraction)",
         "Debian 12 package libbullet-dev 3.24, float, as packaged (btScalar = float)",
-        "query=nearest_hit,range=segment,ends=[),inside=miss,tangent=hit,faces=both,unit_direction=no,"
+        "query=nearest_hit,range=segment,ends=(),inside=miss,tangent=hit,faces=both,unit_direction=no,"
         "answer=point,normal=yes",
         nullptr,
         RAYVERIFY_FLOAT};

@@ -21,6 +21,7 @@
 
 #include "intersectors/registry.h"
 #include "plugin/plugin_loader.h"
+#include "support/process.h"
 
 namespace rayverify {
 namespace {
@@ -190,6 +191,44 @@ TEST(NativeEngines, InputsTheLibraryRefusesComeBackUnanswered) {
         const root_pair<double> r = ask<double>(v, fine, 0, inf);
         EXPECT_EQ(r.count, 1) << "and the next case runs";
         EXPECT_NEAR(r.t0, 4.0, 1e-12);
+    }
+}
+
+// Every built plugin through the CLI on corpus/edge, in one audit: no library
+// takes the audit down, and the rays Embree refuses (|org| or |dir| beyond
+// FLT_LARGE) and the cases ODE stops on (near the double overflow threshold)
+// are exactly the unanswered ones.
+TEST(NativeEngines, EveryBuiltPluginAuditsTheEdgeCorpus) {
+    std::string plugins;
+    std::map<std::string, bool> built;
+    for (const auto& e : manifest()) {
+        if (e.at("plugin").is_null()) continue;
+        plugins += " --plugin '" + e.at("plugin").get<std::string>() + "'";
+        built[e.at("name").get<std::string>()] = true;
+    }
+    if (built.empty()) GTEST_SKIP() << "no engine package was found when rayverify was built";
+    const test_support::scratch_directory out("native_engines_edge");
+    const test_support::command_result ran = test_support::run_cli(
+        "audit" + plugins + " --corpus " RAYVERIFY_CORPUS_DIR "/edge --report '" + out.path().string() + "'");
+    ASSERT_EQ(ran.exit_code, 1) << "findings, no error:\n" << ran.output;
+    const nlohmann::json report = nlohmann::json::parse(test_support::read_text(out.path() / "report.json"));
+    std::map<std::string, int> malformed;
+    for (const auto& r : report.at("results")) {
+        const std::string name = r.at("variant").get<std::string>();
+        EXPECT_TRUE(built.count(name)) << name;
+        malformed[name] += r.at("verdicts").at("malformed_output").get<int>();
+    }
+    EXPECT_EQ(malformed.size(), built.size());
+    if (built.count("embree3")) {
+        EXPECT_EQ(malformed["embree3"], 403) << "near_overflow_f32 300, scaled_direction 44, scaled_direction_f32 59";
+    }
+    if (built.count("ode")) {
+        EXPECT_EQ(malformed["ode"], 300) << "near_overflow";
+    }
+    for (const char* name : {"bullet3", "irrlicht", "openscenegraph"}) {
+        if (built.count(name)) {
+            EXPECT_EQ(malformed[name], 0) << name;
+        }
     }
 }
 

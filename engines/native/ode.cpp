@@ -71,6 +71,10 @@ struct ode_world {
 
 ode_world& world() {
     static ode_world* w = new ode_world;  // kept for the life of the library
+    // ODE's collision data is per thread: a batch may come from another
+    // thread than the first one (calls are from one thread at a time).
+    thread_local const bool allocated = dAllocateODEDataForThread(dAllocateMaskAll) != 0;
+    (void)allocated;
     return *w;
 }
 

@@ -85,7 +85,8 @@ std::vector<precision> precisions_of(const variant& v) {
 
 // The C and C++ libraries: the plugins the build made, and those it could not.
 void add_native_libraries(std::vector<shipped_library>& out) {
-    const fs::path listed = data_file("engines/native_engines.json", RAYVERIFY_NATIVE_ENGINES);
+    const fs::path listed =
+        installed_file(RAYVERIFY_INSTALLED_NATIVE_ENGINES, "native_engines.json", RAYVERIFY_NATIVE_ENGINES);
     std::error_code error;
     if (!fs::exists(listed, error)) return;
     const nlohmann::ordered_json doc = manifest(listed, {"name", "library", "package", "plugin", "why_not"});

@@ -14,4 +14,10 @@ namespace rayverify {
 // `build_tree_path`.
 std::filesystem::path data_file(std::string_view name, const std::filesystem::path& build_tree_path);
 
+// The same for a file installed elsewhere: `name` in `installed_dir` (relative
+// to the running executable's directory, e.g. "../lib/rayverify/engines")
+// when it is there, else `build_tree_path`.
+std::filesystem::path installed_file(std::string_view installed_dir, std::string_view name,
+                                     const std::filesystem::path& build_tree_path);
+
 }  // namespace rayverify

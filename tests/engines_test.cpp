@@ -199,6 +199,11 @@ TEST(Engines, Embree4DotOrder) {
     const vec3<float> perp = (s.centre - s.origin) - proj * d;
     const float td = std::sqrt((1.0f - embree::dot(perp, perp)) * rd2);
     EXPECT_EQ(embree4(s, 0.0f, inf_f).roots.t0, proj - td);
+    // rd2 = 0x1.f8b896p-4, t = 0x1.d3116cp+1; 1.0f over the fused chain (the port before it
+    // followed upstream) gave rd2 = 0x1.f8b894p-4 and t = 0x1.d31168p+1.
+    EXPECT_EQ(rd2, 0x1.f8b896p-4f);
+    EXPECT_EQ(1.0f / embree::dot(d, d), 0x1.f8b894p-4f);
+    EXPECT_EQ(embree4(s, 0.0f, inf_f).roots.t0, 0x1.d3116cp+1f);
 }
 
 TEST(Engines, Embree4AndCycles) {

@@ -29,9 +29,11 @@
 //        rounded NEON instruction (vmulq, vsubq, vsqrtq: correctly rounded)
 // so the answer is the same on every aarch64 CPU, and portable here. On x86
 // rcp is _mm_rcp_ss (rcp14 under AVX-512) and one Newton step, and that
-// estimate differs between Intel and AMD: not modelled. GCC's default
-// -ffp-contract=fast on aarch64 could fuse perp = c0 − projC0·d and r2 − l2
-// as well: not modelled either. Back-face culling
+// estimate differs between Intel and AMD: not modelled. Under
+// -ffp-contract=fast (GCC's default) perp = c0 − projC0·d and r2 − l2 could
+// fuse as well (clang 14 for aarch64 keeps a multiply and a subtraction from
+// two inlined functions apart at -O2, and fuses them into fmls under
+// -ffp-contract=fast): not modelled either. Back-face culling
 // (EMBREE_BACKFACE_CULLING_SPHERES) off, as by default; no filter function,
 // so the first valid hit is the answer; minimum-width enlargement off.
 //

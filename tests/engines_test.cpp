@@ -13,6 +13,7 @@
 #include "corpus/corpus_io.h"
 #include "intersectors/cycles_point.h"
 #include "intersectors/embree4_sphere.h"
+#include "intersectors/neon_recip.h"
 #include "intersectors/godot_segment.h"
 #include "intersectors/jolt_ray_sphere.h"
 #include "intersectors/mitsuba3_sphere.h"
@@ -52,11 +53,11 @@ TEST(Engines, RegistryListsEveryEngineWithItsBuild) {
     std::vector<std::string> names;
     for (const variant& v : engines()) names.push_back(v.name);
     const std::vector<std::string> expected{"pbrt_v4", "mitsuba3_preliminary", "mitsuba3_ray_test", "embree4",
-                                            "cycles_point", "jolt", "threejs", "godot", "raylib"};
+                                            "cycles_point", "jolt", "jolt_fma", "threejs", "godot", "raylib"};
     EXPECT_EQ(names, expected);
     ASSERT_NE(find_builtin_variant("wald_origin_shift"), nullptr);
     // Float-only and double-only engines have only those rows.
-    for (const char* float_only : {"embree4", "cycles_point", "jolt", "raylib"}) {
+    for (const char* float_only : {"embree4", "cycles_point", "jolt", "jolt_fma", "raylib"}) {
         EXPECT_TRUE(find_builtin_variant(float_only)->runs_in(precision::binary32)) << float_only;
         EXPECT_FALSE(find_builtin_variant(float_only)->runs_in(precision::binary64)) << float_only;
     }
@@ -152,6 +153,59 @@ TEST(Engines, Mitsuba3ShiftsByOverLengthOfD) {
     EXPECT_EQ(mitsuba3_ray_test(towards<float>(), 0.0f, 3.5f).count, 0);
 }
 
+// FRECPE by the Arm ARM's pseudocode, worked by hand: the fraction's top 8
+// bits m give scaled = 256 + m, RecipEstimate(a) = ((2^19 div (2a + 1)) + 1) div 2,
+// result_exp = 253 − exp, and the estimate's low 8 bits the new fraction.
+TEST(Engines, NeonReciprocalEstimate) {
+    EXPECT_EQ(neon::recip_estimate(256), 511);  // 2^19 div 513 = 1022, (1022 + 1) div 2 = 511
+    EXPECT_EQ(neon::recip_estimate(258), 507);  // 2^19 div 517 = 1014
+    EXPECT_EQ(neon::recip_estimate(384), 341);  // 2^19 div 769 = 681
+    EXPECT_EQ(neon::frecpe(1.0f), 0.998046875f);    // 2^-1·(1 + 255/256)
+    EXPECT_EQ(neon::frecpe(2.0f), 0.4990234375f);   // 2^-2·(1 + 255/256)
+    EXPECT_EQ(neon::frecpe(3.0f), 0.3330078125f);   // m = 128: 2^-2·(1 + 85/256)
+    EXPECT_EQ(neon::frecpe(-1.5f), -0.666015625f);  // m = 128, exp 127: −2^-1·(1 + 85/256)
+    EXPECT_EQ(neon::frecpe(0x1.02p0f), 0x1.fbp-1f);  // m = 2: 2^-1·(1 + 251/256)
+    // Subnormal in (2^-128 is scaled = 256 with exp −1) and out (2^127: result_exp −1).
+    EXPECT_EQ(neon::frecpe(0x1p-128f), 0x1.ffp127f);
+    EXPECT_EQ(neon::frecpe(0x1p-127f), 0x1.ffp126f);
+    EXPECT_EQ(neon::frecpe(0x1p127f), 0x1.ffp-128f);
+    // Specials: below 2^-128 it overflows to ∞ (round to nearest); ±0 → ±∞; ∞ → 0.
+    EXPECT_EQ(neon::frecpe(0x1p-129f), inf_f);
+    EXPECT_EQ(neon::frecpe(-0.0f), -inf_f);
+    EXPECT_EQ(neon::frecpe(inf_f), 0.0f);
+    EXPECT_TRUE(std::isnan(neon::frecpe(std::numeric_limits<float>::quiet_NaN())));
+    EXPECT_EQ(neon::frecps(inf_f, 0.0f), 2.0f);
+    EXPECT_EQ(neon::frecps(3.0f, 0.3330078125f), 1.0009765625f);  // 2 − 1023/1024, exact
+    // Embree's rcp: estimate and two Newton steps. For 1: 0.998046875 → 1 − 2^-18 → 1 − 2^-36,
+    // rounded to 1. For 3: 341/1024 → (2^20 − 1)/(3·2^20) → (1 − 2^-40)/3, rounded as 1/3 is.
+    EXPECT_EQ(embree::rcp(1.0f), 1.0f);
+    EXPECT_EQ(embree::rcp(3.0f), 1.0f / 3.0f);
+    // For 1 + 2^-7 the two steps land one ulp below the quotient (checked in exact rationals).
+    EXPECT_EQ(embree::rcp(0x1.02p0f), 0x1.fc07eep-1f);
+    EXPECT_EQ(1.0f / 0x1.02p0f, 0x1.fc07f0p-1f);
+}
+
+// Embree's d·d on aarch64 is the Vec3ff dot, products then (x·x + y·y) + z·z;
+// its other dots are madd chains. They differ here (exact rationals: the
+// plain sum 0x1.03b124p+3, the fused chain 0x1.03b126p+3).
+TEST(Engines, Embree4DotOrder) {
+    const vec3<float> d{0x1.227p0f, 0x1.f11p0f, 0x1.bfbp0f};
+    EXPECT_EQ(embree::dot_vec3ff(d, d), 0x1.03b124p+3f);
+    EXPECT_EQ(embree::dot(d, d), 0x1.03b126p+3f);
+    // The port's rd2 is rcp of the plain sum: its hit on a sphere straight ahead uses it.
+    const ray_sphere<float> s{{0, 0, 0}, d, {4 * d.x, 4 * d.y, 4 * d.z}, 1};
+    const float rd2 = embree::rcp(embree::dot_vec3ff(d, d));
+    const float proj = embree::dot(s.centre - s.origin, d) * rd2;
+    const vec3<float> perp = (s.centre - s.origin) - proj * d;
+    const float td = std::sqrt((1.0f - embree::dot(perp, perp)) * rd2);
+    EXPECT_EQ(embree4(s, 0.0f, inf_f).roots.t0, proj - td);
+    // rd2 = 0x1.f8b896p-4, t = 0x1.d3116cp+1; 1.0f over the fused chain (the port before it
+    // followed upstream) gave rd2 = 0x1.f8b894p-4 and t = 0x1.d31168p+1.
+    EXPECT_EQ(rd2, 0x1.f8b896p-4f);
+    EXPECT_EQ(1.0f / embree::dot(d, d), 0x1.f8b894p-4f);
+    EXPECT_EQ(embree4(s, 0.0f, inf_f).roots.t0, 0x1.d3116cp+1f);
+}
+
 TEST(Engines, Embree4AndCycles) {
     // rd2 = 1, c0 = (0, 0, 5), projC0 = 5, perp = 0, l2 = 0, td = 1: t_front = 4, Ng = −td·d − perp.
     const answer<float> front = embree4(towards<float>(), 0.0f, inf_f);
@@ -171,10 +225,12 @@ TEST(Engines, Embree4AndCycles) {
 }
 
 TEST(Engines, JoltFractionsOfASegment) {
-    // segment_length: (|o − c|₁ + r)/|d|∞ = 6, 2^(ilogb 6 + 2) = 16. Direction 16·d: a = 256,
-    // b = −160, C = 24, det = 1024, q = (−160 − 32)/−2 = 96, fractions 0.375 and 0.25: 0.25·16 = 4.
-    EXPECT_EQ(segment_length(towards<float>()), 16.0f);
+    // No tmax: the unbounded ray, direction d itself: a = 1, b = −10, C = 24, det = 4,
+    // q = (−10 − 2)/−2 = 6, fractions 6 and 24/6 = 4: the nearer, 4, is t.
     EXPECT_EQ(jolt(towards<float>(), 0.0f, inf_f).t0, 4.0f);
+    EXPECT_EQ(jolt_fma(towards<float>(), 0.0f, inf_f).t0, 4.0f);
+    // tmin = 2 moves the origin to z = −3: the fraction 2 is t − tmin.
+    EXPECT_EQ(jolt(towards<float>(), 2.0f, inf_f).t0, 4.0f);
     // From the centre: C < 0, the fractions straddle 0: clamped to 0.
     const root_pair<float> inside = jolt(towards<float>({0, 0, 0}), 0.0f, inf_f);
     EXPECT_EQ(inside.count, 1);
@@ -183,6 +239,61 @@ TEST(Engines, JoltFractionsOfASegment) {
     EXPECT_EQ(jolt(towards<float>(), 0.0f, 3.0f).count, 0);
     EXPECT_EQ(jolt(towards<float>(), 0.0f, 8.0f).t0, 4.0f);
     EXPECT_EQ(jolt_contract.inside, inside_rule::clamp);
+}
+
+// The wrapper must not make Jolt overflow where Jolt, given the ray, does not.
+// A unit sphere 2^32 along the axis: given d, a = 1, b = −2^33, C = 2^64 − 1 →
+// 2^64 (float), det = 2^66 − 2^66 = 0, q = 2^32: t = 2^32 (the roots 2^32 ∓ 1,
+// within half an ulp of float at 2^32). The old wrapper stretched d to the
+// segment L·d with L = segment_length = 2^34: b = −2^67, b² = inf, 4aC = inf,
+// det = NaN, and Jolt answered a miss it never gives for this ray.
+TEST(Engines, JoltWrapperDoesNotInventOverflow) {
+    const ray_sphere<float> far = towards<float>({0, 0, -0x1p32f});
+    EXPECT_EQ(segment_length(far), 0x1p34f);
+    EXPECT_EQ(jolt_math::ray_sphere<jolt_build::deterministic>(far.origin, segment_length(far) * far.direction, far.centre,
+                                                               far.radius),
+              FLT_MAX)
+        << "the old mapping: the stretched segment overflows";
+    for (const auto port : {&jolt, &jolt_fma}) {
+        const root_pair<float> hit = port(far, 0.0f, inf_f);
+        ASSERT_EQ(hit.count, 1);
+        EXPECT_EQ(hit.t0, 0x1p32f);
+    }
+    // A shipped case the old mapping lost the same way: tangent_exact-1-000025, an exact
+    // tangent 2^33 away along d = (0, 0, 1) (L = 2^36): tangent_missed then, agree now.
+    const std::vector<corpus_case> cases = parse_corpus(
+        "regression",
+        "tangent_exact-1-000025 tangent_exact -0x1.75p+29 -0x1.d44p+31 -0x1.cf6cp+33 0x0p+0 0x0p+0 0x1p+0 "
+        "-0x1p+19 -0x1p+21 0x1.8p+20 0x1.dd3p+31\n",
+        false);
+    ASSERT_EQ(cases.size(), 1u);
+    for (const char* name : {"jolt", "jolt_fma"}) {
+        const case_score s = judge_target({*find_builtin_variant(name), precision::binary32}, cases[0],
+                                          solve_case(cases[0], precision::binary32))
+                                 .score;
+        EXPECT_EQ(s.verdict, verdict_kind::agree) << name;
+    }
+}
+
+// jolt and jolt_fma differ only in the build: a far sphere (float inputs,
+// far_sphere-1-000000 rounded) where b² and 4aC ≈ 2^91 cancel. Unfused, both
+// products round to the same float and det = 0: a hit (at the double root,
+// between the two exact roots: wrong_root). With Kahan's DifferenceOfProducts
+// (and C = fma(−r, r, |f|²)) det = −0x1.c0e458p+20: a miss (false_miss); the
+// exact answer is two hits.
+TEST(Engines, JoltFmaBuildChangesTheAnswer) {
+    const ray_sphere<float> s{{-0x1.753a14p-1f, 0x1.87d92ap-1f, 0x1.7d859ap-2f},
+                              {0x1.130bap-3f, 0x1.be9c6ap-3f, 0x1.eeec7cp-1f},
+                              {0x1.2ef9a2p+19f, 0x1.ebf68cp+19f, 0x1.10973ap+22f},
+                              0x1.dcafep-1f};
+    const vec3<float> f = s.origin - s.centre;
+    const float a = jolt_math::dot<jolt_build::deterministic>(s.direction, s.direction);
+    const float b = 2.0f * jolt_math::dot<jolt_build::deterministic>(s.direction, f);
+    const float c = jolt_math::dot<jolt_build::deterministic>(f, f) - s.radius * s.radius;
+    EXPECT_EQ(jolt_math::difference_of_products<jolt_build::deterministic>(b, b, 4.0f * a, c), 0.0f);
+    EXPECT_EQ(jolt_math::difference_of_products<jolt_build::fma>(b, b, 4.0f * a, c), -0x1.c0e458p+20f);
+    EXPECT_EQ(jolt(s, 0.0f, inf_f).count, 1);
+    EXPECT_EQ(jolt_fma(s, 0.0f, inf_f).count, 0);
 }
 
 TEST(Engines, PointAnswersThreeJsGodotRaylib) {
@@ -296,7 +407,7 @@ TEST(Engines, EveryEngineOnTheShippedCorpus) {
     const std::vector<corpus_case> cases = read_corpus({RAYVERIFY_CORPUS_DIR});
     const std::vector<variant> all = engines();
     const audit_totals totals = run_audit(cases, targets_for(all));
-    ASSERT_EQ(totals.targets.size(), 13u) << "pbrt, mitsuba ×2 and godot in both precisions, five in one";
+    ASSERT_EQ(totals.targets.size(), 14u) << "pbrt, mitsuba ×2 and godot in both precisions, six in one";
     for (std::size_t t = 0; t < totals.targets.size(); ++t) {
         const target_tally& tally = totals.overall[t];
         const std::string label = totals.targets[t].label();

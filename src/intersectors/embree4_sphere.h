@@ -8,15 +8,32 @@
 //   hit t_front if tnear ≤ t_front ≤ tfar, else t_back if tnear ≤ t_back ≤ tfar
 //   Ng = ±td·d − perp (unnormalised; − for the front hit, + for the back)
 //
-// with Embree's dot (common/math/vec3.h): madd(x, x′, madd(y, y′, z·z′)).
 // Float only: Embree's rays and spheres are float.
 //
-// Build modelled: aarch64 (NEON, as on Apple silicon and ARM servers), where
-// madd is a fused vfmaq_f32 and rcp(x) is the division 1.0f/x (vdivq_f32,
-// vfloat4_sse2.h): correctly rounded and the same on every such CPU. On x86
-// rcp is the hardware estimate _mm_rcp_ps (or rcp14) refined by one Newton
-// step, and the estimate differs between CPU vendors, so that form is not
-// modelled (CLARIFICATIONS: one documented, portable form). Back-face culling
+// Build modelled: Embree 4 for aarch64 (its NEON ISA, SSE emulated through
+// common/simd/arm/sse2neon.h and emulation.h, as on Apple silicon and ARM
+// servers), compiled with clang (-ffp-contract=on: only the explicit madds
+// are fused, never an intrinsic's multiply into the next one's add), FPCR as
+// the OS leaves it (round to nearest, FZ = 0, AH = 0). Operation for
+// operation:
+//   d·d: ray.dir is a Vec3ff, whose dot (common/math/vec3fa.h) is
+//        reduce_add(a*b) on NEON, _mm_dp_ps(a, b, 0x7F) on NEON2X; both are
+//        the products, then (x·x′ + y·y′) + z·z′ (lane 3 zeroed; vaddvq's
+//        pairs or the shuffle sum), no FMA
+//   rcp: the scalar rcp(float) of common/math/emath.h on __aarch64__:
+//        vrecpe estimate (FRECPE, architecturally exact: neon_recip.h), then
+//        two Newton steps r = vrecps(x, r)·r (FRECPS fused, the product
+//        rounded apart); not 1.0f/x, and not the vfloat4 rcp (vdivq_f32)
+//   the other dots (Vec3vf<M>, common/math/vec3.h): madd(x, x′, madd(y, y′,
+//        z·z′)) with madd the fused vfmaq_f32; every other operation one
+//        rounded NEON instruction (vmulq, vsubq, vsqrtq: correctly rounded)
+// so the answer is the same on every aarch64 CPU, and portable here. On x86
+// rcp is _mm_rcp_ss (rcp14 under AVX-512) and one Newton step, and that
+// estimate differs between Intel and AMD: not modelled. Under
+// -ffp-contract=fast (GCC's default) perp = c0 − projC0·d and r2 − l2 could
+// fuse as well (clang 14 for aarch64 keeps a multiply and a subtraction from
+// two inlined functions apart at -O2, and fuses them into fmls under
+// -ffp-contract=fast): not modelled either. Back-face culling
 // (EMBREE_BACKFACE_CULLING_SPHERES) off, as by default; no filter function,
 // so the first valid hit is the answer; minimum-width enlargement off.
 //
@@ -28,13 +45,31 @@
 
 #include "core/intersection.h"
 #include "core/ray_sphere_case.h"
+#include "intersectors/neon_recip.h"
 
 namespace rayverify::intersectors {
 namespace embree {
 
 // madd(a, b, c) = a·b + c, fused (vfmaq_f32).
 inline float madd(float a, float b, float c) { return std::fma(a, b, c); }
+
+// Vec3vf<M>'s dot (common/math/vec3.h): madd(x, x′, madd(y, y′, z·z′)).
 inline float dot(vec3<float> a, vec3<float> b) { return madd(a.x, b.x, madd(a.y, b.y, a.z * b.z)); }
+
+// Vec3ff's dot on aarch64: the products, then vaddvq over [x, y, z, 0]:
+// (x·x′ + y·y′) + (z·z′ + 0).
+inline float dot_vec3ff(vec3<float> a, vec3<float> b) {
+    const float x = a.x * b.x, y = a.y * b.y, z = a.z * b.z;
+    return (x + y) + (z + 0.0f);
+}
+
+// rcp(float) on __aarch64__ (common/math/emath.h): estimate, two Newton steps.
+inline float rcp(float x) {
+    float r = neon::frecpe(x);
+    r = neon::frecps(x, r) * r;
+    r = neon::frecps(x, r) * r;
+    return r;
+}
 
 }  // namespace embree
 
@@ -46,7 +81,7 @@ inline constexpr contract embree4_contract{.query = query_kind::nearest_hit,
 
 inline answer<float> embree4(const ray_sphere<float>& s, float tnear, float tfar) {
     const vec3<float>& d = s.direction;
-    const float rd2 = 1.0f / embree::dot(d, d);
+    const float rd2 = embree::rcp(embree::dot_vec3ff(d, d));
     const vec3<float> c0 = s.centre - s.origin;
     const float projC0 = embree::dot(c0, d) * rd2;
     const vec3<float> perp = c0 - projC0 * d;

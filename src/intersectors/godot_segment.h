@@ -7,19 +7,31 @@
 //   h² = r² − dist²,  t = s;  h² ≥ CMP_EPSILON: t −= √h²
 //   t < 0 or t > L: false;  result = from + n·t,  normal = (result − c).normalized()
 //
-// CMP_EPSILON = 1e-5 (core/math/math_defs.h). Only the near root is ever
-// computed, so a segment starting inside misses, and near a tangent
-// (h² < 1e-5, absolute, in squared distance units) the point is the closest
-// approach s, not a root: by design. Builds: real_t = float (the default)
-// and double (precision=double); x86-64 baseline (no FMA to contract into).
-// Vector3::length is √(x² + y² + z²), dot x·x′ + y·y′ + z·z′, division by a
-// scalar divides each coordinate.
+// CMP_EPSILON = 1e-5 (core/math/math_defs.h), compared as (real_t)CMP_EPSILON.
+// Only the near root is ever computed, so a segment starting inside misses,
+// and near a tangent (h² < 1e-5, absolute, in squared distance units) the
+// point is the closest approach s, not a root: by design.
 //
-// The ray's range maps to the segment from = o + tmin·d, to = o + tmax·d
-// (each coordinate rounded in real_t; tmin = 0 gives o), and a ray without
-// tmax to to = o + L·d with L = segment_length() (core/intersection.h), a
-// power of two past every root. The answer is the point; its t along the
-// case's ray is derived (parameter_of_point) and reported beside it.
+// Build modelled: real_t = float (the default) and double (precision=double);
+// the x86-64 baseline (SSE2: no FMA instruction, so nothing is contracted);
+// divisions and √ IEEE (no reciprocal estimate). Checked operation for
+// operation against segment_intersects_sphere: sphere_pos = c − from,
+// rel = to − from, rel_l = rel.length() = √((x² + y²) + z²), normal = rel / rel_l
+// (each coordinate divided), sphere_d = normal.dot(sphere_pos) =
+// (x·x′ + y·y′) + z·z′, ray_distance = sphere_pos.distance_to(normal·sphere_d)
+// = (normal·sphere_d − sphere_pos).length(), inters_d2 = r·r − dist·dist,
+// result = from + normal·inters_d, normal = (result − c).normalized() (zero
+// stays zero, else each coordinate divided by √(length²)).
+//
+// Mapping (the test wrapper, not Godot's code): the ray's range becomes the
+// segment from = o + tmin·d (o when tmin = 0), to = o + tmax·d, each
+// coordinate rounded once in real_t. A ray without tmax ends at
+// to = o + L·d with L = segment_length() (core/intersection.h): the power of
+// two with L·|d|∞ ≥ 2(|o − c|₁ + r) ≥ 2·|t*|·|d| for every root t*, capped
+// where L·|d|∞ would pass a quarter of real_t's largest value. The answer is
+// the point p; the t judged is the point's parameter along the case's ray,
+// (p − o)·d/(d·d) in double-word arithmetic rounded once to real_t
+// (parameter_of_point), reported beside the point.
 //
 // Contract: nearest hit on the segment [from, to] (closed), front faces only
 // (starting inside misses), a tangent a miss (dist ≥ r), any direction

@@ -29,7 +29,8 @@
 // DRJIT_X86_FMA): dr::fmadd/fmsub are fused; a 3-vector of doubles is an AVX
 // packet whose horizontal sum (dot, squared_norm) adds y + (z + x)
 // (packet_avx.h, StaticArrayImpl<double, 3>); a 3-vector of floats is an SSE
-// packet, fmadd lane by lane.
+// packet, fmadd lane by lane. Compiled with clang (no fusion beyond
+// drjit's explicit fmadd/fmsub); divisions and √ IEEE, no reciprocal estimate.
 #pragma once
 
 #include <algorithm>

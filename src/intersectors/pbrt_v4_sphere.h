@@ -36,7 +36,9 @@
 // (the default) and PBRT_FLOAT_AS_DOUBLE; CPU rounding helpers (NextFloatUp/
 // Down of the round-to-nearest result, one float step wider than directed
 // rounding would be); std::fma only in DifferenceOfProducts, unused here;
-// atan2 from the host C library.
+// atan2 from the host C library. Architecture: the x86-64 CPU build as
+// pbrt's CMake makes it (no -march, so no FMA instruction for the compiler
+// to contract into); divisions and √ IEEE, no reciprocal estimates.
 #pragma once
 
 #include <algorithm>

@@ -10,7 +10,8 @@
 // There is no test of the roots' signs: a sphere wholly behind the origin is
 // reported as a hit at a negative distance (by design of the formula: the
 // judge names it line_not_ray). Float only (raylib's Vector3 is float); C
-// with no FMA contraction (x86-64 baseline); √ is sqrtf.
+// with no FMA contraction (x86-64 baseline, SSE2); √ is sqrtf, and
+// 1.0f/length an IEEE division (no reciprocal estimate).
 //
 // Contract: assumes a unit direction (the projection b is used as a
 // distance), nearest hit on the closed ray t ≥ 0, the far root from inside,

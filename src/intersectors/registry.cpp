@@ -99,7 +99,7 @@ variant with_exact_decisions(variant v) {
     return v;
 }
 
-const std::array<variant, 28> registry{{
+const std::array<variant, 29> registry{{
     {"naive", "seed 000 / seed 001 (textbook quadratic)",
      "b = 2d·f, C = f·f − r², Δ = b² − 4aC, t = (−b ∓ √Δ)/2a", intersectors::naive_contract,
      RAYVERIFY_BOTH_PRECISIONS(naive)},
@@ -166,8 +166,10 @@ const std::array<variant, 28> registry{{
                    "interval arithmetic: a, b, c, v = o − (b/2a)d, Δ = 4a(r + |v|)(r − |v|), q = −½(b ± √Δ), "
                    "t0 = q/a, t1 = c/q; the interval midpoint, reprojected hit point and its error bound",
                    intersectors::pbrt_v4_contract,
-                   "Float = float (default) and PBRT_FLOAT_AS_DOUBLE; CPU rounding helpers (NextFloatUp/Down of "
-                   "the rounded result); sphere at c through Translate(c); atan2 from the host libm",
+                   "Float = float (default) and PBRT_FLOAT_AS_DOUBLE; x86-64 CPU build, no -march (no FMA: std::fma only "
+                   "in DifferenceOfProducts, unused here; no FMA instruction to contract into), divisions IEEE; CPU rounding "
+                   "helpers (NextFloatUp/Down of the rounded result); sphere at c through Translate(c); atan2 from the "
+                   "host libm",
                    &intersectors::pbrt_v4<float>, &intersectors::pbrt_v4<double>),
     engine_variant("mitsuba3_preliminary",
                    "Mitsuba 3 Sphere::ray_intersect_preliminary_impl (src/shapes/sphere.cpp, v3.9.1-12-gb45b0a93)",
@@ -175,46 +177,60 @@ const std::array<variant, 28> registry{{
                    "with an FMA discriminant, t = plane_t + near (far when near < 0)",
                    intersectors::mitsuba3_preliminary_contract,
                    "scalar_rgb (float rays, double arithmetic, t rounded to float) and scalar_rgb_double; x86-64 "
-                   "AVX+FMA: fused fmadd/fmsub, 3-double dot summed y + (z + x); clang (no other fusion)",
+                   "AVX+FMA: fused fmadd/fmsub, 3-double dot summed y + (z + x); clang (no other fusion); "
+                   "divisions and √ IEEE (no reciprocal estimate)",
                    &intersectors::mitsuba3_preliminary<float>, &intersectors::mitsuba3_preliminary<double>),
     engine_variant("mitsuba3_ray_test", "Mitsuba 3 Sphere::ray_test_impl (shadow rays; src/shapes/sphere.cpp, v3.9.1)",
                    "o′ = o − c (no shift), solve_quadratic(|d|², 2o′·d, |o′|² − r²), hit when a root lies in [0, maxt]",
                    intersectors::mitsuba3_ray_test_contract,
-                   "as mitsuba3_preliminary: scalar_rgb (float rays, double arithmetic) and scalar_rgb_double",
+                   "as mitsuba3_preliminary: scalar_rgb (float rays, double arithmetic) and scalar_rgb_double; x86-64 "
+                   "AVX+FMA, fused fmsub in the discriminant; clang; divisions IEEE",
                    &intersectors::mitsuba3_ray_test<float>, &intersectors::mitsuba3_ray_test<double>),
     engine_variant("embree4", "Embree 4 SphereIntersector1 (kernels/geometry/sphere_intersector.h, v4.4.1-8-g93040c7a)",
                    "rd2 = rcp(d·d), projC0 = (c − o)·d·rd2, perp = c0 − projC0·d, td = √((r² − |perp|²)·rd2), "
                    "t = projC0 ∓ td, first in [tnear, tfar]; Ng = ∓td·d − perp",
                    intersectors::embree4_contract,
-                   "float only; aarch64 (NEON): madd fused, rcp = 1.0f/x (vdivq_f32); x86's approximate rcp "
-                   "differs between CPUs and is not modelled",
+                   "float only; Embree 4 for aarch64 (NEON, sse2neon), clang -ffp-contract=on, FPCR round to "
+                   "nearest, FZ = 0: d·d = (x·x + y·y) + z·z (no FMA), rcp = vrecpe estimate (FRECPE, "
+                   "architecturally exact) + two vrecps Newton steps, other dots fused madd(x, x′, madd(y, y′, z·z′)); "
+                   "x86's rcpss/rcp14 estimate differs between CPUs and is not modelled",
                    &intersectors::embree4, nullptr),
     engine_variant("cycles_point", "Blender Cycles point_intersect_test (src/kernel/geom/point_intersect.h, v5.0.0-435)",
                    "Embree's formula, front face only: t_front = projC0 − td in [tmin, tmax], else miss",
                    intersectors::cycles_point_contract,
-                   "float only; x86-64 SSE4.2 kernel: dot = _mm_dp_ps ((x + y) + z), no FMA",
+                   "float only; x86-64 SSE4.2 kernel: dot = _mm_dp_ps ((x + y) + z), no FMA; rd2 = 1.0f/(d·d), an "
+                   "IEEE division (no rcp estimate)",
                    &intersectors::cycles_point, nullptr),
     engine_variant("jolt", "Jolt Physics RaySphere + FindRoot (Jolt/Geometry/RaySphere.h, v5.5.0-182-g3b47ec39)",
                    "a = |d|², b = 2d·f, C = |f|² − r², det = b² − 4aC, q = (b + sign(b)√det)/−2, roots q/a, C/q; "
-                   "inside: 0; a fraction of the segment",
+                   "inside: 0; a fraction of the direction",
                    intersectors::jolt_contract,
-                   "float only; JPH_CROSS_PLATFORM_DETERMINISTIC (-ffp-contract=off, no FMA), SSE4.1 dot "
-                   "(x + y) + (z + 0); segment from o + tmin·d along (tmax − tmin)·d, or L·d (L a power of two)",
+                   "float only; x86-64 JPH_CROSS_PLATFORM_DETERMINISTIC: no JPH_USE_FMADD, -ffp-contract=off, no "
+                   "FMA anywhere; SSE4.1 dot (x + y) + (z + 0); called with origin o + tmin·d and direction d "
+                   "(no tmax: unbounded, fraction = t − tmin) or (tmax − tmin)·d (a segment, fraction < 1 + FLT_EPSILON)",
                    &intersectors::jolt, nullptr),
+    engine_variant("jolt_fma", "Jolt Physics RaySphere + FindRoot (Jolt/Geometry/RaySphere.h, v5.5.0-182-g3b47ec39)",
+                   "as jolt, det = DifferenceOfProducts(b, b, 4a, C) with FMA (Kahan), C = fma(−r, r, |f|²)",
+                   intersectors::jolt_fma_contract,
+                   "float only; the default x86-64 build: USE_AVX2 + JPH_USE_FMADD, -mfma, -ffp-contract=fast: "
+                   "DifferenceOfProducts fused as Math.h writes it, C's r² contracted into an FMA by the compiler "
+                   "(std::fma here), SSE4.1 dot (x + y) + z; called as jolt",
+                   &intersectors::jolt_fma, nullptr),
     engine_variant("threejs", "three.js Ray.intersectSphere (src/math/Ray.js)",
                    "v = c − o, tca = v·d, d2 = v·v − tca², thc = √(r² − d2), point o + d·(tca ∓ thc)",
-                   intersectors::threejs_contract, "double only (JavaScript numbers; no fusion, no reordering)",
+                   intersectors::threejs_contract, "double only (JavaScript numbers: IEEE double on any engine and CPU, never fused or reordered)",
                    nullptr, &intersectors::threejs),
     engine_variant("godot", "Godot Geometry3D::segment_intersects_sphere (core/math/geometry_3d.cpp, 4.x)",
                    "n = rel/|rel|, s = n·(c − from), dist = |n·s − (c − from)|, t = s − √(r² − dist²) "
                    "(not when r² − dist² < 1e-5), point from + n·t, normal",
                    intersectors::godot_contract,
-                   "real_t = float (default) and double (precision=double); x86-64 baseline, no FMA; segment from "
-                   "o + tmin·d to o + tmax·d, or to o + L·d (L a power of two)",
+                   "real_t = float (default) and double (precision=double); x86-64 baseline (SSE2), no FMA, divisions and "
+                   "√ IEEE; segment from o + tmin·d to o + tmax·d, or without tmax to o + L·d (L = segment_length: a power "
+                   "of two, L·|d|∞ ≥ 2(|o − c|₁ + r)); t of the point = (p − o)·d/(d·d) (parameter_of_point)",
                    &intersectors::godot<float>, &intersectors::godot<double>),
     engine_variant("raylib", "raylib GetRayCollisionSphere (src/rmodels.c, 6.0-322-gabe23bf8)",
                    "v = c − o, b = v·d, disc = r² − (|v|² − b²), t = b ∓ √disc (+ inside), point o + d·t, normal",
-                   intersectors::raylib_contract, "float only; C, x86-64 baseline (no FMA); sqrtf",
+                   intersectors::raylib_contract, "float only; C, x86-64 baseline (SSE2, no FMA); sqrtf; 1.0f/length an IEEE division",
                    &intersectors::raylib, nullptr),
 }};
 

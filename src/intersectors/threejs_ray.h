@@ -6,8 +6,8 @@
 //   thc = √(r2 − d2),  t0 = tca − thc,  t1 = tca + thc
 //   t1 < 0: null;  target = at(t0 < 0 ? t1 : t0) = o + d·t  (Vector3.addScaledVector)
 //
-// JavaScript numbers are doubles and are never fused or reordered, so double
-// only; Vector3.dot is x·x′ + y·y′ + z·z′ left to right. The answer is the
+// JavaScript numbers are doubles and are never fused or reordered (the same
+// on every engine and CPU), so double only; Vector3.dot is x·x′ + y·y′ + z·z′ left to right. The answer is the
 // point; its t is derived (parameter_of_point) and reported beside it.
 //
 // Contract: assumes a unit direction (Ray.direction "must be normalized"),

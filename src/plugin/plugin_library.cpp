@@ -105,6 +105,16 @@ opened_library open_library(const std::filesystem::path& library) {
         open_v2(opened, describe_v2, library, symbol);
         return opened;
     }
+    if (!symbol("rayverify_plugin_describe", false)) {
+        // Neither describe function: name both, and which one the library's other symbols point to.
+        const bool batches = symbol("rayverify_plugin_intersect_batch_double", false) ||
+                             symbol("rayverify_plugin_intersect_batch_float", false);
+        fail(batches ? "missing symbol rayverify_plugin_describe_v2: the library exports version 2's batch functions "
+                       "but no rayverify_plugin_describe_v2 (nor version 1's rayverify_plugin_describe); check its "
+                       "spelling (see rayverify_plugin.h; in C++ declare it extern \"C\")"
+                     : "missing symbol rayverify_plugin_describe (version 1) or rayverify_plugin_describe_v2 "
+                       "(version 2) (see rayverify_plugin.h; in C++ declare it extern \"C\")");
+    }
     const auto describe = reinterpret_cast<rayverify_describe_fn>(symbol("rayverify_plugin_describe", true));
     opened.run_double =
         reinterpret_cast<rayverify_intersect_double_fn>(symbol("rayverify_plugin_intersect_double", true));

@@ -12,6 +12,8 @@
 #include "core/input_error.h"
 #include "core/installed_data.h"
 #include "corpus/corpus_io.h"
+#include "report/case_list.h"
+#include "report/contract_hints.h"
 
 namespace rayverify {
 
@@ -58,17 +60,21 @@ std::string plot_title(const std::string& file) {
 
 void accuracy_table(std::string& out, const json& results, const std::string& title) {
     out += fmt::format("\n#### {}\n\n", title);
-    out += "| variant | precision | scored | agree | misclassified | other disagreements | max ulp | p99 ulp | median ulp |\n";
-    out += "|---|---|---:|---:|---:|---:|---:|---:|---:|\n";
+    out += "| variant | precision | scored | agree | agree but far | misclassified | other disagreements | max ulp | "
+           "p99 ulp | median ulp |\n";
+    out += "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
     for (const json& r : results) {
         const std::size_t n = scored(r), mis = misclassified(r["verdicts"]);
         const json& u = r["near_root_ulp"];
-        out += fmt::format("| {} | {} | {} | {} | {} ({}) | {} | {} | {} | {} |\n", r["variant"].get<std::string>(),
-                           r["precision"].get<std::string>(), n, r["verdicts"]["agree"].get<std::size_t>(), mis,
+        out += fmt::format("| {} | {} | {} | {} | {} | {} ({}) | {} | {} | {} | {} |\n", r["variant"].get<std::string>(),
+                           r["precision"].get<std::string>(), n, r["verdicts"]["agree"].get<std::size_t>(),
+                           r.contains("agree_far") ? std::to_string(r["agree_far"].get<std::size_t>()) : "-", mis,
                            percent(mis, n), r["disagreements"].get<std::size_t>() - mis,
                            number(u.value("max", json())), number(u.value("p99", json())),
                            number(u.value("median", json())));
     }
+    out += "\nagree but far: agreeing cases whose returned t lies at least 2^-10 of the radius from the exact "
+           "hit (|t − t*|·|d| ≥ 2^-10 r; the verdict asks which root a t stands for, not how close it is).";
     out += "\nULP columns: nearest root over the agreeing cases; every maximum is over this finite corpus "
            "(sampled: a lower bound on the variant's worst case, not a bound).\n";
 }
@@ -282,8 +288,29 @@ std::string render_summary_markdown(const json& report) {
     return out;
 }
 
+// The contract each target was judged under, once per variant (its precisions share it).
+void contracts_judged(std::string& out, const json& results) {
+    std::vector<std::string> seen;
+    std::string rows;
+    for (const json& r : results) {
+        const std::string v = r["variant"].get<std::string>();
+        if (std::find(seen.begin(), seen.end(), v) != seen.end() || !r.contains("contract")) continue;
+        seen.push_back(v);
+        rows += fmt::format("| {} | `{}` | {} |\n", v, r["contract"]["spec"].get<std::string>(),
+                            r["contract"].value("meaning", std::string()));
+    }
+    if (rows.empty()) return;
+    out += "\n| variant | contract judged | meaning |\n|---|---|---|\n" + rows;
+}
+
 std::string render_markdown(const json& report) {
     std::string out = render_summary_markdown(report);
+    if (report.contains("contract_hints") && !report["contract_hints"].empty()) {
+        out += "\n### The contract\n\n```\n" + render_contract_hints(report["contract_hints"]) + "```\n";
+    }
+    if (report.contains("cases_to_open") && !report["cases_to_open"].empty())
+        out += folded("Cases to open: the first of each verdict, and agreeing hits far from the exact one",
+                      render_cases_to_open_markdown(report["cases_to_open"]));
 
     if (report.contains("plots")) {
         const json& plots = report["plots"];
@@ -298,6 +325,9 @@ std::string render_markdown(const json& report) {
         }
     }
 
+    std::string contracts;
+    if (report.contains("results")) contracts_judged(contracts, report["results"]);
+    if (!contracts.empty()) out += folded("Contracts judged: what each target promises", contracts);
     std::string accuracy;
     if (report.contains("results")) accuracy_table(accuracy, report["results"], "float and double (the audit)");
     if (report.contains("long_double") && report["long_double"].contains("results"))

@@ -124,6 +124,8 @@ int run(const audit_options& options, const std::string& command_line) {
         return run_scene_audit({options.scene, options.variants, options.plugins, options.precisions,
                                 options.isolation, options.report_dir, command_line, options.results});
     }
+    if (options.plots && options.report_dir.empty())
+        throw input_error("", 0, "--plots", "the plots are drawn into the report directory: add --report DIR");
     const shard_spec shard = options.shard.empty() ? shard_spec{} : chosen_shard(options.shard, "audit");
     if (!options.shard.empty() && options.report_dir.empty())
         throw input_error("", 0, "--shard", "a shard needs --report DIR (its state for `rayverify merge` goes there)");

@@ -9,6 +9,7 @@
 #include <memory>
 
 #include "compare/judge.h"
+#include "compare/stability.h"
 #include "core/input_error.h"
 #include "core/installed_data.h"
 #include "corpus/corpus_io.h"
@@ -125,12 +126,17 @@ void stability_tables(std::string& out, const json& stability) {
 
     // Condition buckets, overall.
     out += "\n#### By condition number of the near root (cases · misclassified · median / max ulp)\n\n";
-    std::vector<std::string> labels;
+    // Every decade from the lowest to the highest any target has, in the order of κ (then inf, miss).
+    int lowest = condition_bucket_count, highest = -1;
     for (const json& r : stability["results"])
-        for (const json& b : r["buckets"]) {
-            const std::string label = b["condition"].get<std::string>();
-            if (std::find(labels.begin(), labels.end(), label) == labels.end()) labels.push_back(label);
-        }
+        for (const json& b : r["buckets"])
+            for (int k = 0; k < condition_bucket_count; ++k)
+                if (b["condition"] == condition_bucket_label(k)) {
+                    lowest = std::min(lowest, k);
+                    highest = std::max(highest, k);
+                }
+    std::vector<std::string> labels;
+    for (int k = lowest; k <= highest; ++k) labels.push_back(condition_bucket_label(k));
     out += "| variant | precision |";
     for (const std::string& l : labels) out += fmt::format(" κ {} |", l);
     out += "\n|---|---|";
@@ -143,7 +149,7 @@ void stability_tables(std::string& out, const json& stability) {
             for (const json& b : r["buckets"])
                 if (b["condition"] == l) found = &b;
             if (!found) {
-                out += " |";
+                out += " - |";
                 continue;
             }
             const json& u = (*found)["near_root_ulp"];

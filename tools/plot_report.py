@@ -263,8 +263,11 @@ def plot_far_sphere(report, directory):
     xs = list(range(len(bins)))
     # A share of 0 sits on a labelled floor a decade below the smallest nonzero share a bin can have.
     floor = 10.0 ** (math.floor(math.log10(1.0 / len(keep))) - 1)
-    fig, axes = plt.subplots(3, 2, figsize=(16, 11), sharex=True, gridspec_kw={"height_ratios": [3, 3, 1.3]})
-    for column, precision in enumerate(["float", "double"]):
+    # A column per precision some shown variant runs in: a float-only target gets no empty double column.
+    precisions = [p for p in ("float", "double") if any(v + "/" + p in source["targets"] for v in variants)]
+    fig, axes = plt.subplots(3, len(precisions), figsize=(8 * len(precisions), 11), sharex=True, squeeze=False,
+                             gridspec_kw={"height_ratios": [3, 3, 1.3]})
+    for column, precision in enumerate(precisions):
         counts, has_error = None, False
         for variant in variants:
             t = source["targets"].get(variant + "/" + precision)

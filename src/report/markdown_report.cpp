@@ -10,6 +10,7 @@
 
 #include "compare/judge.h"
 #include "compare/stability.h"
+#include "report/stability_report.h"
 #include "core/input_error.h"
 #include "core/installed_data.h"
 #include "corpus/corpus_io.h"
@@ -323,7 +324,11 @@ std::string render_markdown(const json& report) {
         if (!plots["rendered"].get<bool>()) {
             out += fmt::format("\n**No plots:** {}\n", plots["message"].get<std::string>());
         } else {
-            out += "\n### Plots\n\n";
+            out += fmt::format("\n### Plots\n\nPer-case points (error against condition, ULP histograms) are drawn "
+                               "from the plot sample: at most {} cases per family, the ones with the smallest hash "
+                               "of their id, so the same cases whatever the threads or shards; totals and maxima "
+                               "are over every case.\n\n",
+                               case_points::per_family);
             for (const json& f : plots["files"]) {
                 const std::string name = f.get<std::string>();
                 out += fmt::format("![{}]({})\n\n", plot_title(name), name);
@@ -358,8 +363,9 @@ std::string render_markdown(const json& report) {
 
     std::string run = fmt::format("\n- command: `{}`\n", report.value("command", std::string()));
     const json& build = report["build"];
-    run += fmt::format("- build: {} `{}` [{}], rayverify {}\n", build["compiler"].get<std::string>(),
-                       build["flags"].get<std::string>(), build["build_type"].get<std::string>(),
+    run += fmt::format("- rayverify's build (the flags of the built-in variants, not of a plugin, results file or "
+                       "program, whose build is its own): {} `{}` [{}], rayverify {}\n",
+                       build["compiler"].get<std::string>(), build["flags"].get<std::string>(), build["build_type"].get<std::string>(),
                        build["rayverify_version"].get<std::string>());
     if (report.contains("machine")) run += fmt::format("- CPU: {}\n", report["machine"]["cpu"].get<std::string>());
     if (report.contains("corpus")) {

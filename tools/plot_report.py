@@ -193,7 +193,9 @@ def root_targets(points):
 def panel_grid(n, cols, width, height):
     rows = max(1, math.ceil(n / cols))
     cols = min(cols, n) if n else 1
-    fig, axes = plt.subplots(rows, cols, figsize=(width * cols, height * rows), squeeze=False)
+    # One or two panels are drawn larger, so that the figure's title, legend and axis labels do not dwarf them.
+    scale = {1: 2.0, 2: 1.5}.get(cols, 1.0)
+    fig, axes = plt.subplots(rows, cols, figsize=(width * cols * scale, height * rows * scale), squeeze=False)
     for ax in axes.flat[n:]:
         ax.remove()
     return fig, axes

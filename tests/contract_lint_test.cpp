@@ -116,5 +116,21 @@ TEST(ContractLint, TemplatesThatDeclareTheirContractGetNoHint) {
     }
 }
 
+// A plugin that exports rayverify_plugin_thread_safe() returning nonzero is
+// audited on every thread asked for, with the same figures; one without it
+// (or isolated) on one thread, saying so.
+TEST(ContractLint, APluginThatDeclaresThreadSafetyIsAuditedOnEveryThread) {
+    const std::string safe = std::string(RAYVERIFY_TEMPLATE_NEAREST_IN_INTERVAL);
+    EXPECT_TRUE(load_plugin(safe).thread_safe);
+    EXPECT_FALSE(load_plugin(safe, plugin_isolation{true, 10}).thread_safe);
+    EXPECT_FALSE(load_plugin(RAYVERIFY_EXAMPLE_PLUGIN).thread_safe);
+    const command_result four = run_cli("audit --threads 4 --plugin " + safe);
+    const command_result one = run_cli("audit --threads 1 --plugin " + safe);
+    EXPECT_EQ(four.output.find("not thread-safe"), std::string::npos) << four.output;
+    EXPECT_EQ(four.output, one.output);
+    const command_result unsafe = run_cli(std::string("audit --threads 4 --plugin ") + RAYVERIFY_EXAMPLE_PLUGIN);
+    EXPECT_NE(unsafe.output.find("a plugin is not thread-safe"), std::string::npos) << unsafe.output;
+}
+
 }  // namespace
 }  // namespace rayverify

@@ -26,6 +26,9 @@ RAYVERIFY_PLUGIN_EXPORT const rayverify_plugin_info* rayverify_plugin_describe(v
     return &info;
 }
 
+/* This body keeps no state: rayverify may call it from every thread. */
+RAYVERIFY_PLUGIN_EXPORT int rayverify_plugin_thread_safe(void) { return 1; }
+
 RAYVERIFY_PLUGIN_EXPORT int rayverify_plugin_intersect_double(const double o[3], const double d[3],
                                                               const double c[3], double r, double tmin,
                                                               double tmax, double roots[2]) {

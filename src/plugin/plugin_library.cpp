@@ -100,9 +100,11 @@ opened_library open_library(const std::filesystem::path& library) {
             fail(fmt::format("missing symbol {} (see rayverify_plugin.h; in C++ declare it extern \"C\")", name));
         return address;
     };
+    const auto thread_safe = reinterpret_cast<rayverify_thread_safe_fn>(symbol("rayverify_plugin_thread_safe", false));
     if (const auto describe_v2 =
             reinterpret_cast<rayverify_describe_v2_fn>(symbol("rayverify_plugin_describe_v2", false))) {
         open_v2(opened, describe_v2, library, symbol);
+        opened.description.thread_safe = thread_safe != nullptr && thread_safe() != 0;
         return opened;
     }
     if (!symbol("rayverify_plugin_describe", false)) {
@@ -139,6 +141,7 @@ opened_library open_library(const std::filesystem::path& library) {
     d.clamps_to_zero = info->clamps_to_zero != 0;
     take_texts(d, info->citation, info->formula, info->tangent_rule, d.reports_tangent, library);
     d.has_float = opened.run_float != nullptr;
+    d.thread_safe = thread_safe != nullptr && thread_safe() != 0;
     return opened;
 }
 
@@ -147,7 +150,7 @@ variant described_variant(const plugin_description& d) {
     v.name = d.name;
     v.citation = d.citation;
     v.formula = d.formula;
-    v.thread_safe = false;  // rayverify_plugin.h: "Called from one thread"
+    v.thread_safe = d.thread_safe;  // rayverify_plugin.h: one thread unless rayverify_plugin_thread_safe() says otherwise
     if (d.abi == RAYVERIFY_PLUGIN_ABI_VERSION_2) {
         v.build = d.build;
         v.promises = parse_contract(d.contract_spec);  // checked by open_library
@@ -174,7 +177,7 @@ variant described_variant(const plugin_description& d) {
     c.assumes_unit_direction = d.assumes_unit_direction;
     c.reports_tangent = d.reports_tangent;
     c.tangent_rule = interned_text(d.tangent_rule);  // outlives an unloaded library
-    v.thread_safe = false;  // rayverify_plugin.h: "Called from one thread"
+    v.thread_safe = d.thread_safe;  // rayverify_plugin.h: one thread unless rayverify_plugin_thread_safe() says otherwise
     return v;
 }
 

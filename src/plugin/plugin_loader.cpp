@@ -347,6 +347,7 @@ variant load_in_process(const std::filesystem::path& library) {
 variant load_isolated(const std::filesystem::path& library, double timeout_seconds) {
     const auto host = std::make_shared<plugin_host>(library, timeout_seconds);
     variant v = described_variant(host->description());
+    v.thread_safe = false;  // one child process answers one call at a time
     if (host->description().abi == RAYVERIFY_PLUGIN_ABI_VERSION_2) {
         bind_batch_entry_points(v, host->description().has_float, host->description().has_double,
                                 [host, promises = v.promises]<class T>(std::span<const batch_case<T>> cases,

@@ -183,6 +183,17 @@ RAYVERIFY_PLUGIN_EXPORT void rayverify_plugin_intersect_batch_double(const rayve
 RAYVERIFY_PLUGIN_EXPORT void rayverify_plugin_intersect_batch_float(const rayverify_case_float* cases,
                                                                     rayverify_answer_float* answers, size_t count);
 
+/* ---- Either version: thread safety --------------------------------------- */
+
+/* Optional. Nonzero: the intersect (or batch) functions may be called from
+ * several threads at once (they keep no state, or guard it), and an audit
+ * runs on every thread it is given. Absent or 0: every call comes from one
+ * thread, as above, and an audit says so and runs on one thread. Ignored
+ * with --isolate, where one child process answers one call at a time. A
+ * function, not a field, so that neither version's struct changes. */
+typedef int (*rayverify_thread_safe_fn)(void);
+RAYVERIFY_PLUGIN_EXPORT int rayverify_plugin_thread_safe(void);
+
 /* ---- Either version: the library a plugin calls ------------------------- */
 
 /* Optional. A plugin that wraps a library (an engine as its package installs

@@ -102,6 +102,26 @@ TEST_F(Cli, MissingCorpusAndUnknownVariantAreInputErrors) {
     EXPECT_EQ(run_cli("audit --precision quad").exit_code, 2);
 }
 
+// A misspelt variant or family name is answered with the nearest known one;
+// --plots without --report, which would draw nothing, is refused.
+TEST_F(Cli, MisspeltNamesGetDidYouMeanAndPlotsNeedAReport) {
+    const command_result variant = run_cli("audit --variant naiv --generate uniform:2");
+    EXPECT_EQ(variant.exit_code, 2);
+    EXPECT_NE(variant.output.find("unknown variant 'naiv' (did you mean 'naive'?)"), std::string::npos)
+        << variant.output;
+    const command_result far = run_cli("audit --variant naive --generate far_spere:2");
+    EXPECT_EQ(far.exit_code, 2);
+    EXPECT_NE(far.output.find("unknown family 'far_spere' (did you mean 'far_sphere'?)"), std::string::npos)
+        << far.output;
+    const command_result nothing_near = run_cli("audit --variant zzzzzzzzzz --generate uniform:2");
+    EXPECT_EQ(nothing_near.output.find("did you mean"), std::string::npos) << nothing_near.output;
+    const command_result plots = run_cli("audit --variant naive --generate uniform:2 --plots");
+    EXPECT_EQ(plots.exit_code, 2);
+    EXPECT_NE(plots.output.find("field '--plots': the plots are drawn into the report directory: add --report DIR"),
+              std::string::npos)
+        << plots.output;
+}
+
 TEST_F(Cli, InvalidCasesAreCountedNotScored) {
     const fs::path corpus = write("mixed.txt", std::string(simple_case) +
                                                    "nan-origin - nan 0 -5 0 0 1 0 0 0 1\n"

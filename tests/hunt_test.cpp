@@ -69,6 +69,29 @@ TEST(Hunt, FindsAndShrinksAMisclassificationOfNaiveInFloat) {
     }
 }
 
+// --cause algorithmic keeps only finds a better formula avoids; every find,
+// shrunk, keeps its verdict and cause on replay and a sphere of radius > 0.
+TEST(Hunt, CauseFilterKeepsOnlyThatCauseAndShrinkingKeepsTheCaseValid) {
+    hunt_options options;
+    options.objective = hunt_objective::misclass;
+    options.max_evaluations = 4000;
+    options.max_finds = 3;
+    options.seed = 1;
+    options.only_cause = disagreement_cause::algorithmic;
+    const audit_target naive = target("naive", precision::binary64);
+    const hunt_result r = hunt(naive, from_family("far_sphere", 1), options);
+    ASSERT_FALSE(r.finds.empty()) << r.evaluations << " evaluations";
+    for (const hunt_find& f : r.finds) {
+        SCOPED_TRACE(format_case_line({"shrunk", "", f.shrunk, {}, {}, ""}));
+        EXPECT_EQ(f.found_eval.cause, disagreement_cause::algorithmic);
+        EXPECT_EQ(f.shrunk_eval.cause, disagreement_cause::algorithmic);
+        EXPECT_GT(f.shrunk.radius, 0);
+        const hunt_evaluation replay = evaluate_for_hunt(naive, f.shrunk, options.objective);
+        EXPECT_EQ(replay.verdict, f.found_eval.verdict);
+        EXPECT_EQ(replay.cause, f.found_eval.cause);
+    }
+}
+
 TEST(Hunt, FindsAMisclassificationOfNaiveInDoubleWhereRandomSamplingDoesNot) {
     hunt_options options;
     options.objective = hunt_objective::misclass;

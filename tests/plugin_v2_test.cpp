@@ -164,6 +164,13 @@ TEST(PluginV2, UnusableDescriptionsAreInputErrors) {
     EXPECT_NE(bad_contract.find("line_roots, nearest_hit, any_hit"), std::string::npos) << bad_contract;
     const std::string no_precision = load_error(RAYVERIFY_FIXTURE_V2_NO_PRECISION);
     EXPECT_NE(no_precision.find("precisions = 0"), std::string::npos) << no_precision;
+    // A misspelt describe_v2 is named as version 2's symbol, beside version 1's.
+    const std::string misspelt = load_error(RAYVERIFY_FIXTURE_V2_MISSPELT);
+    EXPECT_NE(misspelt.find("missing symbol rayverify_plugin_describe_v2: the library exports version 2's batch "
+                            "functions"),
+              std::string::npos)
+        << misspelt;
+    EXPECT_NE(misspelt.find("rayverify_plugin_describe)"), std::string::npos) << misspelt;
     // Version 1 keeps loading next to version 2.
     EXPECT_EQ(load_error(RAYVERIFY_EXAMPLE_PLUGIN), "(loaded)");
 }

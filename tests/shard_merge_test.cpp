@@ -179,6 +179,12 @@ std::string figures_of(const fs::path& report) {
     nlohmann::ordered_json j = nlohmann::ordered_json::parse(read_text(report));
     j.erase("command");
     j["corpus"].erase("paths");
+    // Where a case to open was read is a path as spelled, like the corpus paths.
+    for (auto& target : j["cases_to_open"]) {
+        for (auto& verdict : target["verdicts"])
+            for (auto& c : verdict["first"]) c.erase("source");
+        for (auto& c : target["agree_far"]) c.erase("source");
+    }
     return j.dump(1);
 }
 

@@ -193,7 +193,9 @@ def root_targets(points):
 def panel_grid(n, cols, width, height):
     rows = max(1, math.ceil(n / cols))
     cols = min(cols, n) if n else 1
-    fig, axes = plt.subplots(rows, cols, figsize=(width * cols, height * rows), squeeze=False)
+    # One or two panels are drawn larger, so that the figure's title, legend and axis labels do not dwarf them.
+    scale = {1: 2.0, 2: 1.5}.get(cols, 1.0)
+    fig, axes = plt.subplots(rows, cols, figsize=(width * cols * scale, height * rows * scale), squeeze=False)
     for ax in axes.flat[n:]:
         ax.remove()
     return fig, axes
@@ -263,8 +265,11 @@ def plot_far_sphere(report, directory):
     xs = list(range(len(bins)))
     # A share of 0 sits on a labelled floor a decade below the smallest nonzero share a bin can have.
     floor = 10.0 ** (math.floor(math.log10(1.0 / len(keep))) - 1)
-    fig, axes = plt.subplots(3, 2, figsize=(16, 11), sharex=True, gridspec_kw={"height_ratios": [3, 3, 1.3]})
-    for column, precision in enumerate(["float", "double"]):
+    # A column per precision some shown variant runs in: a float-only target gets no empty double column.
+    precisions = [p for p in ("float", "double") if any(v + "/" + p in source["targets"] for v in variants)]
+    fig, axes = plt.subplots(3, len(precisions), figsize=(8 * len(precisions), 11), sharex=True, squeeze=False,
+                             gridspec_kw={"height_ratios": [3, 3, 1.3]})
+    for column, precision in enumerate(precisions):
         counts, has_error = None, False
         for variant in variants:
             t = source["targets"].get(variant + "/" + precision)

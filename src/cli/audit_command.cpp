@@ -14,6 +14,8 @@
 #include "report/audit_pass.h"
 #include "report/audit_report.h"
 #include "report/audit_summary.h"
+#include "report/case_list.h"
+#include "report/contract_hints.h"
 #include "report/markdown_report.h"
 #include "report/schema.h"
 #include "report/shard_state.h"
@@ -31,6 +33,7 @@ struct audit_options {
     std::vector<std::string> precisions;
     std::string report_dir;
     std::string per_case_file;
+    std::string failures_file;
     bool plots = false;
     audit_presentation presentation;
     unsigned threads = 0;  // 0: every hardware thread
@@ -121,6 +124,8 @@ int run(const audit_options& options, const std::string& command_line) {
         return run_scene_audit({options.scene, options.variants, options.plugins, options.precisions,
                                 options.isolation, options.report_dir, command_line, options.results});
     }
+    if (options.plots && options.report_dir.empty())
+        throw input_error("", 0, "--plots", "the plots are drawn into the report directory: add --report DIR");
     const shard_spec shard = options.shard.empty() ? shard_spec{} : chosen_shard(options.shard, "audit");
     if (!options.shard.empty() && options.report_dir.empty())
         throw input_error("", 0, "--shard", "a shard needs --report DIR (its state for `rayverify merge` goes there)");
@@ -162,6 +167,11 @@ int run(const audit_options& options, const std::string& command_line) {
     declare_results_inputs(outputs.files, options.results);
     outputs.open_report(report_dir, "--report");  // first: it creates the directory, which may hold the per-case file
     if (!options.per_case_file.empty()) outputs.per_case = &outputs.files.file(options.per_case_file, "--per-case");
+    output_file* failures =
+        options.failures_file.empty() ? nullptr : &outputs.files.file(options.failures_file, "--failures");
+    if (failures != nullptr)
+        failures->stream() << corpus_header_comment() << "\n# every case some target disagrees on: "
+                           << recorded_command(command_line) << '\n';
     open_presentation(outputs, options.presentation);
     output_file* state_file =
         options.shard.empty() ? nullptr : &outputs.files.file(report_dir / shard_state_file, "--report");
@@ -183,7 +193,7 @@ int run(const audit_options& options, const std::string& command_line) {
                                        per_case_stream                ? &*per_case_stream
                                        : outputs.per_case != nullptr ? &outputs.per_case->stream()
                                                                      : nullptr,
-                                       progress.reporter());
+                                       progress.reporter(), failures != nullptr ? &failures->stream() : nullptr);
     progress.finish();
 
     run_context context{recorded_command(command_line), {}, {}};
@@ -222,7 +232,9 @@ int run(const audit_options& options, const std::string& command_line) {
                                                 std::string(shard_state_file) + " into the whole run's report"}};
         }
     }
-    return publish_audit(totals, report, outputs, options.plots, options.presentation);
+    return publish_audit(totals, report, outputs, options.plots, options.presentation,
+                         render_contract_hints(contract_hints_json(targets, audited.lint.hints())) +
+                             render_cases_to_open(cases_to_open_json(targets, audited.examples)));
 }
 
 }  // namespace
@@ -241,7 +253,7 @@ std::string recorded_command(const std::string& command_line) {
     // sharding, any output file or directory and a plugin isolated or not
     // record the same command.
     static const std::vector<std::string> with_value = {"--threads",        "--shard",      "--report", "--per-case",
-                                                        "--summary-md",     "--plugin-timeout", "-o",   "--output"};
+                                                        "--summary-md",     "--plugin-timeout", "-o",   "--output", "--failures"};
     static const std::vector<std::string> flags = {"--plots", "--isolate", "--summary"};
     const std::vector<std::string> words = command_words(command_line);
     std::string out;
@@ -276,7 +288,8 @@ void print_libraries(const std::vector<audit_target>& targets) {
 }
 
 int publish_audit(const audit_totals& totals, const std::optional<nlohmann::ordered_json>& report,
-                  audit_outputs& outputs, bool plots, const audit_presentation& presentation) {
+                  audit_outputs& outputs, bool plots, const audit_presentation& presentation,
+                  const std::string& hints) {
     const std::string table = render_summary_table(totals);
     plot_outcome drawn;
     if (outputs.report) {
@@ -285,6 +298,7 @@ int publish_audit(const audit_totals& totals, const std::optional<nlohmann::orde
     }
     if (outputs.summary_md != nullptr) outputs.summary_md->stream() << render_summary_markdown(*report);
     fmt::print("{}", presentation.summary ? render_family_summary(totals) : table);
+    fmt::print("{}", hints);
     fmt::print("build: {}\n", build_summary());
     print_libraries(totals.targets);
     if (outputs.report) {
@@ -332,6 +346,9 @@ command add_audit_command(CLI::App& app, const std::string& command_line) {
                   "With --report: also draw the PNG plots (tools/plot_report.py, matplotlib; takes seconds)");
     add_presentation_options(sub, options->presentation);
     sub->add_option("--per-case", options->per_case_file, "Write one JSON object per case to this file");
+    sub->add_option("--failures", options->failures_file,
+                    "Write every case some target disagrees on to this file as a corpus (input order), to audit, "
+                    "explain or hunt from again");
     sub->add_option("--threads", options->threads,
                     "Threads auditing cases (default: every hardware thread); the output is the same for any number")
         ->check(whole_number(1, 4096));

@@ -241,8 +241,10 @@ void print_libraries(const std::vector<audit_target>& targets);
 // family (and where the report went), checks standard output, commits the
 // outputs, and returns
 // exit_findings when any target disagrees with the oracle on some case.
+// `hints`: the contract lint's lines (report/contract_hints.h), printed after the table.
 int publish_audit(const audit_totals& totals, const std::optional<nlohmann::ordered_json>& report,
-                  audit_outputs& outputs, bool plots, const audit_presentation& presentation = {});
+                  audit_outputs& outputs, bool plots, const audit_presentation& presentation = {},
+                  const std::string& hints = {});
 
 // 64-bit FNV-1a of bytes added piece by piece, as 16 hex digits: the digest
 // a shard records of its per-case file, and merge checks.

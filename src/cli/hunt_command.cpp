@@ -30,6 +30,7 @@ struct hunt_command_options {
     std::size_t finds = 3;
     bool no_shrink = false;
     bool rounding_only = false;
+    std::string cause;
     std::string output;
     std::string shard;
     // An external program hunted instead (corpus/external_program.h).
@@ -101,7 +102,8 @@ int run(const hunt_command_options& given, const std::string& command_line) {
     const shard_spec shard = o.shard.empty() ? shard_spec{} : chosen_shard(o.shard, "hunt");
     hunt_options options;
     options.objective = *hunt_objective_from_name(o.objective);  // checked by CLI11
-    options.rounding_only = o.rounding_only;
+    options.rounding_only = o.rounding_only || o.cause == "rounding";
+    if (o.cause == "algorithmic") options.only_cause = disagreement_cause::algorithmic;
     options.strategy = o.strategy == "search" ? hunt_strategy::search : hunt_strategy::random;
     options.seed = shard_search_seed(o.seed, shard.index, shard.count);
     options.max_seconds = o.budget;
@@ -154,7 +156,10 @@ int run(const hunt_command_options& given, const std::string& command_line) {
     std::string shard_note;
     if (shard.count > 1) shard_note = fmt::format(", shard {} (search seed {})", shard.text(), options.seed);
     fmt::print("hunt {} ({} objective{}, {} strategy, family {}, seed {}{}): {} evaluations, {} starts, {:.2f} s\n",
-               label, o.objective, o.rounding_only ? ", rounding causes only" : "", o.strategy, family_name, o.seed,
+               label, o.objective,
+               o.cause == "algorithmic" ? ", algorithmic causes only"
+               : o.rounding_only || o.cause == "rounding" ? ", rounding causes only"
+                                                          : "", o.strategy, family_name, o.seed,
                shard_note, result.evaluations, result.starts,
                result.seconds);
 
@@ -212,9 +217,11 @@ int run(const hunt_command_options& given, const std::string& command_line) {
         const std::string shrunk_what =
             ulp ? fmt::format("agree, {}", hunt_error_text(options.objective, f.shrunk_eval.error)) : failure(f.shrunk_eval);
         fmt::print("find {}: {} at evaluation {} ({:.3f} s)\n", file.finds.size() + 1, what, f.evaluation, f.seconds);
-        if (!f.found_eval.detail.empty()) fmt::print("  {}\n", f.found_eval.detail);
+        if (!f.found_eval.detail.empty()) fmt::print("  as found: {}\n", f.found_eval.detail);
+        // The line printed is the shrunk case, and what it replays as is said under it.
         fmt::print("  shrunk ({} -> {} significant bits, still {}):\n  {}\n", f.found_bits, f.shrunk_bits,
                    shrunk_what, format_case_line(entry.shrunk));
+        if (!f.shrunk_eval.detail.empty()) fmt::print("  replays as: {}\n", f.shrunk_eval.detail);
         file.finds.push_back(std::move(entry));
     }
     if (result.finds.empty())
@@ -298,6 +305,10 @@ command add_hunt_command(CLI::App& app, const std::string& command_line) {
     sub->add_flag("--rounding-only", o->rounding_only,
                   "misclass: keep only disagreements whose cause is rounding (not by design: clamp, contract "
                   "semantics, unit direction, tangent threshold, line not ray)");
+    sub->add_option("--cause", o->cause,
+                    "misclass: keep only disagreements of this cause: algorithmic (rounding a backward-stable formula "
+                    "avoids: fix the formula) or rounding (either rounding cause: as --rounding-only)")
+        ->check(CLI::IsMember({"algorithmic", "rounding"}));
     sub->add_option("--strategy", o->strategy, "search, or random (plain sampling of the family: the baseline)")
         ->check(CLI::IsMember({"search", "random"}))
         ->capture_default_str();

@@ -17,6 +17,8 @@
 #include "cli/commands.h"
 #include "core/input_error.h"
 #include "corpus/case_stream.h"
+#include "report/case_list.h"
+#include "report/contract_hints.h"
 #include "report/hunt_file.h"
 #include "report/shard_state.h"
 
@@ -351,7 +353,9 @@ int merge_audits(const merge_options& options) {
     const unsigned threads = std::max(1u, std::thread::hardware_concurrency());
     const audit_totals totals = merged.audit.finish(threads);
     const std::optional<json> report = audit_report_document(merged, totals, context, threads);
-    return publish_audit(totals, report, outputs, options.plots, options.presentation);
+    return publish_audit(totals, report, outputs, options.plots, options.presentation,
+                         render_contract_hints(report->at("contract_hints")) +
+                             render_cases_to_open(report->at("cases_to_open")));
 }
 
 // Audit shards are directories; hunt outputs are files.

@@ -3,6 +3,7 @@
 #include "cli/commands.h"
 #include "cli/shipped_libraries.h"
 #include "core/input_error.h"
+#include "core/spelling.h"
 #include "plugin/plugin_loader.h"
 
 namespace rayverify::cli {
@@ -26,8 +27,13 @@ std::vector<audit_target> select_targets(const std::vector<std::string>& variant
         const variant* v = find_builtin_variant(name);
         if (!v) {
             std::string known;
-            for (const variant& b : builtin_variants()) known += (known.empty() ? "" : ", ") + b.name;
-            throw input_error("", 0, "--variant", fmt::format("unknown variant '{}'; known: {}", name, known));
+            std::vector<std::string> names;
+            for (const variant& b : builtin_variants()) {
+                known += (known.empty() ? "" : ", ") + b.name;
+                names.push_back(b.name);
+            }
+            throw input_error("", 0, "--variant",
+                              fmt::format("unknown variant '{}'{}; known: {}", name, did_you_mean(name, names), known));
         }
         chosen.push_back(*v);
     }

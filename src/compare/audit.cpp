@@ -116,6 +116,14 @@ std::uint64_t error_summary::bucket_of(double error) {
     return x == 0 ? 0 : (bits_of(x) >> bucket_shift) + 1;
 }
 
+std::size_t error_summary::count_at_least(double threshold) const {
+    std::size_t n = 0;
+    const std::uint64_t first = bucket_of(threshold);
+    for (const auto& [bucket, count] : histogram())
+        if (bucket >= first) n += count;
+    return n;
+}
+
 double error_summary::upper_edge(std::uint64_t bucket) {
     if (bucket == 0) return 0;
     const double lower = std::bit_cast<double>((bucket - 1) << bucket_shift);
@@ -312,6 +320,7 @@ target_tally summarise(const target_samples& s) {
     tally.hit_point_ulp = s.hit_ulp.statistics();
     tally.near_root_bits = s.near_bits.statistics();
     tally.scale_error_radius = s.scale_radius.statistics();
+    tally.agree_far = s.scale_radius.count_at_least(agree_far_fraction);
     tally.scale_error_distance = s.scale_distance.statistics();
     tally.bound_width_ulp = s.bound_ulp.statistics();
     tally.normal_angle = s.normal_angle.statistics();

@@ -86,6 +86,9 @@ struct error_summary {
     // Adds n errors to a bucket (reading a histogram back).
     void add_to_bucket(std::uint64_t bucket, std::size_t n);
     error_statistics statistics() const;
+    // How many errors are at least `threshold` (+inf and NaN included): exact
+    // when `threshold` is a power of two, the lower edge of a bucket.
+    std::size_t count_at_least(double threshold) const;
     // Nearest-rank q-quantile (0 < q ≤ 1) as the upper bound described above.
     double quantile(double q) const;
 
@@ -199,9 +202,16 @@ struct target_tally {
     error_statistics near_root_ulp, far_root_ulp, hit_point_ulp, near_root_bits;
     // |t − t*|·|d| over r and over |o − c|; t-interval width in ULPs; normal angle in radians.
     error_statistics scale_error_radius, scale_error_distance, bound_width_ulp, normal_angle;
+    // Agree but far: agreeing cases whose hit lies at least agree_far_fraction
+    // of the radius from the exact one (scale_error_radius; the verdict only
+    // asks which root a t stands for, so a far t can still agree).
+    std::size_t agree_far = 0;
     std::size_t disagreements() const;
     std::size_t by_design() const;  // disagreements with a by-design cause
 };
+
+// The "agree but far" line: |t − t*|·|d| ≥ 2^-10 r (about 0.1% of the radius).
+inline constexpr double agree_far_fraction = 0x1p-10;
 
 // A case that is invalid in some precision: listed in reports, never scored.
 struct invalid_case {

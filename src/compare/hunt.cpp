@@ -149,15 +149,18 @@ struct fitness {
     }
 };
 
-// A disagreement the hunt keeps: any, or with rounding_only one whose cause is rounding.
-bool kept_disagreement(const hunt_evaluation& e, bool rounding_only) {
-    return is_disagreement(e.verdict) && !(rounding_only && e.cause && is_by_design(*e.cause));
+// A disagreement the hunt keeps: any, or with rounding_only one whose cause
+// is rounding, or with only_cause one of that cause.
+bool kept_disagreement(const hunt_evaluation& e, const hunt_options& options) {
+    if (!is_disagreement(e.verdict)) return false;
+    if (options.rounding_only && e.cause && is_by_design(*e.cause)) return false;
+    return !options.only_cause || e.cause == options.only_cause;
 }
 
 fitness fitness_of(const hunt_options& options, const hunt_evaluation& e, const ray_sphere<double>& g) {
     if (e.verdict == verdict_kind::invalid || e.verdict == verdict_kind::contract_violation) return {-1, 0};
     if (options.objective == hunt_objective::misclass) {
-        if (kept_disagreement(e, options.rounding_only)) return {1, 0};
+        if (kept_disagreement(e, options)) return {1, 0};
         const long double gap = tangency_gap(g);
         return {0, gap > 0 ? 1 / gap : std::numeric_limits<long double>::max()};
     }
@@ -169,7 +172,7 @@ fitness fitness_of(const hunt_options& options, const hunt_evaluation& e, const 
 // an agreeing answer with at least half the error.
 bool same_failure(const hunt_options& options, const hunt_evaluation& original, const hunt_evaluation& e) {
     if (options.objective == hunt_objective::misclass)
-        return e.verdict == original.verdict && kept_disagreement(e, options.rounding_only);
+        return e.verdict == original.verdict && e.cause == original.cause && kept_disagreement(e, options);
     return e.verdict == verdict_kind::agree && e.error >= original.error / 2 && e.error > 0;
 }
 
@@ -330,7 +333,8 @@ private:
     void shrink(hunt_find& f) {
         std::uint64_t budget = options_.shrink_evaluations;
         const auto fails_same = [&](const ray_sphere<double>& g) {
-            if (budget == 0) return false;
+            // A sphere of radius 0 is a point: no find to act on.
+            if (budget == 0 || !(g.radius > 0)) return false;
             --budget;
             ++result_.shrink_evaluations;
             const hunt_evaluation e = judge_batch({g}, "shrink", result_.shrink_evaluations - 1, f.start_index).front();

@@ -57,6 +57,9 @@ struct hunt_options {
     // case_score::cause is not by design: no clamp, contract semantics, unit
     // direction, tangent threshold or line-not-ray finds).
     bool rounding_only = false;
+    // misclass: keep only disagreements with this cause (`--cause algorithmic`:
+    // the ones a backward-stable formula avoids); nullopt keeps any.
+    std::optional<disagreement_cause> only_cause;
     std::uint64_t patience = 400;       // evaluations without improvement before a restart
     bool shrink = true;
     std::uint64_t shrink_evaluations = 4000;  // per find

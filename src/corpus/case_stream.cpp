@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "core/input_error.h"
+#include "core/spelling.h"
 #include "corpus/corpus_io.h"
 #include "corpus/generators.h"
 
@@ -58,8 +59,12 @@ generate_spec parse_generate_spec(std::string_view text) {
         throw bad("the seed must be a whole number");
     if (find_generator_family(spec.family) == nullptr) {
         std::string known;
-        for (const family_info& f : generator_families()) known += (known.empty() ? "" : ", ") + std::string(f.name);
-        throw bad(fmt::format("unknown family '{}'; known: {}", spec.family, known));
+        std::vector<std::string> names;
+        for (const family_info& f : generator_families()) {
+            known += (known.empty() ? "" : ", ") + std::string(f.name);
+            names.emplace_back(f.name);
+        }
+        throw bad(fmt::format("unknown family '{}'{}; known: {}", spec.family, did_you_mean(spec.family, names), known));
     }
     return spec;
 }

@@ -12,6 +12,7 @@
 #include <utility>
 
 #include "core/input_error.h"
+#include "core/spelling.h"
 #include "corpus/mersenne_twister.h"
 
 namespace rayverify {
@@ -792,9 +793,14 @@ const family_info& known_family(std::string_view family) {
     const family_info* info = find_generator_family(family);
     if (info == nullptr) {
         std::string known;
-        for (const family_info& f : families) known += (known.empty() ? "" : ", ") + std::string(f.name);
+        std::vector<std::string> names;
+        for (const family_info& f : families) {
+            known += (known.empty() ? "" : ", ") + std::string(f.name);
+            names.emplace_back(f.name);
+        }
         throw input_error("", 0, "family",
-                          "unknown generator family '" + std::string(family) + "' (known: " + known + ")");
+                          "unknown generator family '" + std::string(family) + "'" + did_you_mean(family, names) +
+                              " (known: " + known + ")");
     }
     return *info;
 }

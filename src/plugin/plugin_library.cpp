@@ -103,10 +103,22 @@ opened_library open_library(const std::filesystem::path& library) {
     if (const auto version =
             reinterpret_cast<rayverify_library_version_fn>(symbol("rayverify_plugin_library_version", false)))
         opened.description.library_version = escaped(text_or(version(), ""));
+    const auto thread_safe = reinterpret_cast<rayverify_thread_safe_fn>(symbol("rayverify_plugin_thread_safe", false));
     if (const auto describe_v2 =
             reinterpret_cast<rayverify_describe_v2_fn>(symbol("rayverify_plugin_describe_v2", false))) {
         open_v2(opened, describe_v2, library, symbol);
+        opened.description.thread_safe = thread_safe != nullptr && thread_safe() != 0;
         return opened;
+    }
+    if (!symbol("rayverify_plugin_describe", false)) {
+        // Neither describe function: name both, and which one the library's other symbols point to.
+        const bool batches = symbol("rayverify_plugin_intersect_batch_double", false) ||
+                             symbol("rayverify_plugin_intersect_batch_float", false);
+        fail(batches ? "missing symbol rayverify_plugin_describe_v2: the library exports version 2's batch functions "
+                       "but no rayverify_plugin_describe_v2 (nor version 1's rayverify_plugin_describe); check its "
+                       "spelling (see rayverify_plugin.h; in C++ declare it extern \"C\")"
+                     : "missing symbol rayverify_plugin_describe (version 1) or rayverify_plugin_describe_v2 "
+                       "(version 2) (see rayverify_plugin.h; in C++ declare it extern \"C\")");
     }
     const auto describe = reinterpret_cast<rayverify_describe_fn>(symbol("rayverify_plugin_describe", true));
     opened.run_double =
@@ -132,6 +144,7 @@ opened_library open_library(const std::filesystem::path& library) {
     d.clamps_to_zero = info->clamps_to_zero != 0;
     take_texts(d, info->citation, info->formula, info->tangent_rule, d.reports_tangent, library);
     d.has_float = opened.run_float != nullptr;
+    d.thread_safe = thread_safe != nullptr && thread_safe() != 0;
     return opened;
 }
 
@@ -140,7 +153,7 @@ variant described_variant(const plugin_description& d) {
     v.name = d.name;
     v.citation = d.citation;
     v.formula = d.formula;
-    v.thread_safe = false;  // rayverify_plugin.h: "Called from one thread"
+    v.thread_safe = d.thread_safe;  // rayverify_plugin.h: one thread unless rayverify_plugin_thread_safe() says otherwise
     if (!d.library_version.empty()) v.library = library_identity{"", d.library_version, ""};
     if (d.abi == RAYVERIFY_PLUGIN_ABI_VERSION_2) {
         v.build = d.build;
@@ -168,7 +181,7 @@ variant described_variant(const plugin_description& d) {
     c.assumes_unit_direction = d.assumes_unit_direction;
     c.reports_tangent = d.reports_tangent;
     c.tangent_rule = interned_text(d.tangent_rule);  // outlives an unloaded library
-    v.thread_safe = false;  // rayverify_plugin.h: "Called from one thread"
+    v.thread_safe = d.thread_safe;  // rayverify_plugin.h: one thread unless rayverify_plugin_thread_safe() says otherwise
     return v;
 }
 

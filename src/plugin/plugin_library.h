@@ -34,6 +34,7 @@ struct plugin_description {
     std::string library_version;
     bool has_float = false;
     bool has_double = true;  // version 1 always
+    bool thread_safe = false;  // rayverify_plugin_thread_safe() returned nonzero
 };
 
 struct opened_library {
@@ -59,7 +60,7 @@ public:
 opened_library open_library(const std::filesystem::path& library);
 
 // The variant the description stands for: name, citation, formula and
-// contract; no run functions, thread_safe false (the ABI calls from one thread).
+// contract; no run functions, thread_safe as rayverify_plugin_thread_safe() says (else one thread).
 variant described_variant(const plugin_description& description);
 
 // A version 2 answer as rayverify holds it (a point answer's t derived from

@@ -347,6 +347,7 @@ variant load_in_process(const std::filesystem::path& library) {
 variant load_isolated(const std::filesystem::path& library, double timeout_seconds) {
     const auto host = std::make_shared<plugin_host>(library, timeout_seconds);
     variant v = described_variant(host->description());
+    v.thread_safe = false;  // one child process answers one call at a time
     if (host->description().abi == RAYVERIFY_PLUGIN_ABI_VERSION_2) {
         bind_batch_entry_points(v, host->description().has_float, host->description().has_double,
                                 [host, promises = v.promises]<class T>(std::span<const batch_case<T>> cases,
@@ -363,6 +364,27 @@ variant load_isolated(const std::filesystem::path& library, double timeout_secon
 }
 
 }  // namespace
+
+std::optional<std::string> version1_query_name(const contract& c) {
+    static const std::pair<int, const char*> kinds[] = {
+        {RAYVERIFY_LINE_ROOTS, "RAYVERIFY_LINE_ROOTS"},
+        {RAYVERIFY_NEAREST_ON_RAY, "RAYVERIFY_NEAREST_ON_RAY"},
+        {RAYVERIFY_ANY_HIT_IN_INTERVAL, "RAYVERIFY_ANY_HIT_IN_INTERVAL"},
+        {RAYVERIFY_NEAREST_IN_INTERVAL, "RAYVERIFY_NEAREST_IN_INTERVAL"}};
+    const std::string wanted = format_contract(c);
+    for (const auto& [query, name] : kinds)
+        for (const bool clamps : {false, true}) {
+            plugin_internal::plugin_description d;
+            d.query = query;
+            d.assumes_unit_direction = c.assumes_unit_direction;
+            d.reports_tangent = c.reports_tangent;
+            d.clamps_to_zero = clamps;
+            d.tangent_rule = std::string(c.tangent_rule);
+            if (format_contract(plugin_internal::described_variant(d).promises) == wanted)
+                return clamps ? std::string(name) + " with clamps_to_zero" : std::string(name);
+        }
+    return std::nullopt;
+}
 
 variant load_plugin(const std::filesystem::path& library, const plugin_isolation& isolation) {
     return isolation.child_process ? load_isolated(library, isolation.timeout_seconds) : load_in_process(library);

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <string>
 
 #include "core/input_error.h"
@@ -33,6 +34,11 @@ struct plugin_isolation {
 // inconsistently (no name, a name with whitespace, an unknown query kind);
 // isolated, also when the child process dies or hangs while loading it.
 variant load_plugin(const std::filesystem::path& library, const plugin_isolation& isolation = {});
+
+// The version 1 query kind (rayverify_plugin.h) whose contract is `c`, with
+// its unit-direction flag and clamp, e.g. "RAYVERIFY_NEAREST_IN_INTERVAL";
+// nullopt when no version 1 kind says it (a version 2 spec is needed).
+std::optional<std::string> version1_query_name(const contract& c);
 
 // An isolated plugin that was killed by a signal, exited, or gave no answer
 // within the timeout, on one call. Bad input, so an input_error naming the

@@ -75,7 +75,16 @@ typedef struct rayverify_plugin_info {
     const char* name;           /* one token, e.g. "mine": used in reports and baselines */
     const char* citation;       /* where the formula comes from; may be NULL */
     const char* formula;        /* one line in the paper's notation; may be NULL */
-    int query;                  /* RAYVERIFY_LINE_ROOTS or RAYVERIFY_NEAREST_ON_RAY */
+    int query;                  /* which question it answers (examples/templates/ has one per kind):
+                                   RAYVERIFY_LINE_ROOTS           both roots of the line, any sign
+                                                                  (examples/plugin_rtg/rtg_sphere.c)
+                                   RAYVERIFY_NEAREST_ON_RAY       the nearest root with t >= 0
+                                   RAYVERIFY_NEAREST_IN_INTERVAL  the nearest root in (tmin, tmax): a path
+                                                                  tracer's hit(), e.g. "Ray Tracing in One
+                                                                  Weekend" (templates/nearest_in_interval.c)
+                                   RAYVERIFY_ANY_HIT_IN_INTERVAL  whether a root lies in (tmin, tmax): a
+                                                                  shadow ray (templates/any_hit.c)
+                                   An audit whose answers fit another kind better says so. */
     int assumes_unit_direction; /* nonzero: |d| = 1 is assumed; other cases are not scored */
     int reports_tangent;        /* nonzero: may return count 1 for a tangent line */
     int clamps_to_zero;         /* NEAREST_ON_RAY only: an inside origin gives t = 0 */
@@ -173,6 +182,17 @@ RAYVERIFY_PLUGIN_EXPORT void rayverify_plugin_intersect_batch_double(const rayve
                                                                      rayverify_answer_double* answers, size_t count);
 RAYVERIFY_PLUGIN_EXPORT void rayverify_plugin_intersect_batch_float(const rayverify_case_float* cases,
                                                                     rayverify_answer_float* answers, size_t count);
+
+/* ---- Either version: thread safety --------------------------------------- */
+
+/* Optional. Nonzero: the intersect (or batch) functions may be called from
+ * several threads at once (they keep no state, or guard it), and an audit
+ * runs on every thread it is given. Absent or 0: every call comes from one
+ * thread, as above, and an audit says so and runs on one thread. Ignored
+ * with --isolate, where one child process answers one call at a time. A
+ * function, not a field, so that neither version's struct changes. */
+typedef int (*rayverify_thread_safe_fn)(void);
+RAYVERIFY_PLUGIN_EXPORT int rayverify_plugin_thread_safe(void);
 
 /* ---- Either version: the library a plugin calls ------------------------- */
 

@@ -14,10 +14,12 @@ namespace rayverify {
 // Every case from `next` through the oracle and the targets
 // (compare/audit_stream) on `threads` threads, each case's stability assessed,
 // the plot sample kept when `with_points`, and, when `per_case` is not null,
-// its per-case JSON line written there in input order. Returns the state of
-// all the workers merged.
+// its per-case JSON line written there in input order, and when `failures`
+// is not null, every case some target disagrees on as a corpus line, in
+// input order. Returns the state of all the workers merged.
 audit_state run_audit_pass(const case_source& next, const std::vector<audit_target>& targets, unsigned threads,
                            bool with_points, std::ostream* per_case,
-                           const std::function<void(std::size_t done)>& progress = {});
+                           const std::function<void(std::size_t done)>& progress = {},
+                           std::ostream* failures = nullptr);
 
 }  // namespace rayverify

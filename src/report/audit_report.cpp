@@ -107,7 +107,8 @@ json tally_json(const target_tally& t, const char* scope) {
             {"scale_error_radius", statistics_json(t.scale_error_radius, scope)},
             {"scale_error_distance", statistics_json(t.scale_error_distance, scope)},
             {"bound_width_ulp", statistics_json(t.bound_width_ulp, scope)},
-            {"normal_angle", statistics_json(t.normal_angle, scope)}};
+            {"normal_angle", statistics_json(t.normal_angle, scope)},
+            {"agree_far", t.agree_far}};
 }
 
 
@@ -253,6 +254,8 @@ json audit_report_json(const audit_totals& totals, const run_context& context) {
         {"ulp_error", "|t - t*| / ulp(t*), t* the exact root of the inputs the variant received"},
         {"bits", "log2(1 + number of representable values between t and RN(t*))"},
         {"scale_error_radius", "max over the returned roots of |t - t*|·|d| / r: the error in units of the radius"},
+        {"agree_far", "agreeing cases whose scale_error_radius is at least 2^-10 (about 0.1% of the radius): the "
+                      "verdict only asks which root a t stands for, so a t this far off can still agree"},
         {"scale_error_distance", "max over the returned roots of |t - t*|·|d| / |o - c|"},
         {"bound_width_ulp",
          "the widest interval a variant claims for a returned t, in representable values between its ends"},

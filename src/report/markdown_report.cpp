@@ -9,9 +9,13 @@
 #include <memory>
 
 #include "compare/judge.h"
+#include "compare/stability.h"
+#include "report/stability_report.h"
 #include "core/input_error.h"
 #include "core/installed_data.h"
 #include "corpus/corpus_io.h"
+#include "report/case_list.h"
+#include "report/contract_hints.h"
 
 namespace rayverify {
 
@@ -58,17 +62,21 @@ std::string plot_title(const std::string& file) {
 
 void accuracy_table(std::string& out, const json& results, const std::string& title) {
     out += fmt::format("\n#### {}\n\n", title);
-    out += "| variant | precision | scored | agree | misclassified | other disagreements | max ulp | p99 ulp | median ulp |\n";
-    out += "|---|---|---:|---:|---:|---:|---:|---:|---:|\n";
+    out += "| variant | precision | scored | agree | agree but far | misclassified | other disagreements | max ulp | "
+           "p99 ulp | median ulp |\n";
+    out += "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
     for (const json& r : results) {
         const std::size_t n = scored(r), mis = misclassified(r["verdicts"]);
         const json& u = r["near_root_ulp"];
-        out += fmt::format("| {} | {} | {} | {} | {} ({}) | {} | {} | {} | {} |\n", r["variant"].get<std::string>(),
-                           r["precision"].get<std::string>(), n, r["verdicts"]["agree"].get<std::size_t>(), mis,
+        out += fmt::format("| {} | {} | {} | {} | {} | {} ({}) | {} | {} | {} | {} |\n", r["variant"].get<std::string>(),
+                           r["precision"].get<std::string>(), n, r["verdicts"]["agree"].get<std::size_t>(),
+                           r.contains("agree_far") ? std::to_string(r["agree_far"].get<std::size_t>()) : "-", mis,
                            percent(mis, n), r["disagreements"].get<std::size_t>() - mis,
                            number(u.value("max", json())), number(u.value("p99", json())),
                            number(u.value("median", json())));
     }
+    out += "\nagree but far: agreeing cases whose returned t lies at least 2^-10 of the radius from the exact "
+           "hit (|t − t*|·|d| ≥ 2^-10 r; the verdict asks which root a t stands for, not how close it is).";
     out += "\nULP columns: nearest root over the agreeing cases; every maximum is over this finite corpus "
            "(sampled: a lower bound on the variant's worst case, not a bound).\n";
 }
@@ -119,12 +127,17 @@ void stability_tables(std::string& out, const json& stability) {
 
     // Condition buckets, overall.
     out += "\n#### By condition number of the near root (cases · misclassified · median / max ulp)\n\n";
-    std::vector<std::string> labels;
+    // Every decade from the lowest to the highest any target has, in the order of κ (then inf, miss).
+    int lowest = condition_bucket_count, highest = -1;
     for (const json& r : stability["results"])
-        for (const json& b : r["buckets"]) {
-            const std::string label = b["condition"].get<std::string>();
-            if (std::find(labels.begin(), labels.end(), label) == labels.end()) labels.push_back(label);
-        }
+        for (const json& b : r["buckets"])
+            for (int k = 0; k < condition_bucket_count; ++k)
+                if (b["condition"] == condition_bucket_label(k)) {
+                    lowest = std::min(lowest, k);
+                    highest = std::max(highest, k);
+                }
+    std::vector<std::string> labels;
+    for (int k = lowest; k <= highest; ++k) labels.push_back(condition_bucket_label(k));
     out += "| variant | precision |";
     for (const std::string& l : labels) out += fmt::format(" κ {} |", l);
     out += "\n|---|---|";
@@ -137,7 +150,7 @@ void stability_tables(std::string& out, const json& stability) {
             for (const json& b : r["buckets"])
                 if (b["condition"] == l) found = &b;
             if (!found) {
-                out += " |";
+                out += " - |";
                 continue;
             }
             const json& u = (*found)["near_root_ulp"];
@@ -282,15 +295,40 @@ std::string render_summary_markdown(const json& report) {
     return out;
 }
 
+// The contract each target was judged under, once per variant (its precisions share it).
+void contracts_judged(std::string& out, const json& results) {
+    std::vector<std::string> seen;
+    std::string rows;
+    for (const json& r : results) {
+        const std::string v = r["variant"].get<std::string>();
+        if (std::find(seen.begin(), seen.end(), v) != seen.end() || !r.contains("contract")) continue;
+        seen.push_back(v);
+        rows += fmt::format("| {} | `{}` | {} |\n", v, r["contract"]["spec"].get<std::string>(),
+                            r["contract"].value("meaning", std::string()));
+    }
+    if (rows.empty()) return;
+    out += "\n| variant | contract judged | meaning |\n|---|---|---|\n" + rows;
+}
+
 std::string render_markdown(const json& report) {
     std::string out = render_summary_markdown(report);
+    if (report.contains("contract_hints") && !report["contract_hints"].empty()) {
+        out += "\n### The contract\n\n```\n" + render_contract_hints(report["contract_hints"]) + "```\n";
+    }
+    if (report.contains("cases_to_open") && !report["cases_to_open"].empty())
+        out += folded("Cases to open: the first of each verdict, and agreeing hits far from the exact one",
+                      render_cases_to_open_markdown(report["cases_to_open"]));
 
     if (report.contains("plots")) {
         const json& plots = report["plots"];
         if (!plots["rendered"].get<bool>()) {
             out += fmt::format("\n**No plots:** {}\n", plots["message"].get<std::string>());
         } else {
-            out += "\n### Plots\n\n";
+            out += fmt::format("\n### Plots\n\nPer-case points (error against condition, ULP histograms) are drawn "
+                               "from the plot sample: at most {} cases per family, the ones with the smallest hash "
+                               "of their id, so the same cases whatever the threads or shards; totals and maxima "
+                               "are over every case.\n\n",
+                               case_points::per_family);
             for (const json& f : plots["files"]) {
                 const std::string name = f.get<std::string>();
                 out += fmt::format("![{}]({})\n\n", plot_title(name), name);
@@ -298,6 +336,9 @@ std::string render_markdown(const json& report) {
         }
     }
 
+    std::string contracts;
+    if (report.contains("results")) contracts_judged(contracts, report["results"]);
+    if (!contracts.empty()) out += folded("Contracts judged: what each target promises", contracts);
     std::string accuracy;
     if (report.contains("results")) accuracy_table(accuracy, report["results"], "float and double (the audit)");
     if (report.contains("long_double") && report["long_double"].contains("results"))
@@ -322,8 +363,9 @@ std::string render_markdown(const json& report) {
 
     std::string run = fmt::format("\n- command: `{}`\n", report.value("command", std::string()));
     const json& build = report["build"];
-    run += fmt::format("- build: {} `{}` [{}], rayverify {}\n", build["compiler"].get<std::string>(),
-                       build["flags"].get<std::string>(), build["build_type"].get<std::string>(),
+    run += fmt::format("- rayverify's build (the flags of the built-in variants, not of a plugin, results file or "
+                       "program, whose build is its own): {} `{}` [{}], rayverify {}\n",
+                       build["compiler"].get<std::string>(), build["flags"].get<std::string>(), build["build_type"].get<std::string>(),
                        build["rayverify_version"].get<std::string>());
     if (report.contains("machine")) run += fmt::format("- CPU: {}\n", report["machine"]["cpu"].get<std::string>());
     if (report.contains("corpus")) {

@@ -15,18 +15,23 @@
 #include "corpus/case_stream.h"
 #include "corpus/corpus_io.h"
 #include "report/audit_report.h"
+#include "report/case_list.h"
+#include "report/contract_hints.h"
 
 namespace rayverify {
 
 using json = nlohmann::ordered_json;
 
 audit_state::audit_state(const std::vector<audit_target>& targets)
-    : audit(targets), stability(targets), points(targets, target_labels(targets)) {}
+    : audit(targets), stability(targets), points(targets, target_labels(targets)), lint(targets),
+      examples(targets.size()) {}
 
 void audit_state::merge(const audit_state& other) {
     audit.merge(other.audit);
     stability.merge(other.stability);
     points.merge(other.points);
+    lint.merge(other.lint);
+    examples.merge(other.examples);
 }
 
 std::vector<std::string> target_labels(const std::vector<audit_target>& targets) {
@@ -40,6 +45,8 @@ json audit_report_document(const audit_state& state, const audit_totals& totals,
     json report = audit_report_json(totals, context);
     report["stability"] = stability_json(totals, state.stability.finish(threads));
     report["case_points"] = state.points.to_json();
+    report["contract_hints"] = contract_hints_json(totals.targets, state.lint.hints());
+    report["cases_to_open"] = cases_to_open_json(totals.targets, state.examples);
     return report;
 }
 
@@ -228,6 +235,10 @@ public:
         check_audit(member(state, "state", "audit"));
         check_stability(member(state, "state", "stability"));
         check_points(array(member(state, "state", "case_points"), "state.case_points"));
+        // Absent in a shard written before they were kept: the merged report then has none.
+        if (state.contains("cases_to_open")) check_examples(array(state["cases_to_open"], "state.cases_to_open"));
+        if (state.contains("contract_lint"))
+            check_lint(array(state["contract_lint"], "state.contract_lint", targets_));
     }
 
 private:
@@ -562,6 +573,44 @@ private:
         }
     }
 
+    void check_examples(const json& list) const {
+        for (std::size_t i = 0; i < list.size(); ++i) {
+            const std::string at = fmt::format("state.cases_to_open[{}]", i);
+            const json& e = list[i];
+            if (whole(member(e, at, "target"), at + ".target") >= targets_)
+                fail(at + ".target", fmt::format("is beyond the {} targets", targets_));
+            const std::string kind = text(member(e, at, "kind"), at + ".kind");
+            if (kind != "first" && kind != "farthest")
+                fail(at + ".kind", fmt::format("'{}' is neither first nor farthest", printable(kind)));
+            const std::string verdict = text(member(e, at, "verdict"), at + ".verdict");
+            if (!verdict_from_name(verdict)) fail(at + ".verdict", fmt::format("'{}' is not a verdict", printable(verdict)));
+            case_index(whole(member(e, at, "index"), at + ".index"), at + ".index");
+            error_value(member(e, at, "error"), at + ".error");
+            text(member(e, at, "line"), at + ".line");
+            text(member(e, at, "source"), at + ".source");
+            const json& cause = member(e, at, "cause");
+            if (!cause.is_null() && !cause_from_name(text(cause, at + ".cause")))
+                fail(at + ".cause", fmt::format("'{}' is not a cause", printable(cause.get<std::string>())));
+        }
+    }
+
+    void check_lint(const json& list) const {
+        for (std::size_t t = 0; t < list.size(); ++t) {
+            const std::string at = fmt::format("state.contract_lint[{}]", t);
+            const std::uint64_t scored = whole(member(list[t], at, "scored"), at + ".scored");
+            const std::uint64_t wrong = whole(member(list[t], at, "wrong"), at + ".wrong");
+            if (wrong > scored) fail(at + ".wrong", "is more than the cases scored");
+            const json& fixed = array(member(list[t], at, "fixed"), at + ".fixed");
+            const json& broken = array(member(list[t], at, "broken"), at + ".broken", fixed.size());
+            for (std::size_t k = 0; k < fixed.size(); ++k) {
+                if (whole(fixed[k], fmt::format("{}.fixed[{}]", at, k)) > wrong)
+                    fail(fmt::format("{}.fixed[{}]", at, k), "is more than the disagreements");
+                if (whole(broken[k], fmt::format("{}.broken[{}]", at, k)) > scored - wrong)
+                    fail(fmt::format("{}.broken[{}]", at, k), "is more than the agreeing cases");
+            }
+        }
+    }
+
     const json& doc_;
     const std::string& file_;
     std::uint64_t count_ = 1, index_ = 1, total_ = 0, cases_ = 0;
@@ -634,9 +683,30 @@ json state_json(const audit_state& state) {
                               {"verdict", verdict_names},
                               {"near_ulp", near_ulp}});
         }
+    json examples = json::array();
+    const auto example = [&](std::size_t t, const char* kind, verdict_kind v, const case_example& e) {
+        examples.push_back({{"target", t},
+                            {"kind", kind},
+                            {"verdict", verdict_name(v)},
+                            {"index", e.index},
+                            {"error", double_json(e.error)},
+                            {"line", format_case_line(e.kase)},
+                            {"source", e.kase.source},
+                            {"cause", e.cause ? json(cause_name(*e.cause)) : json(nullptr)}});
+    };
+    for (std::size_t t = 0; t < state.examples.first.size(); ++t) {
+        for (int k = 0; k < verdict_kind_count; ++k)
+            for (const case_example& e : state.examples.first[t][k]) example(t, "first", static_cast<verdict_kind>(k), e);
+        for (const case_example& e : state.examples.farthest[t]) example(t, "farthest", verdict_kind::agree, e);
+    }
+    json lint = json::array();
+    for (const contract_lint_tally& tally : state.lint.tallies)
+        lint.push_back({{"scored", tally.scored}, {"wrong", tally.wrong}, {"fixed", tally.fixed}, {"broken", tally.broken}});
     return {{"audit", audit},
             {"stability", per_target_json(state.stability.overall(), state.stability.by_family, stability_samples_json)},
-            {"case_points", points}};
+            {"case_points", points},
+            {"cases_to_open", examples},
+            {"contract_lint", lint}};
 }
 
 audit_state state_from_json(const json& j, const std::vector<audit_target>& targets) {
@@ -676,6 +746,41 @@ audit_state state_from_json(const json& j, const std::vector<audit_target>& targ
         for (const json& ulp : near) r.near_ulp.push_back(number(ulp, "near_ulp"));
         state.points.insert(p.at("family_key").get<std::string>(),
                             {p.at("hash").get<std::uint64_t>(), r.index}, std::move(r));
+    }
+    if (j.contains("cases_to_open"))
+        for (const json& e : j.at("cases_to_open")) {
+            case_example example;
+            example.index = e.at("index").get<std::size_t>();
+            example.error = double_from(e.at("error"));
+            std::vector<corpus_case> parsed;
+            try {
+                parsed = parse_corpus(e.at("source").get<std::string>(), e.at("line").get<std::string>(), false);
+            } catch (const input_error& problem) {
+                throw json::other_error::create(501, problem.what(), &e);
+            }
+            if (parsed.size() != 1) throw json::other_error::create(501, "a case to open is not one corpus line", &e);
+            example.kase = std::move(parsed[0]);
+            example.kase.source = e.at("source").get<std::string>();
+            if (!e.at("cause").is_null()) example.cause = cause_from_name(e.at("cause").get<std::string>());
+            const std::size_t t = e.at("target").get<std::size_t>();
+            if (t >= targets.size()) throw json::other_error::create(501, "a case to open of no target", &e);
+            if (e.at("kind") == "first") {
+                const std::optional<verdict_kind> v = verdict_from_name(e.at("verdict").get<std::string>());
+                if (!v) throw json::other_error::create(501, "a case to open with an unknown verdict", &e);
+                state.examples.first[t][static_cast<int>(*v)].push_back(std::move(example));
+            } else {
+                state.examples.farthest[t].push_back(std::move(example));
+            }
+        }
+    if (j.contains("contract_lint")) {
+        const json& lint = j.at("contract_lint");
+        for (std::size_t t = 0; t < targets.size() && t < lint.size(); ++t) {
+            contract_lint_tally& tally = state.lint.tallies[t];
+            tally.scored = lint[t].at("scored").get<std::size_t>();
+            tally.wrong = lint[t].at("wrong").get<std::size_t>();
+            tally.fixed = lint[t].at("fixed").get<std::vector<std::size_t>>();
+            tally.broken = lint[t].at("broken").get<std::vector<std::size_t>>();
+        }
     }
     return state;
 }

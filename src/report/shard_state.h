@@ -11,6 +11,8 @@
 #include <vector>
 
 #include "compare/audit.h"
+#include "compare/case_examples.h"
+#include "compare/contract_lint.h"
 #include "compare/stability.h"
 #include "report/audit_report.h"
 #include "report/stability_report.h"
@@ -28,6 +30,8 @@ struct audit_state {
     audit_accumulator audit;
     stability_accumulator stability;
     case_points points;
+    contract_lint_accumulator lint;
+    case_examples examples;
 };
 
 // The labels the plots and per-case lines use for the targets.
@@ -35,7 +39,8 @@ std::vector<std::string> target_labels(const std::vector<audit_target>& targets)
 
 // The whole report.json of an audit: audit_report_json of `totals` (the
 // state's audit.finish(), formed once by the caller), then "stability" (its
-// statistics formed on `threads` threads) and "case_points".
+// statistics formed on `threads` threads), "case_points" and
+// "contract_hints" (compare/contract_lint.h) and "cases_to_open" (compare/case_examples.h).
 nlohmann::ordered_json audit_report_document(const audit_state& state, const audit_totals& totals,
                                              const run_context& context, unsigned threads = 1);
 

@@ -5,7 +5,9 @@
  *   FIXTURE_BAD_CONTRACT  describes the contract "query=sideways"
  *   FIXTURE_NO_PRECISION  describes precisions = 0
  *   FIXTURE_BATCH_CRASH   "batch_crash": like TIGHT_BOUND without bounds, but stores to address 16
- *                         when a case of the batch has radius 3 */
+ *                         when a case of the batch has radius 3
+ *   FIXTURE_MISSPELT      like TIGHT_BOUND, but its describe function is misspelt
+ *                         rayverify_plugin_descibe_v2 */
 #include <math.h>
 #include <stddef.h>
 
@@ -31,7 +33,14 @@
 #define NAME "too_tight"
 #endif
 
-RAYVERIFY_PLUGIN_EXPORT const rayverify_plugin_info_v2* rayverify_plugin_describe_v2(void) {
+#if defined(FIXTURE_MISSPELT)
+#define DESCRIBE_V2 rayverify_plugin_descibe_v2
+RAYVERIFY_PLUGIN_EXPORT const rayverify_plugin_info_v2* DESCRIBE_V2(void);
+#else
+#define DESCRIBE_V2 rayverify_plugin_describe_v2
+#endif
+
+RAYVERIFY_PLUGIN_EXPORT const rayverify_plugin_info_v2* DESCRIBE_V2(void) {
     static const rayverify_plugin_info_v2 info = {
         RAYVERIFY_PLUGIN_ABI_VERSION_2, NAME, "plugin_v2_test fixture", 0, 0, CONTRACT, 0, PRECISIONS};
     return &info;

@@ -1,0 +1,51 @@
+#include "compare/case_examples.h"
+
+#include <algorithm>
+
+namespace rayverify {
+
+namespace {
+
+bool earlier(const case_example& a, const case_example& b) { return a.index < b.index; }
+bool farther(const case_example& a, const case_example& b) {
+    return a.error != b.error ? a.error > b.error : a.index < b.index;
+}
+
+// Keeps the `kept` best of `into` and `e` by `better`, sorted.
+template <class Better>
+void keep(std::vector<case_example>& into, case_example e, Better better) {
+    if (into.size() == case_examples::kept && !better(e, into.back())) return;
+    into.insert(std::upper_bound(into.begin(), into.end(), e, better), std::move(e));
+    if (into.size() > case_examples::kept) into.pop_back();
+}
+
+}  // namespace
+
+case_examples::case_examples(std::size_t targets) : first(targets), farthest(targets) {}
+
+void case_examples::add(const audited_case& c, std::size_t index) {
+    for (std::size_t t = 0; t < c.outcomes.size() && t < first.size(); ++t) {
+        const case_score& s = c.outcomes[t].score;
+        if (is_disagreement(s.verdict)) {
+            auto& list = first[t][static_cast<int>(s.verdict)];
+            if (list.size() < kept || index < list.back().index)
+                keep(list, {index, 0, *c.source, s.cause}, earlier);
+        } else if (s.verdict == verdict_kind::agree && s.scale_error_radius &&
+                   !(*s.scale_error_radius < agree_far_fraction)) {
+            auto& list = farthest[t];
+            const double error = *s.scale_error_radius;
+            if (list.size() < kept || farther({index, error, {}, {}}, list.back()))
+                keep(list, {index, error, *c.source, std::nullopt}, farther);
+        }
+    }
+}
+
+void case_examples::merge(const case_examples& other) {
+    for (std::size_t t = 0; t < first.size() && t < other.first.size(); ++t) {
+        for (int k = 0; k < verdict_kind_count; ++k)
+            for (const case_example& e : other.first[t][k]) keep(first[t][k], e, earlier);
+        for (const case_example& e : other.farthest[t]) keep(farthest[t], e, farther);
+    }
+}
+
+}  // namespace rayverify

@@ -45,6 +45,12 @@ mkdir "$work/elsewhere"
 cd "$work/elsewhere"
 command -v rayverify | grep -qx /usr/bin/rayverify
 rayverify --version
+# The engines' plugins are installed with the list that names them: every one
+# the build made is available installed.
+built=$("$build_dir/rayverify" engines | grep -c "Debian package .* available$" || true)
+here=$(rayverify engines | grep -c "Debian package .* available$" || true)
+[ "$built" = "$here" ] || { echo "deb_test: $here of the $built engine plugins built are available installed" >&2; exit 1; }
+echo "deb_test: $here engine plugins available installed"
 set +e
 rayverify audit --generate near_tangent:2000 --variant naive --variant hearn_baker --summary --report report --plots
 code=$?

@@ -712,10 +712,19 @@ private:
         const double s = sqrt(D_);
         sigma_ = signbit(b_) ? -1 : 1;
         q_ = -(b_ + copysign(s, b_));
-        // One division for 1/|q| and 1/s: r1 = 1/(s·|q|), each product adding a rounding.
+        // One division for 1/|q| and 1/s: r1 = 1/(s·|q|), each product adding a
+        // rounding; two where s·|q| leaves the normal range (it would overflow to
+        // inf, making 1/|q| zero and every bound below zero, or lose bits below it).
         const double aq = abs(q_);
-        const double r1 = 1 / (s * aq);
-        inv_q_ = s * r1;
+        const double sq = s * aq;
+        double r1;
+        if (sq >= 0x1p-1000 && sq <= 0x1p1000) {
+            r1 = 1 / sq;
+            inv_q_ = s * r1;
+        } else {
+            inv_q_ = 1 / aq;
+            r1 = inv_q_ / s;
+        }
         // e_q/|q| = e_b/|q| + 1.01·e_Δ/(s·|q|) + u·s/|q| + u, every term within 3u of its computed value.
         xq_ = (eb_ * inv_q_ + 1.01 * eD_ * r1 + u * s * inv_q_) * (1 + 8 * u) + u;
     }

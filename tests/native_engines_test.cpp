@@ -148,7 +148,7 @@ TEST_P(NativeEngine, ReportsTheLibraryVersionWhereTheLibraryHasOne) {
     const nlohmann::json* e = entry(GetParam());
     ASSERT_NE(e, nullptr);
     if (e->at("plugin").is_null()) GTEST_SKIP() << e->at("why_not").get<std::string>();
-    void* library = dlopen(e->at("plugin").get<std::string>().c_str(), RTLD_NOW | RTLD_LOCAL);
+    void* library = dlopen(e->at("plugin").get<std::string>().c_str(), RTLD_NOW | RTLD_LOCAL | RTLD_NODELETE);
     ASSERT_NE(library, nullptr) << dlerror();
     auto version = reinterpret_cast<const char* (*)()>(dlsym(library, "rayverify_plugin_library_version"));
     ASSERT_NE(version, nullptr) << "every native plugin exports rayverify_plugin_library_version";

@@ -7,5 +7,10 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 tools/build.sh "$@"
 build_dir=build
-[ "${1:-}" = "--sanitize" ] && build_dir=build-sanitize
+if [ "${1:-}" = "--sanitize" ]; then
+  build_dir=build-sanitize
+  # What the engines' libraries keep until the process ends is theirs, not a
+  # leak of rayverify's (tools/lsan_suppressions.txt says which libraries).
+  export LSAN_OPTIONS="suppressions=$PWD/tools/lsan_suppressions.txt${LSAN_OPTIONS:+:$LSAN_OPTIONS}"
+fi
 ctest --test-dir "$build_dir" --output-on-failure -j "$(nproc)" -LE 'long|slurm'

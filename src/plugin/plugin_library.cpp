@@ -86,9 +86,12 @@ opened_library open_library(const std::filesystem::path& library) {
     std::error_code error;
     if (!std::filesystem::is_regular_file(library, error)) fail("no such file (expected a shared library)");
     // An absolute path, so that dlopen never searches LD_LIBRARY_PATH for a bare name.
+    // RTLD_NODELETE: the library stays mapped until the process ends, so what
+    // its static state holds (an engine's world, a device) is still reachable
+    // then, and no static destructor of it runs in the middle of a run.
     const std::filesystem::path absolute = std::filesystem::absolute(library, error);
     dlerror();
-    void* raw = dlopen(absolute.c_str(), RTLD_NOW | RTLD_LOCAL);
+    void* raw = dlopen(absolute.c_str(), RTLD_NOW | RTLD_LOCAL | RTLD_NODELETE);
     if (!raw) fail(fmt::format("cannot load: {}", text_or(dlerror(), "dlopen failed")));
     opened_library opened;
     opened.handle = std::shared_ptr<void>(raw, [](void* h) { dlclose(h); });

@@ -150,6 +150,9 @@ std::vector<audit_target> outside_targets(const results_options& options, const 
 audit_target outside_target(const std::string& name, const std::string& contract_spec, const std::string& citation,
                             precision prec);
 
+// `outside` after `targets`; a name both use is an input error (field --name).
+void append_outside_targets(std::vector<audit_target>& targets, const std::vector<audit_target>& outside);
+
 // select_targets (with `options.engines`), then the outside targets; with
 // outside targets and no --variant, --plugin or --engine, those alone.
 std::vector<audit_target> targets_with_results(const std::vector<std::string>& variant_names,

@@ -19,7 +19,7 @@ std::string precisions_text(const std::vector<precision>& precisions) {
 }
 
 int list_engines() {
-    const std::vector<shipped_library> all = shipped_libraries();
+    const std::vector<shipped_library>& all = shipped_libraries();
     std::size_t widths[4] = {4, 7, 6, 9};
     for (const shipped_library& l : all) {
         widths[0] = std::max(widths[0], l.name.size());

@@ -273,13 +273,17 @@ std::vector<audit_target> targets_with_results(const std::vector<std::string>& v
             throw input_error("", 0, "--precision",
                               fmt::format("the --results answers are in {}, which --precision leaves out", prec));
     }
+    append_outside_targets(targets, outside);
+    return targets;
+}
+
+void append_outside_targets(std::vector<audit_target>& targets, const std::vector<audit_target>& outside) {
     for (const audit_target& o : outside) {
         for (const audit_target& t : targets)
             if (t.subject.name == o.subject.name)
                 throw input_error("", 0, "--name", fmt::format("two targets named '{}'", t.subject.name));
         targets.push_back(o);
     }
-    return targets;
 }
 
 }  // namespace rayverify::cli

@@ -182,12 +182,7 @@ int run_scene_audit(const scene_audit_request& request) {
     std::vector<audit_target> targets;
     if (outside.empty() || !request.variants.empty() || !request.plugins.empty() || !request.results.engines.empty())
         targets = scene_audit_targets(s, request.variants, request.plugins, request.isolation, request.results.engines);
-    for (const audit_target& o : outside) {
-        for (const audit_target& t : targets)
-            if (t.subject.name == o.subject.name)
-                throw input_error("", 0, "--name", fmt::format("two targets named '{}'", t.subject.name));
-        targets.push_back(o);
-    }
+    append_outside_targets(targets, outside);
 
     run_outputs outputs;  // declared before the work; committed after it
     declare_inputs(outputs, {request.scene_file}, "--scene");

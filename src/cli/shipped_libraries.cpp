@@ -173,15 +173,18 @@ void add_javascript_libraries(std::vector<shipped_library>& out) {
 
 }  // namespace
 
-std::vector<shipped_library> shipped_libraries() {
-    std::vector<shipped_library> out;
-    add_native_libraries(out);
-    add_javascript_libraries(out);
-    return out;
+const std::vector<shipped_library>& shipped_libraries() {
+    static const std::vector<shipped_library> all = [] {
+        std::vector<shipped_library> out;
+        add_native_libraries(out);
+        add_javascript_libraries(out);
+        return out;
+    }();
+    return all;
 }
 
 shipped_library available_library(const std::string& name) {
-    const std::vector<shipped_library> all = shipped_libraries();
+    const std::vector<shipped_library>& all = shipped_libraries();
     const auto found = std::find_if(all.begin(), all.end(), [&](const shipped_library& l) { return l.name == name; });
     if (found == all.end()) {
         std::string known;

@@ -43,8 +43,10 @@ struct shipped_library {
 };
 
 // Every library rayverify knows, available here or not, in a fixed order
-// (Debian packages first, then npm packages; each group by name).
-std::vector<shipped_library> shipped_libraries();
+// (Debian packages first, then npm packages; each group by name). Found once
+// per process (it loads every plugin and asks node and dpkg): later calls
+// return the same list.
+const std::vector<shipped_library>& shipped_libraries();
 
 // The library named `name`, available here. Throws input_error (field
 // "--engine") for an unknown name (listing the known ones) or one that is not

@@ -252,6 +252,32 @@ TEST(SidePreservingRounding, PositiveRootsBelowTheSubnormalsAnsweredDenormMinAgr
     }
 }
 
+// Roots on either side of half the smallest float subnormal, in float: from (0, 0, 0) along (2^11, 0, 0)
+// at a sphere of radius 2^−140 about (2^−139, 0, 0), t* = (2^−139 ∓ 2^−140)/2^11 = 2^−151 (RN = +0) and
+// 3·2^−151 = 0.75·2^−149 (RN = denorm_min). Distinct after rounding, yet +denorm_min for both is each
+// root's side-preserving rounding or its RN: two roots, not a tangent. A count of 1 still reports one root,
+// and 0 for both is no rounding of the far root.
+TEST(SidePreservingRounding, TwoTinyRootsBothAnsweredDenormMinAreNotATangent) {
+    const double tiny = std::numeric_limits<float>::denorm_min();
+    const ray_sphere<double> g{{0, 0, 0}, {0x1p11, 0, 0}, {0x1p-139, 0, 0}, 0x1p-140};
+    const exact_solution e = solve_exact(g, precision::binary32);
+    ASSERT_EQ(e.cls, line_class::two_hit);
+    ASSERT_EQ(e.near_root.rounded, 0.0);
+    ASSERT_EQ(e.far_root.rounded, tiny);
+    const auto verdict_f = [&](root_pair<double> r) { return judge(line, g, r, precision::binary32).verdict; };
+    EXPECT_EQ(verdict_f({2, tiny, tiny}), verdict_kind::agree);
+    EXPECT_EQ(verdict_f({2, 0.0, tiny}), verdict_kind::agree);
+    EXPECT_EQ(verdict_f({1, tiny, tiny}), verdict_kind::false_tangent);
+    EXPECT_EQ(verdict_f({2, 0.0, 0.0}), verdict_kind::false_tangent);
+    // The header's own answer, through the registry.
+    corpus_case c;
+    c.id = "tiny_pair";
+    c.geometry = g;
+    const target_outcome o = judge_target({*find_builtin_variant("robust"), precision::binary32}, c, e);
+    EXPECT_EQ(o.score.verdict, verdict_kind::agree) << o.score.detail;
+    EXPECT_EQ(o.output.roots.t0, tiny);
+}
+
 // Overflow, symmetrically: roots 2^1050 and 2^1051 round to +inf; +inf agrees, and so does the largest
 // double (one step inside the range, which robust_sphere.h's nearest_hit on an open interval returns).
 TEST(SidePreservingRounding, RootsBeyondTheRangeAnsweredInfOrTheLargestValueAgree) {

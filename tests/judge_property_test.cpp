@@ -287,7 +287,10 @@ verdict_kind brute_judge(const contract& k, const brute_case& e, root_pair<doubl
         // 7. out of order; 8. tangent_split; 9. false_tangent.
         if (t[0] > t[1]) return verdict_kind::malformed_output;
         if (e.cls == 0 && t[0] != t[1]) return verdict_kind::tangent_split;
-        if (e.cls > 0 && brute_rn(e, -1, p) != brute_rn(e, +1, p) && (r.count == 1 || t[0] == t[1]))
+        const auto answers = [&](int s, double v) { return v == brute_rn(e, s, p) || brute_side_preserving(e, s, v, p); };
+        const bool one_value_for_both = r.count == 2 && t[0] == t[1] && answers(-1, t[0]) && answers(+1, t[0]);
+        if (e.cls > 0 && brute_rn(e, -1, p) != brute_rn(e, +1, p) && (r.count == 1 || t[0] == t[1]) &&
+            !one_value_for_both)
             return verdict_kind::false_tangent;
     }
     // The root each value stands for; a clamp answered by its start stands for nothing.

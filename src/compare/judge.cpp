@@ -436,9 +436,17 @@ case_score judge_verdict(const contract& promises, const variant_output& out, co
             return fail(verdict_kind::malformed_output, "roots out of order: " + describe_output(out, query));
         // 8. tangent_split: exactly tangent, two distinct roots.
         if (exact.cls == line_class::tangent && t[0] != t[1]) return fail(verdict_kind::tangent_split, both());
-        // 9. false_tangent: two roots distinct after rounding, one reported.
+        // 9. false_tangent: two roots distinct after rounding, one reported
+        // (two equal values that are the side-preserving rounding of both
+        // roots, say +denorm_min for two positive roots below it, are two).
+        const auto answers = [&](root_index k, double v) {
+            return v == exact.root(k).rounded || side_preserving_rounding(exact, k, v);
+        };
         const bool distinct_after_rounding = exact.near_root.rounded != exact.far_root.rounded;
-        if (exact.cls == line_class::two_hit && distinct_after_rounding && (r.count == 1 || t[0] == t[1]))
+        const bool one_value_for_both = r.count == 2 && t[0] == t[1] && answers(root_index::near_root, t[0]) &&
+                                        answers(root_index::far_root, t[0]);
+        if (exact.cls == line_class::two_hit && distinct_after_rounding && (r.count == 1 || t[0] == t[1]) &&
+            !one_value_for_both)
             return fail(verdict_kind::false_tangent, both());
     }
     // Which exact root each t stands for: a clamp's range start stands for

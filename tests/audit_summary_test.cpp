@@ -36,8 +36,8 @@ target_tally tally(std::size_t cases, std::size_t false_hit, std::size_t contrac
     t.verdicts[static_cast<int>(verdict_kind::contract_violation)] = contract;
     t.verdicts[static_cast<int>(verdict_kind::agree)] = cases - false_hit - contract;
     if (max_ulp >= 0) {
-        t.near_root_ulp.count = 1;
-        t.near_root_ulp.max = max_ulp;
+        t.errors[rayverify::error_figure::near_root_ulp].count = 1;
+        t.errors[rayverify::error_figure::near_root_ulp].max = max_ulp;
     }
     return t;
 }

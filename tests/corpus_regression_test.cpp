@@ -49,7 +49,7 @@ TEST_F(ShippedCorpus, NaiveFloatLosesFarSpheresAndHearnBakerLosesFewer) {
     EXPECT_LT(count(hearn_baker, verdict_kind::false_miss) + count(hearn_baker, verdict_kind::false_hit),
               count(naive, verdict_kind::false_miss) + count(naive, verdict_kind::false_hit));
     // And it is far more accurate when both classify right (RTG ch.7).
-    EXPECT_LT(hearn_baker.near_root_ulp.median * 10, naive.near_root_ulp.median);
+    EXPECT_LT(hearn_baker.errors[rayverify::error_figure::near_root_ulp].median * 10, naive.errors[rayverify::error_figure::near_root_ulp].median);
 }
 
 TEST_F(ShippedCorpus, HearnBakerDoubleGetsEveryFarSphereRight) {

@@ -416,7 +416,7 @@ TEST(Engines, EveryEngineOnTheShippedCorpus) {
         EXPECT_EQ(tally.verdicts[static_cast<int>(verdict_kind::unsound_bound)], 0u);
         EXPECT_GT(tally.verdicts[static_cast<int>(verdict_kind::agree)], tally.cases / 2);
         if (totals.targets[t].subject.promises.query != query_kind::any_hit) {
-            EXPECT_GT(tally.scale_error_radius.count, 0u);
+            EXPECT_GT(tally.errors[rayverify::error_figure::scale_error_radius].count, 0u);
         }
     }
     // raylib's hits behind the origin are by design.

@@ -230,9 +230,9 @@ TEST(ExchangeResults, RecordedAnswersAreJudgedExactlyAsTheVariantThatComputedThe
         ASSERT_EQ(got.overall.size(), 1u);
         EXPECT_EQ(got.overall[0].verdicts, want.overall[0].verdicts) << precision_name(p);
         EXPECT_EQ(got.overall[0].causes, want.overall[0].causes) << precision_name(p);
-        EXPECT_EQ(got.overall[0].near_root_ulp.max, want.overall[0].near_root_ulp.max) << precision_name(p);
-        EXPECT_EQ(got.overall[0].far_root_ulp.max, want.overall[0].far_root_ulp.max) << precision_name(p);
-        EXPECT_EQ(got.overall[0].hit_point_ulp.max, want.overall[0].hit_point_ulp.max) << precision_name(p);
+        EXPECT_EQ(got.overall[0].errors[rayverify::error_figure::near_root_ulp].max, want.overall[0].errors[rayverify::error_figure::near_root_ulp].max) << precision_name(p);
+        EXPECT_EQ(got.overall[0].errors[rayverify::error_figure::far_root_ulp].max, want.overall[0].errors[rayverify::error_figure::far_root_ulp].max) << precision_name(p);
+        EXPECT_EQ(got.overall[0].errors[rayverify::error_figure::hit_point_ulp].max, want.overall[0].errors[rayverify::error_figure::hit_point_ulp].max) << precision_name(p);
         EXPECT_GT(want.overall[0].disagreements(), 0u);
     }
 }

@@ -682,13 +682,13 @@ std::vector<bad_input> bad_inputs() {
          "s1/shard.json: field 'targets[0].contract.spec': 'query=teleport'",
          edited_shard([](nlohmann::ordered_json& j) { j["targets"][0]["contract"]["spec"] = "query=teleport"; })},
         {"merge: a `nan` maximum", "rayverify merge --report out s1", {}, 2,
-         "s1/shard.json: field 'state.audit.overall[0].near_ulp.max': is nan, expected an error ≥ 0 (never NaN)",
-         edited_shard([](nlohmann::ordered_json& j) { j["state"]["audit"]["overall"][0]["near_ulp"]["max"] = "nan"; })},
+         "s1/shard.json: field 'state.audit.overall[0].near_root_ulp.max': is nan, expected an error ≥ 0 (never NaN)",
+         edited_shard([](nlohmann::ordered_json& j) { j["state"]["audit"]["overall"][0]["near_root_ulp"]["max"] = "nan"; })},
         {"merge: a histogram bucket index of 2^62", "rayverify merge --report out s1", {}, 2,
-         "s1/shard.json: field 'state.audit.overall[0].near_ulp.buckets (key 4611686018427387904)': is beyond the "
+         "s1/shard.json: field 'state.audit.overall[0].near_root_ulp.buckets (key 4611686018427387904)': is beyond the "
          "last bucket",
          edited_shard([](nlohmann::ordered_json& j) {
-             j["state"]["audit"]["overall"][0]["near_ulp"]["buckets"] = "4611686018427387904:1";
+             j["state"]["audit"]["overall"][0]["near_root_ulp"]["buckets"] = "4611686018427387904:1";
          })},
         {"merge: a plotted case's verdict that is no verdict", "rayverify merge --report out s1", {}, 2,
          "s1/shard.json: field 'state.case_points[0].verdict[0]': 'teleported' is not a verdict",

@@ -55,8 +55,8 @@ TEST(Plugin, ExampleMatchesBuiltinHearnBakerOnTheShippedCorpus) {
     ASSERT_EQ(targets.size(), 2u);
     const audit_totals totals = run_audit(cases, targets);
     EXPECT_EQ(totals.overall[0].verdicts, totals.overall[1].verdicts);
-    EXPECT_EQ(totals.overall[0].near_root_ulp.max, totals.overall[1].near_root_ulp.max);
-    EXPECT_EQ(totals.overall[0].far_root_ulp.p99, totals.overall[1].far_root_ulp.p99);
+    EXPECT_EQ(totals.overall[0].errors[rayverify::error_figure::near_root_ulp].max, totals.overall[1].errors[rayverify::error_figure::near_root_ulp].max);
+    EXPECT_EQ(totals.overall[0].errors[rayverify::error_figure::far_root_ulp].p99, totals.overall[1].errors[rayverify::error_figure::far_root_ulp].p99);
     EXPECT_GT(totals.overall[0].disagreements(), 0u) << "hearn_baker's known 0/0 tangent NaN must show";
 }
 

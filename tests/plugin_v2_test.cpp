@@ -97,9 +97,9 @@ TEST(PluginV2, ExamplesAuditedInProcessAndIsolatedAlike) {
         for (std::size_t t = 0; t < a.targets.size(); ++t) {
             const std::string label = a.targets[t].label();
             EXPECT_EQ(a.overall[t].verdicts, b.overall[t].verdicts) << label;
-            EXPECT_EQ(a.overall[t].near_root_ulp.max, b.overall[t].near_root_ulp.max) << label;
-            EXPECT_EQ(a.overall[t].hit_point_ulp.max, b.overall[t].hit_point_ulp.max) << label;
-            EXPECT_EQ(a.overall[t].bound_width_ulp.max, b.overall[t].bound_width_ulp.max) << label;
+            EXPECT_EQ(a.overall[t].errors[rayverify::error_figure::near_root_ulp].max, b.overall[t].errors[rayverify::error_figure::near_root_ulp].max) << label;
+            EXPECT_EQ(a.overall[t].errors[rayverify::error_figure::hit_point_ulp].max, b.overall[t].errors[rayverify::error_figure::hit_point_ulp].max) << label;
+            EXPECT_EQ(a.overall[t].errors[rayverify::error_figure::bound_width_ulp].max, b.overall[t].errors[rayverify::error_figure::bound_width_ulp].max) << label;
             EXPECT_EQ(verdicts(a.overall[t], verdict_kind::malformed_output), 0u) << label;
             EXPECT_GT(verdicts(a.overall[t], verdict_kind::agree), a.overall[t].cases / 2) << label;
         }
@@ -119,17 +119,17 @@ TEST(PluginV2, OutputsBesideTAreMeasured) {
         if (name == "bounds_sphere") {
             // Intervals computed with outward rounding contain the exact roots and points.
             EXPECT_EQ(verdicts(tally, verdict_kind::unsound_bound), 0u);
-            EXPECT_GT(tally.bound_width_ulp.count, 0u);
-            EXPECT_GE(tally.bound_width_ulp.max, 1) << "an interval holds at least its two ends";
-            EXPECT_GT(tally.hit_point_ulp.count, 0u);
+            EXPECT_GT(tally.errors[rayverify::error_figure::bound_width_ulp].count, 0u);
+            EXPECT_GE(tally.errors[rayverify::error_figure::bound_width_ulp].max, 1) << "an interval holds at least its two ends";
+            EXPECT_GT(tally.errors[rayverify::error_figure::hit_point_ulp].count, 0u);
         }
         if (name == "nearest_sphere") {
-            EXPECT_GT(tally.normal_angle.count, 0u);
+            EXPECT_GT(tally.errors[rayverify::error_figure::normal_angle].count, 0u);
         }
         if (name == "point_sphere") {
-            EXPECT_GT(tally.hit_point_ulp.count, 0u);
+            EXPECT_GT(tally.errors[rayverify::error_figure::hit_point_ulp].count, 0u);
         }
-        EXPECT_GT(tally.scale_error_radius.count, 0u);
+        EXPECT_GT(tally.errors[rayverify::error_figure::scale_error_radius].count, 0u);
     }
 }
 

@@ -10,12 +10,14 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <random>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
 
 #include "compare/audit.h"
+#include "compare/error_figures.h"
 #include "support/process.h"
 
 namespace {
@@ -335,6 +337,56 @@ TEST_F(ShardMerge, PerCaseFilesAreCheckedAsStatesAre) {
     const command_result fifo = in_dir(fmt::format("timeout 60 '{}' merge --report fifo s1 s2", RAYVERIFY_CLI));
     EXPECT_EQ(fifo.exit_code, 2) << fifo.output;
     EXPECT_NE(fifo.output.find("s2/shard.json: is not a regular file"), std::string::npos) << fifo.output;
+}
+
+// Every error figure's summary, in each family's tally and in the whole
+// run's, refuses an edited value: a negative maximum, a count its buckets do
+// not hold, and (the whole run's, which merge forms again from the families)
+// any value that differs from the families' merge. The figures come from the
+// one table, so a new figure is covered without a change here.
+TEST_F(ShardMerge, EveryErrorFigureOfEveryTallyRefusesATamperedValue) {
+    ASSERT_NE(in_dir(fmt::format("'{}' audit --generate uniform:30 --generate near_tangent:30 --variant naive "
+                                 "--variant embree4 --shard 1/1 --report s1",
+                                 RAYVERIFY_CLI))
+                  .exit_code,
+              2);
+    const std::string original = read_text(dir_ / "s1/shard.json");
+    const auto refused = [&](const std::string& what, const std::function<void(nlohmann::ordered_json&)>& edit,
+                             const std::string& field) {
+        nlohmann::ordered_json state = nlohmann::ordered_json::parse(original);
+        edit(state);
+        std::ofstream(dir_ / "s1/shard.json", std::ios::trunc) << state.dump();
+        const command_result r = in_dir(fmt::format("'{}' merge --report out s1", RAYVERIFY_CLI));
+        EXPECT_EQ(r.exit_code, 2) << what << ": " << r.output;
+        EXPECT_NE(r.output.find("field '" + field), std::string::npos) << what << ": " << r.output;
+        EXPECT_FALSE(fs::exists(dir_ / "out")) << what;
+    };
+    std::size_t edits = 0;
+    for (const rayverify::error_figure_definition& f : rayverify::error_figures) {
+        const std::string name(f.name);
+        const std::string family_path = "state.audit.by_family.uniform[1]." + name,
+                          whole_path = "state.audit.overall[1]." + name;
+        const auto family = [&](nlohmann::ordered_json& j) -> nlohmann::ordered_json& {
+            return j["state"]["audit"]["by_family"]["uniform"][1][name];
+        };
+        const auto whole = [&](nlohmann::ordered_json& j) -> nlohmann::ordered_json& {
+            return j["state"]["audit"]["overall"][1][name];
+        };
+        refused(name + ": a family's negative max", [&](nlohmann::ordered_json& j) { family(j)["max"] = "-0x1p+0"; }, family_path + ".max");
+        refused(name + ": a family's count", [&](nlohmann::ordered_json& j) { family(j)["count"] = family(j)["count"].get<int>() + 1; },
+                family_path + ".count");
+        refused(name + ": the whole run's negative max", [&](nlohmann::ordered_json& j) { whole(j)["max"] = "-0x1p+0"; }, whole_path + ".max");
+        refused(name + ": the whole run's count", [&](nlohmann::ordered_json& j) { whole(j)["count"] = whole(j)["count"].get<int>() + 1; },
+                whole_path + ".count");
+        // (with no error in it, a case named for the max is refused as a max set)
+        refused(name + ": the whole run's case of the max", [&](nlohmann::ordered_json& j) { whole(j)["max_id"] = "elsewhere"; },
+                whole_path + ".max");
+        edits += 5;
+    }
+    EXPECT_EQ(edits, 5 * rayverify::error_figure_count);
+    // Untouched, it merges.
+    std::ofstream(dir_ / "s1/shard.json", std::ios::trunc) << original;
+    EXPECT_NE(in_dir(fmt::format("'{}' merge --report out s1", RAYVERIFY_CLI)).exit_code, 2);
 }
 
 TEST_F(ShardMerge, ThePlotSampleIsBoundedPerFamily) {

@@ -242,14 +242,7 @@ void target_samples::merge(const target_samples& other) {
     cases += other.cases;
     for (int k = 0; k < verdict_kind_count; ++k) verdicts[k] += other.verdicts[k];
     for (int c = 0; c < disagreement_cause_count; ++c) causes[c] += other.causes[c];
-    near_ulp.merge(other.near_ulp);
-    far_ulp.merge(other.far_ulp);
-    hit_ulp.merge(other.hit_ulp);
-    near_bits.merge(other.near_bits);
-    scale_radius.merge(other.scale_radius);
-    scale_distance.merge(other.scale_distance);
-    bound_ulp.merge(other.bound_ulp);
-    normal_angle.merge(other.normal_angle);
+    for (const error_figure_definition& f : error_figures) errors[f.figure].merge(other.errors[f.figure]);
 }
 
 std::string family_key(const corpus_case& c) { return c.family.empty() ? "-" : c.family; }
@@ -281,17 +274,8 @@ void audit_accumulator::add(const audited_case& c, std::size_t index) {
         ++s.verdicts[static_cast<int>(score.verdict)];
         if (score.cause) ++s.causes[static_cast<int>(*score.cause)];
         if (score.verdict != verdict_kind::agree) continue;
-        if (score.near_ulp) figures_.push(s.near_ulp, *score.near_ulp);
-        if (score.far_ulp) figures_.push(s.far_ulp, *score.far_ulp);
-        if (score.near_bits) figures_.push(s.near_bits, *score.near_bits);
-        if (score.hit_point_ulp) {
-            const auto& e = *score.hit_point_ulp;
-            figures_.push(s.hit_ulp, std::max({e[0], e[1], e[2]}));
-        }
-        if (score.scale_error_radius) figures_.push(s.scale_radius, *score.scale_error_radius);
-        if (score.scale_error_distance) figures_.push(s.scale_distance, *score.scale_error_distance);
-        if (score.bound_ulp) figures_.push(s.bound_ulp, *score.bound_ulp);
-        if (score.normal_angle) figures_.push(s.normal_angle, *score.normal_angle);
+        for (const error_figure_definition& f : error_figures)
+            if (const std::optional<double> e = f.of_case(score)) figures_.push(s.errors[f.figure], *e);
     }
     figures_.add_all(index, c.source->id);
 }
@@ -315,15 +299,8 @@ target_tally summarise(const target_samples& s) {
     tally.cases = s.cases;
     tally.verdicts = s.verdicts;
     tally.causes = s.causes;
-    tally.near_root_ulp = s.near_ulp.statistics();
-    tally.far_root_ulp = s.far_ulp.statistics();
-    tally.hit_point_ulp = s.hit_ulp.statistics();
-    tally.near_root_bits = s.near_bits.statistics();
-    tally.scale_error_radius = s.scale_radius.statistics();
-    tally.agree_far = s.scale_radius.count_at_least(agree_far_fraction);
-    tally.scale_error_distance = s.scale_distance.statistics();
-    tally.bound_width_ulp = s.bound_ulp.statistics();
-    tally.normal_angle = s.normal_angle.statistics();
+    for (const error_figure_definition& f : error_figures) tally.errors[f.figure] = s.errors[f.figure].statistics();
+    tally.agree_far = s.errors[error_figure::scale_error_radius].count_at_least(agree_far_fraction);
     return tally;
 }
 

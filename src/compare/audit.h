@@ -13,6 +13,7 @@
 
 #include <boost/container/flat_map.hpp>
 
+#include "compare/error_figures.h"
 #include "compare/judge.h"
 #include "core/ray_sphere_case.h"
 #include "intersectors/registry.h"
@@ -186,10 +187,7 @@ struct target_samples {
     std::size_t cases = 0;
     std::array<std::size_t, verdict_kind_count> verdicts{};
     std::array<std::size_t, disagreement_cause_count> causes{};  // of the disagreements
-    error_summary near_ulp, far_ulp, hit_ulp, near_bits;
-    // Beside ULPs (case_score): the error in the scene's length scale, and
-    // the outputs some engines give beside t.
-    error_summary scale_radius, scale_distance, bound_ulp, normal_angle;
+    per_error_figure<error_summary> errors;  // over the agreeing cases
     void merge(const target_samples& other);
 };
 
@@ -199,9 +197,7 @@ struct target_tally {
     std::array<std::size_t, verdict_kind_count> verdicts{};
     std::array<std::size_t, disagreement_cause_count> causes{};  // of the disagreements
     // Errors over the cases whose verdict is agree (disagreements are counted above).
-    error_statistics near_root_ulp, far_root_ulp, hit_point_ulp, near_root_bits;
-    // |t − t*|·|d| over r and over |o − c|; t-interval width in ULPs; normal angle in radians.
-    error_statistics scale_error_radius, scale_error_distance, bound_width_ulp, normal_angle;
+    per_error_figure<error_statistics> errors;
     // Agree but far: agreeing cases whose hit lies at least agree_far_fraction
     // of the radius from the exact one (scale_error_radius; the verdict only
     // asks which root a t stands for, so a far t can still agree).

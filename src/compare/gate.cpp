@@ -22,7 +22,14 @@ const std::vector<std::string_view>& figure_list() {
         std::vector<std::string_view> names = {"cases"};
         for (int k = 0; k < verdict_kind_count; ++k)
             if (is_disagreement(static_cast<verdict_kind>(k))) names.push_back(verdict_name(static_cast<verdict_kind>(k)));
-        for (std::string_view ulp : {"near_ulp_max", "near_ulp_p99", "far_ulp_max", "far_ulp_p99"}) names.push_back(ulp);
+        static const std::vector<std::string> gated = [] {
+            std::vector<std::string> out;
+            for (const error_figure_definition& f : error_figures)
+                if (f.gated)
+                    for (const char* statistic : {"_max", "_p99"}) out.push_back(std::string(f.case_name) + statistic);
+            return out;
+        }();
+        names.insert(names.end(), gated.begin(), gated.end());
         return names;
     }();
     return list;
@@ -70,13 +77,12 @@ figure_table figures_of(const audit_totals& totals) {
             if (is_disagreement(kind))
                 table[{target, family, std::string(verdict_name(kind))}] = static_cast<double>(t.verdicts[k]);
         }
-        const auto statistics = [&](const char* name, const error_statistics& s) {
-            if (s.count == 0) return;
-            table[{target, family, std::string(name) + "_max"}] = s.max;
-            table[{target, family, std::string(name) + "_p99"}] = s.p99;
-        };
-        statistics("near_ulp", t.near_root_ulp);
-        statistics("far_ulp", t.far_root_ulp);
+        for (const error_figure_definition& f : error_figures) {
+            const error_statistics& s = t.errors[f.figure];
+            if (!f.gated || s.count == 0) continue;
+            table[{target, family, std::string(f.case_name) + "_max"}] = s.max;
+            table[{target, family, std::string(f.case_name) + "_p99"}] = s.p99;
+        }
     };
     for (std::size_t i = 0; i < totals.targets.size(); ++i) {
         const std::string target = totals.targets[i].label();
@@ -383,10 +389,11 @@ std::vector<const corpus_case*> gate_examples::cases_for(const figure_key& key, 
             if (family == totals.by_family.end()) return {};
             tally = &family->second[t];
         }
-        const std::string& id = key.figure.starts_with("near") ? tally->near_root_ulp.max_case
-                                                                : tally->far_root_ulp.max_case;
-        for (const corpus_case& c : corpus)
-            if (c.id == id) return {&c};
+        for (const error_figure_definition& f : error_figures) {
+            if (!f.gated || !key.figure.starts_with(std::string(f.case_name) + "_")) continue;
+            for (const corpus_case& c : corpus)
+                if (c.id == tally->errors[f.figure].max_case) return {&c};
+        }
     }
     return {};
 }

@@ -96,19 +96,11 @@ json tally_json(const target_tally& t, const char* scope) {
     json causes = json::object();
     for (int c = 0; c < disagreement_cause_count; ++c)
         causes[std::string(cause_name(static_cast<disagreement_cause>(c)))] = t.causes[c];
-    return {{"cases", t.cases},
-            {"disagreements", t.disagreements()},
-            {"verdicts", verdicts},
-            {"causes", causes},
-            {"near_root_ulp", statistics_json(t.near_root_ulp, scope)},
-            {"far_root_ulp", statistics_json(t.far_root_ulp, scope)},
-            {"near_root_bits", statistics_json(t.near_root_bits, scope)},
-            {"hit_point_ulp", statistics_json(t.hit_point_ulp, scope)},
-            {"scale_error_radius", statistics_json(t.scale_error_radius, scope)},
-            {"scale_error_distance", statistics_json(t.scale_error_distance, scope)},
-            {"bound_width_ulp", statistics_json(t.bound_width_ulp, scope)},
-            {"normal_angle", statistics_json(t.normal_angle, scope)},
-            {"agree_far", t.agree_far}};
+    json out = {{"cases", t.cases}, {"disagreements", t.disagreements()}, {"verdicts", verdicts}, {"causes", causes}};
+    for (const error_figure_definition& f : error_figures)
+        out[std::string(f.name)] = statistics_json(t.errors[f.figure], scope);
+    out["agree_far"] = t.agree_far;
+    return out;
 }
 
 
@@ -205,7 +197,7 @@ std::string render_summary_table(const audit_totals& totals) {
             if (corpus_column(kind)) out += fmt::format(" {:>{}}", t.verdicts[k], column_width(verdict_column(kind)));
         }
         out += fmt::format(" {:>6}", t.by_design());
-        const error_statistics& s = t.near_root_ulp;
+        const error_statistics& s = t.errors[error_figure::near_root_ulp];
         if (s.count == 0)
             out += fmt::format(" {:>9} {:>9} {:>9}\n", "-", "-", "-");
         else
@@ -375,23 +367,22 @@ std::string per_case_line(const audited_case& audited, const std::vector<audit_t
                 hex_vec(*o.output.normal);
             }
         }
-        const auto figure = [&](json_name name, const std::optional<double>& x) {
+        const auto figure = [&](std::string_view name, const std::optional<double>& x) {
             if (!x) return;
-            line.key(name);
+            line.key_text(name);
             write_number(line, *x);
         };
-        figure("near_ulp", o.score.near_ulp);
-        figure("far_ulp", o.score.far_ulp);
-        figure("near_bits", o.score.near_bits);
-        if (o.score.hit_point_ulp) {
-            line.key("hit_point_ulp").begin_array();
-            for (const double e : *o.score.hit_point_ulp) write_number(line, e);
-            line.end_array();
+        for (const error_figure_definition& f : error_figures) {
+            if (f.figure == error_figure::hit_point_ulp) {
+                // Per coordinate on a case's line (the tally keeps the worst).
+                if (!o.score.hit_point_ulp) continue;
+                line.key_text(f.case_name).begin_array();
+                for (const double e : *o.score.hit_point_ulp) write_number(line, e);
+                line.end_array();
+                continue;
+            }
+            figure(f.case_name, f.of_case(o.score));
         }
-        figure("scale_error_radius", o.score.scale_error_radius);
-        figure("scale_error_distance", o.score.scale_error_distance);
-        figure("bound_width_ulp", o.score.bound_ulp);
-        figure("normal_angle", o.score.normal_angle);
         if (!o.score.detail.empty()) line.member("detail", o.score.detail);
         line.end_object();
     }

@@ -38,8 +38,8 @@ std::string share_text(const target_tally* t) {
 }
 
 std::string ulp_text(const target_tally* t) {
-    if (!t || t->near_root_ulp.count == 0) return "-";
-    const double x = t->near_root_ulp.max;
+    if (!t || t->errors[error_figure::near_root_ulp].count == 0) return "-";
+    const double x = t->errors[error_figure::near_root_ulp].max;
     if (std::isinf(x)) return "inf";
     return x == 0 ? "0" : fmt::format("{:.3g}", x);
 }

@@ -159,11 +159,12 @@ figure_table figures_from_report_json(const nlohmann::json& report, const std::s
                 if (is_disagreement(kind) && tally["verdicts"].contains(name))
                     table[{target, family, name}] = number(tally["verdicts"][name], where + " " + name);
             }
-            for (const auto& [json_name, figure] : {std::pair{"near_root_ulp", "near_ulp"}, std::pair{"far_root_ulp", "far_ulp"}}) {
-                if (!tally.contains(json_name) || tally[json_name].value("count", 0) == 0) continue;
+            for (const error_figure_definition& f : error_figures) {
+                const std::string json_name(f.name), figure(f.case_name);
+                if (!f.gated || !tally.contains(json_name) || tally[json_name].value("count", 0) == 0) continue;
                 const auto& s = tally[json_name];
-                table[{target, family, std::string(figure) + "_max"}] = number(s["max"], where + " " + json_name);
-                table[{target, family, std::string(figure) + "_p99"}] = number(s["p99"], where + " " + json_name);
+                table[{target, family, figure + "_max"}] = number(s["max"], where + " " + json_name);
+                table[{target, family, figure + "_p99"}] = number(s["p99"], where + " " + json_name);
             }
         };
         add(std::string(all_families), entry);

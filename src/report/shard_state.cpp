@@ -103,17 +103,9 @@ error_summary summary_from(const json& j) {
 }
 
 json samples_json(const target_samples& s) {
-    return {{"cases", s.cases},
-            {"verdicts", s.verdicts},
-            {"causes", s.causes},
-            {"near_ulp", summary_json(s.near_ulp)},
-            {"far_ulp", summary_json(s.far_ulp)},
-            {"hit_ulp", summary_json(s.hit_ulp)},
-            {"near_bits", summary_json(s.near_bits)},
-            {"scale_radius", summary_json(s.scale_radius)},
-            {"scale_distance", summary_json(s.scale_distance)},
-            {"bound_ulp", summary_json(s.bound_ulp)},
-            {"normal_angle", summary_json(s.normal_angle)}};
+    json out = {{"cases", s.cases}, {"verdicts", s.verdicts}, {"causes", s.causes}};
+    for (const error_figure_definition& f : error_figures) out[std::string(f.name)] = summary_json(s.errors[f.figure]);
+    return out;
 }
 
 target_samples samples_from(const json& j) {
@@ -121,14 +113,7 @@ target_samples samples_from(const json& j) {
     s.cases = j.at("cases").get<std::size_t>();
     s.verdicts = j.at("verdicts").get<std::array<std::size_t, verdict_kind_count>>();
     s.causes = j.at("causes").get<std::array<std::size_t, disagreement_cause_count>>();
-    s.near_ulp = summary_from(j.at("near_ulp"));
-    s.far_ulp = summary_from(j.at("far_ulp"));
-    s.hit_ulp = summary_from(j.at("hit_ulp"));
-    s.near_bits = summary_from(j.at("near_bits"));
-    s.scale_radius = summary_from(j.at("scale_radius"));
-    s.scale_distance = summary_from(j.at("scale_distance"));
-    s.bound_ulp = summary_from(j.at("bound_ulp"));
-    s.normal_angle = summary_from(j.at("normal_angle"));
+    for (const error_figure_definition& f : error_figures) s.errors[f.figure] = summary_from(j.at(std::string(f.name)));
     return s;
 }
 
@@ -397,7 +382,7 @@ private:
     struct sample_sums {
         std::array<std::uint64_t, verdict_kind_count> verdicts{};
         std::array<std::uint64_t, disagreement_cause_count> causes{};
-        std::array<std::uint64_t, 4> errors{};
+        per_error_figure<std::uint64_t> errors{};
     };
     sample_sums samples(const json& j, const std::string& path, std::uint64_t cases) const {
         sample_sums sums;
@@ -424,13 +409,12 @@ private:
         if (caused != disagreeing)
             fail(path + ".causes", fmt::format("add up to {}, but the target has {} disagreements", caused, disagreeing));
         const std::uint64_t agreeing = sums.verdicts[static_cast<int>(verdict_kind::agree)];
-        int e = 0;
-        for (const char* name : {"near_ulp", "far_ulp", "hit_ulp", "near_bits"}) {
-            const std::string at = path + "." + name;
-            sums.errors[e] = summary(member(j, path, name), at);
-            if (sums.errors[e] > agreeing)
-                fail(at + ".count", fmt::format("is {}, more than the {} agreeing cases", sums.errors[e], agreeing));
-            ++e;
+        for (const error_figure_definition& f : error_figures) {
+            const std::string name(f.name), at = path + "." + name;
+            std::uint64_t& n_errors = sums.errors[f.figure];
+            n_errors = summary(member(j, path, name.c_str()), at);
+            if (n_errors > agreeing)
+                fail(at + ".count", fmt::format("is {}, more than the {} agreeing cases", n_errors, agreeing));
         }
         return sums;
     }
@@ -493,19 +477,36 @@ private:
                 const sample_sums s = samples(list_of_targets[t], fmt::format("{}[{}]", path, t), known->second);
                 for (int k = 0; k < verdict_kind_count; ++k) summed[t].verdicts[k] += s.verdicts[k];
                 for (int c = 0; c < disagreement_cause_count; ++c) summed[t].causes[c] += s.causes[c];
-                for (std::size_t e = 0; e < s.errors.size(); ++e) summed[t].errors[e] += s.errors[e];
+                for (const error_figure_definition& f : error_figures) summed[t].errors[f.figure] += s.errors[f.figure];
             }
         }
         if (families.size() != family_cases_.size())
             fail("state.audit.by_family", "lacks a family of state.audit.cases_by_family");
+        // The whole run's figures are the families' merge, field by field: a
+        // reader forms them again from the families, so an edited overall
+        // value would otherwise pass unnoticed.
+        for (std::size_t t = 0; t < targets_; ++t) {
+            target_samples merged;
+            for (const auto& [family, list_of_targets] : families.items()) merged.merge(samples_from(list_of_targets[t]));
+            const json expected = samples_json(merged);
+            for (const error_figure_definition& f : error_figures) {
+                const std::string name(f.name);
+                const json& stored = overall[t][name];
+                for (const auto& [key, value] : expected[name].items())
+                    if (stored[key] != value)
+                        fail(fmt::format("state.audit.overall[{}].{}.{}", t, name, key),
+                             fmt::format("is {}, but the families' figures merge to {}", shown(stored[key]), shown(value)));
+            }
+        }
         for (std::size_t t = 0; t < targets_; ++t) {
             if (summed[t].verdicts != whole_run[t].verdicts)
                 fail(fmt::format("state.audit.overall[{}].verdicts", t), "differ from the sums over the families");
             if (summed[t].causes != whole_run[t].causes)
                 fail(fmt::format("state.audit.overall[{}].causes", t), "differ from the sums over the families");
-            if (summed[t].errors != whole_run[t].errors)
-                fail(fmt::format("state.audit.overall[{}]", t),
-                     "its error counts differ from the sums over the families");
+            for (const error_figure_definition& f : error_figures)
+                if (summed[t].errors[f.figure] != whole_run[t].errors[f.figure])
+                    fail(fmt::format("state.audit.overall[{}].{}.count", t, f.name),
+                         "differs from the sum over the families");
         }
     }
 

@@ -19,7 +19,7 @@
 
 namespace rayverify {
 
-inline constexpr const char* shard_state_format = "rayverify-shard-state 3";
+inline constexpr const char* shard_state_format = "rayverify-shard-state 4";
 inline constexpr const char* shard_state_file = "shard.json";
 
 // Everything an audit accumulates (one per thread, one per shard).

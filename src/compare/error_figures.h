@@ -1,0 +1,86 @@
+// The error figures an audit measures on each agreeing answer, defined once:
+// each row names the figure in report.json and shard states (`name`) and on
+// per-case lines and gate baselines (`case_name`), and says how a case's
+// score gives its value. Tallies, samples, shard write/read/check, reports,
+// the gate and the schema test go through this table, so that a new figure is
+// a row here (and its value in case_score), not a change in each of them.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cstddef>
+#include <optional>
+#include <string_view>
+
+#include "compare/judge.h"
+
+namespace rayverify {
+
+enum class error_figure : std::size_t {
+    near_root_ulp,         // |t − t*| / ulp(t*) of the near (or only) root
+    far_root_ulp,          // the same of the far root (line_roots)
+    near_root_bits,        // Herbie bits of the near root
+    hit_point_ulp,         // the hit point's worst coordinate, in ulps
+    scale_error_radius,    // |t − t*|·|d| / r, the largest over the returned roots
+    scale_error_distance,  // |t − t*|·|d| / |o − c|
+    bound_width_ulp,       // the widest claimed t interval, in representable values
+    normal_angle,          // radians between the returned normal and ±n*
+};
+
+struct error_figure_definition {
+    error_figure figure;
+    std::string_view name;       // report.json's tallies and shard states
+    std::string_view case_name;  // per-case lines, and the gate's figures (case_name + "_max", "_p99")
+    bool gated;                  // compared against gate baselines (its max and p99)
+    std::optional<double> (*of_case)(const case_score&);
+};
+
+inline constexpr std::array error_figures{
+    error_figure_definition{error_figure::near_root_ulp, "near_root_ulp", "near_ulp", true,
+                            [](const case_score& s) { return s.near_ulp; }},
+    error_figure_definition{error_figure::far_root_ulp, "far_root_ulp", "far_ulp", true,
+                            [](const case_score& s) { return s.far_ulp; }},
+    error_figure_definition{error_figure::near_root_bits, "near_root_bits", "near_bits", false,
+                            [](const case_score& s) { return s.near_bits; }},
+    error_figure_definition{error_figure::hit_point_ulp, "hit_point_ulp", "hit_point_ulp", false,
+                            [](const case_score& s) -> std::optional<double> {
+                                if (!s.hit_point_ulp) return std::nullopt;
+                                const auto& e = *s.hit_point_ulp;
+                                return std::max({e[0], e[1], e[2]});
+                            }},
+    error_figure_definition{error_figure::scale_error_radius, "scale_error_radius", "scale_error_radius", false,
+                            [](const case_score& s) { return s.scale_error_radius; }},
+    error_figure_definition{error_figure::scale_error_distance, "scale_error_distance", "scale_error_distance", false,
+                            [](const case_score& s) { return s.scale_error_distance; }},
+    error_figure_definition{error_figure::bound_width_ulp, "bound_width_ulp", "bound_width_ulp", false,
+                            [](const case_score& s) { return s.bound_ulp; }},
+    error_figure_definition{error_figure::normal_angle, "normal_angle", "normal_angle", false,
+                            [](const case_score& s) { return s.normal_angle; }},
+};
+
+inline constexpr std::size_t error_figure_count = error_figures.size();
+
+constexpr bool error_figures_in_enum_order() {
+    for (std::size_t i = 0; i < error_figure_count; ++i)
+        if (static_cast<std::size_t>(error_figures[i].figure) != i) return false;
+    return true;
+}
+static_assert(error_figures_in_enum_order(), "error_figures lists every figure once, in the enum's order");
+
+constexpr const error_figure_definition& definition_of(error_figure f) {
+    return error_figures[static_cast<std::size_t>(f)];
+}
+
+// One value per error figure, indexed by the figure.
+template <class T>
+struct per_error_figure {
+    std::array<T, error_figure_count> values{};
+    T& operator[](error_figure f) { return values[static_cast<std::size_t>(f)]; }
+    const T& operator[](error_figure f) const { return values[static_cast<std::size_t>(f)]; }
+    auto begin() { return values.begin(); }
+    auto end() { return values.end(); }
+    auto begin() const { return values.begin(); }
+    auto end() const { return values.end(); }
+};
+
+}  // namespace rayverify

@@ -238,7 +238,7 @@ TEST(ExchangeResults, RecordedAnswersAreJudgedExactlyAsTheVariantThatComputedThe
 }
 
 // The outputs beside t a results file carries are judged, answer by answer,
-// as a plugin's are (issue 20 with the engines' judge): a t interval that
+// as a plugin's are (the engines' judge): a t interval that
 // leaves out the exact root is unsound_bound, its width is reported in ULPs,
 // a normal gets its angle. A --contract that names an output the hits do not
 // carry is an input error naming the answer, its line and the columns.

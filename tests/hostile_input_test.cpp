@@ -934,8 +934,8 @@ TEST(BadInput, AuditWithOutputsWritesNothingOnAnyBadCorpus) {
 }
 
 // A CSV with a tmin column and no tmax (tmax is then +inf): explain prints the
-// case as a corpus line that explain reads back as the same case (issue 14,
-// item 11: it used to print a line of 13 fields).
+// case as a corpus line that explain reads back as the same case (it used to
+// print a line of 13 fields).
 TEST(BadInput, CsvWithTminOnlyExplainsAsALineThatReadsBack) {
     scratch_dir dir("tmin");
     std::ofstream(dir.path / "half.csv") << "id,ox,oy,oz,dx,dy,dz,cx,cy,cz,r,tmin\nhalf,0,0,-5,0,0,1,0,0,0,1,5\n";
@@ -1018,7 +1018,7 @@ std::size_t peak_rss() {
     return static_cast<std::size_t>(usage.ru_maxrss) * 1024;
 }
 
-// The 2 GB file of issue 8: refused by its size before a byte is read.
+// A 2 GB file: refused by its size before a byte is read.
 TEST(LongSweepLargeInput, TwoGigabyteFileIsRefusedAtOnce) {
     scratch_dir dir("2g");
     std::ofstream(dir.path / "2g.txt") << good;

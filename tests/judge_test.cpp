@@ -8,7 +8,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <fstream>
+#include <sstream>
 #include <limits>
 #include <stdexcept>
 
@@ -514,6 +517,50 @@ TEST(Judge, AuditScoresIntervalContractsOnTheCaseInterval) {
     for (std::size_t t = 0; t < totals.targets.size(); ++t)
         EXPECT_EQ(totals.overall[t].verdicts[static_cast<int>(verdict_kind::agree)], cases.size())
             << totals.targets[t].label();
+}
+
+}  // namespace
+}  // namespace rayverify
+
+namespace rayverify {
+namespace {
+
+// The one verdict table drives every list of verdicts; docs/verdicts.md's
+// column table must name each corpus verdict's column, in the summary's order.
+TEST(VerdictTable, DocsColumnTableListsEveryCorpusVerdictInOrder) {
+    std::ifstream in(std::string(RAYVERIFY_SOURCE_DIR) + "/docs/verdicts.md");
+    ASSERT_TRUE(in) << "docs/verdicts.md";
+    std::vector<std::string> documented;
+    for (std::string line; std::getline(in, line);)
+        if (line.starts_with("| ") && line.find(" | ", 2) != std::string::npos)
+            documented.push_back(line.substr(2, line.find(" | ", 2) - 2));
+    std::vector<std::string> wanted;
+    for (int k = 0; k < verdict_kind_count; ++k)
+        if (is_corpus_verdict(static_cast<verdict_kind>(k))) wanted.emplace_back(verdict_column(static_cast<verdict_kind>(k)));
+    std::size_t at = 0;
+    for (const std::string& column : wanted) {
+        const auto found = std::find(documented.begin() + static_cast<std::ptrdiff_t>(at), documented.end(), column);
+        ASSERT_NE(found, documented.end()) << "docs/verdicts.md has no row for column " << column << " (in order)";
+        at = static_cast<std::size_t>(found - documented.begin()) + 1;
+    }
+}
+
+// The derived lists: a disagreement is scored and not agree; a wrong class is a disagreement; only
+// wrong_sphere is a scene's; an any-hit scene table shows no root verdicts.
+TEST(VerdictTable, DerivedListsAreConsistent) {
+    for (int k = 0; k < verdict_kind_count; ++k) {
+        const auto v = static_cast<verdict_kind>(k);
+        SCOPED_TRACE(std::string(verdict_name(v)));
+        EXPECT_EQ(verdict_from_name(verdict_name(v)), v);
+        if (is_misclassification(v)) EXPECT_TRUE(is_disagreement(v));
+        EXPECT_EQ(is_corpus_verdict(v), v != verdict_kind::wrong_sphere);
+        if (!is_disagreement(v) && v != verdict_kind::agree)
+            for (const ray_query q : {ray_query::any_hit, ray_query::nearest_hit, ray_query::both_roots})
+                EXPECT_FALSE(scene_table_shows(v, q));
+    }
+    EXPECT_FALSE(scene_table_shows(verdict_kind::wrong_root, ray_query::any_hit));
+    EXPECT_TRUE(scene_table_shows(verdict_kind::wrong_sphere, ray_query::nearest_hit));
+    EXPECT_FALSE(scene_table_shows(verdict_kind::wrong_sphere, ray_query::both_roots));
 }
 
 }  // namespace

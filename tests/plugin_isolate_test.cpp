@@ -1,4 +1,4 @@
-// Plugins that crash or hang (issue 8). With --isolate a plugin runs in a
+// Plugins that crash or hang. With --isolate a plugin runs in a
 // child process: a crash, an exit or a hang stops the run with exit 2, a
 // message naming the plugin, what happened and the case, the case as a
 // corpus line, and no output left behind. Without it, the crash still names

@@ -39,7 +39,9 @@ def colour(variant):
         return VARIANT_COLOURS[variant]
     return EXTRA_ASSIGNED.setdefault(variant, EXTRA_COLOURS[len(EXTRA_ASSIGNED) % len(EXTRA_COLOURS)])
 PRECISION_MARKERS = {"float": "o", "double": "s", "long double": "D", "exact": "*"}
-MISCLASS = ("false_miss", "false_hit", "tangent_split", "tangent_missed", "false_tangent")
+# The wrong-class verdicts: rayverify passes them (--misclassifications) from its
+# one verdict table (src/compare/judge.cpp), so that this script keeps no list.
+MISCLASS = ()
 DPI = 100
 plt.rcParams.update({"font.size": 11, "axes.titlesize": 11, "legend.fontsize": 10})
 
@@ -380,9 +382,12 @@ def plot_histograms(report, directory):
 
 
 def main():
-    if len(sys.argv) != 2:
-        sys.exit("usage: plot_report.py REPORT_DIR")
-    directory = sys.argv[1]
+    global MISCLASS
+    args = sys.argv[1:]
+    if len(args) != 3 or args[1] != "--misclassifications":
+        sys.exit("usage: plot_report.py REPORT_DIR --misclassifications NAME,NAME,...")
+    MISCLASS = tuple(args[2].split(","))
+    directory = args[0]
     with open(os.path.join(directory, "report.json")) as f:
         report = json.load(f)
     if "timing" in report:

@@ -38,7 +38,7 @@ struct audit_options {
     audit_presentation presentation;
     unsigned threads = 0;  // 0: every hardware thread
     std::string shard;
-    std::string scene;  // issue 6: audit a scene's rays instead (cli/scene_audit.cpp)
+    std::string scene;  // audit a scene's rays instead (cli/scene_audit.cpp)
     results_options results;
 };
 

@@ -10,7 +10,7 @@
 namespace rayverify::cli {
 
 // Times the audit (as `rayverify audit` runs it, one thread) of `cases` per
-// family and over all of them, prints the table and issue 18's targets, and
+// family and over all of them, prints the table and the audit's cost targets, and
 // returns exit_ok.
 int run_audit_timing(const std::vector<corpus_case>& cases, int repetitions, double min_time_s);
 

@@ -172,7 +172,7 @@ json robust_figures(const std::vector<bench::timing_row>& rows,
 }
 
 // bench --oracle: the exact oracles' cost per case against the naive double
-// intersector, per family, with the filter's fallback rates and issue 7's targets.
+// intersector, per family, with the filter's fallback rates and the oracle's cost targets.
 int run_oracle_timing(const std::vector<corpus_case>& cases, const bench_options& options) {
     bench::oracle_timing_options timing;
     timing.repetitions = options.repetitions;

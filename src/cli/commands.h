@@ -48,8 +48,8 @@ command add_hunt_command(CLI::App& app, const std::string& command_line);
 command add_gate_command(CLI::App& app);
 command add_diff_command(CLI::App& app);
 command add_merge_command(CLI::App& app);
-command add_render_command(CLI::App& app);  // issue 6: cli/render_command.cpp
-command add_recommend_command(CLI::App& app);  // issue 6: cli/recommend_command.cpp
+command add_render_command(CLI::App& app);  // cli/render_command.cpp
+command add_recommend_command(CLI::App& app);  // cli/recommend_command.cpp
 
 // `merge` of hunt outputs (cli/hunt_merge.cpp): the files of one sharded
 // hunt, every shard once, as one hunt file at `output` keeping the `keep`
@@ -68,7 +68,7 @@ struct results_options {
     std::vector<std::string> engines;
 };
 
-// issue 6: `audit --scene FILE` (cli/scene_audit.cpp), called by the audit command.
+// `audit --scene FILE` (cli/scene_audit.cpp), called by the audit command.
 struct scene_audit_request {
     std::string scene_file;
     std::vector<std::string> variants, plugins, precisions;

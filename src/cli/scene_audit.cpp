@@ -16,19 +16,10 @@ namespace {
 
 // The verdict columns a query can produce: nothing else is printed.
 std::vector<verdict_kind> verdicts_for(ray_query q) {
-    using v = verdict_kind;
-    switch (q) {
-        case ray_query::any_hit:
-            return {v::agree, v::false_miss, v::false_hit, v::tangent_missed, v::non_finite, v::malformed_output};
-        case ray_query::both_roots:
-            return {v::agree,      v::false_miss, v::false_hit,  v::tangent_split, v::tangent_missed,
-                    v::false_tangent, v::wrong_root, v::wrong_side, v::non_finite,   v::malformed_output};
-        case ray_query::nearest_hit:
-        case ray_query::hit_point_normal:
-            return {v::agree,      v::false_miss, v::false_hit,  v::tangent_missed, v::wrong_root,
-                    v::wrong_sphere, v::wrong_side, v::non_finite, v::malformed_output};
-    }
-    return {};
+    std::vector<verdict_kind> shown;
+    for (int k = 0; k < verdict_kind_count; ++k)
+        if (scene_table_shows(static_cast<verdict_kind>(k), q)) shown.push_back(static_cast<verdict_kind>(k));
+    return shown;
 }
 
 // How many of the disagreements the formula makes by design (the clamp's light leaks among them).

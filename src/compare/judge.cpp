@@ -18,39 +18,77 @@ namespace rayverify {
 
 namespace {
 
+// Which scene tables (by the ray's query) show a verdict as a column.
+constexpr unsigned shown_for(std::initializer_list<ray_query> queries) {
+    unsigned mask = 0;
+    for (const ray_query q : queries) mask |= 1u << static_cast<unsigned>(q);
+    return mask;
+}
+constexpr unsigned all_scene_queries =
+    shown_for({ray_query::any_hit, ray_query::nearest_hit, ray_query::both_roots, ray_query::hit_point_normal});
+constexpr unsigned root_queries = shown_for({ray_query::nearest_hit, ray_query::both_roots, ray_query::hit_point_normal});
+constexpr unsigned nearest_queries = shown_for({ray_query::nearest_hit, ray_query::hit_point_normal});
+
+// Every fact about a verdict, in one row: its names, its meaning, whether it
+// is scored and a disagreement, whether it is a wrong class, whether a corpus
+// case can get it (wrong_sphere is a scene's), its colour in rendered scenes,
+// and which scene tables show it. Every list of verdicts derives from this.
+enum class scoring { agreement, disagreement, not_scored };
+
 struct verdict_entry {
     verdict_kind kind;
-    std::string_view name, column, meaning;
+    std::string_view name, column;
+    scoring scored;
+    bool misclassification;
+    bool scene_only;
+    std::array<std::uint8_t, 3> colour;
+    unsigned scene_columns;
+    std::string_view meaning;
 };
 
 constexpr verdict_entry verdict_table[verdict_kind_count] = {
-    {verdict_kind::agree, "agree", "agree", "the answer the contract asks for, every root on the same side of every range bound"},
-    {verdict_kind::false_miss, "false_miss", "f_miss", "the exact answer is a hit (in the range); the variant reports none"},
-    {verdict_kind::false_hit, "false_hit", "f_hit", "the exact answer is no hit (in the range); the variant reports one"},
-    {verdict_kind::tangent_split, "tangent_split", "t_split", "exactly tangent; the variant returns two distinct roots"},
-    {verdict_kind::tangent_missed, "tangent_missed", "t_miss", "exactly tangent, a hit; the variant reports a miss"},
-    {verdict_kind::false_tangent, "false_tangent", "f_tan",
-     "two roots distinct even after rounding; the variant reports one (a tangent)"},
-    {verdict_kind::wrong_root, "wrong_root", "w_root",
+    {verdict_kind::agree, "agree", "agree", scoring::agreement, false, false, {50, 50, 50}, all_scene_queries,
+     "the answer the contract asks for, every root on the same side of every range bound"},
+    {verdict_kind::false_miss, "false_miss", "f_miss", scoring::disagreement, true, false, {230, 30, 30}, all_scene_queries,
+     "the exact answer is a hit (in the range); the variant reports none"},
+    {verdict_kind::false_hit, "false_hit", "f_hit", scoring::disagreement, true, false, {40, 110, 255}, all_scene_queries,
+     "the exact answer is no hit (in the range); the variant reports one"},
+    {verdict_kind::tangent_split, "tangent_split", "t_split", scoring::disagreement, true, false, {255, 230, 0},
+     shown_for({ray_query::both_roots}), "exactly tangent; the variant returns two distinct roots"},
+    {verdict_kind::tangent_missed, "tangent_missed", "t_miss", scoring::disagreement, true, false, {150, 0, 40},
+     all_scene_queries, "exactly tangent, a hit; the variant reports a miss"},
+    {verdict_kind::false_tangent, "false_tangent", "f_tan", scoring::disagreement, true, false, {180, 170, 90},
+     shown_for({ray_query::both_roots}), "two roots distinct even after rounding; the variant reports one (a tangent)"},
+    {verdict_kind::wrong_root, "wrong_root", "w_root", scoring::disagreement, false, false, {255, 140, 0}, root_queries,
      "a returned t stands for another exact root than the one asked for (it is strictly nearer that root, by "
      "the exact midpoint −b′/a; a t at the midpoint counts as the root asked for)"},
-    {verdict_kind::wrong_sphere, "wrong_sphere", "w_sph", "both hit, but the variant's nearest sphere is not the exact nearest"},
-    {verdict_kind::wrong_side, "wrong_side", "w_side",
+    {verdict_kind::wrong_sphere, "wrong_sphere", "w_sph", scoring::disagreement, false, true, {40, 200, 40},
+     nearest_queries, "both hit, but the variant's nearest sphere is not the exact nearest"},
+    {verdict_kind::wrong_side, "wrong_side", "w_side", scoring::disagreement, false, false, {255, 0, 255}, root_queries,
      "a returned t and the exact root it stands for lie on opposite sides of a range bound (the origin for "
      "line roots): a self-hit or a lost hit"},
-    {verdict_kind::unsound_bound, "unsound_bound", "unsnd",
+    {verdict_kind::unsound_bound, "unsound_bound", "unsnd", scoring::disagreement, false, false, {140, 60, 200}, 0,
      "the answer agrees, but an interval the variant claims for a t, or an error bound it claims for its hit "
      "point, does not contain the exact value"},
-    {verdict_kind::non_finite, "non_finite", "nonfin",
+    {verdict_kind::non_finite, "non_finite", "nonfin", scoring::disagreement, false, false, {255, 255, 255},
+     all_scene_queries,
      "NaN, or an infinity that is not the correctly rounded root (±inf agrees only where RN(t*) is that "
      "infinity)"},
-    {verdict_kind::malformed_output, "malformed_output", "malf", "a hit count the contract does not allow, or roots out of order"},
-    {verdict_kind::contract_violation, "contract_violation", "contract",
-     "the case breaks the variant's stated assumption (a direction not within 8ε of unit length); not scored"},
-    {verdict_kind::invalid, "invalid", "invalid",
+    {verdict_kind::malformed_output, "malformed_output", "malf", scoring::disagreement, false, false, {0, 220, 220},
+     all_scene_queries, "a hit count the contract does not allow, or roots out of order"},
+    {verdict_kind::contract_violation, "contract_violation", "contract", scoring::not_scored, false, false, {90, 90, 90},
+     0, "the case breaks the variant's stated assumption (a direction not within 8ε of unit length); not scored"},
+    {verdict_kind::invalid, "invalid", "invalid", scoring::not_scored, false, false, {60, 60, 60}, 0,
      "the case is invalid at this precision (NaN or infinite input, d = 0, r < 0, overflow, bad interval); not "
      "scored"},
 };
+
+constexpr bool verdict_table_in_enum_order() {
+    for (int k = 0; k < verdict_kind_count; ++k)
+        if (static_cast<int>(verdict_table[k].kind) != k) return false;
+    return true;
+}
+static_assert(verdict_table_in_enum_order(), "verdict_table lists every verdict once, in the enum's order");
 
 struct cause_entry {
     disagreement_cause cause;
@@ -98,14 +136,11 @@ std::optional<verdict_kind> verdict_from_name(std::string_view name) {
     return std::nullopt;
 }
 
-bool is_disagreement(verdict_kind k) {
-    return k != verdict_kind::agree && k != verdict_kind::contract_violation && k != verdict_kind::invalid;
-}
-
-bool is_misclassification(verdict_kind k) {
-    return k == verdict_kind::false_miss || k == verdict_kind::false_hit || k == verdict_kind::tangent_split ||
-           k == verdict_kind::tangent_missed || k == verdict_kind::false_tangent;
-}
+bool is_disagreement(verdict_kind k) { return entry(k).scored == scoring::disagreement; }
+bool is_misclassification(verdict_kind k) { return entry(k).misclassification; }
+bool is_corpus_verdict(verdict_kind k) { return !entry(k).scene_only; }
+std::array<std::uint8_t, 3> verdict_colour_rgb(verdict_kind k) { return entry(k).colour; }
+bool scene_table_shows(verdict_kind k, ray_query q) { return (entry(k).scene_columns >> static_cast<unsigned>(q)) & 1u; }
 
 std::string_view cause_name(disagreement_cause c) { return entry(c).name; }
 std::string_view cause_meaning(disagreement_cause c) { return entry(c).meaning; }

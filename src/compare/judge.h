@@ -43,6 +43,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -81,7 +82,7 @@ enum class verdict_kind {
     contract_violation,  // the case breaks the variant's assumption (not scored)
     invalid,             // the case is invalid at this precision (not scored)
 };
-inline constexpr int verdict_kind_count = 14;
+inline constexpr int verdict_kind_count = static_cast<int>(verdict_kind::invalid) + 1;
 
 std::string_view verdict_name(verdict_kind k);
 std::optional<verdict_kind> verdict_from_name(std::string_view name);
@@ -92,6 +93,12 @@ std::string_view verdict_column(verdict_kind k);
 bool is_disagreement(verdict_kind k);
 // A wrong class: false miss or hit, tangent split or missed, false tangent.
 bool is_misclassification(verdict_kind k);
+// A verdict a corpus case can get (every kind but wrong_sphere, a scene's): a column of the corpus tables.
+bool is_corpus_verdict(verdict_kind k);
+// The colour of a ray with this verdict in a rendered scene (sRGB, 0–255).
+std::array<std::uint8_t, 3> verdict_colour_rgb(verdict_kind k);
+// Whether a scene's table for rays asking `q` has a column for this verdict.
+bool scene_table_shows(verdict_kind k, ray_query q);
 
 // Why a variant disagreed: rounding error (two kinds, told apart by the
 // case's conditioning, compare/stability.h) or what the formula does by design

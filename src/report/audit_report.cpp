@@ -58,9 +58,6 @@ std::string build_summary() {
 
 namespace {
 
-// The verdict columns of the corpus table: every kind but wrong_sphere (a scene's).
-bool corpus_column(verdict_kind k) { return k != verdict_kind::wrong_sphere; }
-
 std::size_t column_width(std::string_view heading) { return std::max<std::size_t>(6, heading.size()); }
 
 }  // namespace
@@ -185,7 +182,7 @@ std::string render_summary_table(const audit_totals& totals) {
     out += fmt::format("{:<{}} {:<6} {:>6}", "variant", name_width, "prec", "cases");
     for (int k = 0; k < verdict_kind_count; ++k) {
         const auto kind = static_cast<verdict_kind>(k);
-        if (corpus_column(kind)) out += fmt::format(" {:>{}}", verdict_column(kind), column_width(verdict_column(kind)));
+        if (is_corpus_verdict(kind)) out += fmt::format(" {:>{}}", verdict_column(kind), column_width(verdict_column(kind)));
     }
     out += fmt::format(" {:>6} {:>9} {:>9} {:>9}\n", "design", "max_ulp", "p99_ulp", "med_ulp");
     for (std::size_t i = 0; i < totals.targets.size(); ++i) {
@@ -194,7 +191,7 @@ std::string render_summary_table(const audit_totals& totals) {
         out += fmt::format("{:<{}} {:<6} {:>6}", target.subject.name, name_width, precision_name(target.prec), t.cases);
         for (int k = 0; k < verdict_kind_count; ++k) {
             const auto kind = static_cast<verdict_kind>(k);
-            if (corpus_column(kind)) out += fmt::format(" {:>{}}", t.verdicts[k], column_width(verdict_column(kind)));
+            if (is_corpus_verdict(kind)) out += fmt::format(" {:>{}}", t.verdicts[k], column_width(verdict_column(kind)));
         }
         out += fmt::format(" {:>6}", t.by_design());
         const error_statistics& s = t.errors[error_figure::near_root_ulp];

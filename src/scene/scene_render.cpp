@@ -6,7 +6,7 @@
 namespace rayverify {
 namespace {
 
-constexpr rgb agree_exact{50, 50, 50};
+const rgb agree_exact = verdict_colour(verdict_kind::agree);
 constexpr rgb agree_max{255, 230, 0};
 constexpr rgb agree_miss{0, 0, 0};
 constexpr rgb not_cast{30, 30, 70};
@@ -36,23 +36,8 @@ rgb ulp_colour(double ulp, double full_scale) {
 }  // namespace
 
 rgb verdict_colour(verdict_kind v) {
-    switch (v) {
-        case verdict_kind::agree: return agree_exact;
-        case verdict_kind::false_miss: return {230, 30, 30};
-        case verdict_kind::false_hit: return {40, 110, 255};
-        case verdict_kind::tangent_split: return {255, 230, 0};
-        case verdict_kind::tangent_missed: return {150, 0, 40};
-        case verdict_kind::false_tangent: return {180, 170, 90};
-        case verdict_kind::wrong_root: return {255, 140, 0};
-        case verdict_kind::wrong_sphere: return {40, 200, 40};
-        case verdict_kind::wrong_side: return {255, 0, 255};
-        case verdict_kind::unsound_bound: return {140, 60, 200};
-        case verdict_kind::non_finite: return {255, 255, 255};
-        case verdict_kind::malformed_output: return {0, 220, 220};
-        case verdict_kind::contract_violation: return {90, 90, 90};
-        case verdict_kind::invalid: return {60, 60, 60};
-    }
-    return {};
+    const auto [r, g, b] = verdict_colour_rgb(v);
+    return {r, g, b};
 }
 
 std::vector<palette_entry> scene_palette() {

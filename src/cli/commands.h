@@ -89,6 +89,10 @@ std::vector<audit_target> scene_audit_targets(const scene& s, const std::vector<
 // one, else the corpus/ of the source tree this build was configured from.
 std::string default_corpus();
 
+// The precision --precision names ("float" or "double", precision_from_name);
+// any other name is a usage error (exit 2), never a default.
+precision named_precision(std::string_view name);
+
 // Shared by the commands: the targets named by --variant and --precision
 // (all of them when empty). Throws input_error for an unknown name.
 // (--engine NAME: the libraries called through plugins are chosen here, those

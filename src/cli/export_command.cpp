@@ -60,7 +60,7 @@ int run_export(const export_options& o) {
         count = first.total();
         fingerprint = first.fingerprint();
     }
-    const precision prec = !o.precision.empty() ? (o.precision == "float" ? precision::binary32 : precision::binary64)
+    const precision prec = !o.precision.empty() ? named_precision(o.precision)
                            : sc                 ? sc->prec
                                                 : precision::binary64;
     const cases_header header{prec, exchange_fingerprint(fingerprint, prec), count,

@@ -80,8 +80,7 @@ int run(const hunt_command_options& given, const std::string& command_line) {
     std::vector<audit_target> targets = o.command.empty()
                                                   ? select_targets(names, plugins, {o.precision}, o.isolation)
                                                   : std::vector<audit_target>{outside_target(o.name, o.contract_spec, "command " + o.command,
-                                                                                   o.precision == "float" ? precision::binary32
-                                                                                                          : precision::binary64)};
+                                                                                   named_precision(o.precision))};
     if (targets.empty())
         throw input_error("", 0, "--precision",
                           fmt::format("{} does not run in {}", o.variant.empty() ? o.plugin : o.variant, o.precision));

@@ -209,7 +209,7 @@ precision program_precision(const std::vector<std::string>& precisions, std::opt
     if (scene_precision) return *scene_precision;
     if (precisions.size() > 1)
         throw input_error("", 0, "--precision", "a --command program answers in one precision: give --precision once");
-    return precisions.empty() ? precision::binary64 : *precision_from_name(precisions.front());
+    return precisions.empty() ? precision::binary64 : named_precision(precisions.front());
 }
 
 }  // namespace

@@ -8,6 +8,11 @@
 
 namespace rayverify::cli {
 
+precision named_precision(std::string_view name) {
+    if (const std::optional<precision> p = precision_from_name(name)) return *p;
+    throw input_error("", 0, "--precision", fmt::format("'{}' is neither float nor double", name));
+}
+
 std::vector<audit_target> select_targets(const std::vector<std::string>& variant_names,
                                          const std::vector<std::string>& precisions) {
     return select_targets(variant_names, {}, precisions);

@@ -79,8 +79,9 @@ double& input_at(ray_sphere<double>& g, int i) {
 double input_at(const ray_sphere<double>& g, int i) { return input_at(const_cast<ray_sphere<double>&>(g), i); }
 
 double step_in(precision p, double x, std::int64_t steps) {
-    return p == precision::binary32 ? static_cast<double>(step_by<float>(static_cast<float>(x), steps))
-                                     : step_by<double>(x, steps);
+    return with_precision(p, [&]<class T>(std::type_identity<T>) {
+        return static_cast<double>(step_by<T>(static_cast<T>(x), steps));
+    });
 }
 
 // x rounded to the precision. The volatile store is needed: GCC 12 at -O2

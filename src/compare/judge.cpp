@@ -317,11 +317,11 @@ template variant_output evaluate<double>(const variant&, const ray_sphere<double
 namespace {
 
 std::uint64_t ulps_between_in(precision p, double a, double b) {
-    return p == precision::binary32 ? ulps_between(static_cast<float>(a), static_cast<float>(b)) : ulps_between(a, b);
+    return with_precision(p, [&]<class T>(std::type_identity<T>) { return ulps_between(static_cast<T>(a), static_cast<T>(b)); });
 }
 
 double ulp_of_in(precision p, double x) {
-    return p == precision::binary32 ? ulp_of(static_cast<float>(x)) : ulp_of(x);
+    return with_precision(p, [&]<class T>(std::type_identity<T>) { return static_cast<double>(ulp_of(static_cast<T>(x))); });
 }
 
 // The error of a finite value against root i: ULPs of t* and Herbie bits.
@@ -822,7 +822,7 @@ std::optional<std::string> contract_breach(const contract& promises, const ray_s
 }
 
 exact_solution solve_case(const corpus_case& c, precision p) {
-    const invalid_reason reason = p == precision::binary32 ? validity<float>(c.geometry) : validity<double>(c.geometry);
+    const invalid_reason reason = with_precision(p, [&]<class T>(std::type_identity<T>) { return validity<T>(c.geometry); });
     if (reason != invalid_reason::none) {
         exact_solution invalid;
         invalid.prec = p;
@@ -886,8 +886,9 @@ target_outcome judge_target_in(const audit_target& target, const corpus_case& c,
 
 target_outcome judge_target(const audit_target& target, const corpus_case& c, const exact_solution& exact,
                             const given_answer& given) {
-    return target.prec == precision::binary32 ? judge_target_in<float>(target, c, exact, given)
-                                              : judge_target_in<double>(target, c, exact, given);
+    return with_precision(target.prec, [&]<class T>(std::type_identity<T>) {
+        return judge_target_in<T>(target, c, exact, given);
+    });
 }
 
 template <class T>
@@ -1045,8 +1046,9 @@ renderer_outcome judge_for_renderer_in(const audit_target& target, const corpus_
 renderer_outcome judge_for_renderer(const audit_target& target, const corpus_case& c, ray_query q,
                                     const exact_solution& exact, end_kind lower_end, end_kind upper_end) {
     const case_in_progress announced(c);  // named by a plugin that crashes or hangs on it
-    return target.prec == precision::binary32 ? judge_for_renderer_in<float>(target, c, q, exact, lower_end, upper_end)
-                                              : judge_for_renderer_in<double>(target, c, q, exact, lower_end, upper_end);
+    return with_precision(target.prec, [&]<class T>(std::type_identity<T>) {
+        return judge_for_renderer_in<T>(target, c, q, exact, lower_end, upper_end);
+    });
 }
 
 // ---- Descriptions ------------------------------------------------------------------

@@ -5,6 +5,8 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <type_traits>
+#include <utility>
 
 #include "core/vec3.h"
 
@@ -32,6 +34,20 @@ constexpr std::optional<precision> precision_from_name(std::string_view name) {
     if (name == "float") return precision::binary32;
     if (name == "double") return precision::binary64;
     return std::nullopt;
+}
+
+// The one place a precision becomes a type (as pbrt's Dispatch): f called
+// with std::type_identity<float> for binary32, std::type_identity<double>
+// for binary64. Both calls must return the same type.
+template <class F>
+constexpr decltype(auto) with_precision(precision p, F&& f) {
+    if (p == precision::binary32) return std::forward<F>(f)(std::type_identity<float>{});
+    return std::forward<F>(f)(std::type_identity<double>{});
+}
+
+// x rounded to nearest-even in precision p, as a double (exact in double).
+constexpr double rounded_to(precision p, double x) {
+    return with_precision(p, [x]<class T>(std::type_identity<T>) { return static_cast<double>(static_cast<T>(x)); });
 }
 
 constexpr int significand_bits(precision p) { return p == precision::binary32 ? 24 : 53; }

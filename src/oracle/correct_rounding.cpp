@@ -218,11 +218,11 @@ double round_in(const quadratic_irrational& x) {
 }  // namespace
 
 double round_in(precision p, const quadratic_irrational& x) {
-    return p == precision::binary32 ? round_in<float>(x) : round_in<double>(x);
+    return with_precision(p, [&]<class T>(std::type_identity<T>) { return round_in<T>(x); });
 }
 
 double ulp_error_in(precision p, const quadratic_irrational& x, double value) {
-    return p == precision::binary32 ? ulp_error<float>(x, value) : ulp_error<double>(x, value);
+    return with_precision(p, [&]<class T>(std::type_identity<T>) { return ulp_error<T>(x, value); });
 }
 
 }  // namespace rayverify::oracle_internal

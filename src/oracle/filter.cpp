@@ -99,11 +99,11 @@ namespace {
 }  // namespace
 
 std::optional<double> round_enclosure(precision p, const enclosure& x, uncertain_sign sign) {
-    return p == precision::binary32 ? round_enclosure<float>(x, sign) : round_enclosure<double>(x, sign);
+    return with_precision(p, [&]<class T>(std::type_identity<T>) { return round_enclosure<T>(x, sign); });
 }
 
 std::optional<int> ulp_exponent_of(precision p, const enclosure& x) {
-    return p == precision::binary32 ? ulp_exponent_of<float>(x) : ulp_exponent_of<double>(x);
+    return with_precision(p, [&]<class T>(std::type_identity<T>) { return ulp_exponent_of<T>(x); });
 }
 
 std::optional<double> ulp_error_from(const enclosure& x, std::optional<int> ulp_exponent, double value) {
@@ -197,7 +197,7 @@ std::optional<double> round_hit_coordinate(precision prec, const ray_sphere<doub
     const enclosure h = hit_coordinate_enclosure(g, t, axis);
     // d's coordinate 0: the coordinate is o's, rounded (a −0 becomes +0, as RN(0) = +0).
     if (known(h) && h.err == 0 && h.lo == 0)
-        return (prec == precision::binary32 ? double(static_cast<float>(h.hi)) : h.hi) + 0.0;
+        return rounded_to(prec, h.hi) + 0.0;
     return round_enclosure(prec, h, side_of(h, 0.0));
 }
 

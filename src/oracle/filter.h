@@ -60,8 +60,7 @@ inline bool in_filter_range(double x) {
 
 // The exponent of ulp(x) in precision p for 2^e ≤ |x| < 2^(e+1) (core/float_bits.h).
 inline int ulp_exponent_in(precision p, long e) {
-    return static_cast<int>(p == precision::binary32 ? ulp_exponent_of_binade<float>(e)
-                                                     : ulp_exponent_of_binade<double>(e));
+    return static_cast<int>(with_precision(p, [e]<class T>(std::type_identity<T>) { return ulp_exponent_of_binade<T>(e); }));
 }
 
 // Every input of the case in the filter range.

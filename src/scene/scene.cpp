@@ -351,11 +351,11 @@ vec3<double> normalised(vec3<double> v) {
 
 // A vector rounded to the scene's precision (exact in double either way).
 vec3<double> in_precision(vec3<double> v, precision p) {
-    return p == precision::binary32 ? vec3_cast<double>(vec3_cast<float>(v)) : v;
+    return {rounded_to(p, v.x), rounded_to(p, v.y), rounded_to(p, v.z)};
 }
 
 double in_precision(double v, precision p) {
-    return p == precision::binary32 ? static_cast<double>(static_cast<float>(v)) : v;
+    return rounded_to(p, v);
 }
 
 // d/|d| computed in precision T, as a renderer working in T normalises.
@@ -370,7 +370,7 @@ vec3<double> normalised_in(vec3<double> v) {
 // precision when the scene says so, else rounded to it.
 vec3<double> cast_direction(const scene& s, vec3<double> d) {
     if (!s.normalise_directions) return in_precision(d, s.prec);
-    return s.prec == precision::binary32 ? normalised_in<float>(d) : normalised_in<double>(d);
+    return with_precision(s.prec, [&]<class T>(std::type_identity<T>) { return normalised_in<T>(d); });
 }
 
 // The camera's frame: w points backwards, u right, v up; the image plane's
@@ -399,8 +399,9 @@ camera_frame frame_of(const scene_camera& cam) {
 // range, so that what the generator adds up (a hit point and its offset, a
 // light minus a spawned origin) stays finite.
 double scene_limit(precision p) {
-    return (p == precision::binary32 ? static_cast<double>(std::numeric_limits<float>::max())
-                                     : std::numeric_limits<double>::max()) /
+    return with_precision(p, []<class T>(std::type_identity<T>) {
+               return static_cast<double>(std::numeric_limits<T>::max());
+           }) /
            8;
 }
 
@@ -538,7 +539,7 @@ scene parse_scene(const std::string& text, const std::filesystem::path& file) {
         if (!(reach <= limit))
             in.fail(path, fmt::format("{} reaches {:g} from the origin; a {} scene must lie within ±{:g} (an eighth "
                                       "of its range), so that every ray it casts stays finite",
-                                      what, reach, s.prec == precision::binary32 ? "float" : "double", limit));
+                                      what, reach, precision_name(s.prec), limit));
     };
     const auto finite_in_precision = [&](double value, const std::string& path) {
         if (!std::isfinite(in_precision(value, s.prec))) in.fail(path, "overflows the scene's precision");

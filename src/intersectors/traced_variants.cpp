@@ -1,0 +1,142 @@
+#include "intersectors/traced_variants.h"
+
+#include <array>
+#include <string>
+#include <type_traits>
+
+#include <fmt/format.h>
+
+#include "intersectors/traced.h"
+// traced.h first: the intersectors below find its overloads when instantiated on traced scalars.
+#include "intersectors/fma_discriminant.h"
+#include "intersectors/geometric.h"
+#include "intersectors/half_b.h"
+#include "intersectors/hearn_baker.h"
+#include "intersectors/hearn_baker_any_hit.h"
+#include "intersectors/hearn_baker_nearest.h"
+#include "intersectors/hearn_baker_unit.h"
+#include "intersectors/naive.h"
+#include "intersectors/robust.h"
+#include "intersectors/seed003_reduced.h"
+#include "intersectors/seed004_early_out.h"
+#include "intersectors/stable_roots.h"
+#include "intersectors/wald_origin_shift.h"
+
+namespace rayverify {
+namespace {
+
+// The roots the run returned, as steps "t0" and "t1" (one "t" for a single
+// root); a root no operation produced (an any-hit answer's 0) is left out.
+template <class T, class Result>
+void record_roots(const Result& result) {
+    const root_pair<traced<T>>* roots = nullptr;
+    if constexpr (std::is_same_v<Result, root_pair<traced<T>>>)
+        roots = &result;
+    else
+        roots = &result.roots;
+    const auto produced = [](traced<T> t) { return t.ideal != exact_as_computed || t.value != 0; };
+    if (roots->count == 1 && produced(roots->t0)) step("t", roots->t0);
+    if (roots->count == 2) {
+        step("t0", roots->t0);
+        step("t1", roots->t1);
+    }
+}
+
+// robust_sphere.h is a self-contained header that runs on float and double
+// only: its static filter's own values (a, b′, C, Δ′ in double, from its
+// filter_state) beside the exact values of the same quantities, derived from
+// the exact inputs; then its roots, correctly rounded by construction.
+template <class T>
+void trace_robust_filter(const ray_sphere<T>& s) {
+    using robust_sphere::detail::fast_solver;
+    fast_solver<T, false> solver(intersectors::robust_ray(s), intersectors::robust_target(s));
+    solver.line_class();  // tries Lagrange's form where b′² − aC cannot decide
+    const auto filter = solver.filter_state();
+
+    using W = traced<double>;
+    const auto widen = [](vec3<T> v) { return vec3<W>{double(v.x), double(v.y), double(v.z)}; };
+    const vec3<W> d = widen(s.direction), f = widen(s.origin) - widen(s.centre);
+    const W r = double(s.radius);
+    const W a = dot(d, d), b_prime = dot(d, f), C = dot(f, f) - r * r;
+    const W discriminant = b_prime * b_prime - a * C;  // equal, exactly, to Lagrange's a·r² − |d × f|²
+    step("a", computed_apart(filter.a, a));
+    step("b′", computed_apart(filter.b_prime, b_prime));
+    step("C", computed_apart(filter.C, C));
+    const bool decided = filter.discriminant > filter.discriminant_bound || filter.discriminant < -filter.discriminant_bound;
+    const std::string note =
+        fmt::format("{} in double, bound {:.3g}: {}",
+                    filter.lagrange ? "Lagrange's a·r² − |d × f|²" : "b′² − aC", filter.discriminant_bound,
+                    decided ? "the filter decides the class" : "left to the double-word and exact stages");
+    step("Δ′", computed_apart(filter.discriminant, discriminant), note.c_str());
+}
+
+#define RAYVERIFY_TRACE(fn)                                                                                 \
+    variant_trace {                                                                                         \
+        #fn,                                                                                                \
+            [](const ray_sphere<float>& s, float, float) {                                                  \
+                record_roots<float>(intersectors::fn<traced<float>>(traced_inputs(s)));                     \
+            },                                                                                              \
+            [](const ray_sphere<double>& s, double, double) {                                               \
+                record_roots<double>(intersectors::fn<traced<double>>(traced_inputs(s)));                   \
+            },                                                                                              \
+            {}                                                                                              \
+    }
+
+#define RAYVERIFY_TRACE_INTERVAL(fn)                                                                        \
+    variant_trace {                                                                                         \
+        #fn,                                                                                                \
+            [](const ray_sphere<float>& s, float tmin, float tmax) {                                        \
+                record_roots<float>(intersectors::fn<traced<float>>(traced_inputs(s), tmin, tmax));         \
+            },                                                                                              \
+            [](const ray_sphere<double>& s, double tmin, double tmax) {                                     \
+                record_roots<double>(intersectors::fn<traced<double>>(traced_inputs(s), tmin, tmax));       \
+            },                                                                                              \
+            {}                                                                                              \
+    }
+
+constexpr std::string_view robust_what =
+    "robust_sphere.h runs on float and double only: its static filter's values, computed in double, beside "
+    "the exact values of the same quantities from the exact inputs";
+
+// The later stages refine on plain doubles; explain's row gives the roots' ULP errors.
+#define RAYVERIFY_TRACE_ROBUST(fn)                                                                          \
+    variant_trace {                                                                                         \
+        #fn, [](const ray_sphere<float>& s, float, float) { trace_robust_filter(s); },                      \
+            [](const ray_sphere<double>& s, double, double) { trace_robust_filter(s); }, robust_what         \
+    }
+
+const std::array traces{
+    RAYVERIFY_TRACE(naive),
+    RAYVERIFY_TRACE(half_b),
+    RAYVERIFY_TRACE(seed003_reduced),
+    RAYVERIFY_TRACE(seed004_early_out),
+    RAYVERIFY_TRACE(geometric),
+    RAYVERIFY_TRACE(stable_roots),
+    RAYVERIFY_TRACE(hearn_baker),
+    RAYVERIFY_TRACE(fma_discriminant),
+    RAYVERIFY_TRACE_INTERVAL(hearn_baker_any_hit),
+    RAYVERIFY_TRACE_INTERVAL(hearn_baker_nearest),
+    RAYVERIFY_TRACE(hearn_baker_unit),
+    RAYVERIFY_TRACE_INTERVAL(hearn_baker_unit_nearest),
+    RAYVERIFY_TRACE_INTERVAL(hearn_baker_unit_any_hit),
+    RAYVERIFY_TRACE(wald_origin_shift),
+    RAYVERIFY_TRACE_ROBUST(robust),
+    RAYVERIFY_TRACE_ROBUST(robust_nearest),
+    RAYVERIFY_TRACE_ROBUST(robust_any_hit),
+    RAYVERIFY_TRACE_ROBUST(robust_bounded),
+    RAYVERIFY_TRACE_ROBUST(robust_bounded_nearest),
+};
+
+#undef RAYVERIFY_TRACE_ROBUST
+#undef RAYVERIFY_TRACE_INTERVAL
+#undef RAYVERIFY_TRACE
+
+}  // namespace
+
+const variant_trace* find_builtin_trace(std::string_view name) {
+    for (const variant_trace& t : traces)
+        if (t.name == name) return &t;
+    return nullptr;
+}
+
+}  // namespace rayverify

@@ -19,12 +19,20 @@
 namespace rayverify::intersectors {
 
 using std::abs;
+using std::atan2;
 using std::copysign;
 using std::fabs;
 using std::fma;
 using std::isinf;
 using std::isnan;
 using std::sqrt;
+
+// A bound on rounding errors that a formula carries (pbrt's γ_n): itself;
+// its ideal value is 0, since exact arithmetic makes no rounding error.
+template <class T>
+constexpr T rounding_error_bound(T bound) {
+    return bound;
+}
 
 // An intermediate of the formula, named as the formula names it; `note`
 // says how its ideal value is formed when a traced run cannot run its code.
@@ -44,5 +52,14 @@ struct plain_scalar {
 };
 template <class T>
 using plain_scalar_t = typename plain_scalar<T>::type;
+
+// W in T's form: W for a plain T, a traced W for a traced T (a port that
+// computes in a wider type than its inputs).
+template <class T, class W>
+struct same_form {
+    using type = W;
+};
+template <class T, class W>
+using same_form_t = typename same_form<T, W>::type;
 
 }  // namespace rayverify

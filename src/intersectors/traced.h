@@ -47,6 +47,7 @@ public:
     virtual ideal_id fused_multiply_add(ideal_id x, ideal_id y, ideal_id z) = 0;
     virtual ideal_id negate(ideal_id x) = 0;
     virtual ideal_id absolute(ideal_id x) = 0;
+    virtual ideal_id arc_tangent2(ideal_id y, ideal_id x) = 0;
 };
 
 // One named intermediate as a traced run met it.
@@ -162,6 +163,9 @@ struct traced {
         const traced magnitude = abs(x);
         return std::signbit(y.value) ? -magnitude : magnitude;
     }
+    friend traced atan2(traced y, traced x) {
+        return binary(std::atan2(y.value, x.value), y, x, &ideal_arithmetic::arc_tangent2);
+    }
     friend bool isinf(traced x) { return std::isinf(x.value); }
     friend bool isnan(traced x) { return std::isnan(x.value); }
     friend bool signbit(traced x) { return std::signbit(x.value); }
@@ -214,6 +218,10 @@ template <class T>
 struct plain_scalar<traced<T>> {
     using type = T;
 };
+template <class T, class W>
+struct same_form<traced<T>, W> {
+    using type = traced<W>;
+};
 
 // A step whose computed value comes from code that cannot run traced (bit
 // manipulation, double words): that value, with the ideal value of `model`,
@@ -242,6 +250,12 @@ vec3<traced<T>> step(const char* name, vec3<traced<T>> v) {
     step((base + ".y").c_str(), v.y);
     step((base + ".z").c_str(), v.z);
     return v;
+}
+
+template <class T>
+traced<T> rounding_error_bound(traced<T> bound) {
+    trace_session* s = trace_session::current();
+    return s ? traced<T>::with_ideal(bound.value, s->ideal.exactly(0)) : bound;
 }
 
 template <class T>

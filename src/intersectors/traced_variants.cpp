@@ -8,18 +8,26 @@
 
 #include "intersectors/traced.h"
 // traced.h first: the intersectors below find its overloads when instantiated on traced scalars.
+#include "intersectors/cycles_point.h"
+#include "intersectors/embree4_sphere.h"
 #include "intersectors/fma_discriminant.h"
 #include "intersectors/geometric.h"
+#include "intersectors/godot_segment.h"
 #include "intersectors/half_b.h"
 #include "intersectors/hearn_baker.h"
 #include "intersectors/hearn_baker_any_hit.h"
 #include "intersectors/hearn_baker_nearest.h"
 #include "intersectors/hearn_baker_unit.h"
+#include "intersectors/jolt_ray_sphere.h"
+#include "intersectors/mitsuba3_sphere.h"
 #include "intersectors/naive.h"
+#include "intersectors/pbrt_v4_sphere.h"
+#include "intersectors/raylib_collision.h"
 #include "intersectors/robust.h"
 #include "intersectors/seed003_reduced.h"
 #include "intersectors/seed004_early_out.h"
 #include "intersectors/stable_roots.h"
+#include "intersectors/threejs_ray.h"
 #include "intersectors/wald_origin_shift.h"
 
 namespace rayverify {
@@ -70,66 +78,58 @@ void trace_robust_filter(const ray_sphere<T>& s) {
     step("Δ′", computed_apart(filter.discriminant, discriminant), note.c_str());
 }
 
-#define RAYVERIFY_TRACE(fn)                                                                                 \
-    variant_trace {                                                                                         \
-        #fn,                                                                                                \
-            [](const ray_sphere<float>& s, float, float) {                                                  \
-                record_roots<float>(intersectors::fn<traced<float>>(traced_inputs(s)));                     \
-            },                                                                                              \
-            [](const ray_sphere<double>& s, double, double) {                                               \
-                record_roots<double>(intersectors::fn<traced<double>>(traced_inputs(s)));                   \
-            },                                                                                              \
-            {}                                                                                              \
+// The variant's own template run on traced T: a kind that takes no interval
+// (s), or one that does (s, tmin, tmax); then its roots.
+#define RAYVERIFY_PLAIN(fn, T) \
+    [](const ray_sphere<T>& s, T, T) { record_roots<T>(intersectors::fn<traced<T>>(traced_inputs(s))); }
+#define RAYVERIFY_RANGED(fn, T)                                                               \
+    [](const ray_sphere<T>& s, T tmin, T tmax) {                                              \
+        record_roots<T>(intersectors::fn<traced<T>>(traced_inputs(s), tmin, tmax));           \
     }
-
-#define RAYVERIFY_TRACE_INTERVAL(fn)                                                                        \
-    variant_trace {                                                                                         \
-        #fn,                                                                                                \
-            [](const ray_sphere<float>& s, float tmin, float tmax) {                                        \
-                record_roots<float>(intersectors::fn<traced<float>>(traced_inputs(s), tmin, tmax));         \
-            },                                                                                              \
-            [](const ray_sphere<double>& s, double tmin, double tmax) {                                     \
-                record_roots<double>(intersectors::fn<traced<double>>(traced_inputs(s), tmin, tmax));       \
-            },                                                                                              \
-            {}                                                                                              \
-    }
+#define RAYVERIFY_BOTH(kind, fn) {#fn, kind(fn, float), kind(fn, double), {}}
 
 constexpr std::string_view robust_what =
     "robust_sphere.h runs on float and double only: its static filter's values, computed in double, beside "
     "the exact values of the same quantities from the exact inputs";
+constexpr trace_fn<float> robust_float = [](const ray_sphere<float>& s, float, float) { trace_robust_filter(s); };
+constexpr trace_fn<double> robust_double = [](const ray_sphere<double>& s, double, double) { trace_robust_filter(s); };
 
-// The later stages refine on plain doubles; explain's row gives the roots' ULP errors.
-#define RAYVERIFY_TRACE_ROBUST(fn)                                                                          \
-    variant_trace {                                                                                         \
-        #fn, [](const ray_sphere<float>& s, float, float) { trace_robust_filter(s); },                      \
-            [](const ray_sphere<double>& s, double, double) { trace_robust_filter(s); }, robust_what         \
-    }
+const std::array<variant_trace, 29> traces{{
+    RAYVERIFY_BOTH(RAYVERIFY_PLAIN, naive),
+    RAYVERIFY_BOTH(RAYVERIFY_PLAIN, half_b),
+    RAYVERIFY_BOTH(RAYVERIFY_PLAIN, seed003_reduced),
+    RAYVERIFY_BOTH(RAYVERIFY_PLAIN, seed004_early_out),
+    RAYVERIFY_BOTH(RAYVERIFY_PLAIN, geometric),
+    RAYVERIFY_BOTH(RAYVERIFY_PLAIN, stable_roots),
+    RAYVERIFY_BOTH(RAYVERIFY_PLAIN, hearn_baker),
+    RAYVERIFY_BOTH(RAYVERIFY_PLAIN, fma_discriminant),
+    RAYVERIFY_BOTH(RAYVERIFY_RANGED, hearn_baker_any_hit),
+    RAYVERIFY_BOTH(RAYVERIFY_RANGED, hearn_baker_nearest),
+    RAYVERIFY_BOTH(RAYVERIFY_PLAIN, hearn_baker_unit),
+    RAYVERIFY_BOTH(RAYVERIFY_RANGED, hearn_baker_unit_nearest),
+    RAYVERIFY_BOTH(RAYVERIFY_RANGED, hearn_baker_unit_any_hit),
+    RAYVERIFY_BOTH(RAYVERIFY_PLAIN, wald_origin_shift),
+    {"robust", robust_float, robust_double, robust_what},
+    {"robust_nearest", robust_float, robust_double, robust_what},
+    {"robust_any_hit", robust_float, robust_double, robust_what},
+    {"robust_bounded", robust_float, robust_double, robust_what},
+    {"robust_bounded_nearest", robust_float, robust_double, robust_what},
+    {"pbrt_v4", RAYVERIFY_RANGED(pbrt_v4, float), RAYVERIFY_RANGED(pbrt_v4, double),
+     "interval arithmetic: each end of an interval beside the value it encloses"},
+    RAYVERIFY_BOTH(RAYVERIFY_RANGED, mitsuba3_preliminary),
+    RAYVERIFY_BOTH(RAYVERIFY_RANGED, mitsuba3_ray_test),
+    {"embree4", RAYVERIFY_RANGED(embree4, float), nullptr, {}},
+    {"cycles_point", RAYVERIFY_RANGED(cycles_point, float), nullptr, {}},
+    {"jolt", RAYVERIFY_RANGED(jolt, float), nullptr, {}},
+    {"jolt_fma", RAYVERIFY_RANGED(jolt_fma, float), nullptr, {}},
+    {"threejs", nullptr, RAYVERIFY_RANGED(threejs, double), {}},
+    RAYVERIFY_BOTH(RAYVERIFY_RANGED, godot),
+    {"raylib", RAYVERIFY_RANGED(raylib, float), nullptr, {}},
+}};
 
-const std::array traces{
-    RAYVERIFY_TRACE(naive),
-    RAYVERIFY_TRACE(half_b),
-    RAYVERIFY_TRACE(seed003_reduced),
-    RAYVERIFY_TRACE(seed004_early_out),
-    RAYVERIFY_TRACE(geometric),
-    RAYVERIFY_TRACE(stable_roots),
-    RAYVERIFY_TRACE(hearn_baker),
-    RAYVERIFY_TRACE(fma_discriminant),
-    RAYVERIFY_TRACE_INTERVAL(hearn_baker_any_hit),
-    RAYVERIFY_TRACE_INTERVAL(hearn_baker_nearest),
-    RAYVERIFY_TRACE(hearn_baker_unit),
-    RAYVERIFY_TRACE_INTERVAL(hearn_baker_unit_nearest),
-    RAYVERIFY_TRACE_INTERVAL(hearn_baker_unit_any_hit),
-    RAYVERIFY_TRACE(wald_origin_shift),
-    RAYVERIFY_TRACE_ROBUST(robust),
-    RAYVERIFY_TRACE_ROBUST(robust_nearest),
-    RAYVERIFY_TRACE_ROBUST(robust_any_hit),
-    RAYVERIFY_TRACE_ROBUST(robust_bounded),
-    RAYVERIFY_TRACE_ROBUST(robust_bounded_nearest),
-};
-
-#undef RAYVERIFY_TRACE_ROBUST
-#undef RAYVERIFY_TRACE_INTERVAL
-#undef RAYVERIFY_TRACE
+#undef RAYVERIFY_BOTH
+#undef RAYVERIFY_RANGED
+#undef RAYVERIFY_PLAIN
 
 }  // namespace
 

@@ -45,6 +45,7 @@ RAYVERIFY_IDEAL_BINARY(add, mpfr_add)
 RAYVERIFY_IDEAL_BINARY(subtract, mpfr_sub)
 RAYVERIFY_IDEAL_BINARY(multiply, mpfr_mul)
 RAYVERIFY_IDEAL_BINARY(divide, mpfr_div)
+RAYVERIFY_IDEAL_BINARY(arc_tangent2, mpfr_atan2)
 #undef RAYVERIFY_IDEAL_BINARY
 
 #define RAYVERIFY_IDEAL_UNARY(name, mpfr_fn)                          \

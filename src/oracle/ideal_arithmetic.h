@@ -38,6 +38,7 @@ public:
     ideal_id fused_multiply_add(ideal_id x, ideal_id y, ideal_id z) override;
     ideal_id negate(ideal_id x) override;
     ideal_id absolute(ideal_id x) override;
+    ideal_id arc_tangent2(ideal_id y, ideal_id x) override;
 
     // The figures of a recorded step (its ideal handle from this arithmetic).
     step_figures measure(const traced_step& s);

@@ -42,6 +42,7 @@
 #pragma once
 
 #include <cmath>
+#include <type_traits>
 
 #include "core/intersection.h"
 #include "core/ray_sphere_case.h"
@@ -91,7 +92,7 @@ inline constexpr contract embree4_contract{.query = query_kind::nearest_hit,
                                            .outputs = {.normal = true}};
 
 template <class Float = float>
-answer<Float> embree4(const ray_sphere<Float>& s, Float tnear, Float tfar) {
+answer<Float> embree4(const ray_sphere<Float>& s, std::type_identity_t<Float> tnear, std::type_identity_t<Float> tfar) {
     const vec3<Float>& d = s.direction;
     const Float rd2 = step("rd2", embree::rcp(embree::dot_vec3ff(d, d)));
     const vec3<Float> c0 = step("c0", s.centre - s.origin);

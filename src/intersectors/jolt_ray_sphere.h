@@ -57,6 +57,7 @@
 
 #include <cfloat>
 #include <cmath>
+#include <type_traits>
 #include <utility>
 
 #include "core/intersection.h"
@@ -166,12 +167,13 @@ inline constexpr contract jolt_fma_contract = jolt_contract;
 
 // Float: Jolt's float (or a traced float, for explain).
 template <class Float = float>
-root_pair<Float> jolt(const ray_sphere<Float>& s, Float tmin, Float tmax) {
+root_pair<Float> jolt(const ray_sphere<Float>& s, std::type_identity_t<Float> tmin, std::type_identity_t<Float> tmax) {
     return jolt_math::ray_sphere_case<jolt_build::deterministic>(s, tmin, tmax);
 }
 
 template <class Float = float>
-root_pair<Float> jolt_fma(const ray_sphere<Float>& s, Float tmin, Float tmax) {
+root_pair<Float> jolt_fma(const ray_sphere<Float>& s, std::type_identity_t<Float> tmin,
+                          std::type_identity_t<Float> tmax) {
     return jolt_math::ray_sphere_case<jolt_build::fma>(s, tmin, tmax);
 }
 

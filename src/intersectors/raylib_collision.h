@@ -20,6 +20,7 @@
 #pragma once
 
 #include <cmath>
+#include <type_traits>
 
 #include "core/intersection.h"
 #include "core/ray_sphere_case.h"
@@ -36,7 +37,8 @@ inline constexpr contract raylib_contract{.query = query_kind::nearest_hit,
 
 // Float: C's float (or a traced float, for explain).
 template <class Float = float>
-answer<Float> raylib(const ray_sphere<Float>& s, Float /*tmin*/, Float /*tmax*/) {
+answer<Float> raylib(const ray_sphere<Float>& s, std::type_identity_t<Float> /*tmin*/,
+                     std::type_identity_t<Float> /*tmax*/) {
     const vec3<Float> ray_sphere_pos = step("raySpherePos", s.centre - s.origin);
     const Float vector = step("vector", dot(ray_sphere_pos, s.direction));
     const Float distance = step("distance", sqrt(dot(ray_sphere_pos, ray_sphere_pos)));

@@ -16,6 +16,7 @@
 #pragma once
 
 #include <cmath>
+#include <type_traits>
 
 #include "core/intersection.h"
 #include "core/ray_sphere_case.h"
@@ -31,7 +32,8 @@ inline constexpr contract threejs_contract{.query = query_kind::nearest_hit,
 
 // Number: JavaScript's number, double (or a traced double, for explain).
 template <class Number = double>
-answer<Number> threejs(const ray_sphere<Number>& s, Number /*tmin*/, Number /*tmax*/) {
+answer<Number> threejs(const ray_sphere<Number>& s, std::type_identity_t<Number> /*tmin*/,
+                       std::type_identity_t<Number> /*tmax*/) {
     const vec3<Number> v = step("v", s.centre - s.origin);
     const Number tca = step("tca", dot(v, s.direction));
     const Number d2 = step("d2", dot(v, v) - tca * tca);

@@ -33,7 +33,7 @@
 namespace rayverify {
 namespace {
 
-// The roots the run returned, as steps "t0" and "t1" (one "t" for a single
+// The roots the run returned, as steps "answer t0" and "answer t1" ("answer t" for a single
 // root); a root no operation produced (an any-hit answer's 0) is left out.
 template <class T, class Result>
 void record_roots(const Result& result) {
@@ -43,10 +43,10 @@ void record_roots(const Result& result) {
     else
         roots = &result.roots;
     const auto produced = [](traced<T> t) { return t.ideal != exact_as_computed || t.value != 0; };
-    if (roots->count == 1 && produced(roots->t0)) step("t", roots->t0);
+    if (roots->count == 1 && produced(roots->t0)) step("answer t", roots->t0);
     if (roots->count == 2) {
-        step("t0", roots->t0);
-        step("t1", roots->t1);
+        step("answer t0", roots->t0);
+        step("answer t1", roots->t1);
     }
 }
 

@@ -170,9 +170,10 @@ void print_derived(const target_outcome& o, const contract& promises, const exac
     const vec3<double> f = g.origin - g.centre;
     const double distance = std::sqrt(length_squared(f)), length = std::sqrt(length_squared(g.direction));
     fmt::print("    derived (no formula to trace): the answer implies {}; exact {}\n", implied, exact_sign);
-    fmt::print("    scales: |o − c| = {:.3g} = 2^{:.1f} r, |d| = {:.3g}; C = |o − c|² − r² keeps r² only above "
-               "2^-p·|o − c|² (r²/|o − c|² = 2^{:.1f})\n",
-               distance, std::log2(distance / g.radius), length, -2 * std::log2(distance / g.radius));
+    const double scale_bits = 2 * std::log2(distance / g.radius);
+    fmt::print("    scales: |o − c| = {:.3g} = 2^{:.1f} r, |d| = {:.3g}; a p-bit C = |o − c|² − r² keeps about p − {:.1f} "
+               "bits of r²\n",
+               distance, scale_bits / 2, length, scale_bits);
 }
 
 int run(const explain_options& options) {

@@ -1,10 +1,8 @@
 #include "intersectors/traced_variants.h"
 
 #include <array>
-#include <string>
+#include <cstdio>
 #include <type_traits>
-
-#include <fmt/format.h>
 
 #include "intersectors/traced.h"
 // traced.h first: the intersectors below find its overloads when instantiated on traced scalars.
@@ -71,11 +69,11 @@ void trace_robust_filter(const ray_sphere<T>& s) {
     step("b′", computed_apart(filter.b_prime, b_prime));
     step("C", computed_apart(filter.C, C));
     const bool decided = filter.discriminant > filter.discriminant_bound || filter.discriminant < -filter.discriminant_bound;
-    const std::string note =
-        fmt::format("{} in double, bound {:.3g}: {}",
-                    filter.lagrange ? "Lagrange's a·r² − |d × f|²" : "b′² − aC", filter.discriminant_bound,
-                    decided ? "the filter decides the class" : "left to the double-word and exact stages");
-    step("Δ′", computed_apart(filter.discriminant, discriminant), note.c_str());
+    char note[160];
+    std::snprintf(note, sizeof note, "%s in double, bound %.3g: %s",
+                  filter.lagrange ? "Lagrange's a·r² − |d × f|²" : "b′² − aC", filter.discriminant_bound,
+                  decided ? "the filter decides the class" : "left to the double-word and exact stages");
+    step("Δ′", computed_apart(filter.discriminant, discriminant), note);
 }
 
 // The variant's own template run on traced T: a kind that takes no interval

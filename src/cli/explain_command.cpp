@@ -1,10 +1,12 @@
 #include <fmt/format.h>
 
+#include <cmath>
 #include <sstream>
 
 #include "cli/commands.h"
 #include "core/input_error.h"
 #include "corpus/corpus_io.h"
+#include "intersectors/registry.h"
 #include "intersectors/traced_variants.h"
 #include "oracle/ideal_arithmetic.h"
 #include "report/audit_report.h"
@@ -21,7 +23,7 @@ struct explain_options {
     plugin_isolation isolation;
     std::vector<std::string> precisions;
     results_options results;
-    bool steps = true;  // the intermediates of each variant's formula (--no-steps: off)
+    bool no_steps = false;  // leave out the intermediates of each variant's formula
 };
 
 constexpr const char* field_names[10] = {"ox", "oy", "oz", "dx", "dy", "dz", "cx", "cy", "cz", "r"};
@@ -153,6 +155,15 @@ void print_trace(const variant_trace& trace, trace_fn<T> run, const audit_target
     for (const traced_step& s : session.steps) print_step(s, ideal);
 }
 
+// The trace of a built-in target; nullptr for a plugin (even one that took a
+// built-in's name), a results file, a program or an engine's library.
+const variant_trace* builtin_trace(const audit_target& target) {
+    const variant* builtin = find_builtin_variant(target.subject.name);
+    const bool is_builtin = builtin && !target.recorded && !target.subject.library &&
+                            builtin->citation == target.subject.citation && builtin->formula == target.subject.formula;
+    return is_builtin ? find_builtin_trace(builtin->name) : nullptr;
+}
+
 // What can be derived for a target whose formula rayverify does not hold (a
 // plugin, a results file, a program, an engine's library): the class its
 // answer implies beside the exact one, and the scales that decide how many
@@ -235,10 +246,8 @@ int run(const explain_options& options) {
         if (ran && promises.query != query_kind::line_roots)
             fmt::print("    asks for: {}\n", describe_expected(promises, audited.exact_for(targets[i].prec), o.range));
         if (!o.score.detail.empty()) fmt::print("    {}\n", o.score.detail);
-        if (ran && options.steps) {
-            const variant_trace* trace = targets[i].recorded || targets[i].subject.library
-                                             ? nullptr
-                                             : find_builtin_trace(targets[i].subject.name);
+        if (ran && !options.no_steps) {
+            const variant_trace* trace = builtin_trace(targets[i]);
             if (!trace)
                 print_derived(o, promises, audited.exact_for(targets[i].prec), c.geometry);
             else if (targets[i].prec == precision::binary32)
@@ -286,7 +295,7 @@ command add_explain_command(CLI::App& app) {
         ->allow_extra_args(false);
     add_isolation_options(sub, options->isolation);
     add_results_options(sub, options->results);
-    sub->add_flag("!--no-steps", options->steps,
+    sub->add_flag("--no-steps", options->no_steps,
                   "Leave out each variant's intermediates (computed and exact, the bits lost at each step)");
     sub->add_option("--precision", options->precisions, "float or double (repeatable; default: both)")
         ->check(CLI::IsMember({"float", "double"}))

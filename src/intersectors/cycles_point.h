@@ -37,7 +37,7 @@ inline constexpr contract cycles_point_contract{.query = query_kind::nearest_hit
 
 // Float: the kernel's float (or a traced float, for explain).
 template <class Float = float>
-root_pair<Float> cycles_point(const ray_sphere<Float>& s, std::type_identity_t<Float> tmin,
+inline root_pair<Float> cycles_point(const ray_sphere<Float>& s, std::type_identity_t<Float> tmin,
                               std::type_identity_t<Float> tmax) {
     const vec3<Float>& d = s.direction;
     const Float rd2 = step("rd2", Float(1.0f) / dot(d, d));

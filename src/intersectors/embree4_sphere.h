@@ -56,27 +56,27 @@ namespace embree {
 
 // madd(a, b, c) = a·b + c, fused (vfmaq_f32).
 template <class Float>
-Float madd(Float a, Float b, Float c) {
+inline Float madd(Float a, Float b, Float c) {
     return fma(a, b, c);
 }
 
 // Vec3vf<M>'s dot (common/math/vec3.h): madd(x, x′, madd(y, y′, z·z′)).
 template <class Float>
-Float dot(vec3<Float> a, vec3<Float> b) {
+inline Float dot(vec3<Float> a, vec3<Float> b) {
     return madd(a.x, b.x, madd(a.y, b.y, a.z * b.z));
 }
 
 // Vec3ff's dot on aarch64: the products, then vaddvq over [x, y, z, 0]:
 // (x·x′ + y·y′) + (z·z′ + 0).
 template <class Float>
-Float dot_vec3ff(vec3<Float> a, vec3<Float> b) {
+inline Float dot_vec3ff(vec3<Float> a, vec3<Float> b) {
     const Float x = a.x * b.x, y = a.y * b.y, z = a.z * b.z;
     return (x + y) + (z + 0.0f);
 }
 
 // rcp(float) on __aarch64__ (common/math/emath.h): estimate, two Newton steps.
 template <class Float>
-Float rcp(Float x) {
+inline Float rcp(Float x) {
     Float r = step("rcp estimate", neon::frecpe(x), "FRECPE's bits, bit for bit; exact: 1/(d·d)");
     r = neon::frecps(x, r) * r;
     r = neon::frecps(x, r) * r;
@@ -92,7 +92,7 @@ inline constexpr contract embree4_contract{.query = query_kind::nearest_hit,
                                            .outputs = {.normal = true}};
 
 template <class Float = float>
-answer<Float> embree4(const ray_sphere<Float>& s, std::type_identity_t<Float> tnear, std::type_identity_t<Float> tfar) {
+inline answer<Float> embree4(const ray_sphere<Float>& s, std::type_identity_t<Float> tnear, std::type_identity_t<Float> tfar) {
     const vec3<Float>& d = s.direction;
     const Float rd2 = step("rd2", embree::rcp(embree::dot_vec3ff(d, d)));
     const vec3<Float> c0 = step("c0", s.centre - s.origin);

@@ -167,12 +167,12 @@ inline constexpr contract jolt_fma_contract = jolt_contract;
 
 // Float: Jolt's float (or a traced float, for explain).
 template <class Float = float>
-root_pair<Float> jolt(const ray_sphere<Float>& s, std::type_identity_t<Float> tmin, std::type_identity_t<Float> tmax) {
+inline root_pair<Float> jolt(const ray_sphere<Float>& s, std::type_identity_t<Float> tmin, std::type_identity_t<Float> tmax) {
     return jolt_math::ray_sphere_case<jolt_build::deterministic>(s, tmin, tmax);
 }
 
 template <class Float = float>
-root_pair<Float> jolt_fma(const ray_sphere<Float>& s, std::type_identity_t<Float> tmin,
+inline root_pair<Float> jolt_fma(const ray_sphere<Float>& s, std::type_identity_t<Float> tmin,
                           std::type_identity_t<Float> tmax) {
     return jolt_math::ray_sphere_case<jolt_build::fma>(s, tmin, tmax);
 }

@@ -50,15 +50,15 @@ using wide = same_form_t<T, double>;
 
 // Horizontal sum of a 3-lane AVX double packet: y + (z + x).
 template <class W>
-W hsum(W x, W y, W z) {
+inline W hsum(W x, W y, W z) {
     return y + (z + x);
 }
 template <class W>
-W dot(vec3<W> a, vec3<W> b) {
+inline W dot(vec3<W> a, vec3<W> b) {
     return hsum(a.x * b.x, a.y * b.y, a.z * b.z);
 }
 template <class W>
-W squared_norm(vec3<W> v) {
+inline W squared_norm(vec3<W> v) {
     return mitsuba::dot(v, v);
 }
 
@@ -70,7 +70,7 @@ struct roots {
 
 // math::solve_quadratic in Value = double.
 template <class W>
-roots<W> solve_quadratic(W a, W b, W c) {
+inline roots<W> solve_quadratic(W a, W b, W c) {
     const bool linear_case = a == 0;
     const bool valid_linear = linear_case && b != 0;
     W x0 = -c / b, x1 = x0;
@@ -91,7 +91,7 @@ roots<W> solve_quadratic(W a, W b, W c) {
 // The sphere's answer from the origin o′ (relative to the centre) and the
 // shift plane_t: nearest in [0, maxt], as double.
 template <class W>
-bool accept(const roots<W>& r, W maxt) {
+inline bool accept(const roots<W>& r, W maxt) {
     const bool out_bounds = !(r.near <= maxt && r.far >= 0.0);
     const bool in_bounds = r.near < 0.0 && r.far > maxt;
     return r.found && !out_bounds && !in_bounds;

@@ -72,7 +72,7 @@ inline traced<float> frecpe(traced<float> x) { return computed_apart(frecpe(x.va
 
 // FRECPS (vrecps_f32): 2 − a·b with one rounding; ∞·0 gives 2.
 template <class Float>
-Float frecps(Float a, Float b) {
+inline Float frecps(Float a, Float b) {
     if ((isinf(a) && b == 0.0f) || (a == 0.0f && isinf(b))) return 2.0f;
     return fma(-a, b, Float(2.0f));
 }

@@ -37,7 +37,7 @@ inline constexpr contract raylib_contract{.query = query_kind::nearest_hit,
 
 // Float: C's float (or a traced float, for explain).
 template <class Float = float>
-answer<Float> raylib(const ray_sphere<Float>& s, std::type_identity_t<Float> /*tmin*/,
+inline answer<Float> raylib(const ray_sphere<Float>& s, std::type_identity_t<Float> /*tmin*/,
                      std::type_identity_t<Float> /*tmax*/) {
     const vec3<Float> ray_sphere_pos = step("raySpherePos", s.centre - s.origin);
     const Float vector = step("vector", dot(ray_sphere_pos, s.direction));
@@ -48,8 +48,8 @@ answer<Float> raylib(const ray_sphere<Float>& s, std::type_identity_t<Float> /*t
     const bool inside = distance < s.radius;
     const Float t = step("t", inside ? vector + sqrt(d) : vector - sqrt(d));
     answer<Float> out;
-    out.point = step("point", vec3<Float>{s.origin.x + s.direction.x * t, s.origin.y + s.direction.y * t,
-                                          s.origin.z + s.direction.z * t});
+    out.point = {s.origin.x + s.direction.x * t, s.origin.y + s.direction.y * t, s.origin.z + s.direction.z * t};
+    step("point", out.point);
     // Vector3Normalize: v · (1/|v|), left as it is when |v| = 0.
     const vec3<Float> w = out.point - s.centre;
     const Float length = sqrt(dot(w, w));

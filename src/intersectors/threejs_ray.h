@@ -32,7 +32,7 @@ inline constexpr contract threejs_contract{.query = query_kind::nearest_hit,
 
 // Number: JavaScript's number, double (or a traced double, for explain).
 template <class Number = double>
-answer<Number> threejs(const ray_sphere<Number>& s, std::type_identity_t<Number> /*tmin*/,
+inline answer<Number> threejs(const ray_sphere<Number>& s, std::type_identity_t<Number> /*tmin*/,
                        std::type_identity_t<Number> /*tmax*/) {
     const vec3<Number> v = step("v", s.centre - s.origin);
     const Number tca = step("tca", dot(v, s.direction));
@@ -45,8 +45,8 @@ answer<Number> threejs(const ray_sphere<Number>& s, std::type_identity_t<Number>
     const Number t = step("t", t0 < 0 ? t1 : t0);
     // at(t): target.copy(origin).addScaledVector(direction, t): o + d·t per coordinate.
     answer<Number> out;
-    out.point = step("point", vec3<Number>{s.origin.x + s.direction.x * t, s.origin.y + s.direction.y * t,
-                                           s.origin.z + s.direction.z * t});
+    out.point = {s.origin.x + s.direction.x * t, s.origin.y + s.direction.y * t, s.origin.z + s.direction.z * t};
+    step("point", out.point);
     const Number derived = parameter_of_point(s, out.point);
     out.roots = {1, derived, derived};
     return out;

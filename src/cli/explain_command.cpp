@@ -224,7 +224,7 @@ int run(const explain_options& options) {
     fmt::print("\n{:<26} {:<18} {:<20} {:>5} {:>24} {:>24} {:>10} {:>10}\n", "variant", "verdict", "cause", "count",
                "t0", "t1", "near_ulp", "far_ulp");
     bool findings = false;
-    bool traced = false;
+    bool any_steps = false;
     std::vector<verdict_kind> seen;
     std::vector<disagreement_cause> causes;
     for (std::size_t i = 0; i < targets.size(); ++i) {
@@ -254,7 +254,7 @@ int run(const explain_options& options) {
                 print_trace<float>(*trace, trace->in_float, targets[i], c);
             else
                 print_trace<double>(*trace, trace->in_double, targets[i], c);
-            traced = traced || trace;
+            any_steps = any_steps || trace;
         }
         findings = findings || is_disagreement(o.score.verdict);
         if (o.score.verdict != verdict_kind::agree &&
@@ -266,7 +266,7 @@ int run(const explain_options& options) {
     if (!seen.empty()) fmt::print("\n");
     for (verdict_kind k : seen) fmt::print("{}: {}\n", verdict_name(k), verdict_meaning(k));
     for (disagreement_cause c : causes) fmt::print("cause {}: {}\n", cause_name(c), cause_meaning(c));
-    if (traced)
+    if (any_steps)
         fmt::print("{}steps: each intermediate the variant's code names, computed in its precision (bit for bit as "
                    "it runs) and exact: the same expression on the same inputs in MPFR at {} bits (exact for + − × "
                    "and fma; √ and ÷ correctly rounded to that many bits); bits lost = p + log2(rel. error) of p = 24 "

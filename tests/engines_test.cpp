@@ -254,7 +254,7 @@ TEST(Engines, JoltWrapperDoesNotInventOverflow) {
                                                                far.radius),
               FLT_MAX)
         << "the old mapping: the stretched segment overflows";
-    for (const auto port : {&jolt, &jolt_fma}) {
+    for (const auto port : {&jolt<float>, &jolt_fma<float>}) {
         const root_pair<float> hit = port(far, 0.0f, inf_f);
         ASSERT_EQ(hit.count, 1);
         EXPECT_EQ(hit.t0, 0x1p32f);

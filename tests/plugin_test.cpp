@@ -122,6 +122,10 @@ TEST(Plugin, CliAuditAndExplainAcceptPlugins) {
     const command_result explain = run_cli("explain \"0 0 -5 0 0 1 0 0 0 1\" --plugin " + std::string(RAYVERIFY_EXAMPLE_PLUGIN));
     EXPECT_EQ(explain.exit_code, 0) << explain.output;
     EXPECT_NE(explain.output.find("rtg_sphere/double"), std::string::npos) << explain.output;
+    // No formula to trace: what its answer implies, beside the exact class.
+    EXPECT_NE(explain.output.find("derived (no formula to trace): the answer implies Δ′ > 0; exact Δ′ > 0"),
+              std::string::npos)
+        << explain.output;
 
     const command_result missing = run_cli("audit --plugin ./no_such_plugin.so --corpus " + corpus.string());
     EXPECT_EQ(missing.exit_code, 2) << missing.output;

@@ -1,10 +1,14 @@
 #include <fmt/format.h>
 
+#include <cmath>
 #include <sstream>
 
 #include "cli/commands.h"
 #include "core/input_error.h"
 #include "corpus/corpus_io.h"
+#include "intersectors/registry.h"
+#include "intersectors/traced_variants.h"
+#include "oracle/ideal_arithmetic.h"
 #include "report/audit_report.h"
 
 namespace rayverify::cli {
@@ -19,6 +23,7 @@ struct explain_options {
     plugin_isolation isolation;
     std::vector<std::string> precisions;
     results_options results;
+    bool no_steps = false;  // leave out the intermediates of each variant's formula
 };
 
 constexpr const char* field_names[10] = {"ox", "oy", "oz", "dx", "dy", "dz", "cx", "cy", "cz", "r"};
@@ -116,6 +121,72 @@ void print_outputs(const target_outcome& o) {
                    s.scale_error_distance.value_or(0));
 }
 
+std::string step_number(double x) {
+    if (std::isnan(x)) return "nan";
+    return fmt::format("{:.17g}", x);
+}
+
+// One traced step: computed, exact, relative error, bits lost, cancellation.
+void print_step(const traced_step& s, exact_arithmetic& ideal) {
+    const step_figures f = ideal.measure(s);
+    const std::string lost = std::isnan(f.bits_lost) ? std::string("-")
+                             : f.bits_lost >= s.digits ? fmt::format("all {}", s.digits)
+                                                       : fmt::format("{:.1f} of {}", f.bits_lost, s.digits);
+    const std::string cancelled = !s.subtraction            ? std::string("-")
+                                  : std::isinf(s.cancelled) ? std::string("all")
+                                                            : fmt::format("{:.1f}", s.cancelled);
+    fmt::print("      {:<12} {:>24} {:>24} {:>10.3g} {:>10} {:>9}\n", s.name, step_number(s.computed),
+               step_number(f.exact), f.relative_error, lost, cancelled);
+    if (!s.note.empty()) fmt::print("      {:<12} ({})\n", "", s.note);
+}
+
+// Where the bits went: a built-in variant's own code run on traced scalars
+// (intersectors/traced_variants.h), on the inputs and range the judge ran it on.
+template <class T>
+void print_trace(const variant_trace& trace, trace_fn<T> run, const audit_target& target, const corpus_case& c) {
+    const std::optional<batch_case<T>> input = run_input<T>(target, c);
+    if (!input || !run) return;
+    exact_arithmetic ideal;
+    trace_session session(ideal);
+    run(input->input, input->interval.tmin, input->interval.tmax);
+    fmt::print("    steps{}:\n", trace.what.empty() ? std::string() : fmt::format(" ({})", trace.what));
+    fmt::print("      {:<12} {:>24} {:>24} {:>10} {:>10} {:>9}\n", "step", "computed", "exact", "rel. error",
+               "bits lost", "cancelled");
+    for (const traced_step& s : session.steps) print_step(s, ideal);
+}
+
+// The trace of a built-in target; nullptr for a plugin (even one that took a
+// built-in's name), a results file, a program or an engine's library.
+const variant_trace* builtin_trace(const audit_target& target) {
+    const variant* builtin = find_builtin_variant(target.subject.name);
+    const bool is_builtin = builtin && !target.recorded && !target.subject.library &&
+                            builtin->citation == target.subject.citation && builtin->formula == target.subject.formula;
+    return is_builtin ? find_builtin_trace(builtin->name) : nullptr;
+}
+
+// What can be derived for a target whose formula rayverify does not hold (a
+// plugin, a results file, a program, an engine's library): the class its
+// answer implies beside the exact one, and the scales that decide how many
+// bits a quadratic's coefficients keep.
+void print_derived(const target_outcome& o, const contract& promises, const exact_solution& exact,
+                   const ray_sphere<double>& g) {
+    if (!exact.valid()) return;
+    const int count = o.output.roots.count;
+    const char* exact_sign = exact.cls == line_class::miss ? "Δ′ < 0" : exact.cls == line_class::tangent ? "Δ′ = 0" : "Δ′ > 0";
+    std::string implied;
+    if (promises.query == query_kind::line_roots)
+        implied = count == 0 ? "Δ′ < 0" : count == 1 ? "Δ′ = 0" : "Δ′ > 0";
+    else
+        implied = count == 0 ? "no root in its range (Δ′ < 0, or the roots outside it)" : "Δ′ ≥ 0 (a root in its range)";
+    const vec3<double> f = g.origin - g.centre;
+    const double distance = std::sqrt(length_squared(f)), length = std::sqrt(length_squared(g.direction));
+    fmt::print("    derived (no formula to trace): the answer implies {}; exact {}\n", implied, exact_sign);
+    const double scale_bits = 2 * std::log2(distance / g.radius);
+    fmt::print("    scales: |o − c| = {:.3g} = 2^{:.1f} r, |d| = {:.3g}; a p-bit C = |o − c|² − r² keeps about p − {:.1f} "
+               "bits of r²\n",
+               distance, scale_bits / 2, length, scale_bits);
+}
+
 int run(const explain_options& options) {
     if (!options.case_id.empty() && !options.values.empty())
         throw input_error("", 0, "--case", "give either --case ID or the case's numbers, not both");
@@ -153,6 +224,7 @@ int run(const explain_options& options) {
     fmt::print("\n{:<26} {:<18} {:<20} {:>5} {:>24} {:>24} {:>10} {:>10}\n", "variant", "verdict", "cause", "count",
                "t0", "t1", "near_ulp", "far_ulp");
     bool findings = false;
+    bool any_steps = false;
     std::vector<verdict_kind> seen;
     std::vector<disagreement_cause> causes;
     for (std::size_t i = 0; i < targets.size(); ++i) {
@@ -174,6 +246,16 @@ int run(const explain_options& options) {
         if (ran && promises.query != query_kind::line_roots)
             fmt::print("    asks for: {}\n", describe_expected(promises, audited.exact_for(targets[i].prec), o.range));
         if (!o.score.detail.empty()) fmt::print("    {}\n", o.score.detail);
+        if (ran && !options.no_steps) {
+            const variant_trace* trace = builtin_trace(targets[i]);
+            if (!trace)
+                print_derived(o, promises, audited.exact_for(targets[i].prec), c.geometry);
+            else if (targets[i].prec == precision::binary32)
+                print_trace<float>(*trace, trace->in_float, targets[i], c);
+            else
+                print_trace<double>(*trace, trace->in_double, targets[i], c);
+            any_steps = any_steps || trace;
+        }
         findings = findings || is_disagreement(o.score.verdict);
         if (o.score.verdict != verdict_kind::agree &&
             std::find(seen.begin(), seen.end(), o.score.verdict) == seen.end())
@@ -184,6 +266,13 @@ int run(const explain_options& options) {
     if (!seen.empty()) fmt::print("\n");
     for (verdict_kind k : seen) fmt::print("{}: {}\n", verdict_name(k), verdict_meaning(k));
     for (disagreement_cause c : causes) fmt::print("cause {}: {}\n", cause_name(c), cause_meaning(c));
+    if (any_steps)
+        fmt::print("{}steps: each intermediate the variant's code names, computed in its precision (bit for bit as "
+                   "it runs) and exact: the same expression on the same inputs in MPFR at {} bits (exact for + − × "
+                   "and fma; √ and ÷ correctly rounded to that many bits); bits lost = p + log2(rel. error) of p = 24 "
+                   "or 53, all when the computed value is 0 or of the wrong sign; cancelled: the bits a difference "
+                   "x − y cancelled, log2(max(|x|, |y|)/|x − y|)\n",
+                   seen.empty() && causes.empty() ? "\n" : "", exact_arithmetic::precision_bits);
     return findings ? exit_findings : exit_ok;
 }
 
@@ -206,6 +295,8 @@ command add_explain_command(CLI::App& app) {
         ->allow_extra_args(false);
     add_isolation_options(sub, options->isolation);
     add_results_options(sub, options->results);
+    sub->add_flag("--no-steps", options->no_steps,
+                  "Leave out each variant's intermediates (computed and exact, the bits lost at each step)");
     sub->add_option("--precision", options->precisions, "float or double (repeatable; default: both)")
         ->check(CLI::IsMember({"float", "double"}))
         ->allow_extra_args(false);

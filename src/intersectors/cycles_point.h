@@ -20,9 +20,11 @@
 #pragma once
 
 #include <cmath>
+#include <type_traits>
 
 #include "core/intersection.h"
 #include "core/ray_sphere_case.h"
+#include "intersectors/scalar_math.h"
 
 namespace rayverify::intersectors {
 
@@ -33,18 +35,21 @@ inline constexpr contract cycles_point_contract{.query = query_kind::nearest_hit
                                                 .inside = inside_rule::miss,
                                                 .front_faces_only = true};
 
-inline root_pair<float> cycles_point(const ray_sphere<float>& s, float tmin, float tmax) {
-    const vec3<float>& d = s.direction;
-    const float rd2 = 1.0f / dot(d, d);
-    const vec3<float> c0 = s.centre - s.origin;
-    const float projC0 = dot(c0, d) * rd2;
-    const vec3<float> perp = c0 - projC0 * d;
-    const float l2 = dot(perp, perp);
-    const float r2 = s.radius * s.radius;
+// Float: the kernel's float (or a traced float, for explain).
+template <class Float = float>
+inline root_pair<Float> cycles_point(const ray_sphere<Float>& s, std::type_identity_t<Float> tmin,
+                              std::type_identity_t<Float> tmax) {
+    const vec3<Float>& d = s.direction;
+    const Float rd2 = step("rd2", Float(1.0f) / dot(d, d));
+    const vec3<Float> c0 = step("c0", s.centre - s.origin);
+    const Float projC0 = step("projC0", dot(c0, d) * rd2);
+    const vec3<Float> perp = step("perp", c0 - projC0 * d);
+    const Float l2 = step("l2", dot(perp, perp));
+    const Float r2 = step("r2", s.radius * s.radius);
     if (!(l2 <= r2)) return {};
 
-    const float td = std::sqrt((r2 - l2) * rd2);
-    const float t_front = projC0 - td;
+    const Float td = step("td", sqrt(step("r2 − l2", r2 - l2) * rd2));
+    const Float t_front = projC0 - td;
     if (!(tmin <= t_front && t_front <= tmax)) return {};
     return {1, t_front, t_front};
 }

@@ -42,30 +42,42 @@
 #pragma once
 
 #include <cmath>
+#include <type_traits>
 
 #include "core/intersection.h"
 #include "core/ray_sphere_case.h"
 #include "intersectors/neon_recip.h"
+#include "intersectors/scalar_math.h"
 
 namespace rayverify::intersectors {
 namespace embree {
 
+// Float: Embree's float (or a traced float, for explain).
+
 // madd(a, b, c) = a·b + c, fused (vfmaq_f32).
-inline float madd(float a, float b, float c) { return std::fma(a, b, c); }
+template <class Float>
+inline Float madd(Float a, Float b, Float c) {
+    return fma(a, b, c);
+}
 
 // Vec3vf<M>'s dot (common/math/vec3.h): madd(x, x′, madd(y, y′, z·z′)).
-inline float dot(vec3<float> a, vec3<float> b) { return madd(a.x, b.x, madd(a.y, b.y, a.z * b.z)); }
+template <class Float>
+inline Float dot(vec3<Float> a, vec3<Float> b) {
+    return madd(a.x, b.x, madd(a.y, b.y, a.z * b.z));
+}
 
 // Vec3ff's dot on aarch64: the products, then vaddvq over [x, y, z, 0]:
 // (x·x′ + y·y′) + (z·z′ + 0).
-inline float dot_vec3ff(vec3<float> a, vec3<float> b) {
-    const float x = a.x * b.x, y = a.y * b.y, z = a.z * b.z;
+template <class Float>
+inline Float dot_vec3ff(vec3<Float> a, vec3<Float> b) {
+    const Float x = a.x * b.x, y = a.y * b.y, z = a.z * b.z;
     return (x + y) + (z + 0.0f);
 }
 
 // rcp(float) on __aarch64__ (common/math/emath.h): estimate, two Newton steps.
-inline float rcp(float x) {
-    float r = neon::frecpe(x);
+template <class Float>
+inline Float rcp(Float x) {
+    Float r = step("rcp estimate", neon::frecpe(x), "FRECPE's bits, bit for bit; exact: 1/(d·d)");
     r = neon::frecps(x, r) * r;
     r = neon::frecps(x, r) * r;
     return r;
@@ -79,27 +91,28 @@ inline constexpr contract embree4_contract{.query = query_kind::nearest_hit,
                                            .upper_end = end_kind::closed,
                                            .outputs = {.normal = true}};
 
-inline answer<float> embree4(const ray_sphere<float>& s, float tnear, float tfar) {
-    const vec3<float>& d = s.direction;
-    const float rd2 = embree::rcp(embree::dot_vec3ff(d, d));
-    const vec3<float> c0 = s.centre - s.origin;
-    const float projC0 = embree::dot(c0, d) * rd2;
-    const vec3<float> perp = c0 - projC0 * d;
-    const float l2 = embree::dot(perp, perp);
-    const float r2 = s.radius * s.radius;
+template <class Float = float>
+inline answer<Float> embree4(const ray_sphere<Float>& s, std::type_identity_t<Float> tnear, std::type_identity_t<Float> tfar) {
+    const vec3<Float>& d = s.direction;
+    const Float rd2 = step("rd2", embree::rcp(embree::dot_vec3ff(d, d)));
+    const vec3<Float> c0 = step("c0", s.centre - s.origin);
+    const Float projC0 = step("projC0", embree::dot(c0, d) * rd2);
+    const vec3<Float> perp = step("perp", c0 - projC0 * d);
+    const Float l2 = step("l2", embree::dot(perp, perp));
+    const Float r2 = step("r2", s.radius * s.radius);
     if (!(l2 <= r2)) return {};
 
-    const float td = std::sqrt((r2 - l2) * rd2);
-    const float t_front = projC0 - td;
-    const float t_back = projC0 + td;
+    const Float td = step("td", sqrt(step("r2 − l2", r2 - l2) * rd2));
+    const Float t_front = projC0 - td;
+    const Float t_back = projC0 + td;
     const bool valid_front = tnear <= t_front && t_front <= tfar;
     const bool valid_back = tnear <= t_back && t_back <= tfar;
     if (!valid_front && !valid_back) return {};
 
     // The first hit and its geometric normal.
-    const float t = valid_front ? t_front : t_back;
-    const float td_signed = valid_front ? -td : td;
-    answer<float> out;
+    const Float t = valid_front ? t_front : t_back;
+    const Float td_signed = valid_front ? -td : td;
+    answer<Float> out;
     out.roots = {1, t, t};
     out.normal = td_signed * d - perp;
     return out;

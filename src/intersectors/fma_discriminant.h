@@ -17,6 +17,7 @@
 
 #include "core/intersection.h"
 #include "core/ray_sphere_case.h"
+#include "intersectors/scalar_math.h"
 
 namespace rayverify::intersectors {
 
@@ -27,24 +28,24 @@ inline constexpr contract fma_discriminant_contract{
 template <class T>
 T difference_of_products(T a, T b, T c, T d) {
     const T cd = c * d;
-    const T error = std::fma(-c, d, cd);
-    const T result = std::fma(a, b, -cd);
+    const T error = fma(-c, d, cd);
+    const T result = fma(a, b, -cd);
     return result + error;
 }
 
 template <class T>
 root_pair<T> fma_discriminant(const ray_sphere<T>& s) {
-    const vec3<T> f = s.origin - s.centre;
-    const T a = dot(s.direction, s.direction);
-    const T b = T(2) * dot(s.direction, f);
-    const T C = dot(f, f) - s.radius * s.radius;
-    const T discriminant = difference_of_products(b, b, T(4) * a, C);
+    const vec3<T> f = step("f", s.origin - s.centre);
+    const T a = step("a", dot(s.direction, s.direction));
+    const T b = step("b", T(2) * dot(s.direction, f));
+    const T C = step("C", dot(f, f) - s.radius * s.radius);
+    const T discriminant = step("Δ", difference_of_products(b, b, T(4) * a, C));
     if (discriminant < 0) return {};
     if (discriminant == 0) {
         const T t = -b / (T(2) * a);
         return {1, t, t};
     }
-    const T root = std::sqrt(discriminant);
+    const T root = step("√Δ", sqrt(discriminant));
     return {2, (-b - root) / (T(2) * a), (-b + root) / (T(2) * a)};
 }
 

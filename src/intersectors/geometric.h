@@ -14,6 +14,7 @@
 
 #include "core/intersection.h"
 #include "core/ray_sphere_case.h"
+#include "intersectors/scalar_math.h"
 
 namespace rayverify::intersectors {
 
@@ -24,12 +25,12 @@ inline constexpr contract geometric_contract{.query = query_kind::line_roots,
 
 template <class T>
 root_pair<T> geometric(const ray_sphere<T>& s) {
-    const vec3<T> L = s.centre - s.origin;
-    const T t_ca = dot(L, s.direction);
-    const T d2 = dot(L, L) - t_ca * t_ca;
-    const T r2 = s.radius * s.radius;
+    const vec3<T> L = step("L", s.centre - s.origin);
+    const T t_ca = step("t_ca", dot(L, s.direction));
+    const T d2 = step("d²", dot(L, L) - t_ca * t_ca);
+    const T r2 = step("r²", s.radius * s.radius);
     if (d2 > r2) return {};
-    const T half_chord = std::sqrt(r2 - d2);
+    const T half_chord = step("√(r² − d²)", sqrt(step("r² − d²", r2 - d2)));
     return {d2 == r2 ? 1 : 2, t_ca - half_chord, t_ca + half_chord};
 }
 

@@ -42,13 +42,14 @@
 
 #include "core/intersection.h"
 #include "core/ray_sphere_case.h"
+#include "intersectors/scalar_math.h"
 
 namespace rayverify::intersectors {
 namespace godot_math {
 
 template <class T>
 T length(vec3<T> v) {
-    return std::sqrt(v.x * v.x + v.y * v.y + v.z * v.z);
+    return sqrt(v.x * v.x + v.y * v.y + v.z * v.z);
 }
 
 template <class T>
@@ -61,7 +62,7 @@ template <class T>
 vec3<T> normalized(vec3<T> v) {
     const T length_squared = v.x * v.x + v.y * v.y + v.z * v.z;
     if (length_squared == 0) return {};
-    return divided(v, std::sqrt(length_squared));
+    return divided(v, sqrt(length_squared));
 }
 
 }  // namespace godot_math
@@ -79,20 +80,21 @@ inline constexpr contract godot_contract{.query = query_kind::nearest_hit,
 template <class T>
 answer<T> godot(const ray_sphere<T>& s, T tmin, T tmax) {
     const vec3<T> from = tmin == 0 ? s.origin : s.origin + tmin * s.direction;
-    const vec3<T> to = s.origin + (std::isinf(tmax) ? segment_length(s) : tmax) * s.direction;
+    const vec3<T> to = s.origin + (isinf(tmax) ? segment_length(s) : tmax) * s.direction;
     const T epsilon = static_cast<T>(0.00001);  // (real_t)CMP_EPSILON
 
-    const vec3<T> sphere_pos = s.centre - from;
+    const vec3<T> sphere_pos = step("sphere_pos", s.centre - from);
     const vec3<T> rel = to - from;
-    const T rel_l = godot_math::length(rel);
+    const T rel_l = step("rel_l", godot_math::length(rel));
     if (rel_l < epsilon) return {};
     const vec3<T> normal = godot_math::divided(rel, rel_l);
-    const T sphere_d = dot(normal, sphere_pos);
-    const T ray_distance = godot_math::length(sphere_d * normal - sphere_pos);
+    const T sphere_d = step("sphere_d", dot(normal, sphere_pos));
+    const T ray_distance = step("ray_distance", godot_math::length(sphere_d * normal - sphere_pos));
     if (ray_distance >= s.radius) return {};
-    const T inters_d2 = s.radius * s.radius - ray_distance * ray_distance;
+    const T inters_d2 = step("inters_d2", s.radius * s.radius - ray_distance * ray_distance);
     T inters_d = sphere_d;
-    if (inters_d2 >= epsilon) inters_d -= std::sqrt(inters_d2);
+    if (inters_d2 >= epsilon) inters_d -= sqrt(inters_d2);
+    step("inters_d", inters_d);
     if (inters_d < 0 || inters_d > rel_l) return {};
 
     answer<T> out;

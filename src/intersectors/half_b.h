@@ -13,6 +13,7 @@
 
 #include "core/intersection.h"
 #include "core/ray_sphere_case.h"
+#include "intersectors/scalar_math.h"
 
 namespace rayverify::intersectors {
 
@@ -20,13 +21,13 @@ inline constexpr contract half_b_contract{.query = query_kind::line_roots};
 
 template <class T>
 root_pair<T> half_b(const ray_sphere<T>& s) {
-    const vec3<T> oc = s.centre - s.origin;
-    const T a = length_squared(s.direction);
-    const T h = dot(s.direction, oc);
-    const T C = length_squared(oc) - s.radius * s.radius;
-    const T discriminant = h * h - a * C;
+    const vec3<T> oc = step("oc", s.centre - s.origin);
+    const T a = step("a", length_squared(s.direction));
+    const T h = step("h", dot(s.direction, oc));
+    const T C = step("C", length_squared(oc) - s.radius * s.radius);
+    const T discriminant = step("Δ", h * h - a * C);
     if (discriminant < 0) return {};
-    const T root = std::sqrt(discriminant);
+    const T root = step("√Δ", sqrt(discriminant));
     return {2, (h - root) / a, (h + root) / a};
 }
 

@@ -18,6 +18,7 @@
 
 #include "core/intersection.h"
 #include "core/ray_sphere_case.h"
+#include "intersectors/scalar_math.h"
 
 namespace rayverify::intersectors {
 
@@ -26,18 +27,18 @@ inline constexpr contract hearn_baker_contract{
 
 template <class T>
 root_pair<T> hearn_baker(const ray_sphere<T>& s) {
-    const vec3<T> f = s.origin - s.centre;
-    const T a = dot(s.direction, s.direction);
-    const T b_prime = -dot(f, s.direction);
-    const T C = dot(f, f) - s.radius * s.radius;
+    const vec3<T> f = step("f", s.origin - s.centre);
+    const T a = step("a", dot(s.direction, s.direction));
+    const T b_prime = step("b′", -dot(f, s.direction));
+    const T C = step("C", dot(f, f) - s.radius * s.radius);
 
     // Discriminant from the perpendicular vector (RTG eq. 7.5).
-    const vec3<T> l = f + (b_prime / a) * s.direction;
-    const T discriminant = s.radius * s.radius - dot(l, l);
+    const vec3<T> l = step("l", f + (b_prime / a) * s.direction);
+    const T discriminant = step("Δ", s.radius * s.radius - dot(l, l));
     if (discriminant < 0) return {};
 
     // Stable roots (RTG eq. 7.8).
-    const T q = b_prime + std::copysign(std::sqrt(a * discriminant), b_prime);
+    const T q = step("q", b_prime + copysign(sqrt(a * discriminant), b_prime));
     T t0 = C / q;
     T t1 = q / a;
     if (t0 > t1) std::swap(t0, t1);

@@ -25,6 +25,7 @@
 
 #include "core/intersection.h"
 #include "core/ray_sphere_case.h"
+#include "intersectors/scalar_math.h"
 
 namespace rayverify::intersectors {
 
@@ -52,10 +53,10 @@ template <class T>
 root_pair<T> hearn_baker_any_hit(const ray_sphere<T>& s, T tmin = T(0),
                                  T tmax = std::numeric_limits<T>::infinity()) {
     constexpr root_pair<T> hit{1, T(0), T(0)};
-    const vec3<T> f = s.origin - s.centre;
-    const T a = dot(s.direction, s.direction);
-    const T b_prime = -dot(f, s.direction);
-    const T C = dot(f, f) - s.radius * s.radius;
+    const vec3<T> f = step("f", s.origin - s.centre);
+    const T a = step("a", dot(s.direction, s.direction));
+    const T b_prime = step("b′", -dot(f, s.direction));
+    const T C = step("C", dot(f, f) - s.radius * s.radius);
     const bool unbounded = tmax == std::numeric_limits<T>::infinity();
 
     // Decide from the signs of the roots' product and sum.
@@ -63,13 +64,13 @@ root_pair<T> hearn_baker_any_hit(const ray_sphere<T>& s, T tmin = T(0),
     if (C < 0 && tmin <= 0 && unbounded) return hit;
 
     // Discriminant from the perpendicular vector (RTG eq. 7.5).
-    const vec3<T> l = f + (b_prime / a) * s.direction;
-    const T discriminant = s.radius * s.radius - dot(l, l);
+    const vec3<T> l = step("l", f + (b_prime / a) * s.direction);
+    const T discriminant = step("Δ", s.radius * s.radius - dot(l, l));
     if (discriminant < 0) return {};
     if (C > 0 && b_prime >= 0 && tmin <= 0 && unbounded) return hit;
 
     // Stable roots (RTG eq. 7.8), only as many as the answer needs.
-    const T q = b_prime + std::copysign(std::sqrt(a * discriminant), b_prime);
+    const T q = step("q", b_prime + copysign(sqrt(a * discriminant), b_prime));
     return any_stable_root_in(a, b_prime, C, q, tmin, tmax) ? hit : root_pair<T>{};
 }
 

@@ -22,6 +22,7 @@
 
 #include "core/intersection.h"
 #include "core/ray_sphere_case.h"
+#include "intersectors/scalar_math.h"
 
 namespace rayverify::intersectors {
 
@@ -56,19 +57,19 @@ root_pair<T> nearest_stable_root(T a, T b_prime, T C, T q, T tmin, T tmax) {
 template <class T>
 root_pair<T> hearn_baker_nearest(const ray_sphere<T>& s, T tmin = T(0),
                                  T tmax = std::numeric_limits<T>::infinity()) {
-    const vec3<T> f = s.origin - s.centre;
-    const T a = dot(s.direction, s.direction);
-    const T b_prime = -dot(f, s.direction);
-    const T C = dot(f, f) - s.radius * s.radius;
+    const vec3<T> f = step("f", s.origin - s.centre);
+    const T a = step("a", dot(s.direction, s.direction));
+    const T b_prime = step("b′", -dot(f, s.direction));
+    const T C = step("C", dot(f, f) - s.radius * s.radius);
     if (C > 0 && b_prime < 0 && tmin >= 0) return {};
 
     // Discriminant from the perpendicular vector (RTG eq. 7.5).
-    const vec3<T> l = f + (b_prime / a) * s.direction;
-    const T discriminant = s.radius * s.radius - dot(l, l);
+    const vec3<T> l = step("l", f + (b_prime / a) * s.direction);
+    const T discriminant = step("Δ", s.radius * s.radius - dot(l, l));
     if (discriminant < 0) return {};
 
     // Stable roots (RTG eq. 7.8).
-    const T q = b_prime + std::copysign(std::sqrt(a * discriminant), b_prime);
+    const T q = step("q", b_prime + copysign(sqrt(a * discriminant), b_prime));
     return nearest_stable_root(a, b_prime, C, q, tmin, tmax);
 }
 

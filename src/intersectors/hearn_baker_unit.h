@@ -23,6 +23,7 @@
 
 #include "core/intersection.h"
 #include "core/ray_sphere_case.h"
+#include "intersectors/scalar_math.h"
 #include "intersectors/hearn_baker_any_hit.h"
 #include "intersectors/hearn_baker_nearest.h"
 
@@ -41,17 +42,17 @@ inline constexpr contract hearn_baker_unit_any_hit_contract{
 
 template <class T>
 root_pair<T> hearn_baker_unit(const ray_sphere<T>& s) {
-    const vec3<T> f = s.origin - s.centre;
-    const T b_prime = -dot(f, s.direction);
-    const T C = dot(f, f) - s.radius * s.radius;
+    const vec3<T> f = step("f", s.origin - s.centre);
+    const T b_prime = step("b′", -dot(f, s.direction));
+    const T C = step("C", dot(f, f) - s.radius * s.radius);
 
     // Discriminant from the perpendicular vector, a = 1.
-    const vec3<T> l = f + b_prime * s.direction;
-    const T discriminant = s.radius * s.radius - dot(l, l);
+    const vec3<T> l = step("l", f + b_prime * s.direction);
+    const T discriminant = step("Δ", s.radius * s.radius - dot(l, l));
     if (discriminant < 0) return {};
 
     // Stable roots, a = 1.
-    const T q = b_prime + std::copysign(std::sqrt(discriminant), b_prime);
+    const T q = step("q", b_prime + copysign(sqrt(discriminant), b_prime));
     T t0 = C / q;
     T t1 = q;
     if (t0 > t1) std::swap(t0, t1);
@@ -61,16 +62,16 @@ root_pair<T> hearn_baker_unit(const ray_sphere<T>& s) {
 template <class T>
 root_pair<T> hearn_baker_unit_nearest(const ray_sphere<T>& s, T tmin = T(0),
                                       T tmax = std::numeric_limits<T>::infinity()) {
-    const vec3<T> f = s.origin - s.centre;
-    const T b_prime = -dot(f, s.direction);
-    const T C = dot(f, f) - s.radius * s.radius;
+    const vec3<T> f = step("f", s.origin - s.centre);
+    const T b_prime = step("b′", -dot(f, s.direction));
+    const T C = step("C", dot(f, f) - s.radius * s.radius);
     if (C > 0 && b_prime < 0 && tmin >= 0) return {};
 
-    const vec3<T> l = f + b_prime * s.direction;
-    const T discriminant = s.radius * s.radius - dot(l, l);
+    const vec3<T> l = step("l", f + b_prime * s.direction);
+    const T discriminant = step("Δ", s.radius * s.radius - dot(l, l));
     if (discriminant < 0) return {};
 
-    const T q = b_prime + std::copysign(std::sqrt(discriminant), b_prime);
+    const T q = step("q", b_prime + copysign(sqrt(discriminant), b_prime));
     return nearest_stable_root(T(1), b_prime, C, q, tmin, tmax);
 }
 
@@ -78,19 +79,19 @@ template <class T>
 root_pair<T> hearn_baker_unit_any_hit(const ray_sphere<T>& s, T tmin = T(0),
                                       T tmax = std::numeric_limits<T>::infinity()) {
     constexpr root_pair<T> hit{1, T(0), T(0)};
-    const vec3<T> f = s.origin - s.centre;
-    const T b_prime = -dot(f, s.direction);
-    const T C = dot(f, f) - s.radius * s.radius;
+    const vec3<T> f = step("f", s.origin - s.centre);
+    const T b_prime = step("b′", -dot(f, s.direction));
+    const T C = step("C", dot(f, f) - s.radius * s.radius);
     const bool unbounded = tmax == std::numeric_limits<T>::infinity();
     if (C > 0 && b_prime < 0 && tmin >= 0) return {};
     if (C < 0 && tmin <= 0 && unbounded) return hit;
 
-    const vec3<T> l = f + b_prime * s.direction;
-    const T discriminant = s.radius * s.radius - dot(l, l);
+    const vec3<T> l = step("l", f + b_prime * s.direction);
+    const T discriminant = step("Δ", s.radius * s.radius - dot(l, l));
     if (discriminant < 0) return {};
     if (C > 0 && b_prime >= 0 && tmin <= 0 && unbounded) return hit;
 
-    const T q = b_prime + std::copysign(std::sqrt(discriminant), b_prime);
+    const T q = step("q", b_prime + copysign(sqrt(discriminant), b_prime));
     return any_stable_root_in(T(1), b_prime, C, q, tmin, tmax) ? hit : root_pair<T>{};
 }
 

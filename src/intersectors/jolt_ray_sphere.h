@@ -57,10 +57,12 @@
 
 #include <cfloat>
 #include <cmath>
+#include <type_traits>
 #include <utility>
 
 #include "core/intersection.h"
 #include "core/ray_sphere_case.h"
+#include "intersectors/scalar_math.h"
 
 namespace rayverify::intersectors {
 
@@ -70,9 +72,9 @@ enum class jolt_build { deterministic, fma };
 namespace jolt_math {
 
 // Vec3::Dot: the products, then ReduceSum under SSE4.1.
-template <jolt_build B>
-float dot(vec3<float> a, vec3<float> b) {
-    const float x = a.x * b.x, y = a.y * b.y, z = a.z * b.z;
+template <jolt_build B, class Float>
+Float dot(vec3<Float> a, vec3<Float> b) {
+    const Float x = a.x * b.x, y = a.y * b.y, z = a.z * b.z;
     if constexpr (B == jolt_build::deterministic)
         return (x + y) + (z + 0.0f);
     else
@@ -80,21 +82,21 @@ float dot(vec3<float> a, vec3<float> b) {
 }
 
 // DifferenceOfProducts (Jolt/Math/Math.h): a·b − c·d.
-template <jolt_build B>
-float difference_of_products(float a, float b, float c, float d) {
+template <jolt_build B, class Float>
+Float difference_of_products(Float a, Float b, Float c, Float d) {
     if constexpr (B == jolt_build::deterministic) {
         return a * b - c * d;
     } else {
-        const float cd = c * d;
-        const float err = std::fma(-c, d, cd);
-        const float dop = std::fma(a, b, -cd);
+        const Float cd = c * d;
+        const Float err = fma(-c, d, cd);
+        const Float dop = fma(a, b, -cd);
         return dop + err;
     }
 }
 
-// FindRoot<float>: the roots of a x² + b x + c = 0; the count.
-template <jolt_build B>
-int find_root(float a, float b, float c, float& x1, float& x2) {
+// FindRoot<Float>: the roots of a x² + b x + c = 0; the count.
+template <jolt_build B, class Float>
+int find_root(Float a, Float b, Float c, Float& x1, Float& x2) {
     if (a == 0.0f) {
         if (b == 0.0f) {
             if (c == 0.0f) {
@@ -106,10 +108,10 @@ int find_root(float a, float b, float c, float& x1, float& x2) {
         x1 = x2 = -c / b;
         return 1;
     }
-    const float det = difference_of_products<B>(b, b, 4.0f * a, c);
+    const Float det = step("det", difference_of_products<B>(b, b, 4.0f * a, c));
     if (det < 0.0f) return 0;
-    const float sign = b < 0.0f ? -1.0f : 1.0f;  // Sign(): 1 for ±0
-    const float q = (b + sign * std::sqrt(det)) / -2.0f;
+    const Float sign = b < 0.0f ? -1.0f : 1.0f;  // Sign(): 1 for ±0
+    const Float q = step("q", (b + sign * sqrt(det)) / -2.0f);
     x1 = q / a;
     if (q == 0.0f) {
         x2 = x1;
@@ -120,15 +122,16 @@ int find_root(float a, float b, float c, float& x1, float& x2) {
 }
 
 // RaySphere: the fraction of the direction at the hit, FLT_MAX for none.
-template <jolt_build B>
-float ray_sphere(vec3<float> origin, vec3<float> direction, vec3<float> centre, float radius) {
-    const vec3<float> center_origin = origin - centre;
-    const float a = dot<B>(direction, direction);
-    const float b = 2.0f * dot<B>(direction, center_origin);
+template <jolt_build B, class Float>
+Float ray_sphere(vec3<Float> origin, vec3<Float> direction, vec3<Float> centre, Float radius) {
+    const vec3<Float> center_origin = step("f", origin - centre);
+    const Float a = step("a", dot<B>(direction, direction));
+    const Float b = step("b", 2.0f * dot<B>(direction, center_origin));
     // C = |f|² − r²: contracted to one FMA under -ffp-contract=fast.
-    const float c = B == jolt_build::deterministic ? dot<B>(center_origin, center_origin) - radius * radius
-                                                   : std::fma(-radius, radius, dot<B>(center_origin, center_origin));
-    float fraction1 = 0, fraction2 = 0;
+    const Float c = step("C", B == jolt_build::deterministic
+                                  ? dot<B>(center_origin, center_origin) - radius * radius
+                                  : fma(-radius, radius, dot<B>(center_origin, center_origin)));
+    Float fraction1 = 0, fraction2 = 0;
     if (find_root<B>(a, b, c, fraction1, fraction2) == 0) return c <= 0.0f ? 0.0f : FLT_MAX;
     if (fraction1 > fraction2) std::swap(fraction1, fraction2);
     if (fraction1 >= 0.0f) return fraction1;
@@ -137,19 +140,19 @@ float ray_sphere(vec3<float> origin, vec3<float> direction, vec3<float> centre, 
 }
 
 // The case on (tmin, tmax) as a call of RaySphere (the mapping above).
-template <jolt_build B>
-root_pair<float> ray_sphere_case(const rayverify::ray_sphere<float>& s, float tmin, float tmax) {
-    const vec3<float> origin = tmin == 0.0f ? s.origin : s.origin + tmin * s.direction;
-    if (std::isinf(tmax)) {
-        const float fraction = ray_sphere<B>(origin, s.direction, s.centre, s.radius);
+template <jolt_build B, class Float>
+root_pair<Float> ray_sphere_case(const rayverify::ray_sphere<Float>& s, Float tmin, Float tmax) {
+    const vec3<Float> origin = tmin == 0.0f ? s.origin : s.origin + tmin * s.direction;
+    if (isinf(tmax)) {
+        const Float fraction = ray_sphere<B>(origin, s.direction, s.centre, s.radius);
         if (fraction == FLT_MAX) return {};
-        const float t = tmin == 0.0f ? fraction : tmin + fraction;
+        const Float t = tmin == 0.0f ? fraction : tmin + fraction;
         return {1, t, t};
     }
-    const float length = tmax - tmin;
-    const float fraction = ray_sphere<B>(origin, length * s.direction, s.centre, s.radius);
+    const Float length = tmax - tmin;
+    const Float fraction = ray_sphere<B>(origin, length * s.direction, s.centre, s.radius);
     if (!(fraction < 1.0f + FLT_EPSILON)) return {};
-    const float t = tmin == 0.0f ? fraction * length : tmin + fraction * length;
+    const Float t = tmin == 0.0f ? fraction * length : tmin + fraction * length;
     return {1, t, t};
 }
 
@@ -162,11 +165,15 @@ inline constexpr contract jolt_contract{.query = query_kind::nearest_hit,
                                         .inside = inside_rule::clamp};
 inline constexpr contract jolt_fma_contract = jolt_contract;
 
-inline root_pair<float> jolt(const ray_sphere<float>& s, float tmin, float tmax) {
+// Float: Jolt's float (or a traced float, for explain).
+template <class Float = float>
+inline root_pair<Float> jolt(const ray_sphere<Float>& s, std::type_identity_t<Float> tmin, std::type_identity_t<Float> tmax) {
     return jolt_math::ray_sphere_case<jolt_build::deterministic>(s, tmin, tmax);
 }
 
-inline root_pair<float> jolt_fma(const ray_sphere<float>& s, float tmin, float tmax) {
+template <class Float = float>
+inline root_pair<Float> jolt_fma(const ray_sphere<Float>& s, std::type_identity_t<Float> tmin,
+                          std::type_identity_t<Float> tmax) {
     return jolt_math::ray_sphere_case<jolt_build::fma>(s, tmin, tmax);
 }
 

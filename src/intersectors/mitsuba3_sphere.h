@@ -39,33 +39,49 @@
 
 #include "core/intersection.h"
 #include "core/ray_sphere_case.h"
+#include "intersectors/scalar_math.h"
 
 namespace rayverify::intersectors {
 namespace mitsuba {
 
-// Horizontal sum of a 3-lane AVX double packet: y + (z + x).
-inline double hsum(double x, double y, double z) { return y + (z + x); }
-inline double dot(vec3<double> a, vec3<double> b) { return hsum(a.x * b.x, a.y * b.y, a.z * b.z); }
-inline double squared_norm(vec3<double> v) { return dot(v, v); }
+// Mitsuba's double arithmetic in T's form: double, or a traced double when T is traced (explain).
+template <class T>
+using wide = same_form_t<T, double>;
 
+// Horizontal sum of a 3-lane AVX double packet: y + (z + x).
+template <class W>
+inline W hsum(W x, W y, W z) {
+    return y + (z + x);
+}
+template <class W>
+inline W dot(vec3<W> a, vec3<W> b) {
+    return hsum(a.x * b.x, a.y * b.y, a.z * b.z);
+}
+template <class W>
+inline W squared_norm(vec3<W> v) {
+    return mitsuba::dot(v, v);
+}
+
+template <class W>
 struct roots {
     bool found = false;
-    double near = 0, far = 0;
+    W near = 0, far = 0;
 };
 
 // math::solve_quadratic in Value = double.
-inline roots solve_quadratic(double a, double b, double c) {
+template <class W>
+inline roots<W> solve_quadratic(W a, W b, W c) {
     const bool linear_case = a == 0;
     const bool valid_linear = linear_case && b != 0;
-    double x0 = -c / b, x1 = x0;
-    const double discrim = std::fma(b, b, -(4.0 * a * c));
+    W x0 = -c / b, x1 = x0;
+    const W discrim = step("discrim", fma(b, b, -(4.0 * a * c)));
     const bool valid_quadratic = !linear_case && discrim >= 0;
     if (valid_quadratic) {
-        const double sqrt_discrim = std::sqrt(discrim);
-        const double temp = -0.5 * (b + std::copysign(sqrt_discrim, b));
-        const double x0p = temp / a, x1p = c / temp;
+        const W sqrt_discrim = sqrt(discrim);
+        const W temp = step("temp", -0.5 * (b + copysign(sqrt_discrim, b)));
+        const W x0p = temp / a, x1p = c / temp;
         // dr::minimum / dr::maximum (vminpd/vmaxpd: the second operand when either is NaN).
-        const double x0m = x0p < x1p ? x0p : x1p, x1m = x0p > x1p ? x0p : x1p;
+        const W x0m = x0p < x1p ? x0p : x1p, x1m = x0p > x1p ? x0p : x1p;
         x0 = linear_case ? x0 : x0m;
         x1 = linear_case ? x0 : x1m;
     }
@@ -74,20 +90,21 @@ inline roots solve_quadratic(double a, double b, double c) {
 
 // The sphere's answer from the origin o′ (relative to the centre) and the
 // shift plane_t: nearest in [0, maxt], as double.
-inline bool accept(const roots& r, double maxt) {
+template <class W>
+inline bool accept(const roots<W>& r, W maxt) {
     const bool out_bounds = !(r.near <= maxt && r.far >= 0.0);
     const bool in_bounds = r.near < 0.0 && r.far > maxt;
     return r.found && !out_bounds && !in_bounds;
 }
 
 template <class T>
-vec3<double> widened(vec3<T> v) {
-    return vec3_cast<double>(v);
+vec3<wide<T>> widened(vec3<T> v) {
+    return vec3_cast<wide<T>>(v);
 }
 
 template <class T>
-double maxt_of(T maxt) {
-    return std::isinf(maxt) && maxt > 0 ? static_cast<double>(std::numeric_limits<T>::max()) : static_cast<double>(maxt);
+wide<T> maxt_of(T maxt) {
+    return isinf(maxt) && maxt > 0 ? static_cast<wide<T>>(std::numeric_limits<T>::max()) : static_cast<wide<T>>(maxt);
 }
 
 }  // namespace mitsuba
@@ -103,22 +120,23 @@ inline constexpr contract mitsuba3_ray_test_contract{.query = query_kind::any_hi
 
 template <class T>
 root_pair<T> mitsuba3_preliminary(const ray_sphere<T>& s, T /*tmin: none*/, T maxt_in) {
-    const vec3<double> center = mitsuba::widened(s.centre);
-    const double radius = s.radius, maxt = mitsuba::maxt_of(maxt_in);
-    const vec3<double> d = mitsuba::widened(s.direction);
+    using W = mitsuba::wide<T>;
+    const vec3<W> center = mitsuba::widened(s.centre);
+    const W radius = static_cast<W>(s.radius), maxt = mitsuba::maxt_of(maxt_in);
+    const vec3<W> d = mitsuba::widened(s.direction);
     // Intersect the plane through the centre perpendicular to d first.
-    const vec3<double> l = mitsuba::widened(s.origin) - center;
-    const double plane_t = mitsuba::dot(vec3<double>{-l.x, -l.y, -l.z}, d) / std::sqrt(mitsuba::squared_norm(d));
+    const vec3<W> l = mitsuba::widened(s.origin) - center;
+    const W plane_t = step("plane_t", mitsuba::dot(vec3<W>{-l.x, -l.y, -l.z}, d) / sqrt(mitsuba::squared_norm(d)));
     // ray(FloatP(plane_t)): fmadd(d, t, o) in the ray's Float.
     const T t_shift = static_cast<T>(plane_t);
-    const vec3<T> plane_p{std::fma(s.direction.x, t_shift, s.origin.x), std::fma(s.direction.y, t_shift, s.origin.y),
-                          std::fma(s.direction.z, t_shift, s.origin.z)};
-    const vec3<double> o = mitsuba::widened(plane_p) - center;
+    const vec3<T> plane_p{fma(s.direction.x, t_shift, s.origin.x), fma(s.direction.y, t_shift, s.origin.y),
+                          fma(s.direction.z, t_shift, s.origin.z)};
+    const vec3<W> o = step("o′", mitsuba::widened(plane_p) - center);
 
-    const double A = mitsuba::squared_norm(d);
-    const double B = 2.0 * mitsuba::dot(o, d);
-    const double C = mitsuba::squared_norm(o) - radius * radius;
-    mitsuba::roots r = mitsuba::solve_quadratic(A, B, C);
+    const W A = step("A", mitsuba::squared_norm(d));
+    const W B = step("B", 2.0 * mitsuba::dot(o, d));
+    const W C = step("C", mitsuba::squared_norm(o) - radius * radius);
+    mitsuba::roots<W> r = mitsuba::solve_quadratic(A, B, C);
     r.near += plane_t;
     r.far += plane_t;
     if (!mitsuba::accept(r, maxt)) return {};
@@ -128,12 +146,13 @@ root_pair<T> mitsuba3_preliminary(const ray_sphere<T>& s, T /*tmin: none*/, T ma
 
 template <class T>
 root_pair<T> mitsuba3_ray_test(const ray_sphere<T>& s, T /*tmin: none*/, T maxt_in) {
-    const vec3<double> o = mitsuba::widened(s.origin) - mitsuba::widened(s.centre);
-    const vec3<double> d = mitsuba::widened(s.direction);
-    const double radius = s.radius;
-    const double A = mitsuba::squared_norm(d);
-    const double B = 2.0 * mitsuba::dot(o, d);
-    const double C = mitsuba::squared_norm(o) - radius * radius;
+    using W = mitsuba::wide<T>;
+    const vec3<W> o = step("o′", mitsuba::widened(s.origin) - mitsuba::widened(s.centre));
+    const vec3<W> d = mitsuba::widened(s.direction);
+    const W radius = static_cast<W>(s.radius);
+    const W A = step("A", mitsuba::squared_norm(d));
+    const W B = step("B", 2.0 * mitsuba::dot(o, d));
+    const W C = step("C", mitsuba::squared_norm(o) - radius * radius);
     if (!mitsuba::accept(mitsuba::solve_quadratic(A, B, C), mitsuba::maxt_of(maxt_in))) return {};
     return {1, T(0), T(0)};
 }

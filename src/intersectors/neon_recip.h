@@ -14,6 +14,9 @@
 #include <cstdint>
 #include <limits>
 
+#include "intersectors/scalar_math.h"
+#include "intersectors/traced.h"
+
 namespace rayverify::intersectors::neon {
 
 // RecipEstimate: a in [256, 512) stands for a/512 ∈ [0.5, 1); the result in
@@ -64,10 +67,14 @@ inline float frecpe(float x) {
                                 static_cast<std::uint32_t>(out >> 29));
 }
 
+// A traced run's FRECPE: the estimate's bits, standing for the 1/x it estimates.
+inline traced<float> frecpe(traced<float> x) { return computed_apart(frecpe(x.value), traced<float>(1.0f) / x); }
+
 // FRECPS (vrecps_f32): 2 − a·b with one rounding; ∞·0 gives 2.
-inline float frecps(float a, float b) {
-    if ((std::isinf(a) && b == 0.0f) || (a == 0.0f && std::isinf(b))) return 2.0f;
-    return std::fma(-a, b, 2.0f);
+template <class Float>
+inline Float frecps(Float a, Float b) {
+    if ((isinf(a) && b == 0.0f) || (a == 0.0f && isinf(b))) return 2.0f;
+    return fma(-a, b, Float(2.0f));
 }
 
 }  // namespace rayverify::intersectors::neon

@@ -47,13 +47,18 @@
 #include <cstdint>
 #include <limits>
 #include <numbers>
+#include <string>
 #include <type_traits>
 
 #include "core/intersection.h"
 #include "core/ray_sphere_case.h"
+#include "intersectors/scalar_math.h"
+#include "intersectors/traced.h"
 
 namespace rayverify::intersectors {
 namespace pbrt {
+
+using std::sqrt;  // beside pbrt::sqrt of an interval below
 
 template <class T>
 using bits_of = std::conditional_t<sizeof(T) == 4, std::uint32_t, std::uint64_t>;
@@ -84,11 +89,25 @@ T next_float_down(T v) {
     return std::bit_cast<T>(ui);
 }
 
-// gamma(n) = nε/(1 − nε), ε = MachineEpsilon = epsilon/2, in Float.
+// A traced run: the neighbour from the bits, standing for the value it bounds.
+template <class T>
+traced<T> next_float_up(traced<T> v) {
+    return computed_apart(next_float_up(v.value), v);
+}
+
+template <class T>
+traced<T> next_float_down(traced<T> v) {
+    return computed_apart(next_float_down(v.value), v);
+}
+
+// gamma(n) = nε/(1 − nε), ε = MachineEpsilon = epsilon/2, in Float: a
+// rounding error bound, 0 in exact arithmetic (rounding_error_bound).
 template <class T>
 constexpr T gamma(int n) {
-    constexpr T machine_epsilon = std::numeric_limits<T>::epsilon() * T(0.5);
-    return (static_cast<T>(n) * machine_epsilon) / (T(1) - static_cast<T>(n) * machine_epsilon);
+    using P = plain_scalar_t<T>;
+    constexpr P machine_epsilon = std::numeric_limits<P>::epsilon() * P(0.5);
+    return rounding_error_bound(
+        T((static_cast<P>(n) * machine_epsilon) / (P(1) - static_cast<P>(n) * machine_epsilon)));
 }
 
 // class Interval: [low, high], every operation rounded outward.
@@ -136,7 +155,7 @@ struct interval {
 
 template <class T>
 interval<T> sqr(interval<T> i) {
-    T alow = std::abs(i.low), ahigh = std::abs(i.high);
+    T alow = abs(i.low), ahigh = abs(i.high);
     if (alow > ahigh) std::swap(alow, ahigh);
     if (i.contains_zero()) return interval<T>::of(0, next_float_up(ahigh * ahigh));
     return interval<T>::of(next_float_down(alow * alow), next_float_up(ahigh * ahigh));
@@ -144,7 +163,7 @@ interval<T> sqr(interval<T> i) {
 
 template <class T>
 interval<T> sqrt(interval<T> i) {
-    return interval<T>::of(std::max<T>(0, next_float_down(std::sqrt(i.low))), next_float_up(std::sqrt(i.high)));
+    return interval<T>::of(std::max<T>(0, next_float_down(sqrt(i.low))), next_float_up(sqrt(i.high)));
 }
 
 // Point3fi / Vector3fi.
@@ -170,11 +189,9 @@ vec3i<T> translate_point(const vec3i<T>& p, vec3<T> delta) {
     const T zero = 0, one = 1;
     const auto row = [&](T m0, T m1, T m2, T m3) {
         const T value = (m0 * v.x + m1 * v.y) + (m2 * v.z + m3);
-        T error = gamma<T>(3) * (std::abs(m0 * v.x) + std::abs(m1 * v.y) + std::abs(m2 * v.z) + std::abs(m3));
+        T error = gamma<T>(3) * (abs(m0 * v.x) + abs(m1 * v.y) + abs(m2 * v.z) + abs(m3));
         if (!exact)
-            error = (gamma<T>(3) + 1) * (std::abs(m0) * in_error.x + std::abs(m1) * in_error.y +
-                                         std::abs(m2) * in_error.z) +
-                    error;
+            error = (gamma<T>(3) + 1) * (abs(m0) * in_error.x + abs(m1) * in_error.y + abs(m2) * in_error.z) + error;
         return interval<T>::from_value_and_error(value, error);
     };
     return {row(one, zero, zero, delta.x), row(zero, one, zero, delta.y), row(zero, zero, one, delta.z)};
@@ -186,10 +203,22 @@ template <class T>
 vec3i<T> translate_vector(vec3<T> d) {
     const T zero = 0, one = 1;
     const auto row = [&](T m0, T m1, T m2) {
-        const T error = gamma<T>(3) * (std::abs(m0 * d.x) + std::abs(m1 * d.y) + std::abs(m2 * d.z));
+        const T error = gamma<T>(3) * (abs(m0 * d.x) + abs(m1 * d.y) + abs(m2 * d.z));
         return interval<T>::from_value_and_error(m0 * d.x + m1 * d.y + m2 * d.z, error);
     };
     return {row(one, zero, zero), row(zero, one, zero), row(zero, zero, one)};
+}
+
+// Names an interval's ends as steps: each stands for the value the interval
+// encloses, which is its ideal value (the γ_n bounds are 0 in exact arithmetic).
+template <class T>
+interval<T> step(const char* name, interval<T> i) {
+    if constexpr (!std::is_same_v<T, plain_scalar_t<T>>) {
+        const std::string base = name;
+        step((base + " low").c_str(), i.low);
+        step((base + " high").c_str(), i.high);
+    }
+    return i;
 }
 
 }  // namespace pbrt
@@ -212,20 +241,20 @@ answer<T> pbrt_v4(const ray_sphere<T>& s, T /*tmin: none*/, T tmax) {
     const pbrt::vec3i<T> di = pbrt::translate_vector(s.direction);
 
     // Compute sphere quadratic coefficients.
-    const I a = pbrt::sqr(di.x) + pbrt::sqr(di.y) + pbrt::sqr(di.z);
-    const I b = T(2) * (di.x * oi.x + di.y * oi.y + di.z * oi.z);
-    const I c = pbrt::sqr(oi.x) + pbrt::sqr(oi.y) + pbrt::sqr(oi.z) - pbrt::sqr(I::exactly(radius));
+    const I a = step("a", pbrt::sqr(di.x) + pbrt::sqr(di.y) + pbrt::sqr(di.z));
+    const I b = step("b", T(2) * (di.x * oi.x + di.y * oi.y + di.z * oi.z));
+    const I c = step("c", pbrt::sqr(oi.x) + pbrt::sqr(oi.y) + pbrt::sqr(oi.z) - pbrt::sqr(I::exactly(radius)));
 
     // Compute sphere quadratic discriminant.
     const I b_over_2a = b / (T(2) * a);
     const pbrt::vec3i<T> v{oi.x - b_over_2a * di.x, oi.y - b_over_2a * di.y, oi.z - b_over_2a * di.z};
-    const I length = pbrt::sqrt(pbrt::sqr(v.x) + pbrt::sqr(v.y) + pbrt::sqr(v.z));
-    const I discrim = T(4) * a * (I::exactly(radius) + length) * (I::exactly(radius) - length);
+    const I length = step("|v|", pbrt::sqrt(pbrt::sqr(v.x) + pbrt::sqr(v.y) + pbrt::sqr(v.z)));
+    const I discrim = step("Δ", T(4) * a * (I::exactly(radius) + length) * step("r − |v|", I::exactly(radius) - length));
     if (discrim.low < 0) return {};
 
     // Compute quadratic t values.
     const I root_discrim = pbrt::sqrt(discrim);
-    const I q = b.midpoint() < 0 ? T(-0.5) * (b - root_discrim) : T(-0.5) * (b + root_discrim);
+    const I q = step("q", b.midpoint() < 0 ? T(-0.5) * (b - root_discrim) : T(-0.5) * (b + root_discrim));
     I t0 = q / a, t1 = c / q;
     if (t0.low > t1.low) std::swap(t0, t1);
 
@@ -239,19 +268,19 @@ answer<T> pbrt_v4(const ray_sphere<T>& s, T /*tmin: none*/, T tmax) {
 
     // Compute sphere hit position and φ; a full sphere is clipped only by φ > phiMax = Radians(360).
     const vec3<T> o_mid = pbrt::midpoints(oi), d_mid = pbrt::midpoints(di);
-    constexpr T pi = std::numbers::pi_v<T>;
+    constexpr T pi = std::numbers::pi_v<plain_scalar_t<T>>;
     const T phi_max = (pi / 180) * T(360);
     const auto position = [&](const I& t) {
         const T tm = t.midpoint();
         vec3<T> p{o_mid.x + tm * d_mid.x, o_mid.y + tm * d_mid.y, o_mid.z + tm * d_mid.z};
         // Refine sphere intersection point.
-        const T scale = radius / std::sqrt(p.x * p.x + p.y * p.y + p.z * p.z);
+        const T scale = radius / sqrt(p.x * p.x + p.y * p.y + p.z * p.z);
         p = {p.x * scale, p.y * scale, p.z * scale};
         if (p.x == 0 && p.y == 0) p.x = T(1e-5f) * radius;
         return p;
     };
     const auto clipped = [&](vec3<T> p) {
-        T phi = std::atan2(p.y, p.x);
+        T phi = atan2(p.y, p.x);
         if (phi < 0) phi += 2 * pi;
         return phi > phi_max;
     };
@@ -266,9 +295,9 @@ answer<T> pbrt_v4(const ray_sphere<T>& s, T /*tmin: none*/, T tmax) {
 
     // Error bounds for the sphere intersection, then renderFromObject.
     const T g5 = pbrt::gamma<T>(5);
-    const pbrt::vec3i<T> object_point{I::from_value_and_error(p_hit.x, g5 * std::abs(p_hit.x)),
-                                      I::from_value_and_error(p_hit.y, g5 * std::abs(p_hit.y)),
-                                      I::from_value_and_error(p_hit.z, g5 * std::abs(p_hit.z))};
+    const pbrt::vec3i<T> object_point{I::from_value_and_error(p_hit.x, g5 * abs(p_hit.x)),
+                                      I::from_value_and_error(p_hit.y, g5 * abs(p_hit.y)),
+                                      I::from_value_and_error(p_hit.z, g5 * abs(p_hit.z))};
     const pbrt::vec3i<T> render_point = pbrt::translate_point(object_point, s.centre);
 
     answer<T> out;

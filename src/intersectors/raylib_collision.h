@@ -20,9 +20,11 @@
 #pragma once
 
 #include <cmath>
+#include <type_traits>
 
 #include "core/intersection.h"
 #include "core/ray_sphere_case.h"
+#include "intersectors/scalar_math.h"
 
 namespace rayverify::intersectors {
 
@@ -33,27 +35,31 @@ inline constexpr contract raylib_contract{.query = query_kind::nearest_hit,
                                           .answer = answer_kind::point,
                                           .outputs = {.normal = true}};
 
-inline answer<float> raylib(const ray_sphere<float>& s, float /*tmin*/, float /*tmax*/) {
-    const vec3<float> ray_sphere_pos = s.centre - s.origin;
-    const float vector = dot(ray_sphere_pos, s.direction);
-    const float distance = std::sqrt(dot(ray_sphere_pos, ray_sphere_pos));
-    const float d = s.radius * s.radius - (distance * distance - vector * vector);
+// Float: C's float (or a traced float, for explain).
+template <class Float = float>
+inline answer<Float> raylib(const ray_sphere<Float>& s, std::type_identity_t<Float> /*tmin*/,
+                     std::type_identity_t<Float> /*tmax*/) {
+    const vec3<Float> ray_sphere_pos = step("raySpherePos", s.centre - s.origin);
+    const Float vector = step("vector", dot(ray_sphere_pos, s.direction));
+    const Float distance = step("distance", sqrt(dot(ray_sphere_pos, ray_sphere_pos)));
+    const Float d = step("d", s.radius * s.radius - step("dist² − vec²", distance * distance - vector * vector));
     if (!(d >= 0.0f)) return {};
 
     const bool inside = distance < s.radius;
-    const float t = inside ? vector + std::sqrt(d) : vector - std::sqrt(d);
-    answer<float> out;
+    const Float t = step("t", inside ? vector + sqrt(d) : vector - sqrt(d));
+    answer<Float> out;
     out.point = {s.origin.x + s.direction.x * t, s.origin.y + s.direction.y * t, s.origin.z + s.direction.z * t};
+    step("point", out.point);
     // Vector3Normalize: v · (1/|v|), left as it is when |v| = 0.
-    const vec3<float> w = out.point - s.centre;
-    const float length = std::sqrt(dot(w, w));
-    vec3<float> n = w;
+    const vec3<Float> w = out.point - s.centre;
+    const Float length = sqrt(dot(w, w));
+    vec3<Float> n = w;
     if (length != 0.0f) {
-        const float inverse = 1.0f / length;
+        const Float inverse = Float(1.0f) / length;
         n = {w.x * inverse, w.y * inverse, w.z * inverse};
     }
-    out.normal = inside ? vec3<float>{-n.x, -n.y, -n.z} : n;
-    const float derived = parameter_of_point(s, out.point);
+    out.normal = inside ? vec3<Float>{-n.x, -n.y, -n.z} : n;
+    const Float derived = parameter_of_point(s, out.point);
     out.roots = {1, derived, derived};
     return out;
 }

@@ -194,13 +194,13 @@ const std::array<variant, 29> registry{{
                    "nearest, FZ = 0: d·d = (x·x + y·y) + z·z (no FMA), rcp = vrecpe estimate (FRECPE, "
                    "architecturally exact) + two vrecps Newton steps, other dots fused madd(x, x′, madd(y, y′, z·z′)); "
                    "x86's rcpss/rcp14 estimate differs between CPUs and is not modelled",
-                   &intersectors::embree4, nullptr),
+                   &intersectors::embree4<float>, nullptr),
     engine_variant("cycles_point", "Blender Cycles point_intersect_test (src/kernel/geom/point_intersect.h, v5.0.0-435)",
                    "Embree's formula, front face only: t_front = projC0 − td in [tmin, tmax], else miss",
                    intersectors::cycles_point_contract,
                    "float only; x86-64 SSE4.2 kernel: dot = _mm_dp_ps ((x + y) + z), no FMA; rd2 = 1.0f/(d·d), an "
                    "IEEE division (no rcp estimate)",
-                   &intersectors::cycles_point, nullptr),
+                   &intersectors::cycles_point<float>, nullptr),
     engine_variant("jolt", "Jolt Physics RaySphere + FindRoot (Jolt/Geometry/RaySphere.h, v5.5.0-182-g3b47ec39)",
                    "a = |d|², b = 2d·f, C = |f|² − r², det = b² − 4aC, q = (b + sign(b)√det)/−2, roots q/a, C/q; "
                    "inside: 0; a fraction of the direction",
@@ -208,18 +208,18 @@ const std::array<variant, 29> registry{{
                    "float only; x86-64 JPH_CROSS_PLATFORM_DETERMINISTIC: no JPH_USE_FMADD, -ffp-contract=off, no "
                    "FMA anywhere; SSE4.1 dot (x + y) + (z + 0); called with origin o + tmin·d and direction d "
                    "(no tmax: unbounded, fraction = t − tmin) or (tmax − tmin)·d (a segment, fraction < 1 + FLT_EPSILON)",
-                   &intersectors::jolt, nullptr),
+                   &intersectors::jolt<float>, nullptr),
     engine_variant("jolt_fma", "Jolt Physics RaySphere + FindRoot (Jolt/Geometry/RaySphere.h, v5.5.0-182-g3b47ec39)",
                    "as jolt, det = DifferenceOfProducts(b, b, 4a, C) with FMA (Kahan), C = fma(−r, r, |f|²)",
                    intersectors::jolt_fma_contract,
                    "float only; the default x86-64 build: USE_AVX2 + JPH_USE_FMADD, -mfma, -ffp-contract=fast: "
                    "DifferenceOfProducts fused as Math.h writes it, C's r² contracted into an FMA by the compiler "
                    "(std::fma here), SSE4.1 dot (x + y) + z; called as jolt",
-                   &intersectors::jolt_fma, nullptr),
+                   &intersectors::jolt_fma<float>, nullptr),
     engine_variant("threejs", "three.js Ray.intersectSphere (src/math/Ray.js)",
                    "v = c − o, tca = v·d, d2 = v·v − tca², thc = √(r² − d2), point o + d·(tca ∓ thc)",
                    intersectors::threejs_contract, "double only (JavaScript numbers: IEEE double on any engine and CPU, never fused or reordered)",
-                   nullptr, &intersectors::threejs),
+                   nullptr, &intersectors::threejs<double>),
     engine_variant("godot", "Godot Geometry3D::segment_intersects_sphere (core/math/geometry_3d.cpp, 4.x)",
                    "n = rel/|rel|, s = n·(c − from), dist = |n·s − (c − from)|, t = s − √(r² − dist²) "
                    "(not when r² − dist² < 1e-5), point from + n·t, normal",
@@ -231,7 +231,7 @@ const std::array<variant, 29> registry{{
     engine_variant("raylib", "raylib GetRayCollisionSphere (src/rmodels.c, 6.0-322-gabe23bf8)",
                    "v = c − o, b = v·d, disc = r² − (|v|² − b²), t = b ∓ √disc (+ inside), point o + d·t, normal",
                    intersectors::raylib_contract, "float only; C, x86-64 baseline (SSE2, no FMA); sqrtf; 1.0f/length an IEEE division",
-                   &intersectors::raylib, nullptr),
+                   &intersectors::raylib<float>, nullptr),
 }};
 
 #undef RAYVERIFY_INTERVAL_VARIANT

@@ -651,6 +651,15 @@ public:
         return {residual > 0 ? 1 : -1};
     }
 
+    // What the static filter decides on, for a caller that shows it: a, b′ = d·f,
+    // C and Δ′ as computed in double, Δ′'s error bound, and whether Δ′ is
+    // Lagrange's form a·r² − |d × f|² (tried once b′² − aC could not decide).
+    struct filter_values {
+        double a, b_prime, C, discriminant, discriminant_bound;
+        bool lagrange;
+    };
+    ROBUST_SPHERE_HD filter_values filter_state() const { return {a_, b_, C_, D_, eD_, lagrange_}; }
+
 private:
     // eta is far above the underflow errors it covers (2^-1075 each) and keeps
     // every bound a normal number: subnormal arithmetic is slow.

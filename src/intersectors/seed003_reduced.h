@@ -16,6 +16,7 @@
 
 #include "core/intersection.h"
 #include "core/ray_sphere_case.h"
+#include "intersectors/scalar_math.h"
 
 namespace rayverify::intersectors {
 
@@ -27,12 +28,12 @@ inline constexpr contract seed003_reduced_contract{.query = query_kind::line_roo
 
 template <class T>
 root_pair<T> seed003_reduced(const ray_sphere<T>& s) {
-    const vec3<T> o_minus_c = s.origin - s.centre;
-    const T p = dot(s.direction, o_minus_c);
-    const T q = dot(o_minus_c, o_minus_c) - (s.radius * s.radius);
-    const T discriminant = (p * p) - q;
+    const vec3<T> o_minus_c = step("o − c", s.origin - s.centre);
+    const T p = step("p", dot(s.direction, o_minus_c));
+    const T q = step("q", dot(o_minus_c, o_minus_c) - (s.radius * s.radius));
+    const T discriminant = step("Δ", (p * p) - q);
     if (discriminant < T(0)) return {};
-    const T d_root = std::sqrt(discriminant);
+    const T d_root = step("√Δ", sqrt(discriminant));
     const T dist1 = -p - d_root;
     const T dist2 = -p + d_root;
     return {(discriminant > 1e-7) ? 2 : 1, dist1, dist2};

@@ -16,6 +16,7 @@
 
 #include "core/intersection.h"
 #include "core/ray_sphere_case.h"
+#include "intersectors/scalar_math.h"
 
 namespace rayverify::intersectors {
 
@@ -27,13 +28,13 @@ inline constexpr contract seed004_early_out_contract{.query = query_kind::neares
 
 template <class T>
 root_pair<T> seed004_early_out(const ray_sphere<T>& s) {
-    const vec3<T> v1 = s.origin - s.centre;
-    const T b = dot(v1, s.direction);
-    const T C = dot(v1, v1) - (s.radius * s.radius);
+    const vec3<T> v1 = step("f", s.origin - s.centre);
+    const T b = step("b", dot(v1, s.direction));
+    const T C = step("C", dot(v1, v1) - (s.radius * s.radius));
     if (C > T(0) && b > T(0)) return {};
-    const T discriminant = b * b - C;
+    const T discriminant = step("Δ", b * b - C);
     if (discriminant < T(0)) return {};
-    T t = -b - std::sqrt(discriminant);
+    T t = -b - sqrt(discriminant);
     if (t < T(0)) t = T(0);
     return {1, t, t};
 }

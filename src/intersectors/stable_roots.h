@@ -16,6 +16,7 @@
 
 #include "core/intersection.h"
 #include "core/ray_sphere_case.h"
+#include "intersectors/scalar_math.h"
 
 namespace rayverify::intersectors {
 
@@ -24,13 +25,13 @@ inline constexpr contract stable_roots_contract{
 
 template <class T>
 root_pair<T> stable_roots(const ray_sphere<T>& s) {
-    const vec3<T> f = s.origin - s.centre;
-    const T a = dot(s.direction, s.direction);
-    const T b = T(2) * dot(s.direction, f);
-    const T C = dot(f, f) - s.radius * s.radius;
-    const T discriminant = b * b - T(4) * a * C;
+    const vec3<T> f = step("f", s.origin - s.centre);
+    const T a = step("a", dot(s.direction, s.direction));
+    const T b = step("b", T(2) * dot(s.direction, f));
+    const T C = step("C", dot(f, f) - s.radius * s.radius);
+    const T discriminant = step("Δ", b * b - T(4) * a * C);
     if (discriminant < 0) return {};
-    const T q = T(-0.5) * (b + std::copysign(std::sqrt(discriminant), b));
+    const T q = step("q", T(-0.5) * (b + copysign(sqrt(discriminant), b)));
     T t0 = q / a;
     T t1 = C / q;
     if (t0 > t1) std::swap(t0, t1);

@@ -16,9 +16,11 @@
 #pragma once
 
 #include <cmath>
+#include <type_traits>
 
 #include "core/intersection.h"
 #include "core/ray_sphere_case.h"
+#include "intersectors/scalar_math.h"
 
 namespace rayverify::intersectors {
 
@@ -28,20 +30,24 @@ inline constexpr contract threejs_contract{.query = query_kind::nearest_hit,
                                            .assumes_unit_direction = true,
                                            .answer = answer_kind::point};
 
-inline answer<double> threejs(const ray_sphere<double>& s, double /*tmin*/, double /*tmax*/) {
-    const vec3<double> v = s.centre - s.origin;
-    const double tca = dot(v, s.direction);
-    const double d2 = dot(v, v) - tca * tca;
-    const double radius2 = s.radius * s.radius;
+// Number: JavaScript's number, double (or a traced double, for explain).
+template <class Number = double>
+inline answer<Number> threejs(const ray_sphere<Number>& s, std::type_identity_t<Number> /*tmin*/,
+                       std::type_identity_t<Number> /*tmax*/) {
+    const vec3<Number> v = step("v", s.centre - s.origin);
+    const Number tca = step("tca", dot(v, s.direction));
+    const Number d2 = step("d2", dot(v, v) - tca * tca);
+    const Number radius2 = step("radius2", s.radius * s.radius);
     if (d2 > radius2) return {};
-    const double thc = std::sqrt(radius2 - d2);
-    const double t0 = tca - thc, t1 = tca + thc;
+    const Number thc = step("thc", sqrt(radius2 - d2));
+    const Number t0 = tca - thc, t1 = tca + thc;
     if (t1 < 0) return {};
-    const double t = t0 < 0 ? t1 : t0;
+    const Number t = step("t", t0 < 0 ? t1 : t0);
     // at(t): target.copy(origin).addScaledVector(direction, t): o + d·t per coordinate.
-    answer<double> out;
+    answer<Number> out;
     out.point = {s.origin.x + s.direction.x * t, s.origin.y + s.direction.y * t, s.origin.z + s.direction.z * t};
-    const double derived = parameter_of_point(s, out.point);
+    step("point", out.point);
+    const Number derived = parameter_of_point(s, out.point);
     out.roots = {1, derived, derived};
     return out;
 }

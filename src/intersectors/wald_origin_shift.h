@@ -21,6 +21,7 @@
 
 #include "core/intersection.h"
 #include "core/ray_sphere_case.h"
+#include "intersectors/scalar_math.h"
 
 namespace rayverify::intersectors {
 
@@ -30,21 +31,21 @@ inline constexpr contract wald_origin_shift_contract{
 template <class T>
 root_pair<T> wald_origin_shift(const ray_sphere<T>& s) {
     // Shift the origin to the point of the line nearest the centre.
-    const T a = dot(s.direction, s.direction);
-    const T t_shift = dot(s.centre - s.origin, s.direction) / a;
+    const T a = step("a", dot(s.direction, s.direction));
+    const T t_shift = step("t_s", dot(s.centre - s.origin, s.direction) / a);
     const vec3<T> shifted = s.origin + t_shift * s.direction;
 
     // The textbook quadratic from there.
-    const vec3<T> f = shifted - s.centre;
-    const T b = T(2) * dot(s.direction, f);
-    const T C = dot(f, f) - s.radius * s.radius;
-    const T discriminant = b * b - T(4) * a * C;
+    const vec3<T> f = step("f", shifted - s.centre);
+    const T b = step("b", T(2) * dot(s.direction, f));
+    const T C = step("C", dot(f, f) - s.radius * s.radius);
+    const T discriminant = step("Δ", b * b - T(4) * a * C);
     if (discriminant < 0) return {};
     if (discriminant == 0) {
         const T t = t_shift + -b / (T(2) * a);
         return {1, t, t};
     }
-    const T root = std::sqrt(discriminant);
+    const T root = step("√Δ", sqrt(discriminant));
     return {2, t_shift + (-b - root) / (T(2) * a), t_shift + (-b + root) / (T(2) * a)};
 }
 

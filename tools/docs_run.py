@@ -10,7 +10,7 @@ The rules (docs/testing.md, "Documented commands"):
 - A fenced block tagged sh/bash, or untagged, whose lines run rayverify is run in
   a scratch directory made for its document (a unique temporary directory holding
   a copy of corpus/, examples/, src/plugin/ and tests/plugin_fixtures/, with
-  build/rayverify and `rayverify` on PATH; RV names the repository). Blocks of one
+  build/rayverify and `rayverify` first on PATH, then Debian's /usr/bin; RV names the repository). Blocks of one
   document run in order in the same directory, so a file one block makes is there
   for the next.
 - In an untagged block, lines starting `$ ` are commands and the lines after one are
@@ -24,14 +24,19 @@ The rules (docs/testing.md, "Documented commands"):
     <!-- docs-run: exit 1 -->         expected exit status(es)
     <!-- docs-run: output of CMD -->  an untagged block without `$ ` lines is CMD's output
     <!-- docs-run: setup CMD -->      a shell command run first, in the scratch directory
-    <!-- docs-run: shortened A -> B (WHY) -->  run with A replaced by B
-    <!-- docs-run: figures vary (WHY) -->      measurements: every number compares as `#`
+    <!-- docs-run: shortened A -> B (WHY) -->  run with A replaced by B (a shorter run)
+    <!-- docs-run: adapted A -> B (WHY) -->    run with A replaced by B (paths of the scratch directory)
+    <!-- docs-run: figures vary (WHY) -->      measurements: every number compares as `#`, whether a
+                                               time target was met, what a missed one needs (a `needs ...`
+                                               line) and which variant is recommended or runner-up (the
+                                               cheapest that meets a budget) not at all
+    <!-- docs-run: rows in any order (WHY) --> an excerpt whose lines may come in any order
     <!-- docs-run: needs engine NAME | needs program NAME | needs python module NAME -->
                                        skipped, saying so, where this machine lacks it
     <!-- docs-run: skip WHY -->         not run (a GPU, Slurm, a synopsis, ...)
     <!-- docs-run: not output (WHAT) -->  an untagged block that is a file's text, not output
 - Normalisation, applied to the documented and the regenerated text alike: the scratch
-  directory becomes `<scratch>`; a `build: ...` line's compiler and flags `<build>`;
+  directory becomes `<scratch>`, the repository `<repo>`; a `build: ...` line's compiler and flags `<build>`;
   durations in seconds (`0.353 s`) `<s> s`; ISO dates `<date>`; process ids `<pid>`;
   trailing blanks go.
 Exit status 0 when every block passes, 1 when one does not (each failure explained),
@@ -47,6 +52,7 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import time
 
 MARKER = re.compile(r"^\s*<!--\s*docs-run:\s*(.*?)\s*-->\s*$")
 FENCE = re.compile(r"^(\s*)```(\S*)\s*$")
@@ -158,25 +164,38 @@ SECONDS = re.compile(r"\b\d+(\.\d+)? s\b")
 ISO_DATE = re.compile(r"\b\d{4}-\d\d-\d\dT\d\d:\d\d:\d\d(\.\d+)?Z\b")
 PID = re.compile(r"\bpid \d+\b")
 BASH_JOB = re.compile(r"^bash: line \d+: +\d+ ")
+TARGET_MET = re.compile(r"\b(met|missed|MISSED)\b")
+MISSED_TARGET_NEEDS = re.compile(r"^\s*needs ")
+RUNNER_UP = re.compile(r"\s*<- (runner-up|recommended)$")
+TIMED_CHOICE = re.compile(r"(recommended for [a-z]+ rays: )\S+")
 NUMBER = re.compile(r"[-+]?(\d+(\.\d*)?|\.\d+)([eE][-+]?\d+)?")
 
 
-def normalise(line, scratch, figures_vary):
-    line = line.replace(scratch, "<scratch>").rstrip()
+def normalise(line, scratch, repo, figures_vary):
+    line = line.replace(scratch, "<scratch>").replace(repo, "<repo>").rstrip()
     line = BUILD_LINE.sub(r"\1build: <build>", line)
     line = ISO_DATE.sub("<date>", line)
     line = SECONDS.sub("<s> s", line)
     line = PID.sub("pid <pid>", line)
     line = BASH_JOB.sub("bash: line <n>: <pid> ", line)
     if figures_vary:
+        if MISSED_TARGET_NEEDS.match(line):
+            return None
+        line = RUNNER_UP.sub("", TARGET_MET.sub("<met or missed>", line))
+        line = TIMED_CHOICE.sub(r"\1<the cheapest>", line)
         line = re.sub(r"\s+", " ", NUMBER.sub("#", line)).strip()
     return line
+
+
+def normalise_all(lines, scratch, repo, figures_vary):
+    normalised = (normalise(line, scratch, repo, figures_vary) for line in lines)
+    return [line for line in normalised if line is not None]
 
 
 GAP = {"...", "…"}
 
 
-def compare(expected, actual, excerpt):
+def compare(expected, actual, excerpt, any_order=False):
     """None when the documented lines match the regenerated ones, else a reason with a diff."""
     while expected and not expected[-1].strip():
         expected = expected[:-1]
@@ -192,6 +211,8 @@ def compare(expected, actual, excerpt):
     for line in expected:
         if line.strip() in GAP:
             continue
+        if any_order:
+            position = 0
         while position < len(actual) and actual[position] != line:
             position += 1
         if position == len(actual):
@@ -259,16 +280,16 @@ def make_scratch(context, parent):
     return scratch, bin_dir
 
 
-def run_steps(commands, setup, scratch, bin_dir, context):
+def run_steps(commands, scratch, bin_dir, context):
     """Each command's output and exit status, all in one shell so that `echo $?` sees the last."""
     separator = "@@docs-run-%s@@" % os.urandom(6).hex()
-    script = ["exec 2>&1", "set +e"] + list(setup)
+    script = ["exec 2>&1", "set +e"]
     for index, command in enumerate(commands):
-        script += [f"printf '\\n{separator} begin {index}\\n'",
+        script += [f"__docs_run_status=$?; printf '\\n{separator} begin {index}\\n'; (exit $__docs_run_status)",
                    command,
                    f"__docs_run_status=$?; printf '\\n{separator} end %d\\n' $__docs_run_status; "
                    f"(exit $__docs_run_status)"]
-    environment = dict(os.environ, PATH=bin_dir + os.pathsep + os.environ.get("PATH", ""), RV=context.repo,
+    environment = dict(os.environ, PATH=os.pathsep.join([bin_dir, "/usr/bin", os.environ.get("PATH", "")]), RV=context.repo,
                        NO_COLOR="1", TZ="UTC", LC_ALL="C.UTF-8")
     environment.pop("COLUMNS", None)
     try:
@@ -291,6 +312,7 @@ def run_steps(commands, setup, scratch, bin_dir, context):
 
 def check_document(path, context, parent, regenerate):
     """(passed, skipped, failures, replacements) for one Markdown file."""
+    started = time.monotonic()
     blocks = read_blocks(os.path.join(context.repo, path))
     scratch, bin_dir = make_scratch(context, parent)
     passed, skipped, failures, replacements = 0, [], [], []
@@ -312,17 +334,21 @@ def check_document(path, context, parent, regenerate):
             continue
         steps = session(block)
         commands = [c for c, _ in steps]
-        for shortening in block.directive("shortened"):
+        for shortening in block.directive("shortened") + block.directive("adapted"):
             match = re.match(r"(.+?) -> (.+?) \((.+)\)$", shortening)
             if match is None:
-                failures.append(f"{block.where()}: marker 'shortened {shortening}' is not 'A -> B (WHY)'")
+                failures.append(f"{block.where()}: marker '{shortening}' is not 'A -> B (WHY)'")
                 continue
             commands = [c.replace(match.group(1), match.group(2)) for c in commands]
-        results = run_steps(commands, block.directive("setup"), scratch, bin_dir, context)
+        setups = block.directive("setup")
+        results = run_steps(setups + commands, scratch, bin_dir, context)
+        problems = [f"setup `{command}` exited {status}; it printed:\n" + "\n".join("  " + l for l in output[-20:])
+                    for command, (output, status) in zip(setups, results) if status != 0]
+        results = results[len(setups):]
         statuses = expected_statuses(block, len(commands))
         excerpt = bool(block.directive("excerpt"))
         figures_vary = bool(block.directive("figures vary"))
-        problems = []
+        any_order = bool(block.directive("rows in any order"))
         for index, ((command, expected), (output, status)) in enumerate(zip(steps, results)):
             want = statuses[index] if index < len(statuses) else 0
             if status != want:
@@ -330,9 +356,9 @@ def check_document(path, context, parent, regenerate):
                                 "\n".join("  " + l for l in output[-20:]))
             if expected is None:
                 continue
-            documented = [normalise(l, scratch, figures_vary) for l in expected]
-            regenerated = [normalise(l, scratch, figures_vary) for l in output]
-            problem = compare(documented, regenerated, excerpt)
+            documented = normalise_all(expected, scratch, context.repo, figures_vary)
+            regenerated = normalise_all(output, scratch, context.repo, figures_vary)
+            problem = compare(documented, regenerated, excerpt or any_order, any_order)
             if problem:
                 problems.append(f"`{command}`: {problem}")
                 if regenerate and not excerpt and not figures_vary:
@@ -342,6 +368,7 @@ def check_document(path, context, parent, regenerate):
         else:
             passed += 1
     shutil.rmtree(scratch, ignore_errors=True)
+    print(f"docs-run: {path}: {time.monotonic() - started:.1f} s", flush=True)
     return passed, skipped, failures, replacements
 
 
@@ -379,8 +406,15 @@ def documents(repo, only):
 def run_all(context, paths, jobs, regenerate):
     parent = tempfile.mkdtemp(prefix="rayverify-docs-run-")
     try:
+        # The documents that draw plots or time things take longest: started first, they
+        # overlap with the rest instead of running alone at the end.
+        def cost(path):
+            text = open(os.path.join(context.repo, path), encoding="utf-8").read()
+            return text.count("--plots") * 10 + text.count("figures vary")
         with concurrent.futures.ThreadPoolExecutor(max_workers=jobs) as pool:
-            results = list(pool.map(lambda p: (p, check_document(p, context, parent, regenerate)), paths))
+            futures = {path: pool.submit(check_document, path, context, parent, regenerate)
+                       for path in sorted(paths, key=cost, reverse=True)}
+            results = [(path, futures[path].result()) for path in paths]
     finally:
         shutil.rmtree(parent, ignore_errors=True)
     total_passed, total_failures, all_replacements = 0, 0, []

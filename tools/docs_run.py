@@ -61,6 +61,8 @@ SHELL_TAGS = {"sh", "bash", "shell"}
 OUTPUT_TAGS = {"", "console"}
 COPIED_PATHS = ["corpus", "examples", "src/plugin", "tests/plugin_fixtures"]
 COMMAND_TIMEOUT_S = 120
+DIRECTIVES = ("excerpt", "exit", "output of", "setup", "shortened", "adapted", "figures vary", "rows in any order",
+              "needs", "skip", "not output")
 
 
 class Block:
@@ -95,9 +97,7 @@ def read_blocks(path):
             k -= 1
         indent = len(fence.group(1))
         body = [l[indent:] if l[:indent].strip() == "" else l for l in lines[i + 1:end]]
-        block = Block(path, i + 1, fence.group(2), body, markers)
-        block.body_start = i + 1
-        blocks.append(block)
+        blocks.append(Block(path, i + 1, fence.group(2), body, markers))
         i = end + 1
     return blocks
 
@@ -318,6 +318,10 @@ def check_document(path, context, parent, regenerate):
     passed, skipped, failures, replacements = 0, [], [], []
     for block in blocks:
         block.path = path
+        unknown = [m for m in block.markers if not m.startswith(DIRECTIVES)]
+        if unknown:
+            failures.append(f"{block.where()}: unknown marker(s) {unknown}: docs/testing.md lists them")
+            continue
         kind = classify(block)
         if kind == "text":
             continue
@@ -448,6 +452,7 @@ def self_test(context):
         "an output block with no command": ("```\nsome output\n```\n", 1),
         "an excerpt that is not in the output": ("<!-- docs-run: excerpt -->\n```\n$ rayverify variants\n"
                                                   "no such line\n```\n", 1),
+        "a misspelt marker": ("<!-- docs-run: excerp -->\n```\n$ rayverify variants --json > /dev/null\n```\n", 1),
     }
     if probe.returncode != 1:
         print(f"self-test: the probe audit exited {probe.returncode}, expected 1")

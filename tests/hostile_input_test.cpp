@@ -678,6 +678,11 @@ std::vector<bad_input> bad_inputs() {
         {"merge: disagreement causes that do not add up to the disagreements", "rayverify merge --report out s1", {}, 2,
          "s1/shard.json: field 'state.audit.overall[0].causes': add up to 1, but the target has 0 disagreements",
          edited_shard([](nlohmann::ordered_json& j) { j["state"]["audit"]["overall"][0]["causes"][0] = 1; })},
+        {"merge: a case to open of no known kind", "rayverify merge --report out s1", {}, 2,
+         "s1/shard.json: field 'state.cases_to_open[0].kind': 'nearest' is not first, worst or farthest",
+         edited_shard([](nlohmann::ordered_json& j) {
+             j["state"]["cases_to_open"] = nlohmann::ordered_json::array({{{"target", 0}, {"kind", "nearest"}}});
+         })},
         {"merge: a contract that is not a contract", "rayverify merge --report out s1", {}, 2,
          "s1/shard.json: field 'targets[0].contract.spec': 'query=teleport'",
          edited_shard([](nlohmann::ordered_json& j) { j["targets"][0]["contract"]["spec"] = "query=teleport"; })},

@@ -4,12 +4,14 @@
 // agreeing answer far from the exact hit is counted and listed.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 
 #include "compare/audit.h"
 #include "compare/case_examples.h"
 #include "corpus/corpus_io.h"
+#include "intersectors/registry.h"
 #include "plugin/plugin_loader.h"
 #include "support/process.h"
 
@@ -55,6 +57,82 @@ TEST(CasesToOpen, FailuresFileHoldsEveryFailingCaseAndTheSummaryNamesTheFirst) {
     const command_result explain =
         run_cli("explain \"" + line + "\" --plugin " + std::string(RAYVERIFY_FIXTURE_RTIOW_LINE_ROOTS));
     EXPECT_NE(explain.output.find("false_miss"), std::string::npos) << explain.output;
+}
+
+// The worst cases of a verdict by brute force: the largest of max(near_ulp,
+// far_ulp), ties by index, at most case_examples::kept.
+std::vector<std::size_t> worst_by_brute_force(const std::vector<std::pair<double, std::size_t>>& errors) {
+    std::vector<std::pair<double, std::size_t>> sorted = errors;
+    std::sort(sorted.begin(), sorted.end(), [](const auto& a, const auto& b) {
+        return a.first != b.first ? a.first > b.first : a.second < b.second;
+    });
+    std::vector<std::size_t> indices;
+    for (std::size_t i = 0; i < sorted.size() && i < case_examples::kept; ++i) indices.push_back(sorted[i].second);
+    return indices;
+}
+
+std::vector<std::size_t> indices_of(const std::vector<case_example>& list) {
+    std::vector<std::size_t> indices;
+    for (const case_example& e : list) indices.push_back(e.index);
+    return indices;
+}
+
+TEST(CasesToOpen, WorstCasesAreTheLargestRootErrorsWhateverTheShardsAndMergeOrder) {
+    const std::vector<corpus_case> cases = read_corpus({RAYVERIFY_CORPUS_DIR});
+    const std::vector<audit_target> targets = targets_for(std::vector<variant>{*find_builtin_variant("naive")});
+    case_examples whole(targets.size());
+    std::vector<case_examples> shards(3, case_examples(targets.size()));
+    // [target][verdict]: every (root error in ULPs, index) of a disagreement with one.
+    std::vector<std::array<std::vector<std::pair<double, std::size_t>>, verdict_kind_count>> errors(targets.size());
+    std::size_t index = 0;
+    run_audit(cases, targets, [&](const audited_case& c) {
+        whole.add(c, index);
+        shards[index % shards.size()].add(c, index);
+        for (std::size_t t = 0; t < targets.size(); ++t) {
+            const case_score& s = c.outcomes[t].score;
+            if (is_disagreement(s.verdict) && (s.near_ulp || s.far_ulp))
+                errors[t][static_cast<int>(s.verdict)].push_back(
+                    {std::max(s.near_ulp.value_or(0), s.far_ulp.value_or(0)), index});
+        }
+        ++index;
+    });
+    case_examples forward(targets.size()), backward(targets.size());
+    for (const case_examples& shard : shards) forward.merge(shard);
+    for (auto shard = shards.rbegin(); shard != shards.rend(); ++shard) backward.merge(*shard);
+    std::size_t verdicts_with_worst = 0;
+    for (std::size_t t = 0; t < targets.size(); ++t)
+        for (int k = 0; k < verdict_kind_count; ++k) {
+            const std::vector<std::size_t> expected = worst_by_brute_force(errors[t][k]);
+            verdicts_with_worst += !expected.empty();
+            const std::string where = targets[t].label() + " " + std::string(verdict_name(static_cast<verdict_kind>(k)));
+            EXPECT_EQ(indices_of(whole.worst[t][k]), expected) << where;
+            EXPECT_EQ(indices_of(forward.worst[t][k]), expected) << where;
+            EXPECT_EQ(indices_of(backward.worst[t][k]), expected) << where;
+        }
+    EXPECT_GE(verdicts_with_worst, 4u) << "naive's wrong roots, splits and sides on the shipped corpus";
+    // A false miss has no t to measure: first cases, no worst.
+    EXPECT_FALSE(whole.first[0][static_cast<int>(verdict_kind::false_miss)].empty());
+    EXPECT_TRUE(whole.worst[0][static_cast<int>(verdict_kind::false_miss)].empty());
+}
+
+TEST(CasesToOpen, TheSummaryAndReportNameTheWorstCaseWithItsCorpusLine) {
+    const scratch_directory scratch("rayverify_cases_to_open_worst");
+    const fs::path report = scratch.path() / "out";
+    const command_result audit =
+        run_cli("audit --variant naive --precision float --report " + report.string());
+    ASSERT_EQ(audit.exit_code, 1) << audit.output;
+    const std::string marker = "naive/float wrong_side, worst by root error: ";
+    const std::size_t at = audit.output.find(marker);
+    ASSERT_NE(at, std::string::npos) << audit.output;
+    const std::string id = audit.output.substr(at + marker.size(), audit.output.find(' ', at + marker.size()) -
+                                                                       (at + marker.size()));
+    const std::size_t line_at = audit.output.find("\n    " + id + " ", at);
+    ASSERT_NE(line_at, std::string::npos) << "the worst case's corpus line follows its ids\n" << audit.output;
+    const std::string line = audit.output.substr(line_at + 5, audit.output.find('\n', line_at + 1) - line_at - 5);
+    EXPECT_NE(read_text(report / "report.md").find("| naive/float | wrong_side, worst | " + id), std::string::npos);
+    // The line explains back to the same verdict.
+    const command_result explain = run_cli("explain \"" + line + "\" --variant naive --precision float");
+    EXPECT_NE(explain.output.find("wrong_side"), std::string::npos) << explain.output;
 }
 
 TEST(CasesToOpen, AFailedAuditLeavesNoFailuresFile) {

@@ -6,11 +6,13 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <filesystem>
 
 #include "compare/audit.h"
 #include "compare/contract_lint.h"
 #include "corpus/corpus_io.h"
+#include "oracle/oracle.h"
 #include "plugin/plugin_loader.h"
 #include "support/process.h"
 
@@ -59,6 +61,48 @@ TEST(ContractLint, AHintNeedsHalfTheDisagreementsFixedAndFewBroken) {
     EXPECT_EQ(strongest_hint(candidates, tally)->candidate.promises.query, query_kind::nearest_hit);
     tally.fixed[0] = tally.fixed[1] = 0;
     EXPECT_EQ(strongest_hint(candidates, tally)->candidate.promises.query, query_kind::any_hit);
+}
+
+// A target declared to answer t beside a hit point whose points are right and
+// whose t is not (here twice t*, as a t measured along a direction of half the
+// length would be) gets the point-answer hint; without a hit point there is no
+// such candidate to judge.
+TEST(ContractLint, RightPointsBesideWrongTGetThePointAnswerHint) {
+    const contract declared = parse_contract("query=nearest_hit,range=ray,hit_point=yes");
+    const std::vector<lint_candidate> candidates = lint_candidates(declared);
+    const auto point_answer = std::find_if(candidates.begin(), candidates.end(), [](const lint_candidate& c) {
+        return c.promises.answer == answer_kind::point;
+    });
+    ASSERT_NE(point_answer, candidates.end());
+    EXPECT_FALSE(contract_problem(point_answer->promises)) << format_contract(point_answer->promises);
+    for (const lint_candidate& c : lint_candidates(parse_contract("query=nearest_hit,range=ray")))
+        EXPECT_EQ(c.promises.answer, answer_kind::t) << "no hit point, no point answer to judge";
+
+    const std::vector<corpus_case> cases = read_corpus({fs::path(RAYVERIFY_CORPUS_DIR) / "uniform.txt"});
+    const t_range range = range_of(declared, std::nullopt, std::nullopt);
+    contract_lint_tally tally;
+    std::size_t hits = 0;
+    for (const corpus_case& c : cases) {
+        const exact_solution exact = solve_exact(c.geometry, precision::binary64);
+        if (!exact.valid()) continue;
+        variant_output output;
+        if (exact.nearest_in_front) {
+            const double t = 2 * exact.root(*exact.nearest_in_front).rounded;
+            output.roots = {1, t, t};
+            output.hit_root = 0;
+            output.hit_point = exact.hit_point;
+            ++hits;
+        }
+        const case_score score = judge_output(declared, output, exact, range, c.geometry);
+        lint_case(declared, candidates, score, output, exact, range, c.geometry, tally);
+    }
+    ASSERT_GT(hits, 100u);
+    EXPECT_GE(tally.wrong, hits * 9 / 10) << "twice t* is a wrong root or a false miss";
+    const std::optional<contract_hint> hint = strongest_hint(candidates, tally);
+    ASSERT_TRUE(hint);
+    EXPECT_EQ(hint->candidate.promises.answer, answer_kind::point) << format_contract(hint->candidate.promises);
+    EXPECT_EQ(hint->fixed, hint->wrong) << "every right point agrees under answer=point";
+    EXPECT_EQ(hint->broken, 0u);
 }
 
 // The README's quick start with the code a path tracer has: the "Ray Tracing

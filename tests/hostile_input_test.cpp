@@ -617,7 +617,7 @@ std::vector<bad_input> bad_inputs() {
         {"`--plugin-timeout nan`", "rayverify audit --corpus good.txt --isolate --plugin-timeout nan",
          one("good.txt", good), 2, "--plugin-timeout: 'nan' is not a number ≥ 0.001 and ≤ 86400"},
         {"`hunt --evaluations -5` (would wrap to 2^64 − 5)", "rayverify hunt --variant naive --evaluations -5 -o f.txt",
-         {}, 2, "--evaluations: '-5' is not a whole number ≥ 0 below 2^64"},
+         {}, 2, "--evaluations: '-5' is not a whole number ≥ 0 and < 2^64"},
         {"`hunt --seconds inf`", "rayverify hunt --variant naive --seconds inf -o f.txt", {}, 2,
          "--seconds: 'inf' is not a number ≥ 0 and ≤ 1000000000"},
         {"`bench --min-time 0` (Google Benchmark would abort)", "rayverify bench --min-time 0", {}, 2,
@@ -625,11 +625,11 @@ std::vector<bad_input> bad_inputs() {
         {"`recommend --min-time nan`", "rayverify recommend --scene s.json --min-time nan", {}, 2,
          "--min-time: 'nan' is not a number > 0 and ≤ 3600"},
         {"a negative seed", "rayverify corpus generate --family uniform --seed -1", {}, 2,
-         "--seed: '-1' is not a whole number ≥ 0 below 2^64"},
+         "--seed: '-1' is not a whole number ≥ 0 and < 2^64"},
         {"a seed of 2^64 (would saturate to 2^64 − 1)",
          "rayverify corpus generate --family uniform --seed 18446744073709551616", {}, 2,
-         "--seed: '18446744073709551616' is not a whole number ≥ 0 below 2^64"},
-        {"`bench --sweep -1`", "rayverify bench --sweep -1", {}, 2, "--sweep: '-1' is not a whole number from 0"},
+         "--seed: '18446744073709551616' is not a whole number ≥ 0 and < 2^64"},
+        {"`bench --sweep -1`", "rayverify bench --sweep -1", {}, 2, "--sweep: '-1' is not a whole number ≥ 0 and ≤ 100000000"},
         // Plugins that misbehave in this process (the test fixture's modes; with --isolate the same is caught in
         // a child process).
         {"a plugin that calls `exit(0)` in a call", "rayverify audit --plugin ./modal.so --corpus good.txt --threads 1",
@@ -678,6 +678,11 @@ std::vector<bad_input> bad_inputs() {
         {"merge: disagreement causes that do not add up to the disagreements", "rayverify merge --report out s1", {}, 2,
          "s1/shard.json: field 'state.audit.overall[0].causes': add up to 1, but the target has 0 disagreements",
          edited_shard([](nlohmann::ordered_json& j) { j["state"]["audit"]["overall"][0]["causes"][0] = 1; })},
+        {"merge: a case to open of no known kind", "rayverify merge --report out s1", {}, 2,
+         "s1/shard.json: field 'state.cases_to_open[0].kind': 'nearest' is not first, worst or farthest",
+         edited_shard([](nlohmann::ordered_json& j) {
+             j["state"]["cases_to_open"] = nlohmann::ordered_json::array({{{"target", 0}, {"kind", "nearest"}}});
+         })},
         {"merge: a contract that is not a contract", "rayverify merge --report out s1", {}, 2,
          "s1/shard.json: field 'targets[0].contract.spec': 'query=teleport'",
          edited_shard([](nlohmann::ordered_json& j) { j["targets"][0]["contract"]["spec"] = "query=teleport"; })},

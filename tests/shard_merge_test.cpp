@@ -184,7 +184,9 @@ std::string figures_of(const fs::path& report) {
     // Where a case to open was read is a path as spelled, like the corpus paths.
     for (auto& target : j["cases_to_open"]) {
         for (auto& verdict : target["verdicts"])
-            for (auto& c : verdict["first"]) c.erase("source");
+            for (const char* list : {"first", "worst"})
+                if (verdict.contains(list))
+                    for (auto& c : verdict[list]) c.erase("source");
         for (auto& c : target["agree_far"]) c.erase("source");
     }
     return j.dump(1);

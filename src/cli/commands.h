@@ -171,6 +171,10 @@ std::vector<audit_target> targets_with_results(const std::vector<std::string>& v
 // finite number in [min, max] (> min when `above_min`; nan and inf refused).
 CLI::Validator whole_number(std::uint64_t min, std::uint64_t max = std::numeric_limits<std::uint64_t>::max());
 CLI::Validator finite_number(double min, double max, bool above_min = false);
+// The one spelling of a numeric option's limits, in its help and its errors:
+// "KIND ≥ MIN and ≤ MAX" (> MIN when `above_min`, < MAX when `below_max`).
+std::string numeric_limits_text(std::string_view kind, std::string_view min, bool above_min, std::string_view max,
+                                bool below_max = false);
 
 // The audit's progress line on a terminal (cli/audit_progress.cpp): cases
 // done out of the input's cases (generated: their counts; files: their case

@@ -274,13 +274,13 @@ command add_hunt_command(CLI::App& app, const std::string& command_line) {
         ->capture_default_str();
     sub->add_option("--command-timeout", o->command_timeout,
                     "With --command: seconds the program may take over one batch before it is killed")
-        ->check(CLI::Range(0.001, 86400.0))
+        ->check(finite_number(0.001, 86400))
         ->needs(command)
         ->capture_default_str();
     sub->add_option("--batch", o->batch,
                     "Cases judged together (start cases, or candidates moved from the same case); default 1, and "
                     "64 with --command")
-        ->check(CLI::Range(std::size_t{1}, std::size_t{1} << 20));
+        ->check(whole_number(1, std::uint64_t{1} << 20));
     sub->add_option("--precision", o->precision, "float or double (an --engine: the one it computes in)")
         ->check(CLI::IsMember({"float", "double"}))
         ->capture_default_str()

@@ -405,7 +405,7 @@ command add_merge_command(CLI::App& app) {
     sub->add_option("--finds", options->keep_finds,
                     "Hunts: keep this many finds, the worst first (ulp: largest error; misclass: in shard order). "
                     "Default 3")
-        ->check(CLI::Range(std::size_t{1}, std::size_t{1000000}));
+        ->check(whole_number(1, 1000000));
     sub->add_option("shards", options->shards, "The shards' report directories, or the hunts' output files")
         ->required();
     return {sub, [options, o] { return run(*options, o->count() > 0); }};

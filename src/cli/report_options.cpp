@@ -23,7 +23,7 @@ void add_tolerance_option(CLI::App* sub, double& tolerance) {
                     "Relative difference below which two ULP figures are the same (last-digit noise); counts are "
                     "compared exactly")
         ->capture_default_str()
-        ->check(CLI::Range(0.0, 0.5));
+        ->check(finite_number(0, 0.5));
 }
 
 }  // namespace rayverify::cli

@@ -64,7 +64,7 @@ void add_results_options(CLI::App* sub, results_options& options) {
         ->capture_default_str();
     sub->add_option("--command-timeout", options.command_timeout,
                     "With --command: seconds the program may take over one batch of cases before it is killed")
-        ->check(CLI::Range(0.001, 86400.0))
+        ->check(finite_number(0.001, 86400))
         ->needs(command)
         ->capture_default_str();
     sub->add_option("--engine", options.engines,

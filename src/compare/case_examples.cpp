@@ -1,6 +1,7 @@
 #include "compare/case_examples.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace rayverify {
 
@@ -19,9 +20,16 @@ void keep(std::vector<case_example>& into, case_example e, Better better) {
     if (into.size() > case_examples::kept) into.pop_back();
 }
 
+// The larger of a disagreeing answer's root errors in ULPs; none when no t was
+// judged against an exact root.
+std::optional<double> root_error_ulp(const case_score& s) {
+    if (!s.near_ulp && !s.far_ulp) return std::nullopt;
+    return std::max(s.near_ulp.value_or(0), s.far_ulp.value_or(0));
+}
+
 }  // namespace
 
-case_examples::case_examples(std::size_t targets) : first(targets), farthest(targets) {}
+case_examples::case_examples(std::size_t targets) : first(targets), worst(targets), farthest(targets) {}
 
 void case_examples::add(const audited_case& c, std::size_t index) {
     for (std::size_t t = 0; t < c.outcomes.size() && t < first.size(); ++t) {
@@ -30,6 +38,10 @@ void case_examples::add(const audited_case& c, std::size_t index) {
             auto& list = first[t][static_cast<int>(s.verdict)];
             if (list.size() < kept || index < list.back().index)
                 keep(list, {index, 0, *c.source, s.cause}, earlier);
+            const std::optional<double> ulp = root_error_ulp(s);
+            auto& worst_list = worst[t][static_cast<int>(s.verdict)];
+            if (ulp && !std::isnan(*ulp) && (worst_list.size() < kept || farther({index, *ulp, {}, {}}, worst_list.back())))
+                keep(worst_list, {index, *ulp, *c.source, s.cause}, farther);
         } else if (s.verdict == verdict_kind::agree && s.scale_error_radius &&
                    !(*s.scale_error_radius < agree_far_fraction)) {
             auto& list = farthest[t];
@@ -44,6 +56,8 @@ void case_examples::merge(const case_examples& other) {
     for (std::size_t t = 0; t < first.size() && t < other.first.size(); ++t) {
         for (int k = 0; k < verdict_kind_count; ++k)
             for (const case_example& e : other.first[t][k]) keep(first[t][k], e, earlier);
+        for (int k = 0; k < verdict_kind_count && t < worst.size() && t < other.worst.size(); ++k)
+            for (const case_example& e : other.worst[t][k]) keep(worst[t][k], e, farther);
         for (const case_example& e : other.farthest[t]) keep(farthest[t], e, farther);
     }
 }

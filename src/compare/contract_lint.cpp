@@ -2,6 +2,7 @@
 
 #include <limits>
 
+#include "core/intersection.h"
 #include "intersectors/registry.h"
 
 namespace rayverify {
@@ -80,6 +81,17 @@ std::vector<lint_candidate> lint_candidates(const contract& declared) {
         c.front_faces_only = true;
         add(c, "only roots where the ray enters the sphere (front faces)");
     }
+    // A t beside a hit point: the point may be the answer, its t in other
+    // units (a normalised direction's) or of another step. The reverse, a
+    // point answer whose own t would fit, cannot be seen: a point answer's t
+    // is derived from its point before anything judges it (judge.h).
+    if (declared.answer == answer_kind::t && declared.outputs.hit_point) {
+        contract c = declared;
+        c.answer = answer_kind::point;
+        c.outputs.hit_point = false;
+        c.outputs.point_error = point_bound::none;
+        add(c, "hit points that are right where the t beside them is not (the point is the answer)");
+    }
     return out;
 }
 
@@ -110,6 +122,23 @@ void contract_lint_tally::merge(const contract_lint_tally& other) {
     }
 }
 
+namespace {
+
+// The output as a target answering under `candidate` would have given it: a
+// candidate that takes the hit point for the answer judges the t derived from
+// it (parameter_of_point), as answer_of does for a declared point answer.
+variant_output as_answered_under(const contract& declared, const contract& candidate, const variant_output& output,
+                                 const ray_sphere<double>& input) {
+    if (candidate.answer != answer_kind::point || declared.answer == answer_kind::point || !output.hit_point ||
+        output.roots.count == 0)
+        return output;
+    variant_output derived = output;
+    derived.roots.t0 = derived.roots.t1 = parameter_of_point(input, *output.hit_point);
+    return derived;
+}
+
+}  // namespace
+
 void lint_case(const contract& declared, std::span<const lint_candidate> candidates, const case_score& score,
                const variant_output& output, const exact_solution& exact, const t_range& range,
                const ray_sphere<double>& input, contract_lint_tally& into) {
@@ -124,8 +153,9 @@ void lint_case(const contract& declared, std::span<const lint_candidate> candida
     for (std::size_t k = 0; k < candidates.size(); ++k) {
         const contract& promises = candidates[k].promises;
         const bool agrees =
-            judge_output(promises, output, exact, lint_range(declared, promises, range), input).verdict ==
-            verdict_kind::agree;
+            judge_output(promises, as_answered_under(declared, promises, output, input), exact,
+                         lint_range(declared, promises, range), input)
+                .verdict == verdict_kind::agree;
         if (agrees && !agreed) ++into.fixed[k];
         if (agreed && !agrees) ++into.broken[k];
     }

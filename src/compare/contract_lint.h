@@ -1,7 +1,8 @@
 // The contract lint: a target whose answers contradict its declared contract
 // in a pattern another contract explains (one root where the line has two,
 // t = 0 where the ray starts inside, roots outside the interval it was given,
-// a hit count without roots), and the contract that fits. Every answer is
+// a hit count without roots, a t beside a hit point that is right where the t
+// is not), and the contract that fits. Every answer is
 // judged again, by the one judge (judge_output), under each neighbouring
 // contract (lint_candidates), on the range the target was asked; the verdicts
 // that would change are counted. Pure functions and a mergeable tally.
@@ -33,8 +34,9 @@ struct lint_candidate {
 // The neighbours of `declared` worth judging again under: another query
 // (line_roots → nearest hit in the given interval, nearest hit on the ray,
 // any hit), another inside rule, closed ends, tangent a miss, front faces
-// only, the interval ignored. In a fixed order, the most specific first (a
-// tie between two candidates goes to the earlier).
+// only, the interval ignored, and a t beside a hit point: the point the
+// answer. In a fixed order, the most specific first (a tie between two
+// candidates goes to the earlier).
 std::vector<lint_candidate> lint_candidates(const contract& declared);
 
 // The range a candidate is judged on for an answer given under `declared`:

@@ -581,8 +581,8 @@ private:
             if (whole(member(e, at, "target"), at + ".target") >= targets_)
                 fail(at + ".target", fmt::format("is beyond the {} targets", targets_));
             const std::string kind = text(member(e, at, "kind"), at + ".kind");
-            if (kind != "first" && kind != "farthest")
-                fail(at + ".kind", fmt::format("'{}' is neither first nor farthest", printable(kind)));
+            if (kind != "first" && kind != "worst" && kind != "farthest")
+                fail(at + ".kind", fmt::format("'{}' is not first, worst or farthest", printable(kind)));
             const std::string verdict = text(member(e, at, "verdict"), at + ".verdict");
             if (!verdict_from_name(verdict)) fail(at + ".verdict", fmt::format("'{}' is not a verdict", printable(verdict)));
             case_index(whole(member(e, at, "index"), at + ".index"), at + ".index");
@@ -698,6 +698,8 @@ json state_json(const audit_state& state) {
     for (std::size_t t = 0; t < state.examples.first.size(); ++t) {
         for (int k = 0; k < verdict_kind_count; ++k)
             for (const case_example& e : state.examples.first[t][k]) example(t, "first", static_cast<verdict_kind>(k), e);
+        for (int k = 0; k < verdict_kind_count; ++k)
+            for (const case_example& e : state.examples.worst[t][k]) example(t, "worst", static_cast<verdict_kind>(k), e);
         for (const case_example& e : state.examples.farthest[t]) example(t, "farthest", verdict_kind::agree, e);
     }
     json lint = json::array();
@@ -765,10 +767,11 @@ audit_state state_from_json(const json& j, const std::vector<audit_target>& targ
             if (!e.at("cause").is_null()) example.cause = cause_from_name(e.at("cause").get<std::string>());
             const std::size_t t = e.at("target").get<std::size_t>();
             if (t >= targets.size()) throw json::other_error::create(501, "a case to open of no target", &e);
-            if (e.at("kind") == "first") {
+            if (e.at("kind") == "first" || e.at("kind") == "worst") {
                 const std::optional<verdict_kind> v = verdict_from_name(e.at("verdict").get<std::string>());
                 if (!v) throw json::other_error::create(501, "a case to open with an unknown verdict", &e);
-                state.examples.first[t][static_cast<int>(*v)].push_back(std::move(example));
+                auto& lists = e.at("kind") == "first" ? state.examples.first : state.examples.worst;
+                lists[t][static_cast<int>(*v)].push_back(std::move(example));
             } else {
                 state.examples.farthest[t].push_back(std::move(example));
             }

@@ -3,7 +3,7 @@
 // shadow, secondary) is decided apart, since a renderer may use a different
 // intersector for each: a shadow ray only asks "anything in (tmin, tmax)?".
 //
-// For each kind, every variant that can answer its query (compare/query.h
+// For each kind, every variant that can answer its query (compare/judge.h
 // `applicable`) in the scene's precision is
 //   - audited on exactly those rays (scene/scene_audit.h: each ray against
 //     every sphere it can meet, judged at the level of its query), and

@@ -99,7 +99,8 @@ variant with_exact_decisions(variant v) {
     return v;
 }
 
-const std::array<variant, 29> registry{{
+// Its size follows from the list.
+const auto registry = std::to_array<variant>({
     {"naive", "seed 000 / seed 001 (textbook quadratic)",
      "b = 2d·f, C = f·f − r², Δ = b² − 4aC, t = (−b ∓ √Δ)/2a", intersectors::naive_contract,
      RAYVERIFY_BOTH_PRECISIONS(naive)},
@@ -232,7 +233,7 @@ const std::array<variant, 29> registry{{
                    "v = c − o, b = v·d, disc = r² − (|v|² − b²), t = b ∓ √disc (+ inside), point o + d·t, normal",
                    intersectors::raylib_contract, "float only; C, x86-64 baseline (SSE2, no FMA); sqrtf; 1.0f/length an IEEE division",
                    &intersectors::raylib<float>, nullptr),
-}};
+});
 
 #undef RAYVERIFY_INTERVAL_VARIANT
 

@@ -79,7 +79,7 @@ struct variant {
 
 // Run a variant in precision T on (tmin, tmax): through run_*_in when its kind
 // takes an interval, else its plain function (whose answer does not depend on
-// an interval; compare/query.h filters its roots into one).
+// an interval; the judge filters its roots into one: compare/judge.h).
 template <class T>
 root_pair<T> run_in(const variant& v, const ray_sphere<T>& s, ray_interval<T> interval) {
     if constexpr (std::is_same_v<T, float>)

@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -16,6 +18,7 @@
 #include <stdexcept>
 
 #include "compare/audit.h"
+#include "compare/error_figures.h"
 #include "intersectors/seed004_early_out.h"
 
 namespace rayverify {
@@ -542,6 +545,29 @@ TEST(VerdictTable, DocsColumnTableListsEveryCorpusVerdictInOrder) {
         const auto found = std::find(documented.begin() + static_cast<std::ptrdiff_t>(at), documented.end(), column);
         ASSERT_NE(found, documented.end()) << "docs/verdicts.md has no row for column " << column << " (in order)";
         at = static_cast<std::size_t>(found - documented.begin()) + 1;
+    }
+}
+
+// The schemas name what the tables define: the per-case verdict and cause
+// enums are the tables' names, in order, and every error figure is a
+// property of a per-case result (its case name) and of a tally (its name).
+TEST(VerdictTable, SchemasNameEveryVerdictCauseAndFigure) {
+    const auto schema = [](const char* name) {
+        std::ifstream in(std::string(RAYVERIFY_SOURCE_DIR) + "/docs/schema/" + name);
+        EXPECT_TRUE(in) << name;
+        return nlohmann::json::parse(in);
+    };
+    const nlohmann::json per_case = schema("per-case.schema.json"), common = schema("common.schema.json");
+    const nlohmann::json& result = per_case.at("$defs").at("result").at("properties");
+    std::vector<std::string> verdicts, causes;
+    for (int k = 0; k < verdict_kind_count; ++k) verdicts.emplace_back(verdict_name(static_cast<verdict_kind>(k)));
+    for (int c = 0; c < disagreement_cause_count; ++c) causes.emplace_back(cause_name(static_cast<disagreement_cause>(c)));
+    EXPECT_EQ(result.at("verdict").at("enum").get<std::vector<std::string>>(), verdicts);
+    EXPECT_EQ(result.at("cause").at("enum").get<std::vector<std::string>>(), causes);
+    const nlohmann::json& tally = common.at("$defs").at("tally").at("properties");
+    for (const error_figure_definition& f : error_figures) {
+        EXPECT_TRUE(result.contains(std::string(f.case_name))) << "per-case.schema.json lacks " << f.case_name;
+        EXPECT_TRUE(tally.contains(std::string(f.name))) << "common.schema.json's tally lacks " << f.name;
     }
 }
 

@@ -172,16 +172,17 @@ struct traced {
 
     // Comparisons decide on the computed value, against another traced value
     // or a plain number compared as T and that number would be compared.
-    friend bool operator==(traced x, traced y) { return x.value == y.value; }
-    friend auto operator<=>(traced x, traced y) { return x.value <=> y.value; }
+    // constexpr: vec3's defaulted, constexpr == compares them (clang requires it).
+    friend constexpr bool operator==(traced x, traced y) { return x.value == y.value; }
+    friend constexpr auto operator<=>(traced x, traced y) { return x.value <=> y.value; }
     template <class A>
         requires std::is_arithmetic_v<A>
-    friend bool operator==(traced x, A y) {
+    friend constexpr bool operator==(traced x, A y) {
         return x.value == y;
     }
     template <class A>
         requires std::is_arithmetic_v<A>
-    friend auto operator<=>(traced x, A y) {
+    friend constexpr auto operator<=>(traced x, A y) {
         return x.value <=> y;
     }
 

@@ -378,11 +378,11 @@ private:
         return n;
     }
 
-    // Figures of one target over some cases; the verdicts and error counts go to `sums`.
+    // Figures of one target over some cases; its verdict and cause counts go to `sums` (the whole run's error
+    // figures are checked against the families' merge, field by field, in check_audit).
     struct sample_sums {
         std::array<std::uint64_t, verdict_kind_count> verdicts{};
         std::array<std::uint64_t, disagreement_cause_count> causes{};
-        per_error_figure<std::uint64_t> errors{};
     };
     sample_sums samples(const json& j, const std::string& path, std::uint64_t cases) const {
         sample_sums sums;
@@ -411,8 +411,7 @@ private:
         const std::uint64_t agreeing = sums.verdicts[static_cast<int>(verdict_kind::agree)];
         for (const error_figure_definition& f : error_figures) {
             const std::string name(f.name), at = path + "." + name;
-            std::uint64_t& n_errors = sums.errors[f.figure];
-            n_errors = summary(member(j, path, name.c_str()), at);
+            const std::uint64_t n_errors = summary(member(j, path, name.c_str()), at);
             if (n_errors > agreeing)
                 fail(at + ".count", fmt::format("is {}, more than the {} agreeing cases", n_errors, agreeing));
         }
@@ -477,7 +476,6 @@ private:
                 const sample_sums s = samples(list_of_targets[t], fmt::format("{}[{}]", path, t), known->second);
                 for (int k = 0; k < verdict_kind_count; ++k) summed[t].verdicts[k] += s.verdicts[k];
                 for (int c = 0; c < disagreement_cause_count; ++c) summed[t].causes[c] += s.causes[c];
-                for (const error_figure_definition& f : error_figures) summed[t].errors[f.figure] += s.errors[f.figure];
             }
         }
         if (families.size() != family_cases_.size())
@@ -503,10 +501,6 @@ private:
                 fail(fmt::format("state.audit.overall[{}].verdicts", t), "differ from the sums over the families");
             if (summed[t].causes != whole_run[t].causes)
                 fail(fmt::format("state.audit.overall[{}].causes", t), "differ from the sums over the families");
-            for (const error_figure_definition& f : error_figures)
-                if (summed[t].errors[f.figure] != whole_run[t].errors[f.figure])
-                    fail(fmt::format("state.audit.overall[{}].{}.count", t, f.name),
-                         "differs from the sum over the families");
         }
     }
 

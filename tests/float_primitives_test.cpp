@@ -18,12 +18,13 @@
 #include "core/double_word.h"
 #include "core/float_bits.h"
 #include "oracle/expansion.h"
+#include "support/sanitized.h"
 
 namespace rayverify {
 namespace {
 
 using boost::multiprecision::cpp_int;
-constexpr int operands = 1'000'000;
+constexpr int operands = static_cast<int>(test_support::sweep_size(1'000'000));
 
 std::uint64_t seed_for_run() {
     if (const char* s = std::getenv("RAYVERIFY_PRIMITIVES_SEED")) return std::strtoull(s, nullptr, 10);

@@ -150,7 +150,7 @@ inline violation check_oracle_input(const std::uint8_t* data, std::size_t size) 
         if (!std::isfinite(r.rounded)) continue;  // the exact root lies beyond the precision's range
         const double error = e.root_ulp_error(i, r.rounded);
         if (!(error <= 0.5)) return fail("rounded root is " + std::to_string(error) + " ulp off");
-        if ((error == 0) != (e.compare_root(i, r.rounded) == 0)) return fail("ulp error and comparison disagree");
+        if ((error == 0) != (e.compare_to_root(r.rounded, i) == comparison::equal)) return fail("ulp error and comparison disagree");
     }
     const std::optional<root_index> front = e.near_root.sign > 0   ? std::optional(root_index::near_root)
                                             : e.far_root.sign > 0 ? std::optional(root_index::far_root)

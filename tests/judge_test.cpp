@@ -315,7 +315,7 @@ TEST(JudgeRegression, WrongRootIsDecidedByTheExactMidpoint) {
     const exact_solution m = solve_exact(at_midpoint, precision::binary64);
     const root_pair<double> r = seed004.run_double(at_midpoint);
     ASSERT_EQ(r.count, 1);
-    EXPECT_EQ(m.compare_midpoint(r.t0), 0);
+    EXPECT_EQ(m.compare_to_midpoint(r.t0), comparison::equal);
     EXPECT_NE(r.t0, m.near_root.rounded);
     EXPECT_EQ(stands_for(m, r.t0, root_index::near_root), root_index::near_root);
     EXPECT_EQ(stands_for(m, r.t0, root_index::far_root), root_index::far_root);
@@ -329,7 +329,7 @@ TEST(JudgeRegression, WrongRootIsDecidedByTheExactMidpoint) {
     const exact_solution f = solve_exact(nearer_far, precision::binary64);
     const root_pair<double> g = seed004.run_double(nearer_far);
     ASSERT_EQ(g.count, 1);
-    EXPECT_GT(f.compare_midpoint(g.t0), 0);
+    EXPECT_EQ(f.compare_to_midpoint(g.t0), comparison::larger);
     const case_score s = judge_target({seed004, precision::binary64}, case_of(nearer_far), f).score;
     EXPECT_EQ(s.verdict, verdict_kind::wrong_root) << s.detail;
     // A correctly rounded root is never a wrong root, even nearer the other one.
@@ -343,10 +343,10 @@ TEST(JudgeRegression, UnitDirectionToleranceIsDecidedExactly) {
     const auto breach = contract_breach(clamped, g, precision::binary64);
     ASSERT_TRUE(breach);
     EXPECT_NE(breach->find("above 1 + 8ε"), std::string::npos) << *breach;
-    EXPECT_EQ(compare_squared_length(g.direction, 1 + 0x1p-49), 1);
+    EXPECT_EQ(compare_squared_length(g.direction, 1 + 0x1p-49), comparison::larger);
     // Exactly at the tolerance is within it.
     const ray_sphere<double> edge{{0, 0, -5}, {0x1p-25, 0x1p-25, 0x1p+0}, {0, 0, 0}, 1};  // |d|² = 1 + 2^-49
-    EXPECT_EQ(compare_squared_length(edge.direction, 1 + 0x1p-49), 0);
+    EXPECT_EQ(compare_squared_length(edge.direction, 1 + 0x1p-49), comparison::equal);
     EXPECT_FALSE(contract_breach(clamped, edge, precision::binary64));
     // Float's tolerance 8·2^-23.
     EXPECT_FALSE(contract_breach(clamped, edge, precision::binary32));

@@ -22,6 +22,7 @@
 #include "core/vec3.h"
 #include "oracle/mpfr_reference.h"
 #include "oracle/oracle.h"
+#include "support/sanitized.h"
 
 namespace rayverify {
 
@@ -445,10 +446,10 @@ TEST(OracleHandCases, TwoHitsFromOutside) {
     expect_roots(s, line_class::two_hit, {1, 4.0}, {1, 6.0});
     EXPECT_EQ(s.nearest_in_front, near_root);
     EXPECT_EQ(s.hit_point, (vec3<double>{0, 0, -1}));
-    // compare_root is sign(value − t*).
-    EXPECT_EQ(s.compare_root(near_root, 4.0), 0);
-    EXPECT_EQ(s.compare_root(near_root, std::nextafter(4.0, 0.0)), -1);
-    EXPECT_EQ(s.compare_root(far_root, std::nextafter(6.0, inf)), +1);
+    // compare_to_root(value, i) is compare(value, t*ᵢ).
+    EXPECT_EQ(s.compare_to_root(4.0, near_root), comparison::equal);
+    EXPECT_EQ(s.compare_to_root(std::nextafter(4.0, 0.0), near_root), comparison::smaller);
+    EXPECT_EQ(s.compare_to_root(std::nextafter(6.0, inf), far_root), comparison::larger);
 }
 
 TEST(OracleHandCases, TangentLine) {
@@ -514,7 +515,7 @@ TEST(OracleHandCases, NonDyadicRationalRootsAreRoundedToNearest) {
     // rest (0101… < ½ ulp) is dropped — the same as the division 4.0 / 3.0.
     const exact_solution s = solve_exact(unit_sphere_ray({0, 0, -5}, {0, 0, 3}), precision::binary64);
     expect_roots(s, line_class::two_hit, {1, 4.0 / 3.0}, {1, 2.0});
-    EXPECT_EQ(s.compare_root(near_root, 4.0 / 3.0), -1);  // RN(4/3) < 4/3
+    EXPECT_EQ(s.compare_to_root(4.0 / 3.0, near_root), comparison::smaller);  // RN(4/3) < 4/3
     const exact_solution f = solve_exact(unit_sphere_ray({0, 0, -5}, {0, 0, 3}), precision::binary32);
     expect_roots(f, line_class::two_hit, {1, double(4.0f / 3.0f)}, {1, 2.0});
 }
@@ -546,8 +547,8 @@ TEST(OracleHandCases, IrrationalRootsAreCorrectlyRounded) {
     const reference_answer reference = solve_with_mpfr_reference(irrational_case, precision::binary64);
     EXPECT_EQ(reference.near_rounded, s.near_root.rounded);
     EXPECT_EQ(reference.far_rounded, s.far_root.rounded);
-    EXPECT_EQ(s.compare_root(near_root, s.near_root.rounded), +1);
-    EXPECT_EQ(s.compare_root(near_root, std::nextafter(s.near_root.rounded, 0.0)), -1);
+    EXPECT_EQ(s.compare_to_root(s.near_root.rounded, near_root), comparison::larger);
+    EXPECT_EQ(s.compare_to_root(std::nextafter(s.near_root.rounded, 0.0), near_root), comparison::smaller);
 
     // Nearest, not merely adjacent: both neighbours are more than ½ ulp away.
     const double rounded = s.near_root.rounded;
@@ -568,8 +569,8 @@ TEST(OracleHandCases, IrrationalRootsInBinary32) {
     const double rounded = s.near_root.rounded;
     const double below = next_down(precision::binary32, rounded);
     const double above = next_up(precision::binary32, rounded);
-    EXPECT_EQ(s.compare_root(near_root, (below + rounded) / 2), -1);
-    EXPECT_EQ(s.compare_root(near_root, (rounded + above) / 2), +1);
+    EXPECT_EQ(s.compare_to_root((below + rounded) / 2, near_root), comparison::smaller);
+    EXPECT_EQ(s.compare_to_root((rounded + above) / 2, near_root), comparison::larger);
     // Errors are in float ulps (2^−22 here).
     EXPECT_NEAR(s.root_ulp_error(near_root, rounded), 0.39848427794443088, 1e-14);
     EXPECT_NEAR(s.root_ulp_error(near_root, above), 1 - 0.39848427794443088, 1e-14);
@@ -691,7 +692,7 @@ TEST(OracleCrossCheck, RandomTiesRoundToEven) {
             ASSERT_EQ(s.cls, line_class::two_hit);
             EXPECT_EQ(s.far_root.rounded, even) << describe(tie.geometry);
             if (p == 24) {  // (lo + hi)/2 is then a double
-                EXPECT_EQ(s.compare_root(far_root, (lo + hi) / 2), 0);
+                EXPECT_EQ(s.compare_to_root((lo + hi) / 2, far_root), comparison::equal);
             }
             EXPECT_EQ(s.root_ulp_error(far_root, lo), 0.5);
         }
@@ -752,7 +753,7 @@ TEST(OracleInvalidInputs, BadInterval) {
 // ---------------------------------------------------------------------------
 // 4. Independent cross-check against the MPFR reference.
 
-constexpr int cases_per_regime = 4000;
+constexpr int cases_per_regime = static_cast<int>(test_support::sweep_size(4000));
 
 TEST(OracleCrossCheck, AgreesWithMpfrReferenceInEveryRegime) {
     std::uint64_t first_seed = 1;

@@ -68,7 +68,7 @@ std::string show(const ray_sphere<double>& g) {
 // sign(t* − v) for the exact root i.
 int exact_compare(const exact_solution& e, root_index i, double v) {
     if (std::isinf(v)) return v > 0 ? -1 : 1;
-    return -e.compare_root(i, v);
+    return -static_cast<int>(e.compare_to_root(v, i));
 }
 
 template <ends Lower, ends Upper>

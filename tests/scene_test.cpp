@@ -413,7 +413,8 @@ TEST(SceneAudit, NearestSpheresTiedInThePrecisionAreNotWrongSphere) {
     const std::vector<sphere_solution> solved = solve_spheres(s, r);
     ASSERT_EQ(solved[0].exact.near_root.rounded, 9.0);
     ASSERT_EQ(solved[1].exact.near_root.rounded, 9.0);
-    ASSERT_LT(compare_roots(solved[1].exact, root_index::near_root, solved[0].exact, root_index::near_root), 0);
+    ASSERT_EQ(compare_roots(solved[1].exact, root_index::near_root, solved[0].exact, root_index::near_root),
+              comparison::smaller);
     const std::optional<exact_nearest> nearest = exact_nearest_hit(r, solved);
     ASSERT_TRUE(nearest);
     EXPECT_EQ(nearest->index, 1u);  // A, exactly, though it is listed second

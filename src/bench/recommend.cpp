@@ -116,30 +116,32 @@ template <class T, class Kernel>
 [[gnu::flatten]] double cast_all(const prepared_rays<T>& p, Kernel kernel, const contract& promises) {
     double sum = 0;
     for (const prepared_ray<T>& r : p.rays) {
+        const query_requirements needs = query_needs(r.query);
         T upper = r.tmax;
         bool hit = false;
         std::uint32_t nearest = 0;
         for (std::uint32_t i = r.first; i < r.first + r.count; ++i) {
             const root_pair<T> a = kernel(p.pairs[i], r.tmin, upper);
-            if (r.query == ray_query::both_roots) {
+            if (needs.far_root) {
                 if (a.count > 0) sum += static_cast<double>(a.t0) + static_cast<double>(a.t1);
                 continue;
             }
             T t{};
             if (!first_root_in(promises, a, r.tmin, upper, t)) continue;
             hit = true;
-            if (r.query == ray_query::any_hit) break;
+            if (needs.first_hit_answers) break;
             upper = t;
             nearest = i;
         }
         if (!hit) continue;
         sum += 1;
-        if (r.query == ray_query::nearest_hit) sum += static_cast<double>(upper);
-        if (r.query == ray_query::hit_point_normal) {
+        if (needs.hit_point) {
             const ray_sphere<T>& s = p.pairs[nearest];
             const vec3<T> point = s.origin + upper * s.direction;
             const vec3<T> normal = (T(1) / s.radius) * (point - s.centre);
             sum += static_cast<double>(normal.x + normal.y + normal.z);
+        } else if (needs.nearest_root) {
+            sum += static_cast<double>(upper);
         }
     }
     return sum;
@@ -181,11 +183,11 @@ recommend_candidate judged(const scene_target_figures& f, ray_kind kind, ray_que
     c.wrong = k.disagreements();
     c.false_miss = k.verdicts[static_cast<std::size_t>(verdict_kind::false_miss)];
     c.false_hit = k.verdicts[static_cast<std::size_t>(verdict_kind::false_hit)];
-    if (query != ray_query::any_hit && k.nearest_ulp.count > 0) {
+    if (query_needs(query).nearest_root && k.nearest_ulp.count > 0) {
         c.max_ulp = k.nearest_ulp.max;
         c.max_ulp_ray = k.nearest_ulp.max_id;
     }
-    if (query == ray_query::both_roots && k.far_ulp.count > 0 && k.far_ulp.max > c.max_ulp.value_or(-1)) {
+    if (query_needs(query).far_root && k.far_ulp.count > 0 && k.far_ulp.max > c.max_ulp.value_or(-1)) {
         c.max_ulp = k.far_ulp.max;
         c.max_ulp_ray = k.far_ulp.max_id;
     }
@@ -274,13 +276,12 @@ recommendation recommend(const scene& s, std::span<const scene_ray> rays, std::s
     out.prec = s.prec;
     out.normalised = s.normalise_directions;
     out.budget = budget;
-    const std::pair<ray_kind, const ray_kind_settings*> kinds[] = {
-        {ray_kind::primary, &s.primary}, {ray_kind::shadow, &s.shadow}, {ray_kind::secondary, &s.secondary}};
-    for (const auto& [kind, settings] : kinds) {
-        if (!settings->enabled) continue;
-        out.kinds.push_back(s.prec == precision::binary32
-                                ? decide_kind<float>(s, kind, *settings, rays, variants, budget, timing)
-                                : decide_kind<double>(s, kind, *settings, rays, variants, budget, timing));
+    for (const ray_kind kind : every_ray_kind) {
+        const ray_kind_settings& settings = s.settings(kind);
+        if (!settings.enabled) continue;
+        out.kinds.push_back(with_precision(s.prec, [&]<class T>(std::type_identity<T>) {
+            return decide_kind<T>(s, kind, settings, rays, variants, budget, timing);
+        }));
     }
     return out;
 }

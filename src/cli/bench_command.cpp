@@ -11,14 +11,16 @@
 #include "bench/far_sphere_sweep.h"
 #include "bench/long_double.h"
 #include "bench/oracle_timing.h"
+#include "bench/audit_timing.h"
 #include "bench/robust_fallback.h"
 #include "bench/timing.h"
-#include "cli/bench_audit.h"
 #include "cli/commands.h"
 #include "compare/stability.h"
 #include "core/input_error.h"
 #include "corpus/corpus_io.h"
+#include "report/audit_pass.h"
 #include "report/audit_report.h"
+#include "report/audit_timing_report.h"
 #include "report/benchmark_json.h"
 #include "report/markdown_report.h"
 #include "report/stability_report.h"
@@ -203,7 +205,13 @@ int run(const bench_options& options, const std::string& command_line) {
     if (options.audit && (!options.benchmark_json.empty() || !options.precisions.empty() || !options.report_dir.empty()))
         throw input_error("", 0, "--audit", "times the audit of the 13 textbook variants: not with --benchmark-json, "
                                             "--precision or --report");
-    if (options.audit) return run_audit_timing(cases, options.repetitions, std::max(options.min_time, 0.05));
+    if (options.audit) {
+        const auto whole_pass = [](const case_source& next, const std::vector<audit_target>& targets,
+                                   std::ostream* per_case) { return run_audit_pass(next, targets, 1, true, per_case).audit.cases; };
+        fmt::print("{}", audit_timing_text(bench::measure_audit_timing(cases, options.repetitions,
+                                                                       std::max(options.min_time, 0.05), whole_pass)));
+        return exit_ok;
+    }
     // --precision: the names timing rows carry ("long double" for long_double).
     const auto chosen = [&](const char* name) {
         return options.precisions.empty() ||

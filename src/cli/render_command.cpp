@@ -56,7 +56,7 @@ std::string legend_text(const scene& s, const audit_target& target, const scene_
     out += "\n|---|";
     for (int v = 0; v < verdict_kind_count; ++v) out += "---|";
     out += "\n";
-    for (ray_kind kind : {ray_kind::primary, ray_kind::shadow, ray_kind::secondary}) {
+    for (const ray_kind kind : every_ray_kind) {
         const std::size_t k = static_cast<std::size_t>(kind);
         if (!p.kind_drawn[k]) continue;
         out += fmt::format("| {} |", ray_kind_name(kind));

@@ -86,12 +86,7 @@ std::size_t target_tally::disagreements() const {
     return n;
 }
 
-std::size_t target_tally::by_design() const {
-    std::size_t n = 0;
-    for (int c = 0; c < disagreement_cause_count; ++c)
-        if (is_by_design(static_cast<disagreement_cause>(c))) n += causes[c];
-    return n;
-}
+std::size_t target_tally::by_design() const { return by_design_count(causes); }
 
 // Bucket keys: 0 holds exactly 0; key k ≥ 1 holds the doubles whose bits,
 // shifted right by 52 − resolution_bits, equal k − 1. For non-negative

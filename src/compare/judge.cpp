@@ -24,8 +24,11 @@ constexpr unsigned shown_for(std::initializer_list<ray_query> queries) {
     for (const ray_query q : queries) mask |= 1u << static_cast<unsigned>(q);
     return mask;
 }
-constexpr unsigned all_scene_queries =
-    shown_for({ray_query::any_hit, ray_query::nearest_hit, ray_query::both_roots, ray_query::hit_point_normal});
+constexpr unsigned all_scene_queries = [] {
+    unsigned mask = 0;
+    for (const ray_query q : every_ray_query) mask |= shown_for({q});
+    return mask;
+}();
 constexpr unsigned root_queries = shown_for({ray_query::nearest_hit, ray_query::both_roots, ray_query::hit_point_normal});
 constexpr unsigned nearest_queries = shown_for({ray_query::nearest_hit, ray_query::hit_point_normal});
 
@@ -146,6 +149,13 @@ std::string_view cause_name(disagreement_cause c) { return entry(c).name; }
 std::string_view cause_meaning(disagreement_cause c) { return entry(c).meaning; }
 bool is_by_design(disagreement_cause c) { return entry(c).by_design; }
 
+std::size_t by_design_count(const std::array<std::size_t, disagreement_cause_count>& causes) {
+    std::size_t n = 0;
+    for (const cause_entry& e : cause_table)
+        if (e.by_design) n += causes[static_cast<std::size_t>(e.cause)];
+    return n;
+}
+
 std::optional<disagreement_cause> cause_from_name(std::string_view name) {
     for (const cause_entry& e : cause_table)
         if (e.name == name) return e.cause;
@@ -155,24 +165,25 @@ std::optional<disagreement_cause> cause_from_name(std::string_view name) {
 // ---- Exact facts under a contract ----------------------------------------------
 
 bool root_in_range(const exact_solution& exact, root_index i, const t_range& range) {
-    // compare_root(i, x) = sign(x − t*); against 0 it is the root's exact sign, negated.
+    // compare(0, t*) is the root's exact sign, negated.
     const auto above_lower = [&] {
         if (std::isinf(range.lower)) return range.lower < 0;
-        const int side = range.lower == 0 ? -exact.root(i).sign : exact.compare_root(i, range.lower);
-        return side < 0 || (side == 0 && range.lower_end == end_kind::closed);
+        const comparison side =
+            range.lower == 0 ? comparison_of_sign(-exact.root(i).sign) : exact.compare_to_root(range.lower, i);
+        return side == comparison::smaller || (side == comparison::equal && range.lower_end == end_kind::closed);
     };
     const auto below_upper = [&] {
         if (std::isinf(range.upper)) return range.upper > 0;
-        const int side = exact.compare_root(i, range.upper);
-        return side > 0 || (side == 0 && range.upper_end == end_kind::closed);
+        const comparison side = exact.compare_to_root(range.upper, i);
+        return side == comparison::larger || (side == comparison::equal && range.upper_end == end_kind::closed);
     };
     return above_lower() && below_upper();
 }
 
 bool starts_inside(const exact_solution& exact, const t_range& range) {
     if (exact.cls != line_class::two_hit || std::isinf(range.lower)) return false;
-    return exact.compare_root(root_index::near_root, range.lower) > 0 &&
-           exact.compare_root(root_index::far_root, range.lower) < 0;
+    return exact.compare_to_root(range.lower, root_index::near_root) == comparison::larger &&
+           exact.compare_to_root(range.lower, root_index::far_root) == comparison::smaller;
 }
 
 expected_hit expect_hit(const contract& promises, const exact_solution& exact, const t_range& range) {
@@ -215,9 +226,9 @@ root_index stands_for(const exact_solution& exact, double t, root_index wanted) 
     if (exact.cls != line_class::two_hit || t == exact.root(wanted).rounded ||
         side_preserving_rounding(exact, wanted, t))
         return wanted;
-    const int side = exact.compare_midpoint(t);
-    if (side == 0) return wanted;  // equidistant: the benefit of the doubt
-    return side < 0 ? root_index::near_root : root_index::far_root;
+    const comparison side = exact.compare_to_midpoint(t);
+    if (side == comparison::equal) return wanted;  // equidistant: the benefit of the doubt
+    return side == comparison::smaller ? root_index::near_root : root_index::far_root;
 }
 
 // ---- Running a variant ------------------------------------------------------------
@@ -574,15 +585,16 @@ double ulp_of_root(const exact_solution& exact, root_index i) {
     int exponent = 0;
     const bool power_of_two = rounded != 0 && std::fabs(std::frexp(rounded, &exponent)) == 0.5;
     if (!power_of_two) return ulp;
-    const bool rounded_away = rounded > 0 ? exact.compare_root(i, rounded) > 0 : exact.compare_root(i, rounded) < 0;
+    const bool rounded_away = exact.compare_to_root(rounded, i) == (rounded > 0 ? comparison::larger : comparison::smaller);
     return rounded_away && ulp > ulp_of_in(exact.prec, std::nextafter(rounded, 0.0)) ? ulp / 2 : ulp;
 }
 
 // Does the exact value lie in [lower, upper]? Infinite ends by sign; a NaN end never holds it.
-bool holds(double lower, double upper, const std::function<int(double)>& compare_with_exact) {
+// `compare_to_exact(x)` is compare(x, x*).
+bool holds(double lower, double upper, const std::function<comparison(double)>& compare_to_exact) {
     if (std::isnan(lower) || std::isnan(upper)) return false;
-    const bool above = std::isinf(lower) ? lower < 0 : compare_with_exact(lower) <= 0;  // lower − x* ≤ 0
-    const bool below = std::isinf(upper) ? upper > 0 : compare_with_exact(upper) >= 0;
+    const bool above = std::isinf(lower) ? lower < 0 : compare_to_exact(lower) != comparison::larger;
+    const bool below = std::isinf(upper) ? upper > 0 : compare_to_exact(upper) != comparison::smaller;
     return above && below;
 }
 
@@ -666,90 +678,135 @@ scaled root_error(const exact_solution& exact, root_index i, double t) {
     return s;
 }
 
-// An agreeing answer's outputs beside t (contract::outputs) and its error in
-// the scene's length scale: measured, and the bounds checked (a bound that
-// leaves out the exact value turns the verdict into unsound_bound).
-void measure_outputs(const contract& promises, const variant_output& output, const exact_solution& exact,
-                     const t_range& range, const ray_sphere<double>& input, case_score& s) {
+// The largest of the figures `measure` gives, over the values it gives one for.
+void keep_max(std::optional<double>& figure, double x) { figure = std::max(figure.value_or(0), x); }
+
+// An agreeing answer's error in the scene's length scale: |t − t*|·|d| over
+// the radius and over |o − c|, the largest over the values judged (each
+// where its length is not 0: a point sphere, an origin at the centre). None
+// for a t* that rounds to an infinity (beyond the precision, no length to
+// measure) or a non-finite t.
+struct scale_errors {
+    std::optional<double> radius, distance;
+};
+scale_errors measure_scale_errors(const judged_list& judged, const double (&t)[2], const exact_solution& exact,
+                                  const ray_sphere<double>& input) {
+    scale_errors out;
+    if (!judged.size) return out;
+    const scaled d_length = euclidean_length(input.direction);
+    const scaled distance = origin_to_centre(input);
+    for (const judged_value& j : judged) {
+        const double value = t[j.slot];
+        if (!std::isfinite(value) || (j.root && !std::isfinite(exact.root(*j.root).rounded))) continue;
+        // |t − t*|: ULPs of t* times ulp(t*), or |t| itself where t* is exactly 0 (no ulp to count in).
+        const scaled error = j.root ? root_error(exact, *j.root, value) : distance_between(value, j.start);
+        if (input.radius > 0) keep_max(out.radius, (error * d_length / scaled::of(input.radius)).value());
+        if (distance.m != 0) keep_max(out.distance, (error * d_length / distance).value());
+    }
+    return out;
+}
+
+// The t bounds an answer gives beside its roots (outputs t_bounds): the
+// widest in ULPs of the precision, and the first that leaves out the exact
+// value it stands for, said in words.
+struct t_bounds_check {
+    std::optional<double> width_ulp;
+    std::optional<std::string> unsound;
+};
+t_bounds_check check_t_bounds(const judged_list& judged, const variant_output& output, const exact_solution& exact) {
+    t_bounds_check out;
+    if (!output.t_bounds) return out;
+    const double t[2] = {output.roots.t0, output.roots.t1};
+    for (const judged_value& j : judged) {
+        const double value = t[j.slot];
+        if (!std::isfinite(value)) continue;
+        const auto [lower, upper] = (*output.t_bounds)[static_cast<std::size_t>(j.slot)];
+        const bool sound = holds(lower, upper, [&](double x) {
+            return j.root ? exact.compare_to_root(x, *j.root) : compare(x, j.start);
+        });
+        keep_max(out.width_ulp, std::isfinite(lower) && std::isfinite(upper) && lower <= upper
+                                    ? static_cast<double>(ulps_between_in(exact.prec, lower, upper))
+                                    : std::numeric_limits<double>::infinity());
+        if (!sound && !out.unsound)
+            out.unsound = fmt::format("t{} = {} claims [{}, {}], which leaves out {}", j.slot, value, lower, upper,
+                                      j.root ? fmt::format("the {} root t* ≈ {}", root_word(*j.root),
+                                                           exact.root(*j.root).rounded)
+                                             : fmt::format("the clamp t = {}", j.start));
+    }
+    return out;
+}
+
+// The hit point's error bound (outputs point_error): the box p ∓ e, its ends
+// rounded outward to double, must hold the exact hit point, or under a
+// point_error=surface contract some point of the sphere. What is wrong, in
+// words, when it does not.
+std::optional<std::string> check_point_bound(const contract& promises, const variant_output& output,
+                                             const exact_solution& exact, root_index root,
+                                             const ray_sphere<double>& input) {
+    double lower[3], upper[3];
+    std::optional<int> bad_axis;
+    for (int axis = 2; axis >= 0; --axis) {
+        const double p = (*output.hit_point)[axis], e = (*output.point_error)[axis];
+        const dword low = two_sum(p, -e), high = two_sum(p, e);
+        lower[axis] = low.l < 0 ? std::nextafter(low.h, -INFINITY) : low.h;
+        upper[axis] = high.l > 0 ? std::nextafter(high.h, INFINITY) : high.h;
+        if (!(e >= 0) || !std::isfinite(lower[axis]) || !std::isfinite(upper[axis])) bad_axis = axis;
+    }
+    const auto axis_text = [&](int axis) {
+        return fmt::format("{} = {} ± {}", "xyz"[axis], (*output.hit_point)[axis], (*output.point_error)[axis]);
+    };
+    if (bad_axis) return fmt::format("hit point coordinate {} is no bound", axis_text(*bad_axis));
+    if (promises.outputs.point_error == point_bound::surface) {
+        if (!box_meets_sphere({lower[0], lower[1], lower[2]}, {upper[0], upper[1], upper[2]}, input.centre,
+                              input.radius))
+            return fmt::format("hit point ({}, {}, {}) holds no point of the sphere", axis_text(0), axis_text(1),
+                               axis_text(2));
+        return std::nullopt;
+    }
+    for (int axis = 0; axis < 3; ++axis)
+        if (!holds(lower[axis], upper[axis], [&](double x) { return exact.compare_to_hit_coordinate(x, root, axis); }))
+            return fmt::format("hit point coordinate {} leaves out p* ≈ {}", axis_text(axis),
+                               exact.hit_coordinate_in_double(root, axis));
+    return std::nullopt;
+}
+
+// The angle between the answer's normal and the exact normal's direction
+// p* − c, from p* rounded to double (good to about 2^-53·|p*|/r radians);
+// +inf for a normal of no direction or a NaN.
+double normal_angle(const vec3<double>& normal, const exact_solution& exact, root_index root,
+                    const ray_sphere<double>& input) {
+    const auto exact_minus_centre = [&](int axis) {
+        return static_cast<long double>(exact.hit_coordinate_in_double(root, axis)) - input.centre[axis];
+    };
+    const vec3<long double> n = vec3_cast<long double>(normal);
+    const vec3<long double> m{exact_minus_centre(0), exact_minus_centre(1), exact_minus_centre(2)};
+    const vec3<long double> cross{n.y * m.z - n.z * m.y, n.z * m.x - n.x * m.z, n.x * m.y - n.y * m.x};
+    const long double along = std::fabs(dot(n, m)), across = std::sqrt(dot(cross, cross));
+    const double angle = static_cast<double>(std::atan2(across, along));
+    return std::isnan(angle) || (along == 0 && across == 0) ? std::numeric_limits<double>::infinity() : angle;
+}
+
+// An agreeing answer's outputs beside t (contract::outputs) measured, and its
+// error in the scene's length scale; where a bound it gives leaves out the
+// exact value, what is wrong, in words (verdict row 12, unsound_bound).
+std::optional<std::string> measure_outputs(const contract& promises, const variant_output& output,
+                                           const exact_solution& exact, const t_range& range,
+                                           const ray_sphere<double>& input, case_score& s) {
     const judged_list judged = judged_values(
         promises.query, exact,
         promises.query == query_kind::nearest_hit ? expect_hit(promises, exact, range) : expected_hit{});
     const double t[2] = {output.roots.t0, output.roots.t1};
-    const scaled d_length = judged.size ? euclidean_length(input.direction) : scaled{};
-    const scaled distance = judged.size ? origin_to_centre(input) : scaled{};
-    std::optional<std::string> unsound;
-    for (const judged_value& j : judged) {
-        const double value = t[j.slot];
-        if (!std::isfinite(value)) continue;
-        // |t − t*|: ULPs of t* times ulp(t*), or |t| itself where t* is exactly 0 (no ulp to count in);
-        // none where t* rounds to an infinity (beyond the precision, no length to measure).
-        const auto keep_max = [](std::optional<double>& figure, double x) { figure = std::max(figure.value_or(0), x); };
-        if (!j.root || std::isfinite(exact.root(*j.root).rounded)) {
-            const scaled error = j.root ? root_error(exact, *j.root, value) : distance_between(value, j.start);
-            // Each where its length is not 0 (a point sphere, an origin at the centre).
-            if (input.radius > 0)
-                keep_max(s.scale_error_radius, (error * d_length / scaled::of(input.radius)).value());
-            if (distance.m != 0) keep_max(s.scale_error_distance, (error * d_length / distance).value());
-        }
-        if (!output.t_bounds) continue;
-        const auto [lower, upper] = (*output.t_bounds)[static_cast<std::size_t>(j.slot)];
-        const bool sound = holds(lower, upper, [&](double x) {
-            return j.root ? exact.compare_root(*j.root, x) : (x > j.start) - (x < j.start);
-        });
-        keep_max(s.bound_ulp, std::isfinite(lower) && std::isfinite(upper) && lower <= upper
-                                  ? static_cast<double>(ulps_between_in(exact.prec, lower, upper))
-                                  : std::numeric_limits<double>::infinity());
-        if (!sound && !unsound)
-            unsound = fmt::format("t{} = {} claims [{}, {}], which leaves out {}", j.slot, value, lower, upper,
-                                  j.root ? fmt::format("the {} root t* ≈ {}", root_word(*j.root), exact.root(*j.root).rounded)
-                                         : fmt::format("the clamp t = {}", j.start));
-    }
+    const scale_errors scale = measure_scale_errors(judged, t, exact, input);
+    s.scale_error_radius = scale.radius;
+    s.scale_error_distance = scale.distance;
+    const t_bounds_check bounds = check_t_bounds(judged, output, exact);
+    s.bound_ulp = bounds.width_ulp;
+    std::optional<std::string> unsound = bounds.unsound;
     const std::optional<exact_hit> hit = exact_hit_of(promises, output, exact, range);
-    if (hit && hit->root && output.point_error && !unsound) {
-        // The box p ∓ e, its ends rounded outward to double.
-        double lower[3], upper[3];
-        std::optional<int> bad_axis;
-        for (int axis = 2; axis >= 0; --axis) {
-            const double p = (*output.hit_point)[axis], e = (*output.point_error)[axis];
-            const dword low = two_sum(p, -e), high = two_sum(p, e);
-            lower[axis] = low.l < 0 ? std::nextafter(low.h, -INFINITY) : low.h;
-            upper[axis] = high.l > 0 ? std::nextafter(high.h, INFINITY) : high.h;
-            if (!(e >= 0) || !std::isfinite(lower[axis]) || !std::isfinite(upper[axis])) bad_axis = axis;
-        }
-        const auto axis_text = [&](int axis) {
-            return fmt::format("{} = {} ± {}", "xyz"[axis], (*output.hit_point)[axis], (*output.point_error)[axis]);
-        };
-        if (bad_axis) {
-            unsound = fmt::format("hit point coordinate {} is no bound", axis_text(*bad_axis));
-        } else if (promises.outputs.point_error == point_bound::surface) {
-            if (!box_meets_sphere({lower[0], lower[1], lower[2]}, {upper[0], upper[1], upper[2]}, input.centre,
-                                  input.radius))
-                unsound = fmt::format("hit point ({}, {}, {}) holds no point of the sphere", axis_text(0),
-                                      axis_text(1), axis_text(2));
-        } else {
-            for (int axis = 0; axis < 3 && !unsound; ++axis)
-                if (!holds(lower[axis], upper[axis],
-                           [&](double x) { return exact.compare_hit_coordinate(*hit->root, axis, x); }))
-                    unsound = fmt::format("hit point coordinate {} leaves out p* ≈ {}", axis_text(axis),
-                                          exact.hit_coordinate_in_double(*hit->root, axis));
-        }
-    }
-    if (hit && hit->root && output.normal) {
-        // The exact normal's direction p* − c, from p* rounded to double (good to about 2^-53·|p*|/r radians).
-        const auto exact_minus_centre = [&](int axis) {
-            return static_cast<long double>(exact.hit_coordinate_in_double(*hit->root, axis)) - input.centre[axis];
-        };
-        const vec3<long double> n = vec3_cast<long double>(*output.normal);
-        const vec3<long double> m{exact_minus_centre(0), exact_minus_centre(1), exact_minus_centre(2)};
-        const vec3<long double> cross{n.y * m.z - n.z * m.y, n.z * m.x - n.x * m.z, n.x * m.y - n.y * m.x};
-        const long double along = std::fabs(dot(n, m)), across = std::sqrt(dot(cross, cross));
-        const double angle = static_cast<double>(std::atan2(across, along));
-        s.normal_angle = std::isnan(angle) || (along == 0 && across == 0) ? std::numeric_limits<double>::infinity() : angle;
-    }
-    if (unsound) {
-        s.verdict = verdict_kind::unsound_bound;
-        s.detail = *unsound;
-    }
+    if (hit && hit->root && output.point_error && !unsound)
+        unsound = check_point_bound(promises, output, exact, *hit->root, input);
+    if (hit && hit->root && output.normal) s.normal_angle = normal_angle(*output.normal, exact, *hit->root, input);
+    return unsound;
 }
 
 // The rounding cause: conditioning-limited when the case is within the
@@ -780,10 +837,10 @@ disagreement_cause cause_of(const contract& promises, const variant_output& outp
         return *unit_design;
     };
     const bool unit_assumed_wrongly =
-        promises.assumes_unit_direction && compare_squared_length(input.direction, 1.0) != 0;
+        promises.assumes_unit_direction && compare_squared_length(input.direction, 1.0) != comparison::equal;
     if (k == verdict_kind::false_tangent && promises.tangent_threshold) {
         const exact_solution& solved = promises.assumes_unit_direction ? design() : exact;
-        if (solved.valid() && solved.compare_discriminant(*promises.tangent_threshold) <= 0)
+        if (solved.valid() && solved.compare_to_discriminant(*promises.tangent_threshold) != comparison::smaller)
             return disagreement_cause::tangent_threshold;
     }
     if (unit_assumed_wrongly) {
@@ -801,8 +858,10 @@ case_score judge_output(const contract& promises, const variant_output& output, 
     case_score s = judge_verdict(promises, output, exact, range);
     if (s.verdict == verdict_kind::agree) {
         measure_hit_point(promises, output, exact, range, input, s);
-        measure_outputs(promises, output, exact, range, input, s);
-        if (s.verdict == verdict_kind::agree) return s;
+        const std::optional<std::string> unsound = measure_outputs(promises, output, exact, range, input, s);
+        if (!unsound) return s;
+        s.verdict = verdict_kind::unsound_bound;
+        s.detail = *unsound;
     }
     if (!s.cause) s.cause = cause_of(promises, output, exact, range, input, s.verdict);
     return s;
@@ -813,12 +872,12 @@ std::optional<std::string> contract_breach(const contract& promises, const ray_s
     if (!promises.assumes_unit_direction) return std::nullopt;
     // |d|² within [1 − 8ε, 1 + 8ε], both ends exact doubles, decided exactly.
     const double tolerance = 8 * (prec == precision::binary32 ? 0x1p-23 : 0x1p-52);
-    const int above = compare_squared_length(input.direction, 1 + tolerance);
-    const int below = compare_squared_length(input.direction, 1 - tolerance);
-    if (above <= 0 && below >= 0) return std::nullopt;
+    const comparison above = compare_squared_length(input.direction, 1 + tolerance);
+    const comparison below = compare_squared_length(input.direction, 1 - tolerance);
+    if (above != comparison::larger && below != comparison::smaller) return std::nullopt;
     const double squared = dot(input.direction, input.direction);
     return fmt::format("assumes a unit direction, but |d|² ≈ {:.17g} is {} 1 {} 8ε (8ε = {:.3g})", squared,
-                       above > 0 ? "above" : "below", above > 0 ? "+" : "−", tolerance);
+                       above == comparison::larger ? "above" : "below", above == comparison::larger ? "+" : "−", tolerance);
 }
 
 exact_solution solve_case(const corpus_case& c, precision p) {
@@ -906,22 +965,6 @@ template std::optional<batch_case<float>> run_input<float>(const audit_target&, 
 template std::optional<batch_case<double>> run_input<double>(const audit_target&, const corpus_case&);
 
 // ---- The renderer's view --------------------------------------------------------
-
-const char* ray_query_name(ray_query q) {
-    switch (q) {
-        case ray_query::any_hit: return "any_hit";
-        case ray_query::nearest_hit: return "nearest_hit";
-        case ray_query::both_roots: return "both_roots";
-        case ray_query::hit_point_normal: return "hit_point_normal";
-    }
-    return "?";
-}
-
-std::optional<ray_query> ray_query_from_name(std::string_view name) {
-    for (ray_query q : {ray_query::any_hit, ray_query::nearest_hit, ray_query::both_roots, ray_query::hit_point_normal})
-        if (name == ray_query_name(q)) return q;
-    return std::nullopt;
-}
 
 contract renderer_contract(ray_query q, end_kind lower_end, end_kind upper_end) {
     contract c;

@@ -3,8 +3,8 @@
 // corpus audits, scenes (per sphere, composed in scene/scene_audit), the
 // hunter, explain and plugins all call it. Every decision is exact: which
 // roots lie in a range is decided by exact comparison with its bounds
-// (exact_solution::compare_root), which root a returned t stands for by its
-// side of the exact midpoint −b′/a (compare_midpoint), the unit-direction
+// (exact_solution::compare_to_root), which root a returned t stands for by its
+// side of the exact midpoint −b′/a (compare_to_midpoint), the unit-direction
 // assumption by the exact |d|² (compare_squared_length). Rounded values only
 // appear where a rounded value is what is meant (RN(t*) as the best answer).
 // Pure functions: no I/O, no state.
@@ -124,6 +124,8 @@ std::string_view cause_name(disagreement_cause c);
 std::optional<disagreement_cause> cause_from_name(std::string_view name);
 std::string_view cause_meaning(disagreement_cause c);
 bool is_by_design(disagreement_cause c);
+// How many of the disagreements counted per cause (indexed by disagreement_cause) are by design.
+std::size_t by_design_count(const std::array<std::size_t, disagreement_cause_count>& causes);
 
 // ---- Answers ------------------------------------------------------------------
 
@@ -281,9 +283,6 @@ target_outcome judge_target(const audit_target& target, const corpus_case& c, co
                             const given_answer& given = {});
 
 // ---- The renderer's view ------------------------------------------------------
-
-const char* ray_query_name(ray_query q);
-std::optional<ray_query> ray_query_from_name(std::string_view name);
 
 // The contract a renderer judges by: the query's answer on the ray's interval
 // with the given ends, the far root from inside, both faces, a tangent a hit

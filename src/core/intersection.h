@@ -6,6 +6,8 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <optional>
+#include <string_view>
 
 #include "core/contract.h"
 #include "core/double_word.h"
@@ -26,6 +28,45 @@ struct ray_interval {
 // the nearest root in the interval; both_roots: the near and far roots;
 // hit_point_normal: the nearest root, its hit point o + t·d and the normal there.
 enum class ray_query { any_hit, nearest_hit, both_roots, hit_point_normal };
+inline constexpr std::array every_ray_query{ray_query::any_hit, ray_query::nearest_hit, ray_query::both_roots,
+                                            ray_query::hit_point_normal};
+
+// The one spelling of each query (scene files, reports, messages).
+constexpr const char* ray_query_name(ray_query q) {
+    switch (q) {
+        case ray_query::any_hit: return "any_hit";
+        case ray_query::nearest_hit: return "nearest_hit";
+        case ray_query::both_roots: return "both_roots";
+        case ray_query::hit_point_normal: return "hit_point_normal";
+    }
+    return "?";
+}
+
+// The query named `name`; nullopt for any other name.
+constexpr std::optional<ray_query> ray_query_from_name(std::string_view name) {
+    for (const ray_query q : every_ray_query)
+        if (name == ray_query_name(q)) return q;
+    return std::nullopt;
+}
+
+// What a query asks beyond hit or miss, and so which figures judge and report
+// it: the one place that says so (the scene audit, its tables and report, and
+// bench's recommend read it).
+struct query_requirements {
+    bool first_hit_answers = false;  // any_hit: the first hit found answers the ray; no root is measured
+    bool nearest_root = false;       // the nearest root's t, measured in ULPs
+    bool far_root = false;           // the far root's t too (both_roots: the near root is the "nearest")
+    bool hit_point = false;          // the nearest hit point (and its normal), measured in ULPs
+};
+
+constexpr query_requirements query_needs(ray_query q) {
+    query_requirements needs;
+    needs.first_hit_answers = q == ray_query::any_hit;
+    needs.nearest_root = q != ray_query::any_hit;
+    needs.far_root = q == ray_query::both_roots;
+    needs.hit_point = q == ray_query::hit_point_normal;
+    return needs;
+}
 
 // A miss is a value: count == 0. Roots are only meaningful for count > 0.
 template <class T>

@@ -1,6 +1,7 @@
 // One ray–sphere test case: the ray o + t·d and the sphere |p − c| = r.
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <optional>
 #include <string>
@@ -24,15 +25,17 @@ struct ray_sphere {
 // inputs rounded to float and is judged against the exact answer for exactly
 // those float inputs.
 enum class precision { binary32, binary64 };
+inline constexpr std::array every_precision{precision::binary32, precision::binary64};
 
+// The one spelling of each precision (options, corpus and scene files, reports).
 constexpr const char* precision_name(precision p) {
     return p == precision::binary32 ? "float" : "double";
 }
 
 // The precision named `name` ("float" or "double"); nullopt for any other name.
 constexpr std::optional<precision> precision_from_name(std::string_view name) {
-    if (name == "float") return precision::binary32;
-    if (name == "double") return precision::binary64;
+    for (const precision p : every_precision)
+        if (name == precision_name(p)) return p;
     return std::nullopt;
 }
 

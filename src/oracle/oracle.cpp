@@ -53,6 +53,14 @@ auto settle(stage_tally& tally, Filter&& filter, Expansion&& expansion, Exact&& 
     return exact();
 }
 
+// compare(a, b) from a stage's uncertain sign(a − b), and from its uncertain sign(b − a).
+uncertain_comparison comparison_from(uncertain_sign s) {
+    return s ? uncertain_comparison(comparison_of_sign(*s)) : std::nullopt;
+}
+uncertain_comparison comparison_from_reversed(uncertain_sign s) {
+    return s ? uncertain_comparison(comparison_of_sign(-*s)) : std::nullopt;
+}
+
 // The same with no expansion stage.
 template <class Filter, class Exact>
 auto settle(stage_tally& tally, Filter&& filter, Exact&& exact) -> decltype(exact()) {
@@ -247,16 +255,16 @@ struct exact_solution::internal {
         return round_in(p, s.state().hit_coordinate(i, axis));
     }
 
-    static int compare_roots(const exact_solution& a, root_index i, const exact_solution& b, root_index j) {
+    static comparison compare_roots(const exact_solution& a, root_index i, const exact_solution& b, root_index j) {
         return settle(
             oracle_stage_counts_this_thread().comparisons,
-            [&]() -> uncertain_sign {
+            [&]() -> uncertain_comparison {
                 const enclosure& x = root_enclosure(a, i);
                 const enclosure& y = root_enclosure(b, j);
                 if (!known(x) || !known(y)) return std::nullopt;
-                return sign_of(bounded_of(x) - bounded_of(y));
+                return comparison_from(sign_of(bounded_of(x) - bounded_of(y)));
             },
-            [&] { return sign_of_difference(a.state().root(i), b.state().root(j)); });
+            [&] { return comparison_of_sign(sign_of_difference(a.state().root(i), b.state().root(j))); });
     }
 
     static exact_solution reference(const ray_sphere<double>& g, precision prec, std::optional<double> tmin,
@@ -418,46 +426,44 @@ const exact_quadratic& exact_solution::state() const {
     return *exact_;
 }
 
-int exact_solution::compare_root(root_index i, double value) const {
-    // sign(value − t*) = −sign(t* − value).
-    const auto negated = [](uncertain_sign s) { return s ? uncertain_sign(-*s) : s; };
+comparison exact_solution::compare_to_root(double value, root_index i) const {
+    // The stages answer sign(t* − value): compare(value, t*) is its opposite.
     return settle(
         oracle_stage_counts_this_thread().comparisons,
         [&] {
             // Against 0, the root's exact sign answers.
-            return value == 0 ? uncertain_sign(-root(i).sign) : negated(side_of(internal::root_enclosure(*this, i), value));
+            return value == 0 ? uncertain_comparison(comparison_of_sign(-root(i).sign))
+                              : comparison_from_reversed(side_of(internal::root_enclosure(*this, i), value));
         },
-        [&] { return negated(internal::compare_root_by_expansion(*this, i, value)); },
-        [&] { return -state().root(i).compare(exact(value)); });
+        [&] { return comparison_from_reversed(internal::compare_root_by_expansion(*this, i, value)); },
+        [&] { return comparison_of_sign(-state().root(i).compare(exact(value))); });
 }
 
-int exact_solution::compare_midpoint(double value) const {
+comparison exact_solution::compare_to_midpoint(double value) const {
     return settle(
         oracle_stage_counts_this_thread().comparisons,
-        [&]() -> uncertain_sign {
-            const uncertain_sign side = side_of(midpoint_, value);  // sign(m − value)
-            return side ? uncertain_sign(-*side) : side;
-        },
-        [&]() -> uncertain_sign {
-            // sign(value − m) = −sign(m − value), m = −b′/a, from 2b′ + 2a·value.
+        [&] { return comparison_from_reversed(side_of(midpoint_, value)); },  // side_of: sign(m − value)
+        [&]() -> uncertain_comparison {
+            // m = −b′/a: sign(m − value) from 2b′ + 2a·value.
             if (!known(internal::root_enclosure(*this, root_index::near_root)) || !refinable(value)) return std::nullopt;
-            return -tangent_root_side(internal::coefficients(*this), value);
+            return comparison_of_sign(-tangent_root_side(internal::coefficients(*this), value));
         },
         [&] {
             // m = A/den for the roots (A ∓ B√D)/den, so sign(value − m) = sign(value·den − A).
             const quadratic_irrational& root = state().near_root;
-            return sign_of(exact(value) * root.den - root.A);
+            return comparison_of_sign(sign_of(exact(value) * root.den - root.A));
         });
 }
 
-int exact_solution::compare_discriminant(double x) const {
+comparison exact_solution::compare_to_discriminant(double x) const {
     return settle(
-        oracle_stage_counts_this_thread().comparisons, [] { return uncertain_sign(); },
-        [&]() -> uncertain_sign {
+        oracle_stage_counts_this_thread().comparisons, [] { return uncertain_comparison(); },
+        [&]() -> uncertain_comparison {
             if (!in_filter_range(geometry_) || !in_filter_range(x)) return std::nullopt;
-            return discriminant_side(geometry_, internal::coefficients(*this), unit_direction_, x);
+            // discriminant_side: sign(Δ′ − x).
+            return comparison_from_reversed(discriminant_side(geometry_, internal::coefficients(*this), unit_direction_, x));
         },
-        [&] { return sign_of(state().discriminant - exact(x)); });
+        [&] { return comparison_of_sign(sign_of(exact(x) - state().discriminant)); });
 }
 
 double exact_solution::root_ulp_error(root_index i, double value) const {
@@ -505,18 +511,13 @@ double exact_solution::hit_coordinate_in(root_index i, int axis, precision p) co
         [&] { return round_in(p, state().hit_coordinate(i, axis)); });
 }
 
-int exact_solution::compare_hit_coordinate(root_index i, int axis, double value) const {
+comparison exact_solution::compare_to_hit_coordinate(double value, root_index i, int axis) const {
+    // The stages answer sign(p* − value): compare(value, p*) is its opposite.
     return settle(
         oracle_stage_counts_this_thread().comparisons,
-        [&] {
-            const uncertain_sign side = side_of(internal::hit_enclosure(*this, i, axis), value);  // sign(p* − value)
-            return side ? uncertain_sign(-*side) : side;
-        },
-        [&] {
-            const uncertain_sign side = internal::compare_hit_by_expansion(*this, i, axis, value);
-            return side ? uncertain_sign(-*side) : side;
-        },
-        [&] { return -state().hit_coordinate(i, axis).compare(exact(value)); });
+        [&] { return comparison_from_reversed(side_of(internal::hit_enclosure(*this, i, axis), value)); },
+        [&] { return comparison_from_reversed(internal::compare_hit_by_expansion(*this, i, axis, value)); },
+        [&] { return comparison_of_sign(-state().hit_coordinate(i, axis).compare(exact(value))); });
 }
 
 double exact_solution::hit_coordinate_in_double(root_index i, int axis) const {
@@ -531,25 +532,25 @@ exact_solution solve_exact_unit_direction_reference(const ray_sphere<double>& g,
     return exact_solution::internal::reference(g, prec, std::nullopt, std::nullopt, true);
 }
 
-int compare_squared_length(const vec3<double>& d, double x) {
+comparison compare_squared_length(const vec3<double>& d, double x) {
     return settle(
         oracle_stage_counts_this_thread().comparisons,
-        [&]() -> uncertain_sign {
+        [&]() -> uncertain_comparison {
             if (!in_filter_range(d.x) || !in_filter_range(d.y) || !in_filter_range(d.z) || !in_filter_range(x))
                 return std::nullopt;
             // In plain double first: s = |d|² with 5 roundings is within
             // 4.01·2^−53·|d|² < 0.55·2^−50·s of the exact value (no underflow
             // in the filter range), and s − x rounds by at most 2^−53 of itself.
             const double s = d.x * d.x + d.y * d.y + d.z * d.z;
-            if (s - x > 0x1p-50 * s) return +1;
-            if (x - s > 0x1p-50 * s) return -1;
+            if (s - x > 0x1p-50 * s) return comparison::larger;
+            if (x - s > 0x1p-50 * s) return comparison::smaller;
             const bounded length =
                 exactly(two_prod(d.x, d.x)) + exactly(two_prod(d.y, d.y)) + exactly(two_prod(d.z, d.z));
-            return sign_of(length - exactly(x));
+            return comparison_from(sign_of(length - exactly(x)));
         },
         [&] {
             const exact dx(d.x), dy(d.y), dz(d.z);
-            return sign_of(dx * dx + dy * dy + dz * dz - exact(x));
+            return comparison_of_sign(sign_of(dx * dx + dy * dy + dz * dz - exact(x)));
         });
 }
 
@@ -634,7 +635,7 @@ bool box_meets_sphere_reference(const vec3<double>& lower, const vec3<double>& u
     return box_meets_sphere_exactly(lower, upper, centre, radius);
 }
 
-int compare_roots(const exact_solution& a, root_index i, const exact_solution& b, root_index j) {
+comparison compare_roots(const exact_solution& a, root_index i, const exact_solution& b, root_index j) {
     return exact_solution::internal::compare_roots(a, i, b, j);
 }
 

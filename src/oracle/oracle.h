@@ -16,6 +16,7 @@
 #include <memory>
 #include <optional>
 
+#include "core/comparison.h"
 #include "core/ray_sphere_case.h"
 
 namespace rayverify {
@@ -65,16 +66,17 @@ public:
         return i == root_index::near_root ? near_root : far_root;
     }
 
-    // sign(value − t*) exactly; value must be finite. Requires cls != miss.
-    int compare_root(root_index i, double value) const;
+    // Exact comparisons (core/comparison.h: compare(a, b) is sign(a − b)),
+    // the value first: compare(value, t*ᵢ); value finite. Requires cls != miss.
+    comparison compare_to_root(double value, root_index i) const;
 
-    // sign(value − m) exactly, m = −b′/a the midpoint of the two roots; value
+    // compare(value, m), m = −b′/a the midpoint of the two roots; value
     // finite. Below the midpoint a value is nearer the near root, above it
     // the far root. Requires cls != miss.
-    int compare_midpoint(double value) const;
+    comparison compare_to_midpoint(double value) const;
 
-    // sign(Δ′ − x) exactly, Δ′ = b′² − aC of this solution's quadratic; x finite.
-    int compare_discriminant(double x) const;
+    // compare(x, Δ′), Δ′ = b′² − aC of this solution's quadratic; x finite.
+    comparison compare_to_discriminant(double x) const;
 
     // |value − t*| / ulp(t*) in the solution's precision, with every printed
     // digit right (the exact difference is bracketed adaptively). 0 exactly
@@ -88,9 +90,9 @@ public:
     // RN of coordinate `axis` of o + t·d for root i, in the solution's precision.
     double rounded_hit_coordinate(root_index i, int axis) const;
 
-    // sign(value − p*) exactly, p* coordinate `axis` of o + t·d for root i;
-    // value finite. Requires cls != miss.
-    int compare_hit_coordinate(root_index i, int axis, double value) const;
+    // compare(value, p*), p* coordinate `axis` of o + t·d for root i; value
+    // finite. Requires cls != miss.
+    comparison compare_to_hit_coordinate(double value, root_index i, int axis) const;
 
     // RN to double of that coordinate, whatever the solution's precision (a
     // reference a float variant's normal is measured against).
@@ -172,8 +174,8 @@ private:
 exact_solution solve_exact_unit_direction(const ray_sphere<double>& geometry, precision prec);
 exact_solution solve_exact_unit_direction_reference(const ray_sphere<double>& geometry, precision prec);
 
-// sign(|d|² − x) exactly, for finite d and x.
-int compare_squared_length(const vec3<double>& d, double x);
+// compare(|d|², x) exactly, for finite d and x.
+comparison compare_squared_length(const vec3<double>& d, double x);
 
 // Whether the box [lower, upper] (finite ends, lower ≤ upper per coordinate)
 // holds some point of the sphere |x − c| = r, exactly: its nearest point to c
@@ -185,10 +187,10 @@ bool box_meets_sphere(const vec3<double>& lower, const vec3<double>& upper, cons
 bool box_meets_sphere_reference(const vec3<double>& lower, const vec3<double>& upper, const vec3<double>& centre,
                                 double radius);
 
-// sign(t*_i of `a` − t*_j of `b`) exactly: roots of two cases' quadratics
+// compare(t*ᵢ of `a`, t*ⱼ of `b`) exactly: roots of two cases' quadratics
 // (two spheres on one ray) compared without rounding. Requires both classes
 // != miss.
-int compare_roots(const exact_solution& a, root_index i, const exact_solution& b, root_index j);
+comparison compare_roots(const exact_solution& a, root_index i, const exact_solution& b, root_index j);
 
 // How the oracle settled what it was asked, on the calling thread since it
 // started (or since the caller reset it): per kind of answer, how many the

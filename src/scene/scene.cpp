@@ -256,8 +256,21 @@ public:
         return j.get<long long>();
     }
 
+    // One of a table's values, by the name its one spelling gives it.
+    template <class E, std::size_t N, class NameOf>
+    E choice(const json& j, const std::string& path, const std::array<E, N>& values, NameOf name_of) const {
+        std::vector<std::pair<const char*, E>> options;
+        for (const E v : values) options.emplace_back(name_of(v), v);
+        return choice(j, path, options);
+    }
+
     template <class E>
     E choice(const json& j, const std::string& path, std::initializer_list<std::pair<const char*, E>> options) const {
+        return choice(j, path, std::vector<std::pair<const char*, E>>(options));
+    }
+
+    template <class E>
+    E choice(const json& j, const std::string& path, const std::vector<std::pair<const char*, E>>& options) const {
         std::string list;
         for (const auto& [name, value] : options) list += std::string(list.empty() ? "" : ", ") + "\"" + name + "\"";
         if (!j.is_string()) fail(path, "must be one of " + list);
@@ -283,11 +296,7 @@ private:
 };
 
 ray_query read_query(const reader& in, const json& j, const std::string& path) {
-    return in.choice<ray_query>(j, path,
-                                {{"any_hit", ray_query::any_hit},
-                                 {"nearest_hit", ray_query::nearest_hit},
-                                 {"both_roots", ray_query::both_roots},
-                                 {"hit_point_normal", ray_query::hit_point_normal}});
+    return in.choice(j, path, every_ray_query, ray_query_name);
 }
 
 spawn_settings read_spawn(const reader& in, const json& j, const std::string& path) {
@@ -528,8 +537,7 @@ scene parse_scene(const std::string& text, const std::filesystem::path& file) {
     in.object(root, "", {"comment", "precision", "normalise_directions", "spheres", "camera", "lights", "rays",
                          "pixels"});
     if (const json* v = in.optional(root, "comment")) s.comment = in.string(*v, "comment");
-    s.prec = in.choice<precision>(in.required(root, "", "precision"), "precision",
-                                  {{"float", precision::binary32}, {"double", precision::binary64}});
+    s.prec = in.choice(in.required(root, "", "precision"), "precision", every_precision, precision_name);
     if (const json* v = in.optional(root, "normalise_directions"))
         s.normalise_directions = in.boolean(*v, "normalise_directions");
     // Every point the generator computes (origins, hit points, lights) must be
@@ -866,7 +874,7 @@ std::optional<exact_nearest> exact_nearest_hit(const scene_ray& r, std::span<con
         if (!e.valid()) continue;
         const expected_hit want = expect_hit(renderer, e, range_of(renderer, r.tmin, r.tmax));
         if (!want.hit()) continue;
-        if (!best || compare_roots(e, want.root, solved[best->index].exact, best->root) < 0)
+        if (!best || compare_roots(e, want.root, solved[best->index].exact, best->root) == comparison::smaller)
             best = exact_nearest{i, want.root};
     }
     return best;

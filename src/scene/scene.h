@@ -10,6 +10,7 @@
 // variant's error on the primary ray does not move the rays that follow it.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -83,6 +84,12 @@ struct spawn_settings {
 // that finds the exit point or a nested sphere).
 enum class secondary_direction { reflect, transmit };
 
+// The kinds of ray a renderer casts: from the camera, towards a light, and
+// the one a primary hit spawns.
+enum class ray_kind { primary, shadow, secondary };
+inline constexpr std::array every_ray_kind{ray_kind::primary, ray_kind::shadow, ray_kind::secondary};
+const char* ray_kind_name(ray_kind k);
+
 struct ray_kind_settings {
     bool enabled = false;
     ray_query query = ray_query::nearest_hit;
@@ -113,6 +120,10 @@ struct scene {
     spawn_settings secondary_spawn;
     secondary_direction secondary_kind = secondary_direction::reflect;
     pixel_sample sample;
+
+    const ray_kind_settings& settings(ray_kind k) const {
+        return k == ray_kind::primary ? primary : k == ray_kind::shadow ? shadow : secondary;
+    }
 };
 
 // Parse a scene file. Throws input_error naming the file, the line and the
@@ -123,9 +134,6 @@ scene read_scene(const std::filesystem::path& file);
 
 // Same, from text (`file` only names it in messages).
 scene parse_scene(const std::string& text, const std::filesystem::path& file);
-
-enum class ray_kind { primary, shadow, secondary };
-const char* ray_kind_name(ray_kind k);
 
 // One ray the renderer casts. Every coordinate is exactly representable in
 // the scene's precision (the generator rounds to it), so a float variant

@@ -31,12 +31,11 @@ std::optional<std::string> not_applicable_reason(const scene& s, const audit_tar
     if (t.recorded ? t.prec != s.prec : !t.subject.runs_in(s.prec))
         return fmt::format("does not {} in {}, the scene's precision", t.recorded ? "answer" : "run",
                            precision_name(s.prec));
-    const std::pair<ray_kind, const ray_kind_settings*> kinds[] = {
-        {ray_kind::primary, &s.primary}, {ray_kind::shadow, &s.shadow}, {ray_kind::secondary, &s.secondary}};
-    for (const auto& [kind, settings] : kinds) {
-        if (!settings->enabled) continue;
-        if (auto why = applicable(t.subject, settings->query, s.normalise_directions))
-            return fmt::format("{} rays ({}): {}", ray_kind_name(kind), ray_query_name(settings->query), *why);
+    for (const ray_kind kind : every_ray_kind) {
+        const ray_kind_settings& settings = s.settings(kind);
+        if (!settings.enabled) continue;
+        if (auto why = applicable(t.subject, settings.query, s.normalise_directions))
+            return fmt::format("{} rays ({}): {}", ray_kind_name(kind), ray_query_name(settings.query), *why);
     }
     return std::nullopt;
 }
@@ -103,7 +102,7 @@ void judge_nearest(ray_query q, const std::vector<renderer_outcome>& pairs, std:
             answer.t = *t;
             answer.sphere = solved[i].sphere;
         }
-        if (q == ray_query::any_hit) break;
+        if (query_needs(q).first_hit_answers) break;
     }
     // The pair that decides a wrong answer: the one the variant hit, else the exact nearest.
     if (!exact && !chosen) return;
@@ -116,7 +115,7 @@ void judge_nearest(ray_query q, const std::vector<renderer_outcome>& pairs, std:
         take_pair(answer, mine, solved[*chosen]);
         return;
     }
-    if (q == ray_query::any_hit) return;  // both hit: that is all an any-hit ray asks
+    if (query_needs(q).first_hit_answers) return;  // both hit: that is all an any-hit ray asks
     // A sphere whose expected root ties the nearest exactly, or rounds to the
     // same value in the scene's precision (no renderer can order them), counts
     // as the nearest sphere.
@@ -124,7 +123,7 @@ void judge_nearest(ray_query q, const std::vector<renderer_outcome>& pairs, std:
     const expected_hit tied = expect_hit(renderer_contract(q), solved[*chosen].exact, mine.range);
     const bool same_hit = *chosen == exact->index ||
                           (tied.hit() && (tied.value == nearest_exact.root(exact->root).rounded ||
-                                          compare_roots(solved[*chosen].exact, tied.root, nearest_exact, exact->root) == 0));
+                                          compare_roots(solved[*chosen].exact, tied.root, nearest_exact, exact->root) == comparison::equal));
     if (same_hit || mine.score.verdict == verdict_kind::wrong_side) {
         // The right sphere (or an exact tie), or a self-hit on the sphere it
         // chose: that pair's verdict is the ray's.
@@ -132,7 +131,7 @@ void judge_nearest(ray_query q, const std::vector<renderer_outcome>& pairs, std:
         if (answer.verdict != verdict_kind::agree) return;
         if (mine.score.near_ulp) figures.nearest_ulp.add(*mine.score.near_ulp, ray_index, ray_id);
         answer.nearest_ulp = mine.score.near_ulp;
-        if (q == ray_query::hit_point_normal && mine.score.hit_point_ulp) {
+        if (query_needs(q).hit_point && mine.score.hit_point_ulp) {
             const auto& e = *mine.score.hit_point_ulp;
             answer.hit_point_ulp = std::max({e[0], e[1], e[2]});
             figures.hit_point_ulp.add(*answer.hit_point_ulp, ray_index, ray_id);
@@ -183,7 +182,7 @@ void scene_auditor::judge(const scene_ray& r, const std::function<void(const jud
         const exact_solution& e = one.exact;
         if (!e.valid() || e.cls == line_class::miss || !(r.tmin > 0)) continue;
         for (root_index i : {root_index::near_root, root_index::far_root})
-            if (e.root(i).sign > 0 && e.compare_root(i, r.tmin) >= 0) ex.lost_to_tmin = true;
+            if (e.root(i).sign > 0 && e.compare_to_root(r.tmin, i) != comparison::smaller) ex.lost_to_tmin = true;
     }
     if (nearest) {
         const sphere_solution& hit = solved[nearest->index];
@@ -213,7 +212,7 @@ void scene_auditor::judge(const scene_ray& r, const std::function<void(const jud
         ++figures.rays;
         for (std::size_t i = 0; i < solved.size(); ++i)
             pairs[i] = judge_for_renderer(targets_[ti], solved[i].pair, r.query, solved[i].exact);
-        if (r.query == ray_query::both_roots)
+        if (query_needs(r.query).far_root)
             judge_both_roots(pairs, solved, answer, figures, ray_index, ray_id);
         else
             judge_nearest(r.query, pairs, solved, nearest, answer, figures, ray_index, ray_id);

@@ -339,7 +339,7 @@ command add_audit_command(CLI::App& app, const std::string& command_line) {
     add_isolation_options(sub, options->isolation);
     add_results_options(sub, options->results);
     sub->add_option("--precision", options->precisions, "float or double (repeatable; default: both)")
-        ->check(CLI::IsMember({"float", "double"}));
+        ->check(CLI::IsMember(precision_names()));
     sub->add_option("--report", options->report_dir,
                     "Directory for report.json, summary.txt, report.md and the PNG plots");
     sub->add_flag("--plots", options->plots,

@@ -112,7 +112,7 @@ json robust_figures(const std::vector<bench::timing_row>& rows,
                     const std::map<std::string, std::vector<corpus_case>>& by_family) {
     std::vector<std::string> labels;
     for (const char* name : bench::robust_variant_names)
-        for (const char* prec : {"float", "double"}) labels.push_back(std::string(name) + "/" + prec);
+        for (const std::string& prec : precision_names()) labels.push_back(std::string(name) + "/" + prec);
     const auto timed = [&](const std::string& label) {
         return std::any_of(rows.begin(), rows.end(), [&](const bench::timing_row& r) { return r.label() == label; });
     };
@@ -218,8 +218,8 @@ int run(const bench_options& options, const std::string& command_line) {
                std::find(options.precisions.begin(), options.precisions.end(), name) != options.precisions.end();
     };
     std::vector<std::string> judged_precisions, timed_precisions;
-    for (const char* p : {"float", "double"})
-        if (chosen(p)) {
+    for (const std::string& p : precision_names())
+        if (chosen(p.c_str())) {
             judged_precisions.emplace_back(p);
             timed_precisions.emplace_back(p);
         }
@@ -394,7 +394,11 @@ command add_bench_command(CLI::App& app, const std::string& command_line) {
     sub->add_option("--precision", options->precisions,
                     "float, double or long_double (repeatable; default: all three). naive/double, the ratios' "
                     "reference, is timed in every run")
-        ->check(CLI::IsMember({"float", "double", "long_double"}));
+        ->check(CLI::IsMember([] {
+            std::vector<std::string> names = precision_names();
+            names.emplace_back("long_double");
+            return names;
+        }()));
     sub->add_option("--threads", options->threads,
                     "Threads of the accuracy audit (default: every hardware thread; the figures are the same for "
                     "any number). The timings always run on one thread")

@@ -92,6 +92,8 @@ std::string default_corpus();
 // The precision --precision names ("float" or "double", precision_from_name);
 // any other name is a usage error (exit 2), never a default.
 precision named_precision(std::string_view name);
+// Every precision's name, in the table's order: what --precision accepts.
+std::vector<std::string> precision_names();
 
 // Shared by the commands: the targets named by --variant and --precision
 // (all of them when empty). Throws input_error for an unknown name.

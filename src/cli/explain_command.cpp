@@ -298,7 +298,7 @@ command add_explain_command(CLI::App& app) {
     sub->add_flag("--no-steps", options->no_steps,
                   "Leave out each variant's intermediates (computed and exact, the bits lost at each step)");
     sub->add_option("--precision", options->precisions, "float or double (repeatable; default: both)")
-        ->check(CLI::IsMember({"float", "double"}))
+        ->check(CLI::IsMember(precision_names()))
         ->allow_extra_args(false);
     // Negative numbers are values here, not options.
     sub->allow_extras(false);

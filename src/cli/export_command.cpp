@@ -105,7 +105,7 @@ command add_export_subcommand(CLI::App* corpus) {
     sub->add_option("--precision", o->precision,
                     "float or double: every value rounded to it, as an intersector in that precision receives it "
                     "(default: double; a scene's own precision)")
-        ->check(CLI::IsMember({"float", "double"}));
+        ->check(CLI::IsMember(precision_names()));
     sub->add_option("--numbers", o->numbers,
                     "CSV and JSON lines: decimal (shortest round-trip in the precision) or hex (C99 hex floats)")
         ->check(CLI::IsMember({"decimal", "hex"}))

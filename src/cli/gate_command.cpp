@@ -109,7 +109,7 @@ command add_gate_command(CLI::App& app) {
     add_isolation_options(sub, options->isolation);
     add_results_options(sub, options->results);
     sub->add_option("--precision", options->precisions, "float or double (repeatable; default: both)")
-        ->check(CLI::IsMember({"float", "double"}));
+        ->check(CLI::IsMember(precision_names()));
     sub->add_option("--junit", options->junit, "Also write JUnit XML (a test case per variant and family)");
     sub->add_flag("--update", options->update,
                   "Rewrite the baseline with this run's figures (comments and policy lines are kept)");

@@ -282,7 +282,7 @@ command add_hunt_command(CLI::App& app, const std::string& command_line) {
                     "64 with --command")
         ->check(whole_number(1, std::uint64_t{1} << 20));
     sub->add_option("--precision", o->precision, "float or double (an --engine: the one it computes in)")
-        ->check(CLI::IsMember({"float", "double"}))
+        ->check(CLI::IsMember(precision_names()))
         ->capture_default_str()
         ->each([o](const std::string&) { o->precision_given = true; });
     sub->add_option("--engine", o->engine,

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 
+#include "cli/commands.h"
 #include "core/build_info.h"
 #include "corpus/generators.h"
 #include "intersectors/registry.h"
@@ -42,7 +43,7 @@ value_kind value_of(const CLI::Option* opt, const std::string& command) {
     if (!takes_value(opt)) return {};
     const std::string name = primary_name(opt);
     if (name == "variant") return {value_kind::words, variant_names()};
-    if (name == "precision") return {value_kind::words, {"float", "double"}};
+    if (name == "precision") return {value_kind::words, precision_names()};
     if (name == "family") return {value_kind::words, family_names()};
     if (name == "objective") return {value_kind::words, {"ulp", "misclass"}};
     if (name == "strategy") return {value_kind::words, {"search", "random"}};

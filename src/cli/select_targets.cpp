@@ -13,6 +13,12 @@ precision named_precision(std::string_view name) {
     throw input_error("", 0, "--precision", fmt::format("'{}' is neither float nor double", name));
 }
 
+std::vector<std::string> precision_names() {
+    std::vector<std::string> names;
+    for (const precision p : every_precision) names.emplace_back(precision_name(p));
+    return names;
+}
+
 std::vector<audit_target> select_targets(const std::vector<std::string>& variant_names,
                                          const std::vector<std::string>& precisions) {
     return select_targets(variant_names, {}, precisions);

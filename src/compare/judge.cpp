@@ -210,15 +210,11 @@ expected_hit expect_hit(const contract& promises, const exact_solution& exact, c
 
 bool side_preserving_rounding(const exact_solution& exact, root_index i, double t) {
     const exact_root& root = exact.root(i);
-    const bool single = exact.prec == precision::binary32;
-    if (root.rounded == 0 && root.sign != 0) {
-        const double smallest = single ? std::numeric_limits<float>::denorm_min() : std::numeric_limits<double>::denorm_min();
-        return t == std::copysign(smallest, static_cast<double>(root.sign));
-    }
-    if (std::isinf(root.rounded)) {
-        const double largest = single ? std::numeric_limits<float>::max() : std::numeric_limits<double>::max();
-        return t == std::copysign(largest, root.rounded);
-    }
+    const auto [smallest, largest] = with_precision(exact.prec, []<class T>(std::type_identity<T>) {
+        return std::pair<double, double>(std::numeric_limits<T>::denorm_min(), std::numeric_limits<T>::max());
+    });
+    if (root.rounded == 0 && root.sign != 0) return t == std::copysign(smallest, static_cast<double>(root.sign));
+    if (std::isinf(root.rounded)) return t == std::copysign(largest, root.rounded);
     return false;
 }
 
@@ -871,7 +867,8 @@ std::optional<std::string> contract_breach(const contract& promises, const ray_s
                                            precision prec) {
     if (!promises.assumes_unit_direction) return std::nullopt;
     // |d|² within [1 − 8ε, 1 + 8ε], both ends exact doubles, decided exactly.
-    const double tolerance = 8 * (prec == precision::binary32 ? 0x1p-23 : 0x1p-52);
+    const double tolerance =
+        8 * with_precision(prec, []<class T>(std::type_identity<T>) { return double(std::numeric_limits<T>::epsilon()); });
     const comparison above = compare_squared_length(input.direction, 1 + tolerance);
     const comparison below = compare_squared_length(input.direction, 1 - tolerance);
     if (above != comparison::larger && below != comparison::smaller) return std::nullopt;
@@ -888,11 +885,9 @@ exact_solution solve_case(const corpus_case& c, precision p) {
         invalid.invalid = reason;
         return invalid;
     }
-    const ray_sphere<double> input =
-        p == precision::binary32 ? rounded_to<double>(rounded_to<float>(c.geometry)) : c.geometry;
+    const ray_sphere<double> input = rounded_to(p, c.geometry);
     const auto bound = [p](std::optional<double> t) -> std::optional<double> {
-        if (!t || p == precision::binary64) return t;
-        return static_cast<double>(static_cast<float>(*t));
+        return t ? std::optional<double>(rounded_to(p, *t)) : t;
     };
     return solve_exact(input, p, bound(c.tmin), bound(c.tmax));
 }

@@ -85,6 +85,11 @@ ray_sphere<T> rounded_to(const ray_sphere<S>& g) {
             static_cast<T>(g.radius)};
 }
 
+// The same for a precision named at run time, kept in double (exact there).
+inline ray_sphere<double> rounded_to(precision p, const ray_sphere<double>& g) {
+    return with_precision(p, [&]<class T>(std::type_identity<T>) { return rounded_to<double>(rounded_to<T>(g)); });
+}
+
 // Classify a case's validity at precision T (after rounding its inputs to T).
 template <class T>
 invalid_reason validity(const ray_sphere<double>& g) {

@@ -146,7 +146,8 @@ std::optional<float> float_value(double x) {
 
 void write_npy_header(std::ostream& out, precision p, std::size_t rows, std::size_t columns) {
     std::string dict = fmt::format("{{'descr': '{}', 'fortran_order': False, 'shape': ({}, {}), }}",
-                                   p == precision::binary32 ? "<f4" : "<f8", rows, columns);
+                                   with_precision(p, []<class T>(std::type_identity<T>) { return sizeof(T) == 4 ? "<f4" : "<f8"; }),
+                                   rows, columns);
     // Magic (6), version (2), length (2), then the dict padded with spaces
     // and a newline to a multiple of 64 bytes, as NumPy writes it.
     const std::size_t unpadded = 10 + dict.size() + 1;
@@ -242,7 +243,7 @@ npy_array parse_npy(const std::string& file, std::string_view bytes) {
     a.rows = dims[0];
     a.columns = dims[1];
     a.data = bytes.substr(start + length);
-    const std::size_t size = a.prec == precision::binary32 ? 4 : 8;
+    const std::size_t size = with_precision(a.prec, []<class T>(std::type_identity<T>) { return sizeof(T); });
     if (a.columns != 0 && a.rows > a.data.size() / size / a.columns)
         throw fail(fmt::format("holds {} bytes of data, its shape ({}, {}) needs {}", a.data.size(), a.rows,
                                a.columns, a.rows * a.columns * size));

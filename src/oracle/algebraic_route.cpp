@@ -140,7 +140,7 @@ T round_to_nearest(const exact_value& v, int sign) {
 }
 
 double round_in(precision p, const exact_value& v, int sign) {
-    return p == precision::binary32 ? double(round_to_nearest<float>(v, sign)) : round_to_nearest<double>(v, sign);
+    return with_precision(p, [&]<class T>(std::type_identity<T>) { return double(round_to_nearest<T>(v, sign)); });
 }
 
 // sign(value − bound) for a bound that may be infinite.

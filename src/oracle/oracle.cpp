@@ -18,6 +18,7 @@
 #include "oracle/internal/correct_rounding.h"
 #include "oracle/internal/exact_number.h"
 #include "oracle/refinement.h"
+#include "oracle/static_filter.h"
 
 #include <cmath>
 #include <limits>
@@ -331,7 +332,10 @@ struct exact_solution::internal {
         solution.unit_direction_ = unit_direction;
         solution.invalid = check_case(g, tmin, tmax);
         if (!solution.valid()) return solution;
-        filtered_case filter = filter_case(g, prec, std::nullopt, unit_direction);
+        // The static filter first (plain double, a-priori bounds), then the
+        // double-word filter when a static bound straddles a decision.
+        std::optional<filtered_case> quick = unit_direction ? std::nullopt : static_filter_case(g, prec);
+        filtered_case filter = quick ? *quick : filter_case(g, prec, std::nullopt, unit_direction);
         bool expanded = false;
         if (!filter.discriminant_sign) {
             // Δ′ within the filter's bound of 0 (or inputs outside its range):

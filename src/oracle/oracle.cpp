@@ -1,6 +1,9 @@
 // The exact oracle's routes: every answer of exact_solution built filter
 // first, in one place each (CGAL's Filtered_predicate is the model). The
 // stages, each in its own file:
+//   static_filter.h  for double inputs, the class, signs, rounded roots and
+//                  hit point from plain double with a-priori error bounds and
+//                  one Newton step; all of them or nothing;
 //   filter.h       enclosures in double-word arithmetic with rigorous bounds;
 //                  they settle what they can, and say "uncertain" otherwise;
 //   refinement.h   exact signs and finer enclosures from floating-point
@@ -334,8 +337,9 @@ struct exact_solution::internal {
         if (!solution.valid()) return solution;
         // The static filter first (plain double, a-priori bounds), then the
         // double-word filter when a static bound straddles a decision.
-        std::optional<filtered_case> quick = unit_direction ? std::nullopt : static_filter_case(g, prec);
-        filtered_case filter = quick ? *quick : filter_case(g, prec, std::nullopt, unit_direction);
+        filtered_case filter;
+        if (unit_direction || !static_filter_case(g, prec, filter))
+            filter = filter_case(g, prec, std::nullopt, unit_direction);
         bool expanded = false;
         if (!filter.discriminant_sign) {
             // Δ′ within the filter's bound of 0 (or inputs outside its range):
@@ -364,8 +368,9 @@ struct exact_solution::internal {
         solution.cls = line_class::two_hit;
         // The midpoint's enclosure: the mean of the roots'.
         if (known(filter.roots[0]) && known(filter.roots[1])) {
-            const bounded mean = (bounded_of(filter.roots[0]) + bounded_of(filter.roots[1])) * 0.5;
-            solution.midpoint_ = {mean.v.h, mean.v.l, mean.err};
+            // Halving is exact (the filter range keeps every word far from underflow).
+            const bounded sum = bounded_of(filter.roots[0]) + bounded_of(filter.roots[1]);
+            solution.midpoint_ = {0.5 * sum.v.h, 0.5 * sum.v.l, 0.5 * sum.err};
         }
 
         // A root whose sign the enclosure leaves open while the other's is

@@ -166,14 +166,14 @@ enclosure hit_enclosure(double o, double d, const enclosure& t) {
 
 }  // namespace
 
-RAYVERIFY_CLONED_FOR_FMA std::optional<filtered_case> static_filter_case(const ray_sphere<double>& g, precision prec) {
+RAYVERIFY_CLONED_FOR_FMA bool static_filter_case(const ray_sphere<double>& g, precision prec, filtered_case& out) {
     const double o[3] = {g.origin.x, g.origin.y, g.origin.z};
     const double d[3] = {g.direction.x, g.direction.y, g.direction.z};
     const double c[3] = {g.centre.x, g.centre.y, g.centre.z};
     const double r = g.radius;
     for (int axis = 0; axis < 3; ++axis)
-        if (!in_filter_range(o[axis]) || !in_filter_range(d[axis]) || !in_filter_range(c[axis])) return std::nullopt;
-    if (!in_filter_range(r)) return std::nullopt;
+        if (!in_filter_range(o[axis]) || !in_filter_range(d[axis]) || !in_filter_range(c[axis])) return false;
+    if (!in_filter_range(r)) return false;
 
     // f = o − c exactly (two_sum): f = fh + fl, |fl| ≤ u·|fh|. The plain
     // evaluations below use fh; fl is an input perturbation of relative size u.
@@ -220,12 +220,11 @@ RAYVERIFY_CLONED_FOR_FMA std::optional<filtered_case> static_filter_case(const r
         err_x * (2 * ((std::fabs(x0) + std::fabs(x1)) + std::fabs(x2)) + 3 * err_x);
 
     // Class: the sign of Δ′ where |Δ̂| exceeds its bound.
-    filtered_case out;
     if (discriminant < -err_discriminant) {
         out.discriminant_sign = -1;
-        return out;
+        return true;
     }
-    if (!(discriminant > err_discriminant)) return std::nullopt;
+    if (!(discriminant > err_discriminant)) return false;
     out.discriminant_sign = +1;
 
     // √Δ′: |√Δ′ − √Δ̂| = |Δ′ − Δ̂|/(√Δ′ + √Δ̂) ≤ E_Δ/√Δ̂ ≤ (1 + u)·E_Δ/ŝq,
@@ -244,11 +243,11 @@ RAYVERIFY_CLONED_FOR_FMA std::optional<filtered_case> static_filter_case(const r
     const double q = positive_b ? -(b + sq) : sq - b;
     const double inverse_q = 1 / q;
     const double relative_q = (2 * u * std::fabs(q) + err_b + err_sq) * std::fabs(inverse_q);
-    if (!(relative_q <= small)) return std::nullopt;
+    if (!(relative_q <= small)) return false;
     // C's sign decides the sign of C/q: |Ĉ| must exceed 2^20·E_C (an origin
     // on or near the sphere is left to the double-word filter, then to C's
     // expansion).
-    if (!(err_C <= small * std::fabs(C))) return std::nullopt;
+    if (!(err_C <= small * std::fabs(C))) return false;
 
     // The roots q/a and C/q as q̂·RN(1/â) and Ĉ·RN(1/q̂) (two roundings each):
     // with a = â(1 + η_a), q = q̂(1 + η_q), C = Ĉ(1 + η_C),
@@ -269,15 +268,15 @@ RAYVERIFY_CLONED_FOR_FMA std::optional<filtered_case> static_filter_case(const r
     // Each root corrected once and rounded from its enclosure.
     const dword r_squared = two_prod(r, r);
     const std::optional<enclosure> near_root = corrected(near, a, f, d, r_squared);
-    if (!near_root) return std::nullopt;
+    if (!near_root) return false;
     const std::optional<enclosure> far_root = corrected(far, a, f, d, r_squared);
-    if (!far_root) return std::nullopt;
+    if (!far_root) return false;
     out.roots[0] = *near_root;
     out.roots[1] = *far_root;
     for (int k = 0; k < 2; ++k) {
         out.rounded[k] = round_normalised(prec, out.roots[k]);
         if (!out.rounded[k]) out.rounded[k] = round_enclosure(prec, out.roots[k], out.sign[k]);
-        if (!out.rounded[k]) return std::nullopt;
+        if (!out.rounded[k]) return false;
     }
 
     // The front root's hit point: o exactly where d's coordinate is 0 (RN(0)
@@ -296,9 +295,9 @@ RAYVERIFY_CLONED_FOR_FMA std::optional<filtered_case> static_filter_case(const r
             out.hit[axis] = round_normalised(prec, h);
             if (!out.hit[axis]) out.hit[axis] = round_enclosure(prec, h, side_of(h, 0.0));
             if (!out.hit[axis]) out.hit[axis] = round_hit_coordinate(prec, g, out.roots[front], axis);
-            if (!out.hit[axis]) return std::nullopt;
+            if (!out.hit[axis]) return false;
         }
-    return out;
+    return true;
 }
 
 }  // namespace rayverify::oracle_internal

@@ -18,8 +18,6 @@
 // that every rounding error below is relative: |RN(x) − x| ≤ u·|x|, u = 2^−53.
 #pragma once
 
-#include <optional>
-
 #include "core/ray_sphere_case.h"
 #include "oracle/filter.h"
 
@@ -30,6 +28,11 @@ namespace rayverify::oracle_internal {
 // the front root's hit point (a coordinate the static enclosure cannot round
 // is tried with the filter's double-word rounding, round_hit_coordinate, from
 // the same root enclosure).
-std::optional<filtered_case> static_filter_case(const ray_sphere<double>& g, precision prec);
+// It writes into the caller's `out` (a default filtered_case) and says
+// whether it settled the case; when it did not, `out` holds partial answers
+// the caller must discard (the double-word filter then fills a fresh one).
+// Written in place rather than returned: building and copying the result
+// cost a fifth of the whole stage.
+bool static_filter_case(const ray_sphere<double>& g, precision prec, filtered_case& out);
 
 }  // namespace rayverify::oracle_internal

@@ -6,9 +6,9 @@
 // input and operation taken in absolute value) of the exact one. Each bound
 // below is first order in u with a constant rounded up by at least one u (or
 // a relative 2^−18 where a bound is a ratio); that slack covers the
-// second-order terms and the few roundings of the bound's own evaluation
-// (each a factor (1 ± u), at most 20 of them: (1 + u)^20 < 1 + 2^−48). A
-// decision is taken only when a value exceeds its bound strictly.
+// second-order terms and the roundings of the bound's own evaluation (each a
+// factor (1 ± u), a few dozen at most: (1 + u)^64 < 1 + 2^−46). A decision
+// is taken only when a value exceeds its bound strictly.
 //
 // Range: every input 0 or of magnitude in [2^−80, 2^80] (filter.h's note):
 // every nonzero value formed below is far from the underflow threshold and

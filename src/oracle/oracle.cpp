@@ -330,6 +330,9 @@ struct exact_solution::internal {
 
     static exact_solution filtered(const ray_sphere<double>& g, precision prec, std::optional<double> tmin,
                                    std::optional<double> tmax, bool unit_direction = false) {
+        // Every return returns `solution` (the exact route assigned to it
+        // where it runs), so that it is built in the caller's storage (NRVO):
+        // a copy of the 800-byte solution was a tenth of a filtered solve.
         exact_solution solution;
         solution.prec = prec;
         solution.unit_direction_ = unit_direction;
@@ -345,15 +348,22 @@ struct exact_solution::internal {
             // Δ′ within the filter's bound of 0 (or inputs outside its range):
             // Δ′'s exact sign from an expansion; a tangent's root from its
             // coefficients, else the filter again with Δ′'s tight approximation.
-            if (!in_filter_range(g)) return reference(g, prec, tmin, tmax, unit_direction);
+            if (!in_filter_range(g)) {
+                solution = reference(g, prec, tmin, tmax, unit_direction);
+                return solution;
+            }
             solution.geometry_ = g;
             const exact_discriminant discriminant = discriminant_of(g, coefficients(solution), unit_direction);
             if (discriminant.sign == 0) {
                 if (settle_tangent(solution)) return solution;
-                return reference(g, prec, tmin, tmax, unit_direction);
+                solution = reference(g, prec, tmin, tmax, unit_direction);
+                return solution;
             }
             filter = filter_case(g, prec, discriminant.approximation, unit_direction);
-            if (!filter.discriminant_sign) return reference(g, prec, tmin, tmax, unit_direction);
+            if (!filter.discriminant_sign) {
+                solution = reference(g, prec, tmin, tmax, unit_direction);
+                return solution;
+            }
             expanded = true;
         }
 

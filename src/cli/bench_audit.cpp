@@ -243,7 +243,7 @@ std::string format_rows(const std::vector<audit_timing_row>& rows, std::size_t t
         "medians of each repetition's ratio of neighbouring timings; *_exp, *_ex = share "
         "of the oracle's answers of each kind (solutions of float and double inputs, ULP errors of roots and "
         "hit-point coordinates, comparisons with a value, rounded hit coordinates) that needed floating-point "
-        "expansions (no big numbers) or exact arithmetic (GMP); the rest the double-word filter settled.\n",
+        "expansions (no big numbers) or exact arithmetic (GMP); the rest the filters (static, then double-word) settled.\n",
         target_count, repetitions);
     return out;
 }

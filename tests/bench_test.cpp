@@ -120,12 +120,17 @@ TEST(Bench, OracleTimingTimesEveryRoute) {
         EXPECT_EQ(r.algebraic_over_fast, r.algebraic_ns / r.fast_ns) << r.family;
         EXPECT_GT(r.filter_ns, 0) << r.family;
         EXPECT_EQ(r.filter_over_naive, r.filter_ns / r.naive_ns) << r.family;
+        EXPECT_GT(r.static_ns, 0) << r.family;
+        EXPECT_EQ(r.static_over_naive, r.static_ns / r.naive_ns) << r.family;
+        EXPECT_GE(r.static_share, 0) << r.family;
+        EXPECT_LE(r.static_share, 1) << r.family;
     }
     EXPECT_EQ(t.all.cases, 160u);
     const std::string table = format_oracle_timing(t);
     EXPECT_NE(table.find("algebraic_ns"), std::string::npos) << table;
     EXPECT_NE(table.find("alg/oracle"), std::string::npos) << table;
     EXPECT_NE(table.find("filter/naive"), std::string::npos) << table;
+    EXPECT_NE(table.find("static/naive"), std::string::npos) << table;
     // Every missed target is followed by what meeting it would take.
     std::istringstream lines(table);
     std::string line, previous;

@@ -27,15 +27,20 @@ struct oracle_timing_row {
     double fast_ns = 0;       // solve_exact (double inputs, the case's interval)
     double reference_ns = 0;  // solve_exact_reference, same inputs
     double algebraic_ns = 0;  // solve_algebraic, same inputs
+    // The static filter alone (oracle_internal::static_filter_case: plain
+    // double with a-priori bounds, one Newton step per root; the first stage
+    // of solve_exact), its ratio to naive (median of each repetition's) and
+    // the share of cases it settles: the least a certified answer of this
+    // design costs, and how often that is all it costs.
+    double static_ns = 0, static_over_naive = 0, static_share = 0;
     // The double-word filter alone (oracle_internal::filter_case: Δ′'s sign,
-    // the roots' enclosures, signs and roundings, the hit point), the least a
-    // certified answer of this design costs, and its ratio to naive (median
-    // of each repetition's): why solve_exact cannot come closer to naive.
+    // the roots' enclosures, signs and roundings, the hit point), which runs
+    // where the static filter cannot settle a case, and its ratio to naive.
     double filter_ns = 0, filter_over_naive = 0;
     // Share of valid solutions with stage == exact, double and float inputs.
     double fallback_double = 0, fallback_float = 0;
     // Medians of each repetition's ratio of neighbouring timings (every
-    // repetition times the four back to back; a shared machine's speed drifts
+    // repetition times the six back to back; a shared machine's speed drifts
     // between repetitions, not within one).
     double fast_over_naive = 0, reference_over_fast = 0, algebraic_over_fast = 0;
 };

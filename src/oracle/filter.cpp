@@ -21,7 +21,9 @@ namespace {
 // double). `sign` is the known sign of x, for a result that rounds to zero.
 template <class T>
 std::optional<double> round_enclosure(const enclosure& x, uncertain_sign sign) {
-    if (!known(x) || !sign) return std::nullopt;
+    if (!known(x)) return std::nullopt;
+    if (const std::optional<double> y = round_normalised<T>(x)) return y;
+    if (!sign) return std::nullopt;
     const double approx = x.hi + x.lo;
     const T y = static_cast<T>(approx);
     if (!std::isfinite(y)) return std::nullopt;

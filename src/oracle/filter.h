@@ -17,9 +17,12 @@
 // therefore hold.
 #pragma once
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <optional>
+#include <type_traits>
 
 #include "core/double_word.h"
 #include "core/float_bits.h"
@@ -65,6 +68,33 @@ inline int ulp_exponent_in(precision p, long e) {
 
 // Every input of the case in the filter range.
 bool in_filter_range(const ray_sphere<double>& g);
+
+// RN(x) in T in a few operations, where the rounding y of hi to T is normal
+// in T and far from overflow: x − y = (hi − y) + lo ± err, hi − y exact (y is hi rounded
+// to T; 0 for double), so RN(x) = y when |RN((hi − y) + lo)| + err stays
+// below y's half gap on the nearer side (a quarter ulp below a power of two,
+// taken on both sides), with a margin of 2^−50 for the roundings of the
+// test. Empty where that does not hold; round_enclosure then decides.
+template <class T>
+inline std::optional<double> round_normalised(const enclosure& x) {
+    static_assert(std::is_same_v<T, float> || std::is_same_v<T, double>);
+    constexpr int digits = std::numeric_limits<T>::digits;
+    constexpr double smallest = std::is_same_v<T, float> ? 0x1p-126 : 0x1p-1000;
+    constexpr double largest = std::is_same_v<T, float> ? 0x1p127 : 0x1p1000;
+    const T y = static_cast<T>(x.hi);
+    const double magnitude = std::fabs(static_cast<double>(y));
+    if (!(magnitude >= smallest && magnitude <= largest)) return std::nullopt;
+    const std::uint64_t bits = std::bit_cast<std::uint64_t>(static_cast<double>(y));
+    const double binade = std::bit_cast<double>(bits & 0x7FF0000000000000ull);  // 2^e ≤ |y| < 2^(e+1)
+    const bool power_of_two = magnitude == binade;
+    const double half_gap = binade * (power_of_two ? 0x1p-1 : 1.0) * exact_power_of_two(-digits);
+    const double rest = (x.hi - static_cast<double>(y)) + x.lo;
+    if (std::fabs(rest) + x.err < half_gap * (1 - 0x1p-50)) return static_cast<double>(y);
+    return std::nullopt;
+}
+inline std::optional<double> round_normalised(precision p, const enclosure& x) {
+    return p == precision::binary64 ? round_normalised<double>(x) : round_normalised<float>(x);
+}
 
 // RN(x) in precision p when the whole enclosure lies strictly inside one
 // rounding interval; `sign` is x's sign, when known (for a result that

@@ -36,7 +36,7 @@ std::string format_rows(const bench::audit_timing& timing) {
         "medians of each repetition's ratio of neighbouring timings; *_exp, *_ex = share "
         "of the oracle's answers of each kind (solutions of float and double inputs, ULP errors of roots and "
         "hit-point coordinates, comparisons with a value, rounded hit coordinates) that needed floating-point "
-        "expansions (no big numbers) or exact arithmetic (GMP); the rest the double-word filter settled.\n",
+        "expansions (no big numbers) or exact arithmetic (GMP); the rest the filters (static, then double-word) settled.\n",
         timing.target_count, timing.repetitions);
     return out;
 }

@@ -1,0 +1,303 @@
+// The static filter (static_filter.h).
+//
+// Notation: u = 2^−53, γ_n = n·u/(1 − n·u) (Higham, Accuracy and Stability of
+// Numerical Algorithms, §3.1): a value computed through n roundings of sums
+// and products of exact inputs is within γ_n·(the same expression with every
+// input and operation taken in absolute value) of the exact one. Each bound
+// below is first order in u with a constant rounded up by at least one u (or
+// a relative 2^−18 where a bound is a ratio); that slack covers the
+// second-order terms and the roundings of the bound's own evaluation (each a
+// factor (1 ± u), a few dozen at most: (1 + u)^64 < 1 + 2^−46). A decision
+// is taken only when a value exceeds its bound strictly.
+//
+// Range: every input 0 or of magnitude in [2^−80, 2^80] (filter.h's note):
+// every nonzero value formed below is far from the underflow threshold and
+// nothing overflows, so every rounding is relative.
+#include "oracle/static_filter.h"
+
+#include <cmath>
+
+#include "core/double_word.h"
+#include "oracle/internal/fma_clones.h"
+
+namespace rayverify::oracle_internal {
+namespace {
+
+constexpr double u = 0x1p-53;
+constexpr double u2 = 0x1p-106;
+// A relative bound is used only where it is at most 2^−20, so that its
+// second-order terms stay below 2^−20 of it: the factor 1 + 2^−18 covers them.
+constexpr double small = 0x1p-20;
+constexpr double second_order = 1 + 0x1p-18;
+
+// A root's first approximation t̂ with |t* − t̂| ≤ err.
+struct approximation {
+    double t = 0, err = 0;
+};
+
+// At a double t̂: P(t̂) = |f + t̂·d|² − r² = a·t̂² + 2b′·t̂ + C within
+// `bound` of `value`, and β = P′(t̂)/2 = d·(f + t̂·d) within `slope_bound` of
+// `slope`.
+struct residual {
+    double value = 0, bound = 0;
+    double slope = 0, slope_bound = 0;
+};
+
+// The residual at t̂, from f = o − c exactly (f.h + f.l) and r² exactly.
+//
+// Per axis, p = f + t̂·d = s + g + ε: (ph, pl) = two_prod(t̂, d) and
+// (s, e) = two_sum(fh, ph) are exact; g = RN(RN(e + fl) + pl) is within
+// γ2·(|e| + |fl| + |pl|) of e + fl + pl, and |e| ≤ u|s|, |fl| ≤ u|fh|,
+// |pl| ≤ u|ph|: with W = |s| + |fh| + |ph| (computed), |g| ≤ 1.01u·W and
+// |ε| ≤ 2.02u²·W.
+//
+// P = Σs² − r² + Σ(2s + g)·g + Σ(2(s + g) + ε)·ε. The first sum is an
+// expansion: (qh, ql) = two_prod(s, s), (rh, rl) = r², and a chain of
+// two_sums of qh0, qh1, qh2, −rh leaves a3 and errors e1, e2, e3, exactly.
+// With V = Σ(|s| + u·W)·W and M = Σqh + rh:
+//   - |(2s + g)·g| ≤ 2.03u·(|s| + uW)·W, so |Σ(2s + g)g| ≤ 2.03u·V, and its
+//     evaluation (an add, a product, two sums: γ4) errs by ≤ 8.15u²·V;
+//   - |(2(s + g) + ε)·ε| ≤ 2.02u²W·(2|s| + 2.03uW), summed ≤ 4.1u²·V;
+//   - the low sum λ of e1, e2, e3, ql0, ql1, ql2, −rl and T2 = Σ(2s + g)g
+//     (7 additions: γ7) errs by ≤ 7.01u·(3.01u·M + u·|a3| + 2.04u·V), since
+//     |e1| + |e2| + |ql| + |rl| ≤ 3.01u·M and |e3| ≤ u|a3|;
+//   - R = RN(a3 + λ) adds u·|R|.
+// Total ≤ u|R| + 21.1u²·M + 7.01u²·|a3| + 26.6u²·V, rounded up below.
+// A square s² or a product (2s + g)·g of tiny values may underflow (s can be
+// a cancellation's small remainder): each such rounding errs by less than
+// 2^−1074, and the floor 2^−1000 covers them all.
+//
+// β = d·p: p̂ = RN(s + g) is within u|p̂| + |ε| of p, and Σd·p̂ (three
+// products, two sums: γ3) within γ3·Σ|d·p̂|: |β̂ − β| ≤ 5u·Σ|d||p̂| +
+// 3u²·Σ|d|·W (slack included), plus the floor.
+residual residual_at(double t, const dword f[3], const double d[3], dword r_squared) {
+    double s[3], g[3], V = 0, slope = 0, slope_magnitude = 0, slope_low = 0;
+    for (int axis = 0; axis < 3; ++axis) {
+        const dword p = two_prod(t, d[axis]);
+        const dword sum = two_sum(f[axis].h, p.h);
+        s[axis] = sum.h;
+        g[axis] = (sum.l + f[axis].l) + p.l;
+        const double W = (std::fabs(sum.h) + std::fabs(f[axis].h)) + std::fabs(p.h);
+        V += (std::fabs(sum.h) + u * W) * W;
+        const double point = s[axis] + g[axis];
+        slope += d[axis] * point;
+        slope_magnitude += std::fabs(d[axis] * point);
+        slope_low += std::fabs(d[axis]) * W;
+    }
+    const dword q0 = two_prod(s[0], s[0]), q1 = two_prod(s[1], s[1]), q2 = two_prod(s[2], s[2]);
+    const dword a1 = two_sum(q0.h, q1.h);
+    const dword a2 = two_sum(a1.h, q2.h);
+    const dword a3 = two_sum(a2.h, -r_squared.h);
+    const double T2 = (2 * s[0] + g[0]) * g[0] + (2 * s[1] + g[1]) * g[1] + (2 * s[2] + g[2]) * g[2];
+    const double low = ((((((a1.l + a2.l) + a3.l) + q0.l) + q1.l) + q2.l) - r_squared.l) + T2;
+    const double R = a3.h + low;
+    const double M = ((q0.h + q1.h) + q2.h) + r_squared.h;
+    return {R, (2 * u * std::fabs(R) + u2 * ((24 * M + 8 * std::fabs(a3.h)) + 30 * V)) + 0x1p-1000, slope,
+            (5 * u * slope_magnitude + 3 * u2 * slope_low) + 0x1p-1000};
+}
+
+// One Newton step for the root t* approximated by t̂ within `root.err`.
+// With t_o the other root and δ = t* − t̂, P(t) = a·(t − t*)·(t − t_o) gives
+// the identity δ = −P(t̂)/D, D = a·(t̂ − t_o) = 2β + a·δ (β = P′(t̂)/2). The
+// term a·δ matters where t is large beside the roots' gap (far spheres), so
+// D is estimated as 2β̂ + â·δ0 with δ0 = −R/(2β̂), and bounded in three steps
+// (ι = RN(1/(2β̂)); â′ = RN(â(1 + 8u)) ≥ â(1 + 3.01u) ≥ a):
+//   1. |D| ≥ L1 = 2|β̂| − 2E_β − â′·err > |β̂| (required), as |δ| ≤ err; so
+//      |δ| ≤ e1 = (|R| + E_R)·2|ι|, since 1/L1 < 1/|β̂| ≤ 2|ι|(1 + u);
+//   2. likewise L2 = 2|β̂| − 2E_β − â′·e1 > |β̂| (required) bounds |D| below,
+//      and |D − 2β̂| ≤ 2E_β + a·|δ|: δ0 = RN(−R·ι) (two roundings) is within
+//      e2 = (E_R + |δ0|(1 + u)·(2E_β + â′·e1))·2|ι| + 3u|δ0| of δ;
+//   3. D̂ = RN(2β̂ + RN(â·δ0)) is within E_D = 2E_β + â′·e2 + 5u·â|δ0| +
+//      2u·|D̂| of D (a·δ against â·δ0: a − â and the product's rounding,
+//      4.02u·â|δ0|; the sum's rounding); E_D < |D̂|/2 is required.
+// Then δ̂ = RN(−R·RN(1/D̂)) is within (E_R + |δ̂|(1 + u)·E_D)·|ι_D|·
+// (1 + 2E_D·|ι_D|) + 3u|δ̂| of δ (ι_D = RN(1/D̂); 1/|D| ≤ 1/(|D̂| − E_D) and
+// 1/(1 − x) ≤ 1 + 2x for x ≤ 1/2), times 1 + 2^−18 for the roundings of
+// every bound here (each a factor 1 ± u, a few dozen at most). The
+// enclosure is t̂ + δ̂ normalised by fast_two_sum (|δ̂| ≤ 2^−10·|t̂| is
+// required), so that the double-word operations later applied to it keep
+// their bounds.
+std::optional<enclosure> corrected(const approximation& root, double a, const dword f[3], const double d[3],
+                                   dword r_squared) {
+    const residual P = residual_at(root.t, f, d, r_squared);
+    const double a_up = a * (1 + 8 * u);
+    const double inverse = 1 / (2 * P.slope);
+    const double two_beta = 2 * std::fabs(P.slope), two_err_beta = 2 * P.slope_bound;
+    const double R = P.value, E_R = P.bound;
+    if (!((two_beta - two_err_beta) - a_up * root.err > 0.5 * two_beta)) return std::nullopt;
+    const double e1 = (std::fabs(R) + E_R) * 2 * std::fabs(inverse) * second_order;
+    if (!((two_beta - two_err_beta) - a_up * e1 > 0.5 * two_beta)) return std::nullopt;
+    const double delta0 = -R * inverse;
+    const double e2 = ((E_R + std::fabs(delta0) * (1 + u) * (two_err_beta + a_up * e1)) * 2 * std::fabs(inverse) +
+                       3 * u * std::fabs(delta0)) *
+                      second_order;
+    const double D = 2 * P.slope + a * delta0;
+    const double err_D =
+        ((two_err_beta + a_up * e2) + 5 * u * a * std::fabs(delta0) + 2 * u * std::fabs(D)) * second_order;
+    if (!(err_D < 0.5 * std::fabs(D))) return std::nullopt;
+    const double inverse_D = 1 / D;
+    const double delta = -R * inverse_D;
+    if (!(std::fabs(delta) <= 0x1p-10 * std::fabs(root.t))) return std::nullopt;
+    const double err = ((E_R + std::fabs(delta) * (1 + u) * err_D) * std::fabs(inverse_D) *
+                            (1 + 2 * err_D * std::fabs(inverse_D)) +
+                        3 * u * std::fabs(delta)) *
+                       second_order;
+    const dword t = fast_two_sum(root.t, delta);
+    return enclosure{t.h, t.l, err};
+}
+
+// A hit coordinate o + t*·d (d ≠ 0) from t*'s enclosure y + e ± E:
+// (ph, pl) = two_prod(y, d) and (h, he) = two_sum(o, ph) are exact; the low
+// part RN(RN(he + pl) + RN(e·d)) is within γ2 of |he| + |pl| + |e·d| plus
+// the rounding of e·d, ≤ 4u·(|he| + |pl| + |e·d|) with slack; t*'s own error
+// adds |d|·E (times 1 + 2^−18 for the rounding of the product). The result
+// is normalised with two_sum (o and t·d may cancel). The floor 2^−1000
+// covers a product e·d or pl that underflows.
+enclosure hit_enclosure(double o, double d, const enclosure& t) {
+    const dword p = two_prod(t.hi, d);
+    const dword h = two_sum(o, p.h);
+    const double ed = t.lo * d;
+    const double low = (h.l + p.l) + ed;
+    const double err =
+        (4 * u * ((std::fabs(h.l) + std::fabs(p.l)) + std::fabs(ed)) + std::fabs(d) * t.err * second_order) + 0x1p-1000;
+    const dword z = two_sum(h.h, low);
+    return {z.h, z.l, err};
+}
+
+}  // namespace
+
+RAYVERIFY_CLONED_FOR_FMA bool static_filter_case(const ray_sphere<double>& g, precision prec, filtered_case& out) {
+    const double o[3] = {g.origin.x, g.origin.y, g.origin.z};
+    const double d[3] = {g.direction.x, g.direction.y, g.direction.z};
+    const double c[3] = {g.centre.x, g.centre.y, g.centre.z};
+    const double r = g.radius;
+    for (int axis = 0; axis < 3; ++axis)
+        if (!in_filter_range(o[axis]) || !in_filter_range(d[axis]) || !in_filter_range(c[axis])) return false;
+    if (!in_filter_range(r)) return false;
+
+    // f = o − c exactly (two_sum): f = fh + fl, |fl| ≤ u·|fh|. The plain
+    // evaluations below use fh; fl is an input perturbation of relative size u.
+    const dword f[3] = {two_sum(o[0], -c[0]), two_sum(o[1], -c[1]), two_sum(o[2], -c[2])};
+    const double fh[3] = {f[0].h, f[1].h, f[2].h};
+    // N = (Σ|fh_i|)·(Σ|d_i|) bounds Σ|d_i·fh_i| and each |fh_j·d_i| + |fh_i·d_j|.
+    const double N = ((std::fabs(fh[0]) + std::fabs(fh[1])) + std::fabs(fh[2])) *
+                     ((std::fabs(d[0]) + std::fabs(d[1])) + std::fabs(d[2]));
+
+    // a = d·d: three squares and two sums of non-negative terms, at most 3
+    // roundings each: |â − a| ≤ γ3·a, so a = â·(1 + η_a) with |η_a| ≤ 3.01u.
+    const double a = (d[0] * d[0] + d[1] * d[1]) + d[2] * d[2];
+
+    // b′ = d·f: a sum of three products (γ3 of Σ|d_i·fh_i|) plus the
+    // perturbation d·fl (u of the same): |b̂ − b′| ≤ 5u·N.
+    const double b = (d[0] * fh[0] + d[1] * fh[1]) + d[2] * fh[2];
+    const double err_b = 5 * u * N;
+
+    // C = f·f − r²: fh_i² through 4 roundings (square, two sums, the final
+    // difference), r² through 2: γ4·(Σfh² + r²); f² = fh²·(1 + φ)², |φ| ≤ u,
+    // adds (2u + u²)·Σfh²: |Ĉ − C| ≤ 7u·(Σfh² + r²).
+    const double ff = (fh[0] * fh[0] + fh[1] * fh[1]) + fh[2] * fh[2];
+    const double rr = r * r;
+    const double C = ff - rr;
+    const double err_C = 7 * u * (ff + rr);
+
+    // Δ′ = a·r² − |d × f|² (Lagrange's identity, as the double-word filter:
+    // b′² − aC cancels for far spheres, this form only near tangency).
+    // Each component x_k = fh_j·d_i − fh_i·d_j: two products and a
+    // difference (γ2 of |fh_j·d_i| + |fh_i·d_j|) plus the fl perturbation
+    // (u of the same): |x̂_k − x_k| ≤ 4u·N =: e_x.
+    // s = Σx̂_k² (γ3: ≤ 4u·ŝ), and |Σx̂_k² − Σx_k²| ≤ Σe_x·(2|x̂_k| + e_x).
+    // â·r̂² goes through 5 roundings of non-negative terms (γ5: ≤ 6u·âr̂²),
+    // and Δ̂ = RN(âr̂² − ŝ) adds u·|Δ̂| (2u with slack).
+    const double x0 = fh[2] * d[1] - fh[1] * d[2];
+    const double x1 = fh[0] * d[2] - fh[2] * d[0];
+    const double x2 = fh[1] * d[0] - fh[0] * d[1];
+    const double s = (x0 * x0 + x1 * x1) + x2 * x2;
+    const double ar = a * rr;
+    const double discriminant = ar - s;
+    const double err_x = 4 * u * N;
+    const double err_discriminant =
+        (2 * u * std::fabs(discriminant) + (6 * u * ar + 4 * u * s)) +
+        err_x * (2 * ((std::fabs(x0) + std::fabs(x1)) + std::fabs(x2)) + 3 * err_x);
+
+    // Class: the sign of Δ′ where |Δ̂| exceeds its bound.
+    if (discriminant < -err_discriminant) {
+        out.discriminant_sign = -1;
+        return true;
+    }
+    if (!(discriminant > err_discriminant)) return false;
+    out.discriminant_sign = +1;
+
+    // √Δ′: |√Δ′ − √Δ̂| = |Δ′ − Δ̂|/(√Δ′ + √Δ̂) ≤ E_Δ/√Δ̂ ≤ (1 + u)·E_Δ/ŝq,
+    // plus the rounding of the square root, u·ŝq: computed as
+    // E_Δ·RN(1/ŝq)·(1 + 2^−50) + 2u·ŝq (the factor covers (1 + u) and the
+    // two roundings of E_Δ·RN(1/ŝq)).
+    const double sq = std::sqrt(discriminant);
+    const double err_sq = err_discriminant * (1 / sq) * (1 + 0x1p-50) + 2 * u * sq;
+
+    // q = −(b′ + σ√Δ′), σ the sign of b̂, so that |q̂| = |b̂| + ŝq without
+    // cancellation: one rounding, |q̂ − q| ≤ 2u|q̂| + e_b + e_sq =: E_q. Its
+    // relative bound ε_q = E_q·|RN(1/q̂)| (within 2u of E_q/|q̂|, which the
+    // factor 1 + 2^−18 below covers) must be at most 2^−20 (q ≠ 0, and
+    // first order holds).
+    const bool positive_b = b >= 0;
+    const double q = positive_b ? -(b + sq) : sq - b;
+    const double inverse_q = 1 / q;
+    const double relative_q = (2 * u * std::fabs(q) + err_b + err_sq) * std::fabs(inverse_q);
+    if (!(relative_q <= small)) return false;
+    // C's sign decides the sign of C/q: |Ĉ| must exceed 2^20·E_C (an origin
+    // on or near the sphere is left to the double-word filter, then to C's
+    // expansion).
+    if (!(err_C <= small * std::fabs(C))) return false;
+
+    // The roots q/a and C/q as q̂·RN(1/â) and Ĉ·RN(1/q̂) (two roundings each):
+    // with a = â(1 + η_a), q = q̂(1 + η_q), C = Ĉ(1 + η_C),
+    // |t* − t̂| ≤ |t̂|·(ε_q + 3.01u + 2u)·(1 + 2^−18) for q/a and
+    // (|t̂|·(ε_q + 2u) + E_C/|q̂|)·(1 + 2^−18) for C/q (|t̂|·ε_C = E_C/|q̂|
+    // to first order, E_C·|RN(1/q̂)| within 2u of it).
+    const double t_q = q * (1 / a), t_c = C * inverse_q;
+    const approximation by_q{t_q, std::fabs(t_q) * (relative_q + 6 * u) * second_order};
+    const approximation by_c{t_c, (std::fabs(t_c) * (relative_q + 2 * u) + err_C * std::fabs(inverse_q)) * second_order};
+    // σ = +1: q < 0 and q/a is the near root; σ = −1: q > 0 and q/a is the far root.
+    const approximation& near = positive_b ? by_q : by_c;
+    const approximation& far = positive_b ? by_c : by_q;
+    const int sign_q = positive_b ? -1 : +1;
+    const int sign_c = (C > 0 ? 1 : -1) * sign_q;
+    out.sign[0] = positive_b ? sign_q : sign_c;
+    out.sign[1] = positive_b ? sign_c : sign_q;
+
+    // Each root corrected once and rounded from its enclosure.
+    const dword r_squared = two_prod(r, r);
+    const std::optional<enclosure> near_root = corrected(near, a, f, d, r_squared);
+    if (!near_root) return false;
+    const std::optional<enclosure> far_root = corrected(far, a, f, d, r_squared);
+    if (!far_root) return false;
+    out.roots[0] = *near_root;
+    out.roots[1] = *far_root;
+    for (int k = 0; k < 2; ++k) {
+        out.rounded[k] = round_normalised(prec, out.roots[k]);
+        if (!out.rounded[k]) out.rounded[k] = round_enclosure(prec, out.roots[k], out.sign[k]);
+        if (!out.rounded[k]) return false;
+    }
+
+    // The front root's hit point: o exactly where d's coordinate is 0 (RN(0)
+    // is +0), else from the coordinate's enclosure; a coordinate that does
+    // not settle there gets the double-word filter's rounding from the same
+    // root enclosure, and if that fails too, the double-word filter runs
+    // from the start (its own root enclosures may be tighter).
+    const int front = *out.sign[0] > 0 ? 0 : *out.sign[1] > 0 ? 1 : -1;
+    if (front >= 0)
+        for (int axis = 0; axis < 3; ++axis) {
+            if (d[axis] == 0) {
+                out.hit[axis] = rounded_to(prec, o[axis]) + 0.0;
+                continue;
+            }
+            const enclosure h = hit_enclosure(o[axis], d[axis], out.roots[front]);
+            out.hit[axis] = round_normalised(prec, h);
+            if (!out.hit[axis]) out.hit[axis] = round_enclosure(prec, h, side_of(h, 0.0));
+            if (!out.hit[axis]) out.hit[axis] = round_hit_coordinate(prec, g, out.roots[front], axis);
+            if (!out.hit[axis]) return false;
+        }
+    return true;
+}
+
+}  // namespace rayverify::oracle_internal

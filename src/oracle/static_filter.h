@@ -1,0 +1,38 @@
+// The oracle's first stage for double inputs: a static filter. The
+// quadratic's coefficients, Δ′ and C are computed in plain double, each with
+// an error bound fixed a priori as a constant times a magnitude of the inputs
+// or of the computed values (the semi-static filters of Shewchuk, "Adaptive
+// precision floating-point arithmetic and fast robust geometric predicates",
+// 1997, and of CGAL's Static_filtered_predicate); a root is then corrected
+// once by Newton's step, whose residual P(t̂) is formed with error-free
+// transformations (two_sum, two_prod: core/double_word.h), and rounded from
+// the resulting enclosure. Every bound is derived beside its computation in
+// static_filter.cpp.
+//
+// It answers all of filter_case's questions (the class, the roots'
+// enclosures, signs and roundings, the front root's hit point) or none: when
+// a bound straddles a decision it returns nothing and the double-word filter
+// (filter.h) runs instead, then expansions, then the exact route. Only for
+// the true quadratic (not the unit-direction idealisation) and for inputs in
+// the filter range (filter.h), where no product underflows or overflows, so
+// that every rounding error below is relative: |RN(x) − x| ≤ u·|x|, u = 2^−53.
+#pragma once
+
+#include "core/ray_sphere_case.h"
+#include "oracle/filter.h"
+
+namespace rayverify::oracle_internal {
+
+// What filter_case(g, prec) settles, all of it, or nothing: the class (a
+// miss ends there), both roots' enclosures, signs and correct roundings, and
+// the front root's hit point (a coordinate the static enclosure cannot round
+// is tried with the filter's double-word rounding, round_hit_coordinate, from
+// the same root enclosure).
+// It writes into the caller's `out` (a default filtered_case) and says
+// whether it settled the case; when it did not, `out` holds partial answers
+// the caller must discard (the double-word filter then fills a fresh one).
+// Written in place rather than returned: building and copying the result
+// cost a fifth of the whole stage.
+bool static_filter_case(const ray_sphere<double>& g, precision prec, filtered_case& out);
+
+}  // namespace rayverify::oracle_internal

@@ -1,0 +1,304 @@
+// The static filter (oracle/static_filter.h) against the exact route: every
+// answer it certifies — the class, the roots' signs and correct roundings,
+// the front root's hit point — equals solve_exact_reference's bit for bit,
+// and every root enclosure it hands on holds the exact root. Random and
+// constructed cases: uniform, far spheres, near-tangent lines, origins on,
+// at the centre of and near the sphere, b′ = 0, huge and tiny magnitudes
+// across the filter range, small integers, roots on rounding midpoints; both
+// precisions. Every random test prints its seed; a failure prints the case
+// as hex floats.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <bit>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <random>
+#include <sstream>
+#include <string>
+
+#include "oracle/oracle.h"
+#include "oracle/static_filter.h"
+
+namespace rayverify {
+namespace {
+
+constexpr double inf = std::numeric_limits<double>::infinity();
+
+std::string hex(double x) {
+    char buffer[64];
+    std::snprintf(buffer, sizeof buffer, "%a", x);
+    return buffer;
+}
+
+std::string describe(const ray_sphere<double>& g) {
+    std::ostringstream out;
+    out << "o " << hex(g.origin.x) << " " << hex(g.origin.y) << " " << hex(g.origin.z) << "  d " << hex(g.direction.x)
+        << " " << hex(g.direction.y) << " " << hex(g.direction.z) << "  c " << hex(g.centre.x) << " "
+        << hex(g.centre.y) << " " << hex(g.centre.z) << "  r " << hex(g.radius);
+    return out.str();
+}
+
+bool same_bits(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
+
+double uniform(std::mt19937_64& rng, double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng); }
+
+vec3<double> unit_vector(std::mt19937_64& rng) {
+    std::normal_distribution<double> n;
+    for (;;) {
+        const vec3<double> v{n(rng), n(rng), n(rng)};
+        const double length = std::sqrt(v.x * v.x + v.y * v.y + v.z * v.z);
+        if (length > 1e-3) return (1 / length) * v;
+    }
+}
+
+vec3<double> uniform_point(std::mt19937_64& rng, double half) {
+    return {uniform(rng, -half, half), uniform(rng, -half, half), uniform(rng, -half, half)};
+}
+
+vec3<double> scaled(vec3<double> v, int k) { return {std::ldexp(v.x, k), std::ldexp(v.y, k), std::ldexp(v.z, k)}; }
+
+// o, c in [−10, 10]³, r in [0.1, 5], d of length 2^[−4, 4] aimed within 2r of c.
+ray_sphere<double> uniform_case(std::mt19937_64& rng) {
+    const vec3<double> o = uniform_point(rng, 10), c = uniform_point(rng, 10);
+    const double r = uniform(rng, 0.1, 5);
+    const vec3<double> target = c + (2 * r * uniform(rng, 0, 1)) * unit_vector(rng);
+    const double length = std::ldexp(uniform(rng, 0.5, 1), static_cast<int>(rng() % 9) - 4);
+    return {o, length * (target - o), c, r};
+}
+
+// Distance/radius 10 to 10^15, origin or centre near 0, d unit or not.
+ray_sphere<double> far_case(std::mt19937_64& rng) {
+    const double distance = std::pow(10.0, uniform(rng, 1, 15));
+    const double r = uniform(rng, 0.5, 2);
+    const vec3<double> near = uniform_point(rng, 1);
+    const vec3<double> far = near + distance * unit_vector(rng);
+    const bool origin_far = rng() & 1;
+    const vec3<double> o = origin_far ? far : near, c = origin_far ? near : far;
+    const vec3<double> target = c + (r * uniform(rng, 0, 1.5)) * unit_vector(rng);
+    const double length = (rng() & 1) ? 1.0 : uniform(rng, 0.1, 10);
+    vec3<double> d = target - o;
+    const double norm = std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
+    return {o, (length / norm) * d, c, r};
+}
+
+// A line through a point at distance r(1 + ε) from c, ⊥ to the offset: ε = ±2^−k, k in [8, 60].
+ray_sphere<double> near_tangent_case(std::mt19937_64& rng) {
+    const vec3<double> c = uniform_point(rng, 10);
+    const double r = uniform(rng, 0.1, 5);
+    const vec3<double> n = unit_vector(rng);
+    vec3<double> d = unit_vector(rng);
+    d = d - (d.x * n.x + d.y * n.y + d.z * n.z) * n;
+    const double eps = std::ldexp((rng() & 1) ? 1.0 : -1.0, -static_cast<int>(8 + rng() % 53));
+    const vec3<double> touch = c + (r * (1 + eps)) * n;
+    return {touch - uniform(rng, 1, 20) * d, d, c, r};
+}
+
+// Origin exactly on the sphere (C = 0): o = c + r·(±3/5, ±4/5, 0) permuted, r a multiple of 5.
+ray_sphere<double> on_surface_case(std::mt19937_64& rng) {
+    const double unit = std::ldexp(1.0, static_cast<int>(rng() % 41) - 20);
+    const double r = 5 * unit * static_cast<double>(1 + rng() % 1000);
+    const vec3<double> c{std::round(uniform(rng, -1e3, 1e3)) * unit, std::round(uniform(rng, -1e3, 1e3)) * unit,
+                         std::round(uniform(rng, -1e3, 1e3)) * unit};
+    double offset[3] = {(rng() & 1 ? 3 : -3) * r / 5, (rng() & 1 ? 4 : -4) * r / 5, 0};
+    std::shuffle(offset, offset + 3, rng);
+    return {{c.x + offset[0], c.y + offset[1], c.z + offset[2]}, uniform_point(rng, 2), c, r};
+}
+
+// Origin within r·2^−k of the surface, inside or out (C cancels): k in [1, 60].
+ray_sphere<double> near_surface_case(std::mt19937_64& rng) {
+    const vec3<double> c = uniform_point(rng, 10);
+    const double r = uniform(rng, 0.1, 5);
+    const double eps = std::ldexp((rng() & 1) ? 1.0 : -1.0, -static_cast<int>(1 + rng() % 60));
+    return {c + (r * (1 + eps)) * unit_vector(rng), uniform_point(rng, 2), c, r};
+}
+
+// b′ = 0 exactly: the origin at the centre, or d ⊥ f with small integers.
+ray_sphere<double> zero_b_case(std::mt19937_64& rng) {
+    const auto small = [&rng] { return static_cast<double>(static_cast<int>(rng() % 17) - 8); };
+    const vec3<double> c{small(), small(), small()};
+    if (rng() & 1) return {c, unit_vector(rng), c, uniform(rng, 0.1, 5)};
+    vec3<double> f{small(), small(), 0};
+    if (f.x == 0 && f.y == 0) f.x = 1;
+    const vec3<double> d{-f.y, f.x, small()};
+    return {c + f, d, c, std::fabs(small()) + 0.5};
+}
+
+// A uniform or far case with positions scaled by 2^s and d by 2^s′, s and s′
+// in [−110, 110]: across and beyond the filter range [2^−80, 2^80].
+ray_sphere<double> magnitude_case(std::mt19937_64& rng) {
+    ray_sphere<double> g = (rng() & 1) ? uniform_case(rng) : far_case(rng);
+    const int s = static_cast<int>(rng() % 221) - 110, sd = static_cast<int>(rng() % 221) - 110;
+    g.origin = scaled(g.origin, s);
+    g.centre = scaled(g.centre, s);
+    g.radius = std::ldexp(g.radius, s);
+    g.direction = scaled(g.direction, sd);
+    return g;
+}
+
+// Small integers: exact roots, tangents, zero components, all frequent.
+ray_sphere<double> integer_case(std::mt19937_64& rng) {
+    const auto small = [&rng] { return static_cast<double>(static_cast<int>(rng() % 9) - 4); };
+    ray_sphere<double> g{{small(), small(), small()}, {small(), small(), small()}, {small(), small(), small()},
+                         std::fabs(small())};
+    if (g.direction.x == 0 && g.direction.y == 0 && g.direction.z == 0) g.direction.z = 1;
+    return g;
+}
+
+// A root exactly on a rounding midpoint of the precision with p bits (o = 0,
+// d = ẑ·2^k, c = 2·2^j ẑ, r = (2 − m)·2^j): no enclosure can round it.
+ray_sphere<double> tie_case(std::mt19937_64& rng, int p) {
+    const double y = 1 + std::ldexp(static_cast<double>(rng() % (std::uint64_t{1} << (p - 2))), 1 - p);
+    const double r = (2 - y) - std::ldexp(1.0, -p);
+    const int j = static_cast<int>(rng() % 21) - 10, k = static_cast<int>(rng() % 21) - 10;
+    return {{0, 0, 0}, {0, 0, std::ldexp(1.0, k)}, {0, 0, std::ldexp(2.0, j)}, std::ldexp(r, j)};
+}
+
+struct regime {
+    const char* name;
+    ray_sphere<double> (*make)(std::mt19937_64&);
+};
+
+const regime regimes[] = {
+    {"uniform", uniform_case},
+    {"far", far_case},
+    {"near_tangent", near_tangent_case},
+    {"on_surface", on_surface_case},
+    {"near_surface", near_surface_case},
+    {"zero_b", zero_b_case},
+    {"magnitudes", magnitude_case},
+    {"integers", integer_case},
+    {"tie_binary64", [](std::mt19937_64& rng) { return tie_case(rng, 53); }},
+    {"tie_binary32", [](std::mt19937_64& rng) { return tie_case(rng, 24); }},
+};
+
+struct tally {
+    std::size_t solutions = 0, certified = 0, misses = 0;
+};
+
+// Whatever the static filter certifies for g in precision p is the exact
+// route's answer, and its root enclosures hold the exact roots: t* − y, for
+// y = RN(hi + lo) in double, is ±ratio·ulp(t*) with the exact sign of
+// compare_to_root(y, i) and the reference's ULP error `ratio` (correctly rounded,
+// so within a relative 2^−53), and must meet [hi + lo − y − err, hi + lo − y + err].
+testing::AssertionResult certified_answers_are_exact(const ray_sphere<double>& g, precision p, tally& t) {
+    ++t.solutions;
+    std::optional<oracle_internal::filtered_case> quick(std::in_place);
+    if (!oracle_internal::static_filter_case(g, p, *quick)) return testing::AssertionSuccess();
+    ++t.certified;
+    const exact_solution ref = solve_exact_reference(g, p);
+    std::ostringstream why;
+    const auto check = [&](bool ok, const std::string& what) {
+        if (!ok) why << "\n  " << what;
+    };
+    check(ref.valid(), "certified an invalid case");
+    if (!ref.valid()) return testing::AssertionFailure() << describe(g) << why.str();
+    const line_class cls = *quick->discriminant_sign > 0 ? line_class::two_hit : line_class::miss;
+    check(cls == ref.cls, std::string("class: static ") + line_class_name(cls) + ", exact " + line_class_name(ref.cls));
+    if (cls == line_class::miss) ++t.misses;
+    if (cls == line_class::two_hit && ref.cls == line_class::two_hit) {
+        for (root_index i : {root_index::near_root, root_index::far_root}) {
+            const int k = i == root_index::near_root ? 0 : 1;
+            const std::string name = k == 0 ? "near" : "far";
+            check(quick->sign[k] && *quick->sign[k] == ref.root(i).sign, name + " sign differs");
+            check(quick->rounded[k] && same_bits(*quick->rounded[k], ref.root(i).rounded),
+                  name + " rounded: static " + (quick->rounded[k] ? hex(*quick->rounded[k]) : "-") + ", exact " +
+                      hex(ref.root(i).rounded));
+            // The enclosure holds t*.
+            const exact_solution::enclosure& e = quick->roots[k];
+            const double y = e.hi + e.lo;
+            const int side = static_cast<int>(ref.compare_to_root(y, i));  // sign(y − t*)
+            const double ratio = solve_exact_reference(g, precision::binary64).root_ulp_error(i, y);
+            const double ulp = std::ldexp(1.0, std::ilogb(y) - 52);
+            const double exact_offset = -side * ratio * ulp;  // t* − y, within a relative 2^−53
+            const double low = (e.hi - y) + e.lo - e.err, high = (e.hi - y) + e.lo + e.err;
+            const double slack = std::fabs(exact_offset) * 0x1p-51 + std::fabs(y) * 0x1p-160;
+            check(exact_offset + slack >= low && exact_offset - slack <= high,
+                  name + " enclosure " + hex(e.hi) + " + " + hex(e.lo) + " ± " + hex(e.err) + " misses t* = y + " +
+                      hex(exact_offset));
+        }
+        check(quick->sign[0] && quick->sign[1], "signs not both certified");
+        if (ref.nearest_in_front) {
+            for (int axis = 0; axis < 3; ++axis)
+                check(quick->hit[axis] && same_bits(*quick->hit[axis], ref.hit_point[axis]),
+                      "hit_point[" + std::to_string(axis) + "]: static " +
+                          (quick->hit[axis] ? hex(*quick->hit[axis]) : "-") + ", exact " + hex(ref.hit_point[axis]));
+        }
+    }
+    if (why.str().empty()) return testing::AssertionSuccess();
+    return testing::AssertionFailure() << precision_name(p) << " " << describe(g) << why.str();
+}
+
+// `count` cases of every regime from `seed` (stopping after `budget` seconds), both precisions.
+tally sweep(std::uint64_t seed, int count, double budget) {
+    tally t;
+    const auto start = std::chrono::steady_clock::now();
+    for (int i = 0; i < count; ++i) {
+        for (const regime& r : regimes) {
+            const std::uint64_t case_seed = seed + static_cast<std::uint64_t>(i);
+            std::mt19937_64 rng(case_seed ^ std::hash<std::string>{}(r.name));
+            const ray_sphere<double> g = r.make(rng);
+            if (validity<double>(g) != invalid_reason::none) continue;
+            EXPECT_TRUE(certified_answers_are_exact(g, precision::binary64, t))
+                << "regime " << r.name << ", case seed " << case_seed;
+            if (validity<float>(g) == invalid_reason::none)
+                EXPECT_TRUE(certified_answers_are_exact(rounded_to<double>(rounded_to<float>(g)), precision::binary32, t))
+                    << "regime " << r.name << ", case seed " << case_seed;
+            if (testing::Test::HasFailure()) return t;
+        }
+        if (i % 1024 == 0 &&
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > budget)
+            break;
+    }
+    return t;
+}
+
+TEST(StaticFilter, CertifiedAnswersAreExact) {
+    const std::uint64_t seed = 20261127;
+    std::printf("seed %llu\n", static_cast<unsigned long long>(seed));
+    const tally t = sweep(seed, 20000, 1e9);
+    std::printf("%zu solutions, %zu certified by the static filter (%zu misses)\n", t.solutions, t.certified,
+                t.misses);
+    EXPECT_GT(t.certified, t.solutions / 3);
+}
+
+TEST(LongSweepStaticFilter, CertifiedAnswersAreExactOnMillions) {
+    const std::uint64_t seed = std::random_device{}();
+    std::printf("seed %llu\n", static_cast<unsigned long long>(seed));
+    const tally t = sweep(seed, 400000, 80);
+    std::printf("%zu solutions, %zu certified by the static filter (%zu misses)\n", t.solutions, t.certified,
+                t.misses);
+}
+
+// What it settles and what it leaves: ordinary cases all certified; a
+// tangent, an origin on the sphere, a root on a rounding midpoint, inputs
+// outside the filter range and the unit-direction idealisation never.
+TEST(StaticFilter, SettlesOrdinaryCasesAndDeclinesStiffOnes) {
+    std::mt19937_64 rng(5);
+    int certified = 0;
+    oracle_internal::filtered_case out;
+    for (int i = 0; i < 2000; ++i) certified += oracle_internal::static_filter_case(uniform_case(rng), precision::binary64, out);
+    EXPECT_GE(certified, 1990) << certified << " of 2000";
+    const auto certifies = [](const ray_sphere<double>& g, precision p = precision::binary64) {
+        oracle_internal::filtered_case out;
+        return oracle_internal::static_filter_case(g, p, out);
+    };
+    EXPECT_FALSE(certifies({{1, 0, -5}, {0, 0, 1}, {0, 0, 0.25}, 1}));          // tangent: Δ′ = 0
+    EXPECT_FALSE(certifies({{0, 0, -1}, {0, 0, 1}, {0, 0, 0}, 1}));             // origin on the sphere: C = 0
+    EXPECT_FALSE(certifies(tie_case(rng, 53)));                                  // a root on a midpoint
+    EXPECT_FALSE(certifies({{0, 0, -0x1p900}, {0, 0, 1}, {0, 0, 0}, 0x1p899}));  // outside [2^−80, 2^80]
+    EXPECT_FALSE(certifies({{1, 0, -(1 + 0x1p-24)}, {0, 0, 1}, {0, 0, 0}, 1}, precision::binary32));
+    EXPECT_TRUE(certifies({{0.25, 0.125, -5}, {0, 0, 1}, {0, 0, 0}, 1}));
+    // A miss, certified.
+    oracle_internal::filtered_case miss;
+    ASSERT_TRUE(oracle_internal::static_filter_case({{3, 0, -5}, {0, 0, 1}, {0, 0, 0}, 1}, precision::binary64, miss));
+    EXPECT_EQ(*miss.discriminant_sign, -1);
+    // The oracle counts it as its filter stage.
+    EXPECT_EQ(solve_exact({{0.25, 0.125, -5}, {0, 0, 1}, {0, 0, 0}, 1}, precision::binary64).stage,
+              oracle_stage::filter);
+}
+
+}  // namespace
+}  // namespace rayverify

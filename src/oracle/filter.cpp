@@ -49,7 +49,7 @@ std::optional<double> round_enclosure(const enclosure& x, uncertain_sign sign) {
 // exactly is left to the exact route).
 template <class T>
 std::optional<int> ulp_exponent_of(const enclosure& x) {
-    const uncertain_sign side = side_of(x, 0.0);
+    const uncertain_sign side = sign_of(x);
     if (!side) return std::nullopt;
     const int sign = *side;
     const double approx = x.hi + x.lo;
@@ -200,7 +200,7 @@ std::optional<double> round_hit_coordinate(precision prec, const ray_sphere<doub
     // d's coordinate 0: the coordinate is o's, rounded (a −0 becomes +0, as RN(0) = +0).
     if (known(h) && h.err == 0 && h.lo == 0)
         return rounded_to(prec, h.hi) + 0.0;
-    return round_enclosure(prec, h, side_of(h, 0.0));
+    return round_enclosure(prec, h, sign_of(h));
 }
 
 RAYVERIFY_CLONED_FOR_FMA filtered_case
@@ -212,7 +212,7 @@ filter_case(const ray_sphere<double>& g, precision prec, const std::optional<bou
     if (!q.discriminant_sign || *q.discriminant_sign < 0) return out;
     for (int i = 0; i < 2; ++i) {
         out.roots[i] = q.roots[i];
-        out.sign[i] = side_of(q.roots[i], 0.0);
+        out.sign[i] = sign_of(q.roots[i]);
         out.rounded[i] = round_enclosure(prec, q.roots[i], out.sign[i]);
     }
     if (!out.sign[0] || !out.sign[1]) return out;

@@ -47,12 +47,18 @@ inline uncertain_sign sign_of(const bounded& x) {
     return s != 0 ? uncertain_sign(s) : std::nullopt;
 }
 
-// sign(x − m) when the enclosure decides it (never 0, as above).
-inline uncertain_sign side_of(const enclosure& x, double m) {
+// compare(x, m) when the enclosure decides it (never equal, as above).
+inline uncertain_comparison compare(const enclosure& x, double m) {
     if (!known(x)) return std::nullopt;
-    if (exceeds(x.hi, x.lo, x.err, m)) return +1;
-    if (exceeds(-x.hi, -x.lo, x.err, -m)) return -1;
+    if (exceeds(x.hi, x.lo, x.err, m)) return comparison::larger;
+    if (exceeds(-x.hi, -x.lo, x.err, -m)) return comparison::smaller;
     return std::nullopt;
+}
+
+// sign(x) when the enclosure decides it (never 0, as above).
+inline uncertain_sign sign_of(const enclosure& x) {
+    const uncertain_comparison c = compare(x, 0.0);
+    return c ? uncertain_sign(static_cast<int>(*c)) : std::nullopt;
 }
 
 // Filter range: 0 or 2^−80 ≤ |x| ≤ 2^80 (see the range note above).

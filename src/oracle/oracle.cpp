@@ -64,6 +64,10 @@ uncertain_comparison comparison_from(uncertain_sign s) {
 uncertain_comparison comparison_from_reversed(uncertain_sign s) {
     return s ? uncertain_comparison(comparison_of_sign(-*s)) : std::nullopt;
 }
+// compare(b, a) from compare(a, b), when it is settled.
+uncertain_comparison opposite(uncertain_comparison c) {
+    return c ? uncertain_comparison(rayverify::opposite(*c)) : std::nullopt;
+}
 
 // The same with no expansion stage.
 template <class Filter, class Exact>
@@ -128,44 +132,44 @@ struct exact_solution::internal {
         return root.err == 0 && root.hi == 0;
     }
 
-    // sign(t_i − m) exactly with expansions: a tangent's root against m; one
-    // of two roots once the other root's enclosure parts m from t_j. Needs
-    // the roots' enclosures (the filter range) and m refinable.
+    // compare(t_i, m) exactly with expansions: a tangent's root against m;
+    // one of two roots once the other root's enclosure parts m from t_j.
+    // Needs the roots' enclosures (the filter range) and m refinable.
     // When the other root's enclosure cannot part m from t_j (the roots are
     // close), the midpoint −b′/a does: t_near < −b′/a < t_far, and which side
-    // of it m lies on is the sign of 2b′ + 2a·m.
-    static uncertain_sign compare_root_by_expansion(const exact_solution& s, root_index i, double m) {
+    // of it m lies on is the sign of 2b′ + 2a·m. (refinement.h's *_side
+    // functions answer signs of differences: sign(t − m).)
+    static uncertain_comparison compare_root_by_expansion(const exact_solution& s, root_index i, double m) {
         const int k = slot_of(i);
         if (s.cls == line_class::miss || !known(s.roots_[k]) || !refinable(m)) return std::nullopt;
-        if (s.cls == line_class::tangent) return tangent_root_side(coefficients(s), m);
-        uncertain_sign other_side = side_of(s.roots_[1 - k], m);  // sign(t_j − m)
-        if (!other_side) {
+        if (s.cls == line_class::tangent) return comparison_of_sign(tangent_root_side(coefficients(s), m));
+        const uncertain_comparison other = compare(s.roots_[1 - k], m);  // compare(t_j, m)
+        int other_side = other ? static_cast<int>(*other) : 0;
+        if (!other) {
             const int midpoint_side = tangent_root_side(coefficients(s), m);  // sign(−b′/a − m)
             const bool near = i == root_index::near_root;
             // m beyond the midpoint from t_i: t_i's side is the midpoint's; else t_j's is.
-            if (near && midpoint_side < 0) return -1;
-            if (!near && midpoint_side > 0) return +1;
+            if (near && midpoint_side < 0) return comparison::smaller;
+            if (!near && midpoint_side > 0) return comparison::larger;
             other_side = near ? +1 : -1;
         }
-        return root_side(coefficients(s), m, *other_side);
+        return comparison_from(root_side(coefficients(s), m, other_side));
     }
 
-    // sign(p_i − v) exactly with expansions, p_i coordinate `axis` of root
+    // compare(p_i, v) exactly with expansions, p_i coordinate `axis` of root
     // i's hit point: a tangent's from its root −b′/a; one of two roots' once
     // the other's coordinate enclosure parts it from v. Needs the roots'
     // enclosures (the filter range) and v refinable.
-    static uncertain_sign compare_hit_by_expansion(const exact_solution& s, root_index i, int axis, double v) {
+    static uncertain_comparison compare_hit_by_expansion(const exact_solution& s, root_index i, int axis, double v) {
         const int k = slot_of(i);
         if (s.cls == line_class::miss || !known(s.roots_[k]) || !refinable(v)) return std::nullopt;
         const double o = s.geometry_.origin[axis], d = s.geometry_.direction[axis];
-        if (d == 0) return (o > v) - (o < v);
-        if (s.cls == line_class::tangent) return tangent_hit_side(coefficients(s), o, d, v);
-        const uncertain_sign other_side = side_of(hit_enclosure(s, i == root_index::near_root ? root_index::far_root
-                                                                                             : root_index::near_root,
-                                                                axis),
-                                                  v);
-        if (!other_side) return std::nullopt;
-        return hit_side(coefficients(s), o, d, v, *other_side);
+        if (d == 0) return compare(o, v);
+        if (s.cls == line_class::tangent) return comparison_from(tangent_hit_side(coefficients(s), o, d, v));
+        const uncertain_comparison other = compare(
+            hit_enclosure(s, i == root_index::near_root ? root_index::far_root : root_index::near_root, axis), v);
+        if (!other) return std::nullopt;
+        return comparison_from(hit_side(coefficients(s), o, d, v, static_cast<int>(*other)));
     }
 
     // |value − p_i| / ulp(p_i) from expansions: the refined enclosure for the
@@ -181,22 +185,23 @@ struct exact_solution::internal {
             if (const std::optional<double> e = rounded_ulp_ratio(hit_difference(*fine, o, d, value), *frame.ulp_exponent))
                 return e;
         if (!std::isfinite(value)) return std::nullopt;
-        const uncertain_sign position = compare_hit_by_expansion(s, i, axis, value);  // sign(p − value)
+        const uncertain_comparison position = compare_hit_by_expansion(s, i, axis, value);  // compare(p, value)
         if (!position) return std::nullopt;
-        if (*position == 0) return 0.0;
+        if (*position == comparison::equal) return 0.0;
         if (!fine) return std::nullopt;
-        const uncertain_sign sign = compare_hit_by_expansion(s, i, axis, 0.0);  // sign(p)
-        if (!sign) return std::nullopt;
-        if (*sign == 0) return std::ldexp(std::fabs(value), -ulp_exponent_in(s.prec, std::numeric_limits<long>::min()));
+        const uncertain_comparison against_zero = compare_hit_by_expansion(s, i, axis, 0.0);
+        if (!against_zero) return std::nullopt;
+        const int sign = static_cast<int>(*against_zero);  // sign(p)
+        if (sign == 0) return std::ldexp(std::fabs(value), -ulp_exponent_in(s.prec, std::numeric_limits<long>::min()));
         const double guess = frame.x.hi + frame.x.lo;
         if (!(guess != 0 && std::isfinite(guess))) return std::nullopt;
         const int binade = binade_of(guess);
         for (int e = binade - 1; e <= binade + 1; ++e) {
             // 2^e ≤ |p| < 2^(e+1), decided exactly.
-            const uncertain_sign low = compare_hit_by_expansion(s, i, axis, *sign * std::ldexp(1.0, e));
-            const uncertain_sign high = compare_hit_by_expansion(s, i, axis, *sign * std::ldexp(1.0, e + 1));
+            const uncertain_comparison low = compare_hit_by_expansion(s, i, axis, sign * std::ldexp(1.0, e));
+            const uncertain_comparison high = compare_hit_by_expansion(s, i, axis, sign * std::ldexp(1.0, e + 1));
             if (!low || !high) return std::nullopt;
-            if (*sign * *low < 0 || *sign * *high >= 0) continue;
+            if (sign * static_cast<int>(*low) < 0 || sign * static_cast<int>(*high) >= 0) continue;
             return rounded_ulp_ratio(hit_difference(*fine, o, d, value), ulp_exponent_in(s.prec, e));
         }
         return std::nullopt;
@@ -235,19 +240,19 @@ struct exact_solution::internal {
             if (const std::optional<double> e = rounded_ulp_ratio(root_difference(*fine, value), *frame.ulp_exponent))
                 return e;
         if (!std::isfinite(value)) return std::nullopt;
-        const uncertain_sign position = compare_root_by_expansion(s, i, value);
+        const uncertain_comparison position = compare_root_by_expansion(s, i, value);
         if (!position) return std::nullopt;
-        if (*position == 0) return 0.0;
+        if (*position == comparison::equal) return 0.0;
         const exact_root& root = s.root(i);
         if (root.sign == 0 || fine == nullptr) return std::nullopt;
         const enclosure& coarse = root_enclosure(s, i);
         const int guess = std::ilogb(coarse.hi + coarse.lo);
         for (int e = guess - 1; e <= guess + 1; ++e) {
             // 2^e ≤ |t_i| < 2^(e+1), decided exactly.
-            const uncertain_sign low = compare_root_by_expansion(s, i, root.sign * std::ldexp(1.0, e));
-            const uncertain_sign high = compare_root_by_expansion(s, i, root.sign * std::ldexp(1.0, e + 1));
+            const uncertain_comparison low = compare_root_by_expansion(s, i, root.sign * std::ldexp(1.0, e));
+            const uncertain_comparison high = compare_root_by_expansion(s, i, root.sign * std::ldexp(1.0, e + 1));
             if (!low || !high) return std::nullopt;
-            if (root.sign * *low < 0 || root.sign * *high >= 0) continue;
+            if (root.sign * static_cast<int>(*low) < 0 || root.sign * static_cast<int>(*high) >= 0) continue;
             return rounded_ulp_ratio(root_difference(*fine, value), ulp_exponent_in(s.prec, e));
         }
         return std::nullopt;
@@ -452,16 +457,16 @@ comparison exact_solution::compare_to_root(double value, root_index i) const {
         [&] {
             // Against 0, the root's exact sign answers.
             return value == 0 ? uncertain_comparison(comparison_of_sign(-root(i).sign))
-                              : comparison_from_reversed(side_of(internal::root_enclosure(*this, i), value));
+                              : opposite(compare(internal::root_enclosure(*this, i), value));
         },
-        [&] { return comparison_from_reversed(internal::compare_root_by_expansion(*this, i, value)); },
+        [&] { return opposite(internal::compare_root_by_expansion(*this, i, value)); },
         [&] { return comparison_of_sign(-state().root(i).compare(exact(value))); });
 }
 
 comparison exact_solution::compare_to_midpoint(double value) const {
     return settle(
         oracle_stage_counts_this_thread().comparisons,
-        [&] { return comparison_from_reversed(side_of(midpoint_, value)); },  // side_of: sign(m − value)
+        [&] { return opposite(compare(midpoint_, value)); },
         [&]() -> uncertain_comparison {
             // m = −b′/a: sign(m − value) from 2b′ + 2a·value.
             if (!known(internal::root_enclosure(*this, root_index::near_root)) || !refinable(value)) return std::nullopt;
@@ -534,8 +539,8 @@ comparison exact_solution::compare_to_hit_coordinate(double value, root_index i,
     // The stages answer sign(p* − value): compare(value, p*) is its opposite.
     return settle(
         oracle_stage_counts_this_thread().comparisons,
-        [&] { return comparison_from_reversed(side_of(internal::hit_enclosure(*this, i, axis), value)); },
-        [&] { return comparison_from_reversed(internal::compare_hit_by_expansion(*this, i, axis, value)); },
+        [&] { return opposite(compare(internal::hit_enclosure(*this, i, axis), value)); },
+        [&] { return opposite(internal::compare_hit_by_expansion(*this, i, axis, value)); },
         [&] { return comparison_of_sign(-state().hit_coordinate(i, axis).compare(exact(value))); });
 }
 

@@ -293,7 +293,7 @@ RAYVERIFY_CLONED_FOR_FMA bool static_filter_case(const ray_sphere<double>& g, pr
             }
             const enclosure h = hit_enclosure(o[axis], d[axis], out.roots[front]);
             out.hit[axis] = round_normalised(prec, h);
-            if (!out.hit[axis]) out.hit[axis] = round_enclosure(prec, h, side_of(h, 0.0));
+            if (!out.hit[axis]) out.hit[axis] = round_enclosure(prec, h, sign_of(h));
             if (!out.hit[axis]) out.hit[axis] = round_hit_coordinate(prec, g, out.roots[front], axis);
             if (!out.hit[axis]) return false;
         }

@@ -21,6 +21,7 @@
 
 #include "oracle/oracle.h"
 #include "oracle/static_filter.h"
+#include "support/sanitized.h"
 
 namespace rayverify {
 namespace {
@@ -258,7 +259,7 @@ tally sweep(std::uint64_t seed, int count, double budget) {
 TEST(StaticFilter, CertifiedAnswersAreExact) {
     const std::uint64_t seed = 20261127;
     std::printf("seed %llu\n", static_cast<unsigned long long>(seed));
-    const tally t = sweep(seed, 20000, 1e9);
+    const tally t = sweep(seed, test_support::sweep_size(20000), 1e9);
     std::printf("%zu solutions, %zu certified by the static filter (%zu misses)\n", t.solutions, t.certified,
                 t.misses);
     EXPECT_GT(t.certified, t.solutions / 3);

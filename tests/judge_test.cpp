@@ -578,11 +578,15 @@ TEST(VerdictTable, DerivedListsAreConsistent) {
         const auto v = static_cast<verdict_kind>(k);
         SCOPED_TRACE(std::string(verdict_name(v)));
         EXPECT_EQ(verdict_from_name(verdict_name(v)), v);
-        if (is_misclassification(v)) EXPECT_TRUE(is_disagreement(v));
+        if (is_misclassification(v)) {
+            EXPECT_TRUE(is_disagreement(v));
+        }
         EXPECT_EQ(is_corpus_verdict(v), v != verdict_kind::wrong_sphere);
-        if (!is_disagreement(v) && v != verdict_kind::agree)
-            for (const ray_query q : {ray_query::any_hit, ray_query::nearest_hit, ray_query::both_roots})
+        if (!is_disagreement(v) && v != verdict_kind::agree) {
+            for (const ray_query q : {ray_query::any_hit, ray_query::nearest_hit, ray_query::both_roots}) {
                 EXPECT_FALSE(scene_table_shows(v, q));
+            }
+        }
     }
     EXPECT_FALSE(scene_table_shows(verdict_kind::wrong_root, ray_query::any_hit));
     EXPECT_TRUE(scene_table_shows(verdict_kind::wrong_sphere, ray_query::nearest_hit));

@@ -142,7 +142,7 @@ TEST_F(Schema, BenchReportAndGoogleBenchmarkJsonValidate) {
 // target, so the lines carry four. The edge families hold the extremes: roots
 // near overflow and below the subnormals, NaN answers, infinities as figures.
 TEST_F(Schema, ReportAndPerCaseLinesOfTheShippedCorpusAndEdgeCasesValidate) {
-    for (const std::string corpus : {corpus_dir, corpus_dir + "/edge"}) {
+    for (const std::string& corpus : {corpus_dir, corpus_dir + "/edge"}) {
         SCOPED_TRACE(corpus);
         const fs::path whole = dir_ / "whole", lines = dir_ / "lines";
         fs::remove_all(whole);

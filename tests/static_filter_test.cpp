@@ -21,6 +21,7 @@
 
 #include "oracle/oracle.h"
 #include "oracle/static_filter.h"
+#include "support/random_geometry.h"
 #include "support/sanitized.h"
 
 namespace rayverify {
@@ -44,20 +45,10 @@ std::string describe(const ray_sphere<double>& g) {
 
 bool same_bits(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
 
-double uniform(std::mt19937_64& rng, double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng); }
-
-vec3<double> unit_vector(std::mt19937_64& rng) {
-    std::normal_distribution<double> n;
-    for (;;) {
-        const vec3<double> v{n(rng), n(rng), n(rng)};
-        const double length = std::sqrt(v.x * v.x + v.y * v.y + v.z * v.z);
-        if (length > 1e-3) return (1 / length) * v;
-    }
-}
-
-vec3<double> uniform_point(std::mt19937_64& rng, double half) {
-    return {uniform(rng, -half, half), uniform(rng, -half, half), uniform(rng, -half, half)};
-}
+using test_support::tie_case;
+using test_support::uniform;
+using test_support::uniform_point;
+using test_support::unit_vector;
 
 vec3<double> scaled(vec3<double> v, int k) { return {std::ldexp(v.x, k), std::ldexp(v.y, k), std::ldexp(v.z, k)}; }
 
@@ -148,15 +139,6 @@ ray_sphere<double> integer_case(std::mt19937_64& rng) {
     return g;
 }
 
-// A root exactly on a rounding midpoint of the precision with p bits (o = 0,
-// d = ẑ·2^k, c = 2·2^j ẑ, r = (2 − m)·2^j): no enclosure can round it.
-ray_sphere<double> tie_case(std::mt19937_64& rng, int p) {
-    const double y = 1 + std::ldexp(static_cast<double>(rng() % (std::uint64_t{1} << (p - 2))), 1 - p);
-    const double r = (2 - y) - std::ldexp(1.0, -p);
-    const int j = static_cast<int>(rng() % 21) - 10, k = static_cast<int>(rng() % 21) - 10;
-    return {{0, 0, 0}, {0, 0, std::ldexp(1.0, k)}, {0, 0, std::ldexp(2.0, j)}, std::ldexp(r, j)};
-}
-
 struct regime {
     const char* name;
     ray_sphere<double> (*make)(std::mt19937_64&);
@@ -244,9 +226,10 @@ tally sweep(std::uint64_t seed, int count, double budget) {
             if (validity<double>(g) != invalid_reason::none) continue;
             EXPECT_TRUE(certified_answers_are_exact(g, precision::binary64, t))
                 << "regime " << r.name << ", case seed " << case_seed;
-            if (validity<float>(g) == invalid_reason::none)
-                EXPECT_TRUE(certified_answers_are_exact(rounded_to<double>(rounded_to<float>(g)), precision::binary32, t))
+            if (validity<float>(g) == invalid_reason::none) {
+                EXPECT_TRUE(certified_answers_are_exact(rounded_to(precision::binary32, g), precision::binary32, t))
                     << "regime " << r.name << ", case seed " << case_seed;
+            }
             if (testing::Test::HasFailure()) return t;
         }
         if (i % 1024 == 0 &&

@@ -215,6 +215,7 @@ TEST(FastOracleCorpus, IdenticalToReferenceOnEveryShippedFile) {
 // ---------------------------------------------------------------------------
 // Random regimes.
 
+using test_support::integer_case;
 using test_support::tie_case;
 using test_support::uniform;
 using test_support::uniform_point;
@@ -284,15 +285,6 @@ ray_sphere<double> surface_case(std::mt19937_64& rng) {
     const vec3<double> o{c.x + offset[0], c.y + offset[1], c.z + offset[2]};
     const vec3<double> d = uniform_point(rng, 2);
     return {o, d, c, r};
-}
-
-// Small integers: exact roots, tangents, ties, zero components, all frequent.
-ray_sphere<double> integer_case(std::mt19937_64& rng) {
-    const auto small = [&rng] { return static_cast<double>(static_cast<int>(rng() % 9) - 4); };
-    ray_sphere<double> g{{small(), small(), small()}, {small(), small(), small()}, {small(), small(), small()},
-                         std::fabs(small())};
-    if (g.direction.x == 0 && g.direction.y == 0 && g.direction.z == 0) g.direction.z = 1;
-    return g;
 }
 
 struct regime {

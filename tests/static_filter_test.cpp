@@ -19,6 +19,7 @@
 #include <sstream>
 #include <string>
 
+#include "corpus/corpus_io.h"
 #include "oracle/oracle.h"
 #include "oracle/static_filter.h"
 #include "support/random_geometry.h"
@@ -29,22 +30,17 @@ namespace {
 
 constexpr double inf = std::numeric_limits<double>::infinity();
 
-std::string hex(double x) {
-    char buffer[64];
-    std::snprintf(buffer, sizeof buffer, "%a", x);
-    return buffer;
-}
-
 std::string describe(const ray_sphere<double>& g) {
     std::ostringstream out;
-    out << "o " << hex(g.origin.x) << " " << hex(g.origin.y) << " " << hex(g.origin.z) << "  d " << hex(g.direction.x)
-        << " " << hex(g.direction.y) << " " << hex(g.direction.z) << "  c " << hex(g.centre.x) << " "
-        << hex(g.centre.y) << " " << hex(g.centre.z) << "  r " << hex(g.radius);
+    out << "o " << hex_float(g.origin.x) << " " << hex_float(g.origin.y) << " " << hex_float(g.origin.z) << "  d " << hex_float(g.direction.x)
+        << " " << hex_float(g.direction.y) << " " << hex_float(g.direction.z) << "  c " << hex_float(g.centre.x) << " "
+        << hex_float(g.centre.y) << " " << hex_float(g.centre.z) << "  r " << hex_float(g.radius);
     return out.str();
 }
 
 bool same_bits(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
 
+using test_support::integer_case;
 using test_support::tie_case;
 using test_support::uniform;
 using test_support::uniform_point;
@@ -130,15 +126,6 @@ ray_sphere<double> magnitude_case(std::mt19937_64& rng) {
     return g;
 }
 
-// Small integers: exact roots, tangents, zero components, all frequent.
-ray_sphere<double> integer_case(std::mt19937_64& rng) {
-    const auto small = [&rng] { return static_cast<double>(static_cast<int>(rng() % 9) - 4); };
-    ray_sphere<double> g{{small(), small(), small()}, {small(), small(), small()}, {small(), small(), small()},
-                         std::fabs(small())};
-    if (g.direction.x == 0 && g.direction.y == 0 && g.direction.z == 0) g.direction.z = 1;
-    return g;
-}
-
 struct regime {
     const char* name;
     ray_sphere<double> (*make)(std::mt19937_64&);
@@ -187,8 +174,8 @@ testing::AssertionResult certified_answers_are_exact(const ray_sphere<double>& g
             const std::string name = k == 0 ? "near" : "far";
             check(quick->sign[k] && *quick->sign[k] == ref.root(i).sign, name + " sign differs");
             check(quick->rounded[k] && same_bits(*quick->rounded[k], ref.root(i).rounded),
-                  name + " rounded: static " + (quick->rounded[k] ? hex(*quick->rounded[k]) : "-") + ", exact " +
-                      hex(ref.root(i).rounded));
+                  name + " rounded: static " + (quick->rounded[k] ? hex_float(*quick->rounded[k]) : "-") + ", exact " +
+                      hex_float(ref.root(i).rounded));
             // The enclosure holds t*.
             const exact_solution::enclosure& e = quick->roots[k];
             const double y = e.hi + e.lo;
@@ -199,15 +186,15 @@ testing::AssertionResult certified_answers_are_exact(const ray_sphere<double>& g
             const double low = (e.hi - y) + e.lo - e.err, high = (e.hi - y) + e.lo + e.err;
             const double slack = std::fabs(exact_offset) * 0x1p-51 + std::fabs(y) * 0x1p-160;
             check(exact_offset + slack >= low && exact_offset - slack <= high,
-                  name + " enclosure " + hex(e.hi) + " + " + hex(e.lo) + " ± " + hex(e.err) + " misses t* = y + " +
-                      hex(exact_offset));
+                  name + " enclosure " + hex_float(e.hi) + " + " + hex_float(e.lo) + " ± " + hex_float(e.err) + " misses t* = y + " +
+                      hex_float(exact_offset));
         }
         check(quick->sign[0] && quick->sign[1], "signs not both certified");
         if (ref.nearest_in_front) {
             for (int axis = 0; axis < 3; ++axis)
                 check(quick->hit[axis] && same_bits(*quick->hit[axis], ref.hit_point[axis]),
                       "hit_point[" + std::to_string(axis) + "]: static " +
-                          (quick->hit[axis] ? hex(*quick->hit[axis]) : "-") + ", exact " + hex(ref.hit_point[axis]));
+                          (quick->hit[axis] ? hex_float(*quick->hit[axis]) : "-") + ", exact " + hex_float(ref.hit_point[axis]));
         }
     }
     if (why.str().empty()) return testing::AssertionSuccess();

@@ -1,6 +1,6 @@
 // Random geometry for the oracle's property tests (fast_oracle_test,
-// static_filter_test): the primitives their regimes are drawn from, and the
-// case whose near root lies exactly on a rounding midpoint.
+// static_filter_test): the primitives their regimes are drawn from, the small-
+// integer regime, and the case whose near root lies exactly on a rounding midpoint.
 #pragma once
 
 #include <cmath>
@@ -29,6 +29,15 @@ inline vec3<double> unit_vector(std::mt19937_64& rng) {
 // A point uniform in [−half, half]³.
 inline vec3<double> uniform_point(std::mt19937_64& rng, double half) {
     return {uniform(rng, -half, half), uniform(rng, -half, half), uniform(rng, -half, half)};
+}
+
+// Small integers: exact roots, tangents, ties, zero components, all frequent.
+inline ray_sphere<double> integer_case(std::mt19937_64& rng) {
+    const auto small = [&rng] { return static_cast<double>(static_cast<int>(rng() % 9) - 4); };
+    ray_sphere<double> g{{small(), small(), small()}, {small(), small(), small()}, {small(), small(), small()},
+                         std::fabs(small())};
+    if (g.direction.x == 0 && g.direction.y == 0 && g.direction.z == 0) g.direction.z = 1;
+    return g;
 }
 
 // A root exactly on a rounding midpoint: o = 0, d = ẑ·2^k, c = (0, 0, 2·2^j),

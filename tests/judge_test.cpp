@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -19,6 +20,7 @@
 
 #include "compare/audit.h"
 #include "compare/error_figures.h"
+#include "corpus/corpus_io.h"
 #include "intersectors/seed004_early_out.h"
 
 namespace rayverify {
@@ -591,6 +593,72 @@ TEST(VerdictTable, DerivedListsAreConsistent) {
     EXPECT_FALSE(scene_table_shows(verdict_kind::wrong_root, ray_query::any_hit));
     EXPECT_TRUE(scene_table_shows(verdict_kind::wrong_sphere, ray_query::nearest_hit));
     EXPECT_FALSE(scene_table_shows(verdict_kind::wrong_sphere, ray_query::both_roots));
+}
+
+// The audit judges every target of a case against one frame per precision
+// (case_frame: the stability measures, the unit-direction checks and the
+// a = 1 idealisation formed once and shared). Each target's judgement must
+// be exactly what it gets judged alone, with a frame of its own, and the
+// case's stability measures exactly measure_stability's: on the shipped
+// corpus (every verdict and cause the built-in variants reach there) and on
+// directions that break the unit-direction assumption in double only.
+bool same_figure(const std::optional<double>& a, const std::optional<double>& b) {
+    if (a.has_value() != b.has_value()) return false;
+    return !a || std::bit_cast<std::uint64_t>(*a) == std::bit_cast<std::uint64_t>(*b);
+}
+
+void expect_same_stability(const stability_measures& shared, const stability_measures& own) {
+    EXPECT_EQ(shared.valid, own.valid);
+    EXPECT_EQ(shared.cls, own.cls);
+    EXPECT_TRUE(same_figure(shared.near_condition, own.near_condition));
+    EXPECT_TRUE(same_figure(shared.far_condition, own.far_condition));
+    for (const auto& [a, b] : {std::pair{shared.tangency_distance, own.tangency_distance},
+                              {shared.tangency_margin, own.tangency_margin},
+                              {shared.discriminant_sign, own.discriminant_sign},
+                              {shared.near_root, own.near_root},
+                              {shared.distance_ratio, own.distance_ratio}})
+        EXPECT_TRUE(same_figure(a, b)) << a << " vs " << b;
+}
+
+TEST(CaseFrame, EveryTargetIsJudgedOnTheSharedFrameAsOnItsOwn) {
+    std::vector<corpus_case> cases = read_corpus({RAYVERIFY_CORPUS_DIR});
+    // |d|² = 1 + 2^-44: beyond 8ε of double, within 8ε of float.
+    for (const double y : {0x1p-22, -0x1p-22, 0x1p-30}) {
+        corpus_case c;
+        c.id = "unit-" + std::to_string(cases.size());
+        c.geometry = {{0.25, -5, 0.5}, {0, 1, y}, {0, 0, 0}, 1};
+        cases.push_back(c);
+    }
+    const std::vector<audit_target> targets = targets_for(builtin_variants());
+    std::size_t judged = 0, breaches = 0, by_design = 0;
+    for (const corpus_case& c : cases) {
+        const audited_case audited = audit_case(c, targets);
+        ASSERT_EQ(audited.outcomes.size(), targets.size());
+        for (const precision p : every_precision) {
+            SCOPED_TRACE(c.id + " " + std::string(precision_name(p)));
+            const exact_solution exact = solve_case(c, p);
+            expect_same_stability(audited.stability.at(p), measure_stability(rounded_to(p, c.geometry), p, exact));
+        }
+        for (std::size_t t = 0; t < targets.size(); ++t) {
+            SCOPED_TRACE(c.id + " " + targets[t].label());
+            const case_score& shared = audited.outcomes[t].score;
+            const case_score own = judge_target(targets[t], c, solve_case(c, targets[t].prec)).score;
+            EXPECT_EQ(shared.verdict, own.verdict);
+            EXPECT_EQ(shared.cause, own.cause);
+            EXPECT_EQ(shared.detail, own.detail);
+            for (const error_figure_definition& f : error_figures)
+                EXPECT_TRUE(same_figure(f.of_case(shared), f.of_case(own))) << f.name;
+            EXPECT_TRUE(same_figure(shared.far_bits, own.far_bits));
+            EXPECT_EQ(shared.hit_point_ulp, own.hit_point_ulp);
+            ++judged;
+            breaches += shared.verdict == verdict_kind::contract_violation;
+            by_design += shared.cause && is_by_design(*shared.cause);
+        }
+    }
+    // The shared facts were used: unit-direction breaches and causes by design among them.
+    EXPECT_GT(breaches, 100u);
+    EXPECT_GT(by_design, 100u);
+    EXPECT_GT(judged, 100000u);
 }
 
 }  // namespace

@@ -65,15 +65,21 @@ TEST(ErrorSummary, MergingAnySplitGivesTheWholeAndTiesGoToTheFirstCase) {
     SCOPED_TRACE(fmt::format("seed {}", seed));
     std::mt19937_64 random(seed);
     error_summary whole, parts[3];
+    std::size_t zeros = 0;
     for (std::size_t i = 0; i < 3000; ++i) {
         const double v = static_cast<double>(random() % 50) * 0.25;  // many ties, including at the maximum
+        zeros += v == 0;
         whole.add(v, i, fmt::format("c{}", i));
         parts[random() % 3].add(v, i, fmt::format("c{}", i));
     }
-    error_summary merged;
+    error_summary merged;  // the first merge into an empty summary copies, the others add
     for (int k : {2, 0, 1}) merged.merge(parts[k]);
     EXPECT_EQ(merged.count, whole.count);
     EXPECT_EQ(merged.histogram(), whole.histogram());
+    // Exact zeros are counted apart from the table, and still bucket 0 of the histogram.
+    ASSERT_GT(zeros, 0u);
+    EXPECT_EQ(whole.histogram().begin()->first, 0u);
+    EXPECT_EQ(whole.histogram().begin()->second, zeros);
     EXPECT_EQ(merged.max, whole.max);
     EXPECT_EQ(merged.max_id, whole.max_id);
     // The first case attaining the maximum, replayed from the seed.

@@ -73,9 +73,8 @@ accuracy_run audit_with_stability(const std::vector<corpus_case>& cases, const s
     case_points points(targets, labels);
     std::size_t index = 0;
     const auto on_case = [&](const audited_case& c) {
-        const case_stability s = assess_case(c);
-        stability.add(c, s, index);
-        points.add(c, s, index++);
+        stability.add(c, index);
+        points.add(c, index++);
     };
     accuracy_run run;
     // on_case sees the cases in corpus order whatever the thread count: the same figures.

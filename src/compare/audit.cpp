@@ -22,21 +22,36 @@ std::vector<audit_target> targets_for(std::span<const variant> variants) {
     return targets;
 }
 
+void audit_case_into(audited_case& out, const corpus_case& c, std::span<const audit_target> targets,
+                     std::span<const given_answer> given) {
+    const case_in_progress announced(c);  // named by a plugin that crashes or hangs on it
+    out.source = &c;
+    out.exact_double = solve_case(c, precision::binary64);
+    const bool float_used = std::any_of(targets.begin(), targets.end(),
+                                        [](const audit_target& t) { return t.prec == precision::binary32; });
+    if (float_used)
+        out.exact_float = solve_case(c, precision::binary32);
+    else
+        out.exact_float.reset();
+    const case_frame at_double(out.exact_double, c.geometry);
+    std::optional<case_frame> at_float;
+    if (float_used) at_float.emplace(*out.exact_float, rounded_to(precision::binary32, c.geometry));
+    out.outcomes.resize(targets.size());
+    for (std::size_t t = 0; t < targets.size(); ++t) {
+        const case_frame& frame = targets[t].prec == precision::binary32 ? *at_float : at_double;
+        out.outcomes[t] = given.empty() ? judge_target(targets[t], c, frame) : judge_target(targets[t], c, frame, given[t]);
+    }
+    out.stability.at_double = at_double.stability();
+    if (at_float)
+        out.stability.at_float = at_float->stability();
+    else
+        out.stability.at_float.reset();
+}
+
 audited_case audit_case(const corpus_case& c, std::span<const audit_target> targets,
                         std::span<const given_answer> given) {
-    const case_in_progress announced(c);  // named by a plugin that crashes or hangs on it
     audited_case result;
-    result.source = &c;
-    result.exact_double = solve_case(c, precision::binary64);
-    if (std::any_of(targets.begin(), targets.end(),
-                    [](const audit_target& t) { return t.prec == precision::binary32; }))
-        result.exact_float = solve_case(c, precision::binary32);
-    result.outcomes.reserve(targets.size());
-    for (std::size_t t = 0; t < targets.size(); ++t) {
-        const exact_solution& exact = result.exact_for(targets[t].prec);
-        result.outcomes.push_back(given.empty() ? judge_target(targets[t], c, exact)
-                                                : judge_target(targets[t], c, exact, given[t]));
-    }
+    audit_case_into(result, c, targets, given);
     return result;
 }
 
@@ -147,11 +162,16 @@ std::size_t slot_of(std::uint64_t key, std::size_t mask) {
 }  // namespace
 
 void error_summary::prefetch(double error) const {
-    if (table_.empty()) return;
+    if (table_.empty() || error == 0) return;
     __builtin_prefetch(&table_[slot_of(bucket_of(error), table_.size() - 1)], 1);
 }
 
 void error_summary::count_in(std::uint64_t bucket, std::size_t n) {
+    sorted_current_ = false;
+    if (bucket == 0) {
+        zeros_ += n;
+        return;
+    }
     if (2 * (used_ + 1) > table_.size()) grow(used_ + 1);
     const std::size_t mask = table_.size() - 1;
     for (std::size_t i = slot_of(bucket, mask);; i = (i + 1) & mask) {
@@ -166,7 +186,6 @@ void error_summary::count_in(std::uint64_t bucket, std::size_t n) {
             break;
         }
     }
-    sorted_current_ = false;
 }
 
 void error_summary::grow(std::size_t entries) {
@@ -186,7 +205,8 @@ void error_summary::grow(std::size_t entries) {
 const error_summary::histogram_map& error_summary::histogram() const {
     if (sorted_current_) return sorted_;
     std::vector<std::pair<std::uint64_t, std::size_t>> entries;
-    entries.reserve(used_);
+    entries.reserve(used_ + 1);
+    if (zeros_ > 0) entries.emplace_back(0, zeros_);
     for (const slot& s : table_)
         if (s.key != empty_key) entries.emplace_back(s.key, s.n);
     std::sort(entries.begin(), entries.end());
@@ -204,6 +224,13 @@ void error_summary::merge(const error_summary& other) {
         max_id = other.max_id;
     }
     count += other.count;
+    zeros_ += other.zeros_;
+    sorted_current_ = false;
+    if (used_ == 0) {  // nothing to merge into (a family's summary into a whole run's): the table copied
+        table_ = other.table_;
+        used_ = other.used_;
+        return;
+    }
     if (2 * (used_ + other.used_) > table_.size()) grow(used_ + other.used_);  // one rehash, not many
     for (const slot& s : other.table_)
         if (s.key != empty_key) count_in(s.key, s.n);
@@ -349,7 +376,10 @@ audit_accumulator audit_stream(const case_source& next, const std::vector<audit_
         for (std::size_t begin; (begin = claimed.fetch_add(grain)) < cases.size();)
             for (std::size_t i = begin; i < std::min(begin + grain, cases.size()); ++i) {
                 audited_case& c = hooks.ordered ? audited[i] : own;
-                c = ahead.empty() ? audit_case(cases[i], targets) : audit_case(cases[i], targets, ahead[i]);
+                if (ahead.empty())
+                    audit_case_into(c, cases[i], targets);
+                else
+                    audit_case_into(c, cases[i], targets, ahead[i]);
                 accumulators[worker].state.add(c, indices[i]);
                 if (hooks.parallel) hooks.parallel(c, indices[i], i, worker);
             }

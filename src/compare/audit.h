@@ -29,16 +29,25 @@ struct audited_case {
     exact_solution exact_double;                 // for the double inputs
     std::optional<exact_solution> exact_float;   // for the float-rounded inputs (when a target runs in float)
     std::vector<target_outcome> outcomes;        // aligned with the targets
+    // The stability measures at each precision in use: formed once, by the
+    // case's frame at that precision (compare/judge.h), which every target's
+    // judgement shared.
+    case_stability stability;
 
     const exact_solution& exact_for(precision p) const {
         return p == precision::binary32 ? *exact_float : exact_double;
     }
 };
 
-// `given`: empty, or one entry per target (an answer computed ahead by a
-// batch call, or monostate).
+// Every target judged on the case: the oracle once per precision in use,
+// one case_frame per precision shared by the targets. `given`: empty, or one
+// entry per target (an answer computed ahead by a batch call, or monostate).
 audited_case audit_case(const corpus_case& c, std::span<const audit_target> targets,
                         std::span<const given_answer> given = {});
+// The same into `out`, whose storage (the outcomes' vector) is reused:
+// the audit's workers judge case after case into one audited_case each.
+void audit_case_into(audited_case& out, const corpus_case& c, std::span<const audit_target> targets,
+                     std::span<const given_answer> given = {});
 
 // The answers of the targets that have a batch function (variant::batch_*)
 // on `cases`, each target called once for all the cases it runs on:
@@ -100,7 +109,9 @@ private:
     // add() runs for every error of every target: the counts live in an
     // open-addressing hash table (key → count, linear probing, at most half
     // full), a few nanoseconds an add whatever the number of buckets; the
-    // sorted histogram is built from it when something reads it.
+    // sorted histogram is built from it when something reads it. Exact
+    // zeros, the commonest error by far (a correctly rounded root), are
+    // counted apart, without touching the table.
     struct slot {
         std::uint64_t key = empty_key;
         std::size_t n = 0;
@@ -110,6 +121,7 @@ private:
     void grow(std::size_t entries);  // to hold `entries` keys at most half full
     std::vector<slot> table_;  // size 0 or a power of two
     std::size_t used_ = 0;     // slots holding a key
+    std::size_t zeros_ = 0;    // errors in bucket 0 (exact zeros), kept out of the table
     mutable histogram_map sorted_;
     mutable bool sorted_current_ = true;
 };

@@ -8,7 +8,6 @@
 #include <utility>
 #include <vector>
 
-#include "compare/stability.h"
 #include "core/case_in_progress.h"
 #include "core/float_bits.h"
 
@@ -415,13 +414,20 @@ judged_list judged_values(query_kind query, const exact_solution& exact, const e
     return {};
 }
 
+// The exact answer the contract asks for on the range: nothing for
+// line_roots (every root is judged), expect_hit's for the other queries.
+expected_hit expected_answer(const contract& promises, const exact_solution& exact, const t_range& range) {
+    return promises.query == query_kind::line_roots ? expected_hit{} : expect_hit(promises, exact, range);
+}
+
 // The verdict, as the one table in docs/verdicts.md reads, top to bottom: the
 // first row whose condition holds is the verdict. Every query runs the same
-// rows (a row that cannot apply to a query is skipped). With `measure` false
-// only the verdict is formed (the errors are left empty); a cause is set only
-// where the verdict itself shows it (line_not_ray).
+// rows (a row that cannot apply to a query is skipped). `want` is
+// expected_answer's. With `measure` false only the verdict is formed (the
+// errors are left empty); a cause is set only where the verdict itself shows
+// it (line_not_ray).
 case_score judge_verdict(const contract& promises, const variant_output& out, const exact_solution& exact,
-                         const t_range& range, bool measure = true) {
+                         const t_range& range, const expected_hit& want, bool measure = true) {
     case_score s;
     const auto& r = out.roots;
     const query_kind query = promises.query;
@@ -438,7 +444,6 @@ case_score judge_verdict(const contract& promises, const variant_output& out, co
     // reported tangent too; nearest_hit: t0) and what each is judged against.
     const int values = r.count == 0 || any ? 0 : (line ? 2 : 1);
     const double t[2] = {r.t0, r.t1};
-    const expected_hit want = line ? expected_hit{} : expect_hit(promises, exact, range);
     const bool hit_expected = line ? exact.cls != line_class::miss : want.hit();
     const judged_list judged = r.count > 0 && hit_expected ? judged_values(query, exact, want) : judged_list{};
     if (measure)
@@ -541,10 +546,9 @@ struct exact_hit {
 };
 
 std::optional<exact_hit> exact_hit_of(const contract& promises, const variant_output& output,
-                                      const exact_solution& exact, const t_range& range) {
+                                      const exact_solution& exact, const t_range& range, const expected_hit& want) {
     if (!output.hit_point || promises.query == query_kind::any_hit) return std::nullopt;
     if (promises.query == query_kind::nearest_hit) {
-        const expected_hit want = expect_hit(promises, exact, range);
         if (want.what == expected_hit::kind::clamp)  // o + tmin·d is not an exact point the oracle holds
             return want.value == 0 ? std::optional<exact_hit>(exact_hit{}) : std::nullopt;
         if (want.what != expected_hit::kind::root) return std::nullopt;
@@ -562,8 +566,9 @@ std::optional<exact_hit> exact_hit_of(const contract& promises, const variant_ou
 
 // Hit point error of an agreeing answer, per coordinate in ulps.
 void measure_hit_point(const contract& promises, const variant_output& output, const exact_solution& exact,
-                       const t_range& range, const ray_sphere<double>& input, case_score& s) {
-    const std::optional<exact_hit> hit = exact_hit_of(promises, output, exact, range);
+                       const t_range& range, const expected_hit& want, const ray_sphere<double>& input,
+                       case_score& s) {
+    const std::optional<exact_hit> hit = exact_hit_of(promises, output, exact, range, want);
     if (!hit) return;
     const vec3<double>& p = *output.hit_point;
     std::array<double, 3> errors{};
@@ -787,10 +792,9 @@ double normal_angle(const vec3<double>& normal, const exact_solution& exact, roo
 // exact value, what is wrong, in words (verdict row 12, unsound_bound).
 std::optional<std::string> measure_outputs(const contract& promises, const variant_output& output,
                                            const exact_solution& exact, const t_range& range,
-                                           const ray_sphere<double>& input, case_score& s) {
-    const judged_list judged = judged_values(
-        promises.query, exact,
-        promises.query == query_kind::nearest_hit ? expect_hit(promises, exact, range) : expected_hit{});
+                                           const expected_hit& want, const ray_sphere<double>& input,
+                                           case_score& s) {
+    const judged_list judged = judged_values(promises.query, exact, want);
     const double t[2] = {output.roots.t0, output.roots.t1};
     const scale_errors scale = measure_scale_errors(judged, t, exact, input);
     s.scale_error_radius = scale.radius;
@@ -798,7 +802,7 @@ std::optional<std::string> measure_outputs(const contract& promises, const varia
     const t_bounds_check bounds = check_t_bounds(judged, output, exact);
     s.bound_ulp = bounds.width_ulp;
     std::optional<std::string> unsound = bounds.unsound;
-    const std::optional<exact_hit> hit = exact_hit_of(promises, output, exact, range);
+    const std::optional<exact_hit> hit = exact_hit_of(promises, output, exact, range, want);
     if (hit && hit->root && output.point_error && !unsound)
         unsound = check_point_bound(promises, output, exact, *hit->root, input);
     if (hit && hit->root && output.normal) s.normal_angle = normal_angle(*output.normal, exact, *hit->root, input);
@@ -809,14 +813,14 @@ std::optional<std::string> measure_outputs(const contract& promises, const varia
 // backward error of the other answer (stability.h): a class verdict when the
 // tangency margin is ≤ γ; a root or side verdict also when γ·u·κ ≥ 1.
 // Non-finite and malformed outputs are always algorithmic.
-disagreement_cause rounding_cause(verdict_kind k, const ray_sphere<double>& input, const exact_solution& exact) {
-    const stability_measures m = measure_stability(input, exact.prec, exact);
+disagreement_cause rounding_cause(verdict_kind k, const case_frame& frame) {
+    const stability_measures& m = frame.stability();
     if (!m.valid) return disagreement_cause::algorithmic;
     const bool ambiguous_class = m.tangency_margin <= conditioning_gamma;
     if (is_misclassification(k))
         return ambiguous_class ? disagreement_cause::conditioning_limited : disagreement_cause::algorithmic;
     if (k == verdict_kind::wrong_root || k == verdict_kind::wrong_side || k == verdict_kind::wrong_sphere) {
-        const double u = std::ldexp(1.0, -significand_bits(exact.prec));
+        const double u = std::ldexp(1.0, -significand_bits(frame.prec()));
         const bool ambiguous_root = m.near_condition && conditioning_gamma * u * *m.near_condition >= 1;
         return ambiguous_class || ambiguous_root ? disagreement_cause::conditioning_limited
                                                  : disagreement_cause::algorithmic;
@@ -825,42 +829,71 @@ disagreement_cause rounding_cause(verdict_kind k, const ray_sphere<double>& inpu
 }
 
 // Why the variant disagreed, by design before rounding.
-disagreement_cause cause_of(const contract& promises, const variant_output& output, const exact_solution& exact,
-                            const t_range& range, const ray_sphere<double>& input, verdict_kind k) {
-    std::optional<exact_solution> unit_design;
-    const auto design = [&]() -> const exact_solution& {
-        if (!unit_design) unit_design = solve_exact_unit_direction(input, exact.prec);
-        return *unit_design;
-    };
+disagreement_cause cause_of(const contract& promises, const variant_output& output, const case_frame& frame,
+                            const t_range& range, verdict_kind k) {
     const bool unit_assumed_wrongly =
-        promises.assumes_unit_direction && compare_squared_length(input.direction, 1.0) != comparison::equal;
+        promises.assumes_unit_direction && frame.squared_length_against_one() != comparison::equal;
     if (k == verdict_kind::false_tangent && promises.tangent_threshold) {
-        const exact_solution& solved = promises.assumes_unit_direction ? design() : exact;
+        const exact_solution& solved = promises.assumes_unit_direction ? frame.unit_direction_design() : frame.exact();
         if (solved.valid() && solved.compare_to_discriminant(*promises.tangent_threshold) != comparison::smaller)
             return disagreement_cause::tangent_threshold;
     }
     if (unit_assumed_wrongly) {
-        const exact_solution& solved = design();
-        if (solved.valid() && judge_verdict(promises, output, solved, range, false).verdict == verdict_kind::agree)
+        const exact_solution& solved = frame.unit_direction_design();
+        if (solved.valid() &&
+            judge_verdict(promises, output, solved, range, expected_answer(promises, solved, range), false).verdict ==
+                verdict_kind::agree)
             return disagreement_cause::unit_direction;
     }
-    return rounding_cause(k, input, exact);
+    return rounding_cause(k, frame);
 }
 
 }  // namespace
 
-case_score judge_output(const contract& promises, const variant_output& output, const exact_solution& exact,
-                        const t_range& range, const ray_sphere<double>& input) {
-    case_score s = judge_verdict(promises, output, exact, range);
+const stability_measures& case_frame::stability() const {
+    if (!stability_) stability_ = measure_stability(input_, exact_.prec, exact_);
+    return *stability_;
+}
+
+const std::optional<std::string>& case_frame::unit_direction_breach() const {
+    if (!unit_direction_breach_) {
+        contract unit;
+        unit.assumes_unit_direction = true;
+        unit_direction_breach_ = contract_breach(unit, input_, exact_.prec);
+    }
+    return *unit_direction_breach_;
+}
+
+comparison case_frame::squared_length_against_one() const {
+    if (!squared_length_against_one_) squared_length_against_one_ = compare_squared_length(input_.direction, 1.0);
+    return *squared_length_against_one_;
+}
+
+const exact_solution& case_frame::unit_direction_design() const {
+    if (!unit_direction_design_) unit_direction_design_ = solve_exact_unit_direction(input_, exact_.prec);
+    return *unit_direction_design_;
+}
+
+case_score judge_output(const contract& promises, const variant_output& output, const case_frame& frame,
+                        const t_range& range) {
+    const exact_solution& exact = frame.exact();
+    const expected_hit want = expected_answer(promises, exact, range);
+    case_score s = judge_verdict(promises, output, exact, range, want);
     if (s.verdict == verdict_kind::agree) {
-        measure_hit_point(promises, output, exact, range, input, s);
-        const std::optional<std::string> unsound = measure_outputs(promises, output, exact, range, input, s);
+        measure_hit_point(promises, output, exact, range, want, frame.input(), s);
+        const std::optional<std::string> unsound =
+            measure_outputs(promises, output, exact, range, want, frame.input(), s);
         if (!unsound) return s;
         s.verdict = verdict_kind::unsound_bound;
         s.detail = *unsound;
     }
-    if (!s.cause) s.cause = cause_of(promises, output, exact, range, input, s.verdict);
+    if (!s.cause) s.cause = cause_of(promises, output, frame, range, s.verdict);
     return s;
+}
+
+case_score judge_output(const contract& promises, const variant_output& output, const exact_solution& exact,
+                        const t_range& range, const ray_sphere<double>& input) {
+    return judge_output(promises, output, case_frame(exact, input), range);
 }
 
 std::optional<std::string> contract_breach(const contract& promises, const ray_sphere<double>& input,
@@ -900,15 +933,15 @@ ray_interval<T> interval_in(const t_range& range) {
 }
 
 // Invalid or outside the contract: the outcome, else nullopt.
-std::optional<case_score> unscored(const contract& promises, const exact_solution& exact,
-                                   const ray_sphere<double>& widened, precision p) {
+std::optional<case_score> unscored(const contract& promises, const case_frame& frame) {
     case_score s;
-    if (!exact.valid()) {
+    if (!frame.exact().valid()) {
         s.verdict = verdict_kind::invalid;
-        s.detail = invalid_reason_name(exact.invalid);
+        s.detail = invalid_reason_name(frame.exact().invalid);
         return s;
     }
-    if (auto breach = contract_breach(promises, widened, p)) {
+    if (!promises.assumes_unit_direction) return std::nullopt;
+    if (const std::optional<std::string>& breach = frame.unit_direction_breach()) {
         s.verdict = verdict_kind::contract_violation;
         s.detail = *breach;
         return s;
@@ -917,32 +950,36 @@ std::optional<case_score> unscored(const contract& promises, const exact_solutio
 }
 
 template <class T>
-target_outcome judge_target_in(const audit_target& target, const corpus_case& c, const exact_solution& exact,
+target_outcome judge_target_in(const audit_target& target, const corpus_case& c, const case_frame& frame,
                                const given_answer& given) {
     target_outcome outcome;
-    const ray_sphere<T> input = rounded_to<T>(c.geometry);
-    const ray_sphere<double> widened = rounded_to<double>(input);
     const contract& promises = target.subject.promises;
-    if (auto s = unscored(promises, exact, widened, target.prec)) {
+    if (auto s = unscored(promises, frame)) {
         outcome.score = std::move(*s);
         return outcome;
     }
+    const ray_sphere<T> input = rounded_to<T>(c.geometry);
     outcome.range = range_for(promises, c, target.prec);
     const answer<T>* ahead = std::get_if<answer<T>>(&given);
     outcome.output = widen_answer(promises, ahead ? *ahead : answer_of(target, c, input, interval_in<T>(outcome.range)),
                                   input, outcome.range);
     if (target.recorded && !ahead) add_recorded_outputs(outcome.output, target.recorded->find(c.id));
-    outcome.score = judge_output(promises, outcome.output, exact, outcome.range, widened);
+    outcome.score = judge_output(promises, outcome.output, frame, outcome.range);
     return outcome;
 }
 
 }  // namespace
 
-target_outcome judge_target(const audit_target& target, const corpus_case& c, const exact_solution& exact,
+target_outcome judge_target(const audit_target& target, const corpus_case& c, const case_frame& frame,
                             const given_answer& given) {
     return with_precision(target.prec, [&]<class T>(std::type_identity<T>) {
-        return judge_target_in<T>(target, c, exact, given);
+        return judge_target_in<T>(target, c, frame, given);
     });
+}
+
+target_outcome judge_target(const audit_target& target, const corpus_case& c, const exact_solution& exact,
+                            const given_answer& given) {
+    return judge_target(target, c, case_frame(exact, rounded_to(target.prec, c.geometry)), given);
 }
 
 template <class T>
@@ -1046,9 +1083,9 @@ renderer_outcome judge_for_renderer_in(const audit_target& target, const corpus_
                                        const exact_solution& exact, end_kind lower_end, end_kind upper_end) {
     renderer_outcome outcome;
     const ray_sphere<T> input = rounded_to<T>(c.geometry);
-    const ray_sphere<double> widened = rounded_to<double>(input);
+    const case_frame frame(exact, rounded_to<double>(input));
     const contract& promises = target.subject.promises;
-    if (auto s = unscored(promises, exact, widened, target.prec)) {
+    if (auto s = unscored(promises, frame)) {
         outcome.score = std::move(*s);
         return outcome;
     }
@@ -1058,15 +1095,16 @@ renderer_outcome judge_for_renderer_in(const audit_target& target, const corpus_
     const t_range own_range = range_for(promises, c, target.prec);
     const root_pair<T> raw = answer_of(target, c, input, interval_in<T>(own_range)).roots;
     outcome.view = renderer_view(promises, raw, input, outcome.range, q);
-    case_score s = judge_verdict(renderer, outcome.view, exact, outcome.range);
+    const expected_hit want = expected_answer(renderer, exact, outcome.range);
+    case_score s = judge_verdict(renderer, outcome.view, exact, outcome.range, want);
     if (s.verdict == verdict_kind::agree) {
-        measure_hit_point(renderer, outcome.view, exact, outcome.range, widened, s);
+        measure_hit_point(renderer, outcome.view, exact, outcome.range, want, frame.input(), s);
     } else if (!s.cause) {
         // What the variant's own contract says of the same answer: agreement
         // there makes the renderer's disagreement the contract's design.
         variant_output own;
         own.roots = {raw.count, static_cast<double>(raw.t0), static_cast<double>(raw.t1)};
-        const case_score own_score = judge_output(promises, own, exact, own_range, widened);
+        const case_score own_score = judge_output(promises, own, frame, own_range);
         if (!is_disagreement(own_score.verdict)) {
             const bool clamped = promises.inside == inside_rule::clamp &&
                                  expect_hit(promises, exact, own_range).what == expected_hit::kind::clamp;

@@ -51,6 +51,7 @@
 #include <string_view>
 #include <variant>
 
+#include "compare/conditioning.h"
 #include "core/contract.h"
 #include "core/intersection.h"
 #include "core/ray_sphere_case.h"
@@ -201,10 +202,50 @@ struct case_score {
 template <class T>
 variant_output evaluate(const variant& v, const ray_sphere<T>& input, ray_interval<T> interval, const t_range& range);
 
-// Judge `output` against `exact` (valid, at the precision the variant ran in)
-// under `promises` on `range`. `input` is the case as the variant received it,
-// widened to double. Decides the verdict, measures the errors, and names the
-// cause of a disagreement.
+// What judging one case at one precision needs that no target changes,
+// formed once and shared by every target judged on the case: the inputs as
+// a variant in that precision receives them (widened to double), their
+// exact answer, and, each on first use, the stability measures (the
+// rounding cause of a disagreement; the audit keeps them for its stability
+// tallies, plot sample and per-case lines), the unit-direction assumption's
+// check (|d|² against 1 ± 8ε and against 1) and the a = 1 idealisation of a
+// unit-direction formula. It refers to `exact`, which must outlive it; it is
+// not shared between threads.
+class case_frame {
+public:
+    case_frame(const exact_solution& exact, const ray_sphere<double>& input) : exact_(exact), input_(input) {}
+    case_frame(const case_frame&) = delete;
+    case_frame& operator=(const case_frame&) = delete;
+
+    const exact_solution& exact() const { return exact_; }
+    const ray_sphere<double>& input() const { return input_; }
+    precision prec() const { return exact_.prec; }
+    const stability_measures& stability() const;
+    // Why the case breaks a unit-direction assumption at this precision
+    // (contract_breach's words), or nullopt when |d|² is within 1 ± 8ε.
+    const std::optional<std::string>& unit_direction_breach() const;
+    // compare(|d|², 1), exactly.
+    comparison squared_length_against_one() const;
+    // The a = 1 idealisation (solve_exact_unit_direction) of the inputs.
+    const exact_solution& unit_direction_design() const;
+
+private:
+    const exact_solution& exact_;
+    ray_sphere<double> input_;
+    mutable std::optional<stability_measures> stability_;
+    mutable std::optional<std::optional<std::string>> unit_direction_breach_;
+    mutable std::optional<comparison> squared_length_against_one_;
+    mutable std::optional<exact_solution> unit_direction_design_;
+};
+
+// Judge `output` against the frame's exact answer (valid, at the precision
+// the variant ran in) under `promises` on `range`; the frame's input is the
+// case as the variant received it. Decides the verdict, measures the errors,
+// and names the cause of a disagreement.
+case_score judge_output(const contract& promises, const variant_output& output, const case_frame& frame,
+                        const t_range& range);
+// The same for one answer: `input` is the case as the variant received it,
+// widened to double.
 case_score judge_output(const contract& promises, const variant_output& output, const exact_solution& exact,
                         const t_range& range, const ray_sphere<double>& input);
 
@@ -280,6 +321,10 @@ std::optional<batch_case<T>> run_input(const audit_target& target, const corpus_
 // precision (for float: on the float-rounded inputs). `given`, when set, is
 // the target's answer on run_input, computed ahead; otherwise it is called.
 target_outcome judge_target(const audit_target& target, const corpus_case& c, const exact_solution& exact,
+                            const given_answer& given = {});
+// The same with the case's frame at the target's precision (the audit judges
+// every target of a case against one frame per precision).
+target_outcome judge_target(const audit_target& target, const corpus_case& c, const case_frame& frame,
                             const given_answer& given = {});
 
 // ---- The renderer's view ------------------------------------------------------

@@ -19,13 +19,12 @@ audit_state run_audit_pass(const case_source& next, const std::vector<audit_targ
     std::vector<std::string> lines(per_case != nullptr ? case_stream::default_chunk : 0);
     audit_hooks hooks;
     hooks.parallel = [&](const audited_case& c, std::size_t index, std::size_t slot, unsigned worker) {
-        const case_stability s = assess_case(c);
-        workers[worker].state.stability.add(c, s, index);
-        if (with_points) workers[worker].state.points.add(c, s, index);
+        workers[worker].state.stability.add(c, index);
+        if (with_points) workers[worker].state.points.add(c, index);
         workers[worker].state.lint.add(c);
         workers[worker].state.examples.add(c, index);
         if (per_case == nullptr) return;
-        lines[slot] = per_case_line(c, targets, s, std::move(lines[slot]));
+        lines[slot] = per_case_line(c, targets, std::move(lines[slot]));
     };
     if (per_case != nullptr || failures != nullptr)
         hooks.ordered = [&](const audited_case& c, std::size_t, std::size_t slot) {

@@ -281,7 +281,7 @@ json audit_report_json(const audit_totals& totals, const run_context& context) {
 }
 
 std::string per_case_line(const audited_case& audited, const std::vector<audit_target>& targets,
-                          const case_stability& stability, std::string buffer) {
+                          std::string buffer) {
     const corpus_case& c = *audited.source;
     const auto& g = c.geometry;
     // Lines run to about 400 bytes per target plus the case's own fields: room for
@@ -385,7 +385,7 @@ std::string per_case_line(const audited_case& audited, const std::vector<audit_t
     }
     line.end_object();
     line.key("stability");
-    write_stability_measures(line, stability);
+    write_stability_measures(line, audited.stability);
     line.end_object();
     return line.take();
 }

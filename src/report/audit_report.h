@@ -38,7 +38,7 @@ nlohmann::ordered_json audit_report_json(const audit_totals& totals, const run_c
 // Written into `buffer`'s storage when one is given (its text is dropped), so
 // that a caller writing many lines reuses one allocation.
 std::string per_case_line(const audited_case& audited, const std::vector<audit_target>& targets,
-                          const case_stability& stability, std::string buffer = {});
+                          std::string buffer = {});
 
 // What the p99 and median of every error statistic are (written beside them).
 extern const char* const quantile_scope;

@@ -165,7 +165,8 @@ bool case_points::would_keep(const std::string& family, const sample_key& key) c
     return found == sample_.end() || found->second.size() < per_family || key < found->second.rbegin()->first;
 }
 
-void case_points::add(const audited_case& c, const case_stability& s, std::size_t index) {
+void case_points::add(const audited_case& c, std::size_t index) {
+    const case_stability& s = c.stability;
     const sample_key key{id_hash(c.source->id), index};
     if (!would_keep(c.source->family, key)) return;
     const auto kappa = [](const std::optional<stability_measures>& m) -> std::optional<double> {

@@ -50,7 +50,7 @@ public:
     using sample_key = std::pair<std::uint64_t, std::size_t>;  // (hash of id, global index)
 
     case_points(std::vector<audit_target> targets, std::vector<std::string> labels);
-    void add(const audited_case& c, const case_stability& s, std::size_t index);
+    void add(const audited_case& c, std::size_t index);
     void insert(const std::string& family, const sample_key& key, row r);
     // Whether insert would keep a row with this key (cheap: no row needed).
     bool would_keep(const std::string& family, const sample_key& key) const;

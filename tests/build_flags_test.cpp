@@ -47,7 +47,7 @@ TEST(BuildFlags, EveryCompiledFileHasTheFloatingPointSemanticsOrStatesItsOwn) {
     ASSERT_TRUE(in) << "no " << RAYVERIFY_COMPILE_COMMANDS << " (CMAKE_EXPORT_COMPILE_COMMANDS)";
     const nlohmann::json commands = nlohmann::json::parse(in);
     ASSERT_TRUE(commands.is_array());
-    std::size_t checked = 0, exempt = 0;
+    std::size_t checked = 0, exempt = 0, library = 0, cli = 0, tests = 0;
     for (const auto& entry : commands) {
         const std::string command = entry.value("command", std::string());
         const std::string output = entry.value("output", std::string());
@@ -62,11 +62,19 @@ TEST(BuildFlags, EveryCompiledFileHasTheFloatingPointSemanticsOrStatesItsOwn) {
             continue;
         }
         ++checked;
+        // The library and the CLI are unity builds (CMakeLists.txt): their
+        // files reach the compiler through unity sources, which carry the flags.
+        const std::string where = file + " " + output + " " + command;
+        library += where.find("/rayverify.dir/") != std::string::npos;
+        cli += where.find("/rayverify_cli.dir/") != std::string::npos;
+        tests += where.find("_test.dir/") != std::string::npos;
         EXPECT_EQ(s.contraction, "off") << file << " is compiled without -ffp-contract=off:\n" << command;
         EXPECT_FALSE(s.fast_math) << file << " is compiled with fast math:\n" << command;
         EXPECT_TRUE(s.slp_off) << file << " is compiled without -fno-tree-slp-vectorize:\n" << command;
     }
-    EXPECT_GT(checked, 100u) << "the library, CLI and tests are all in compile_commands.json";
+    EXPECT_GT(library, 0u) << "the library is in compile_commands.json";
+    EXPECT_GT(cli, 0u) << "the CLI is in compile_commands.json";
+    EXPECT_GT(tests, 50u) << "the tests are in compile_commands.json";
     EXPECT_GT(exempt, 0u) << "the FMA fixtures are gone: update other_semantics";
 }
 

@@ -287,7 +287,7 @@ std::optional<figure_change> judge(const figure_key& key, double before, double 
 }
 
 template <class PolicyOf>
-gate_result compare(const figure_table& before, const figure_table& after, const PolicyOf& policy_of,
+gate_result compare_tables(const figure_table& before, const figure_table& after, const PolicyOf& policy_of,
                     bool notes_for_unrun, double tolerance) {
     gate_result result;
     std::set<std::string> targets_run, targets_known;
@@ -353,13 +353,13 @@ gate_result compare(const figure_table& before, const figure_table& after, const
 }  // namespace
 
 gate_result compare_to_baseline(const baseline& base, const figure_table& current, double tolerance) {
-    return compare(
+    return compare_tables(
         base.figures, current, [&](const std::string& target) { return base.policy_for(target); }, true, tolerance);
 }
 
 gate_result compare_figures(const figure_table& before, const figure_table& after, const gate_policy& policy,
                             double tolerance) {
-    return compare(before, after, [&](const std::string&) { return policy; }, false, tolerance);
+    return compare_tables(before, after, [&](const std::string&) { return policy; }, false, tolerance);
 }
 
 void gate_examples::add(const audited_case& c, const std::vector<audit_target>& targets) {

@@ -107,7 +107,7 @@ double keep_bits(double x, int bits) {
     return std::ldexp(std::nearbyint(std::ldexp(m, bits)), e - bits);  // exact: bits ≤ 53
 }
 
-int bits_of(double x) {
+int significand_bits_in(double x) {
     if (x == 0 || !std::isfinite(x)) return 0;
     int e = 0;
     double m = std::fabs(std::frexp(x, &e));
@@ -384,7 +384,7 @@ private:
                     changed = true;
                     continue;
                 }
-                const int have = bits_of(x);
+                const int have = significand_bits_in(x);
                 for (int bits = 1; bits < have && budget > 0; ++bits) {
                     input_at(t, i) = round_to(target_.prec, keep_bits(x, bits));
                     if (fails_same(t)) {
@@ -433,7 +433,7 @@ hunt_evaluation evaluate_for_hunt(const audit_target& target, const corpus_case&
 
 int significant_bits(const ray_sphere<double>& g) {
     int total = 0;
-    for (int i = 0; i < 10; ++i) total += bits_of(input_at(g, i));
+    for (int i = 0; i < 10; ++i) total += significand_bits_in(input_at(g, i));
     return total;
 }
 

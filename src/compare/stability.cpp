@@ -83,7 +83,7 @@ void stability_accumulator::merge(const stability_accumulator& other) {
 
 namespace {
 
-stability_tally summarise(const stability_samples& s) {
+stability_tally summarise_stability(const stability_samples& s) {
     stability_tally tally;
     error_summary all_ulp;
     for (int b = 0; b < condition_bucket_count; ++b) {
@@ -111,7 +111,7 @@ stability_tally summarise(const stability_samples& s) {
 stability_totals stability_accumulator::finish(unsigned threads) const {
     stability_totals totals;
     std::tie(totals.overall, totals.by_family) =
-        summarised(merged_over_families(by_family, targets.size(), threads), by_family, threads, summarise);
+        summarised(merged_over_families(by_family, targets.size(), threads), by_family, threads, summarise_stability);
     return totals;
 }
 

@@ -11,9 +11,9 @@
 
 namespace rayverify {
 
-namespace {
-
 using json = nlohmann::ordered_json;
+
+namespace {
 
 // The DOM nlohmann builds, with the path to the value being parsed kept
 // beside it (for messages) and each object's keys (to refuse a duplicate).

@@ -56,11 +56,7 @@ std::string build_summary() {
     return fmt::format("{} {} [{}]", build_info::compiler, build_info::flags, build_info::build_type);
 }
 
-namespace {
-
-std::size_t column_width(std::string_view heading) { return std::max<std::size_t>(6, heading.size()); }
-
-}  // namespace
+std::size_t verdict_column_width(std::string_view heading) { return std::max<std::size_t>(6, heading.size()); }
 
 const char* const quantile_scope =
     "upper bounds: the nearest-rank value's log bucket upper edge (at most a factor 1 + 2^-7 above it) "
@@ -182,7 +178,7 @@ std::string render_summary_table(const audit_totals& totals) {
     out += fmt::format("{:<{}} {:<6} {:>6}", "variant", name_width, "prec", "cases");
     for (int k = 0; k < verdict_kind_count; ++k) {
         const auto kind = static_cast<verdict_kind>(k);
-        if (is_corpus_verdict(kind)) out += fmt::format(" {:>{}}", verdict_column(kind), column_width(verdict_column(kind)));
+        if (is_corpus_verdict(kind)) out += fmt::format(" {:>{}}", verdict_column(kind), verdict_column_width(verdict_column(kind)));
     }
     out += fmt::format(" {:>6} {:>9} {:>9} {:>9}\n", "design", "max_ulp", "p99_ulp", "med_ulp");
     for (std::size_t i = 0; i < totals.targets.size(); ++i) {
@@ -191,7 +187,7 @@ std::string render_summary_table(const audit_totals& totals) {
         out += fmt::format("{:<{}} {:<6} {:>6}", target.subject.name, name_width, precision_name(target.prec), t.cases);
         for (int k = 0; k < verdict_kind_count; ++k) {
             const auto kind = static_cast<verdict_kind>(k);
-            if (is_corpus_verdict(kind)) out += fmt::format(" {:>{}}", t.verdicts[k], column_width(verdict_column(kind)));
+            if (is_corpus_verdict(kind)) out += fmt::format(" {:>{}}", t.verdicts[k], verdict_column_width(verdict_column(kind)));
         }
         out += fmt::format(" {:>6}", t.by_design());
         const error_statistics& s = t.errors[error_figure::near_root_ulp];

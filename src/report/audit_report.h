@@ -26,6 +26,10 @@ nlohmann::ordered_json build_json();
 // The same facts as one line of text: "COMPILER FLAGS [BUILD_TYPE]", as every command prints them.
 std::string build_summary();
 
+// The width of a verdict's count column in a text table (the summary's, a
+// scene's): its heading's, and at least 6.
+std::size_t verdict_column_width(std::string_view heading);
+
 // The fixed-width table printed on stdout after an audit.
 std::string render_summary_table(const audit_totals& totals);
 

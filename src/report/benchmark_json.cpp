@@ -14,9 +14,10 @@
 #include "report/schema.h"
 
 namespace rayverify {
-namespace {
 
 using json = nlohmann::ordered_json;
+
+namespace {
 
 struct moments {
     double mean = 0, median = 0, stddev = 0;

@@ -20,8 +20,6 @@ std::vector<verdict_kind> verdicts_for(ray_query q) {
     return shown;
 }
 
-std::size_t column_width(std::string_view name) { return std::max<std::size_t>(6, name.size()); }
-
 std::string ulp_cell(const error_summary& summary) {
     const error_statistics e = summary.statistics();
     if (e.count == 0) return "-";
@@ -40,7 +38,7 @@ std::string kind_table(const scene_audit_result& result, ray_kind kind, ray_quer
     const std::vector<verdict_kind> columns = verdicts_for(query);
     const query_requirements needs = query_needs(query);
     std::string header = fmt::format("  {:<30}", "variant");
-    for (verdict_kind v : columns) header += fmt::format(" {:>{}}", verdict_name(v), column_width(verdict_name(v)));
+    for (verdict_kind v : columns) header += fmt::format(" {:>{}}", verdict_name(v), verdict_column_width(verdict_name(v)));
     header += " by_design";
     if (needs.nearest_root)
         header += fmt::format("  {:<28}", needs.far_root ? "near-root ulp med/p99/max" : "nearest ulp med/p99/max");
@@ -53,7 +51,7 @@ std::string kind_table(const scene_audit_result& result, ray_kind kind, ray_quer
         const ray_kind_figures& f = t.by_kind[k];
         std::string row = fmt::format("  {:<30}", t.target.label());
         for (verdict_kind v : columns)
-            row += fmt::format(" {:>{}}", f.verdicts[static_cast<std::size_t>(v)], column_width(verdict_name(v)));
+            row += fmt::format(" {:>{}}", f.verdicts[static_cast<std::size_t>(v)], verdict_column_width(verdict_name(v)));
         row += fmt::format(" {:>9}", by_design_count(f.causes));
         if (needs.nearest_root) row += fmt::format("  {:<28}", ulp_cell(f.nearest_ulp));
         if (needs.far_root) row += fmt::format("  {:<28}", ulp_cell(f.far_ulp));

@@ -26,7 +26,7 @@
 namespace rayverify {
 namespace {
 
-using json = nlohmann::json;
+using scene_json = nlohmann::json;
 
 // A scene is a page of JSON; anything near this size is not one, and the
 // parsed tree takes several times the text's memory.
@@ -82,7 +82,7 @@ private:
         ++i;
         const std::string quoted = text_.substr(start, i - start);
         // Escapes decoded as the parser decodes them ("radi\u0075s" is "radius").
-        if (escaped) return json::parse(quoted).get<std::string>();
+        if (escaped) return scene_json::parse(quoted).get<std::string>();
         return quoted.substr(1, quoted.size() - 2);
     }
     void scan_value(std::size_t& i, const std::string& path) {
@@ -130,9 +130,9 @@ private:
 // nlohmann-json's own DOM builder, except that an error keeps the byte where
 // it happened: json::parse throws a number beyond the double range ("1e999")
 // as out_of_range, which carries no position.
-class located_dom_parser : public nlohmann::detail::json_sax_dom_parser<json> {
+class located_dom_parser : public nlohmann::detail::json_sax_dom_parser<scene_json> {
 public:
-    explicit located_dom_parser(json& result) : json_sax_dom_parser(result, false) {}
+    explicit located_dom_parser(scene_json& result) : json_sax_dom_parser(result, false) {}
 
     template <class Exception>
     bool parse_error(std::size_t byte, const std::string& /*token*/, const Exception& e) {
@@ -200,7 +200,7 @@ public:
     }
 
     // The object at `path`, with no key outside `allowed`.
-    const json& object(const json& j, const std::string& path, std::initializer_list<const char*> allowed) const {
+    const scene_json& object(const scene_json& j, const std::string& path, std::initializer_list<const char*> allowed) const {
         if (!j.is_object()) fail(path, path.empty() ? "a scene is a JSON object {...}" : "must be an object");
         for (const auto& item : j.items()) {
             const std::string& key = item.key();  // not a structured binding: clang 14 cannot capture one
@@ -216,7 +216,7 @@ public:
 
     // A finite number: a JSON number, or a string holding a decimal or C99 hex
     // float read exactly (for values a decimal literal cannot give exactly).
-    double number(const json& j, const std::string& path) const {
+    double number(const scene_json& j, const std::string& path) const {
         double v = 0;
         if (j.is_number()) {
             v = j.get<double>();
@@ -229,28 +229,28 @@ public:
         return v;
     }
 
-    double number_at_least(const json& j, const std::string& path, double low, const char* what) const {
+    double number_at_least(const scene_json& j, const std::string& path, double low, const char* what) const {
         const double v = number(j, path);
         if (!(v >= low)) fail(path, fmt::format("must be a finite number {} (got {})", what, v));
         return v;
     }
 
-    vec3<double> vector(const json& j, const std::string& path) const {
+    vec3<double> vector(const scene_json& j, const std::string& path) const {
         if (!j.is_array() || j.size() != 3) fail(path, "must be an array of 3 finite numbers [x, y, z]");
         return {number(j[0], path + "[0]"), number(j[1], path + "[1]"), number(j[2], path + "[2]")};
     }
 
-    std::string string(const json& j, const std::string& path) const {
+    std::string string(const scene_json& j, const std::string& path) const {
         if (!j.is_string()) fail(path, "must be a string");
         return j.get<std::string>();
     }
 
-    bool boolean(const json& j, const std::string& path) const {
+    bool boolean(const scene_json& j, const std::string& path) const {
         if (!j.is_boolean()) fail(path, "must be true or false");
         return j.get<bool>();
     }
 
-    long long integer(const json& j, const std::string& path, long long low, long long high) const {
+    long long integer(const scene_json& j, const std::string& path, long long low, long long high) const {
         if (!j.is_number_integer() || j.get<long long>() < low || j.get<long long>() > high)
             fail(path, fmt::format("must be an integer from {} to {}", low, high));
         return j.get<long long>();
@@ -258,19 +258,19 @@ public:
 
     // One of a table's values, by the name its one spelling gives it.
     template <class E, std::size_t N, class NameOf>
-    E choice(const json& j, const std::string& path, const std::array<E, N>& values, NameOf name_of) const {
+    E choice(const scene_json& j, const std::string& path, const std::array<E, N>& values, NameOf name_of) const {
         std::vector<std::pair<const char*, E>> options;
         for (const E v : values) options.emplace_back(name_of(v), v);
         return choice(j, path, options);
     }
 
     template <class E>
-    E choice(const json& j, const std::string& path, std::initializer_list<std::pair<const char*, E>> options) const {
+    E choice(const scene_json& j, const std::string& path, std::initializer_list<std::pair<const char*, E>> options) const {
         return choice(j, path, std::vector<std::pair<const char*, E>>(options));
     }
 
     template <class E>
-    E choice(const json& j, const std::string& path, const std::vector<std::pair<const char*, E>>& options) const {
+    E choice(const scene_json& j, const std::string& path, const std::vector<std::pair<const char*, E>>& options) const {
         std::string list;
         for (const auto& [name, value] : options) list += std::string(list.empty() ? "" : ", ") + "\"" + name + "\"";
         if (!j.is_string()) fail(path, "must be one of " + list);
@@ -279,12 +279,12 @@ public:
         fail(path, "must be one of " + list + " (got \"" + j.get<std::string>() + "\")");
     }
 
-    const json* optional(const json& j, const char* key) const {
+    const scene_json* optional(const scene_json& j, const char* key) const {
         auto it = j.find(key);
         return it == j.end() ? nullptr : &*it;
     }
 
-    const json& required(const json& j, const std::string& path, const char* key) const {
+    const scene_json& required(const scene_json& j, const std::string& path, const char* key) const {
         auto it = j.find(key);
         if (it == j.end()) fail(child(path, key), "is required");
         return *it;
@@ -295,13 +295,13 @@ private:
     const field_lines& lines_;
 };
 
-ray_query read_query(const reader& in, const json& j, const std::string& path) {
+ray_query read_query(const reader& in, const scene_json& j, const std::string& path) {
     return in.choice(j, path, every_ray_query, ray_query_name);
 }
 
-spawn_settings read_spawn(const reader& in, const json& j, const std::string& path) {
+spawn_settings read_spawn(const reader& in, const scene_json& j, const std::string& path) {
     spawn_settings s;
-    if (const json* o = in.optional(j, "offset")) {
+    if (const scene_json* o = in.optional(j, "offset")) {
         const std::string p = path + ".offset";
         in.object(*o, p, {"rule", "absolute", "relative"});
         s.rule = in.choice<offset_rule>(in.required(*o, p, "rule"), p + ".rule",
@@ -314,12 +314,12 @@ spawn_settings read_spawn(const reader& in, const json& j, const std::string& pa
         for (const char* field : {"absolute", "relative"})
             if (engine_rule && in.optional(*o, field))
                 in.fail(p + "." + field, "an engine's rule (pbrt_v4, mitsuba3) takes no absolute or relative offset");
-        if (const json* v = in.optional(*o, "absolute"))
+        if (const scene_json* v = in.optional(*o, "absolute"))
             s.absolute = in.number_at_least(*v, p + ".absolute", 0, "≥ 0");
-        if (const json* v = in.optional(*o, "relative"))
+        if (const scene_json* v = in.optional(*o, "relative"))
             s.relative = in.number_at_least(*v, p + ".relative", 0, "≥ 0");
     }
-    if (const json* v = in.optional(j, "tmin")) s.tmin = in.number_at_least(*v, path + ".tmin", 0, "≥ 0");
+    if (const scene_json* v = in.optional(j, "tmin")) s.tmin = in.number_at_least(*v, path + ".tmin", 0, "≥ 0");
     return s;
 }
 
@@ -518,9 +518,9 @@ scene parse_scene(const std::string& text, const std::filesystem::path& file) {
     constexpr std::size_t max_depth = 64;
     if (const std::size_t line = too_deep(text, max_depth))
         throw input_error(name, line, "", fmt::format("not a scene: JSON nested more than {} levels deep", max_depth));
-    json root;
+    scene_json root;
     located_dom_parser parser(root);
-    if (!json::sax_parse(text, &parser) || parser.error) {
+    if (!scene_json::sax_parse(text, &parser) || parser.error) {
         const auto& [at, what] = parser.error.value_or(std::pair<std::size_t, std::string>{0, "unknown error"});
         const std::size_t byte = at == 0 ? 0 : std::min<std::size_t>(at - 1, text.size());
         const std::size_t line = 1 + static_cast<std::size_t>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(byte), '\n'));
@@ -536,9 +536,9 @@ scene parse_scene(const std::string& text, const std::filesystem::path& file) {
     s.name = file.stem().string();
     in.object(root, "", {"comment", "precision", "normalise_directions", "spheres", "camera", "lights", "rays",
                          "pixels"});
-    if (const json* v = in.optional(root, "comment")) s.comment = in.string(*v, "comment");
+    if (const scene_json* v = in.optional(root, "comment")) s.comment = in.string(*v, "comment");
     s.prec = in.choice(in.required(root, "", "precision"), "precision", every_precision, precision_name);
-    if (const json* v = in.optional(root, "normalise_directions"))
+    if (const scene_json* v = in.optional(root, "normalise_directions"))
         s.normalise_directions = in.boolean(*v, "normalise_directions");
     // Every point the generator computes (origins, hit points, lights) must be
     // finite in the scene's precision: refused at the field that reaches too far.
@@ -554,7 +554,7 @@ scene parse_scene(const std::string& text, const std::filesystem::path& file) {
     };
 
     // Spheres.
-    const json& spheres = in.required(root, "", "spheres");
+    const scene_json& spheres = in.required(root, "", "spheres");
     if (!spheres.is_array() || spheres.empty()) in.fail("spheres", "must be a non-empty array of spheres");
     std::set<std::string> names;
     for (std::size_t i = 0; i < spheres.size(); ++i) {
@@ -562,7 +562,7 @@ scene parse_scene(const std::string& text, const std::filesystem::path& file) {
         in.object(spheres[i], p, {"name", "centre", "radius", "comment"});
         scene_sphere sphere;
         sphere.name = fmt::format("sphere{}", i);
-        if (const json* v = in.optional(spheres[i], "name")) sphere.name = in.string(*v, p + ".name");
+        if (const scene_json* v = in.optional(spheres[i], "name")) sphere.name = in.string(*v, p + ".name");
         if (sphere.name.empty() || sphere.name.find_first_of(" \t/") != std::string::npos)
             in.fail(p + ".name", "must be a non-empty name without spaces or '/'");
         if (!names.insert(sphere.name).second) in.fail(p + ".name", "names another sphere too: \"" + sphere.name + "\"");
@@ -577,7 +577,7 @@ scene parse_scene(const std::string& text, const std::filesystem::path& file) {
     }
 
     // Camera.
-    const json& camera = in.required(root, "", "camera");
+    const scene_json& camera = in.required(root, "", "camera");
     in.object(camera, "camera", {"projection", "position", "look_at", "up", "fov_degrees", "view_height", "resolution"});
     scene_camera& cam = s.camera;
     cam.kind = in.choice<projection>(in.required(camera, "camera", "projection"), "camera.projection",
@@ -585,7 +585,7 @@ scene parse_scene(const std::string& text, const std::filesystem::path& file) {
                                       {"orthographic", projection::orthographic}});
     cam.position = in.vector(in.required(camera, "camera", "position"), "camera.position");
     cam.look_at = in.vector(in.required(camera, "camera", "look_at"), "camera.look_at");
-    if (const json* v = in.optional(camera, "up")) cam.up = in.vector(*v, "camera.up");
+    if (const scene_json* v = in.optional(camera, "up")) cam.up = in.vector(*v, "camera.up");
     if (cam.look_at == cam.position) in.fail("camera.look_at", "must differ from camera.position");
     if (cam.kind == projection::perspective) {
         if (camera.contains("view_height")) in.fail("camera.view_height", "applies to an orthographic camera only");
@@ -598,7 +598,7 @@ scene parse_scene(const std::string& text, const std::filesystem::path& file) {
         if (!(h > 0)) in.fail("camera.view_height", fmt::format("must be a finite number > 0 (got {})", h));
         cam.view_height = h;
     }
-    const json& resolution = in.required(camera, "camera", "resolution");
+    const scene_json& resolution = in.required(camera, "camera", "resolution");
     if (!resolution.is_array() || resolution.size() != 2)
         in.fail("camera.resolution", "must be [width, height] in pixels");
     cam.width = static_cast<int>(in.integer(resolution[0], "camera.resolution[0]", 1, 4096));
@@ -617,7 +617,7 @@ scene parse_scene(const std::string& text, const std::filesystem::path& file) {
         }
 
     // Lights.
-    if (const json* lights = in.optional(root, "lights")) {
+    if (const scene_json* lights = in.optional(root, "lights")) {
         if (!lights->is_array()) in.fail("lights", "must be an array of lights");
         std::set<std::string> light_names;
         for (std::size_t i = 0; i < lights->size(); ++i) {
@@ -625,7 +625,7 @@ scene parse_scene(const std::string& text, const std::filesystem::path& file) {
             in.object((*lights)[i], p, {"name", "position"});
             scene_light light;
             light.name = fmt::format("light{}", i);
-            if (const json* v = in.optional((*lights)[i], "name")) light.name = in.string(*v, p + ".name");
+            if (const scene_json* v = in.optional((*lights)[i], "name")) light.name = in.string(*v, p + ".name");
             if (light.name.empty() || light.name.find_first_of(" \t/") != std::string::npos)
                 in.fail(p + ".name", "must be a non-empty name without spaces or '/'");
             if (!light_names.insert(light.name).second)
@@ -637,28 +637,28 @@ scene parse_scene(const std::string& text, const std::filesystem::path& file) {
     }
 
     // Ray kinds and their queries.
-    if (const json* rays = in.optional(root, "rays")) {
+    if (const scene_json* rays = in.optional(root, "rays")) {
         in.object(*rays, "rays", {"primary", "shadow", "secondary"});
-        if (const json* p = in.optional(*rays, "primary")) {
+        if (const scene_json* p = in.optional(*rays, "primary")) {
             in.object(*p, "rays.primary", {"query", "tmin"});
-            if (const json* v = in.optional(*p, "query")) s.primary.query = read_query(in, *v, "rays.primary.query");
+            if (const scene_json* v = in.optional(*p, "query")) s.primary.query = read_query(in, *v, "rays.primary.query");
             if (s.primary.query == ray_query::any_hit)
                 in.fail("rays.primary.query", "any_hit is for shadow rays: a camera ray needs the hit it sees");
-            if (const json* v = in.optional(*p, "tmin"))
+            if (const scene_json* v = in.optional(*p, "tmin"))
                 s.primary_tmin = in.number_at_least(*v, "rays.primary.tmin", 0, "≥ 0");
         }
-        if (const json* p = in.optional(*rays, "shadow")) {
+        if (const scene_json* p = in.optional(*rays, "shadow")) {
             in.object(*p, "rays.shadow", {"query", "offset", "tmin"});
             s.shadow.enabled = true;
-            if (const json* v = in.optional(*p, "query")) s.shadow.query = read_query(in, *v, "rays.shadow.query");
+            if (const scene_json* v = in.optional(*p, "query")) s.shadow.query = read_query(in, *v, "rays.shadow.query");
             s.shadow_spawn = read_spawn(in, *p, "rays.shadow");
             if (s.lights.empty()) in.fail("rays.shadow", "shadow rays need at least one entry in \"lights\"");
         }
-        if (const json* p = in.optional(*rays, "secondary")) {
+        if (const scene_json* p = in.optional(*rays, "secondary")) {
             in.object(*p, "rays.secondary", {"query", "offset", "tmin", "direction"});
             s.secondary.enabled = true;
-            if (const json* v = in.optional(*p, "query")) s.secondary.query = read_query(in, *v, "rays.secondary.query");
-            if (const json* v = in.optional(*p, "direction"))
+            if (const scene_json* v = in.optional(*p, "query")) s.secondary.query = read_query(in, *v, "rays.secondary.query");
+            if (const scene_json* v = in.optional(*p, "direction"))
                 s.secondary_kind = in.choice<secondary_direction>(
                     *v, "rays.secondary.direction",
                     {{"reflect", secondary_direction::reflect}, {"transmit", secondary_direction::transmit}});
@@ -681,7 +681,7 @@ scene parse_scene(const std::string& text, const std::filesystem::path& file) {
     check_spawn(s.secondary, s.secondary_spawn, "rays.secondary");
 
     // Pixels.
-    if (const json* pixels = in.optional(root, "pixels")) {
+    if (const scene_json* pixels = in.optional(root, "pixels")) {
         if (pixels->is_string()) {
             if (pixels->get<std::string>() != "all") in.fail("pixels", "must be \"all\" or {\"count\": N, \"seed\": S}");
         } else {

@@ -1,6 +1,7 @@
 // rayverify bench: run time of every variant in float, double and long double
 // beside its accuracy and stability, and the exact oracle's own cost.
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -18,6 +19,7 @@
 #include "compare/stability.h"
 #include "core/input_error.h"
 #include "corpus/corpus_io.h"
+#include "intersectors/registry.h"
 #include "report/audit_pass.h"
 #include "report/audit_report.h"
 #include "report/audit_timing_report.h"
@@ -309,6 +311,20 @@ int run(const bench_options& options, const std::string& command_line) {
     fmt::print("{} cases; ns per ray–sphere test, CPU time, median of {} repetitions per family, case-weighted; "
                "ratio to {} in this run.\n",
                cases.size(), options.repetitions, reference_label);
+    // The engine ports timed here, named, with how they were compiled.
+    std::vector<std::string> ports_timed;
+    for (const json& r : timing_section["overall"]) {
+        const std::string name = r["variant"].get<std::string>();
+        const variant* v = find_builtin_variant(name);
+        if (v != nullptr && !v->build.empty() &&
+            std::find(ports_timed.begin(), ports_timed.end(), name) == ports_timed.end())
+            ports_timed.push_back(name);
+    }
+    if (!ports_timed.empty())
+        fmt::print("engine ports ({}): timed as rayverify compiles them (the build below) and called through their "
+                   "function; tools/port_build_benchmark.sh times them as their engines' Release builds compile "
+                   "the same code (-O3, vectoriser on; docs/bench.md)\n",
+                   fmt::join(ports_timed, ", "));
     for (const audit_target& t : plugin_targets)
         if (t.subject.library)
             fmt::print("{}: {} {} as shipped ({}): its time includes the library's own call overhead (see "

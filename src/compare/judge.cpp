@@ -810,7 +810,7 @@ std::optional<std::string> measure_outputs(const contract& promises, const varia
 }
 
 // The rounding cause: conditioning-limited when the case is within the
-// backward error of the other answer (stability.h): a class verdict when the
+// backward error of the other answer (conditioning.h): a class verdict when the
 // tangency margin is ≤ γ; a root or side verdict also when γ·u·κ ≥ 1.
 // Non-finite and malformed outputs are always algorithmic.
 disagreement_cause rounding_cause(verdict_kind k, const case_frame& frame) {

@@ -857,9 +857,7 @@ const stability_measures& case_frame::stability() const {
 
 const std::optional<std::string>& case_frame::unit_direction_breach() const {
     if (!unit_direction_breach_) {
-        contract unit;
-        unit.assumes_unit_direction = true;
-        unit_direction_breach_ = contract_breach(unit, input_, exact_.prec);
+        unit_direction_breach_ = unit_direction_breach_of(input_, exact_.prec);
     }
     return *unit_direction_breach_;
 }
@@ -899,6 +897,10 @@ case_score judge_output(const contract& promises, const variant_output& output, 
 std::optional<std::string> contract_breach(const contract& promises, const ray_sphere<double>& input,
                                            precision prec) {
     if (!promises.assumes_unit_direction) return std::nullopt;
+    return unit_direction_breach_of(input, prec);
+}
+
+std::optional<std::string> unit_direction_breach_of(const ray_sphere<double>& input, precision prec) {
     // |d|² within [1 − 8ε, 1 + 8ε], both ends exact doubles, decided exactly.
     const double tolerance =
         8 * with_precision(prec, []<class T>(std::type_identity<T>) { return double(std::numeric_limits<T>::epsilon()); });

@@ -281,6 +281,9 @@ answer<T> answer_of(const audit_target& target, const corpus_case& c, const ray_
 // direction means |d·d − 1| ≤ 8ε, decided exactly (ε of the precision).
 std::optional<std::string> contract_breach(const contract& promises, const ray_sphere<double>& input,
                                            precision prec);
+// The unit-direction assumption's check alone: why |d|² lies outside
+// [1 − 8ε, 1 + 8ε], or nullopt (contract_breach of a unit-direction contract).
+std::optional<std::string> unit_direction_breach_of(const ray_sphere<double>& input, precision prec);
 
 // The oracle's answer for a case at precision p: on the inputs rounded to p
 // (a float target's exact answer is for its float inputs); invalid when the

@@ -27,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "core/float_bits.h"
 #include "intersectors/cycles_point.h"
 #include "intersectors/embree4_sphere.h"
 #include "intersectors/godot_segment.h"
@@ -105,10 +106,8 @@ std::uint64_t checksum_of(const std::vector<ray_sphere<T>>& cases, port_fn<T> fn
     std::uint64_t sum = 0;
     for (const ray_sphere<T>& s : cases) {
         const root_pair<T> r = fn(s);
-        const std::uint64_t bits = (std::uint64_t(std::bit_cast<std::conditional_t<sizeof(T) == 4, std::uint32_t, std::uint64_t>>(r.t0)) * 3 +
-                                    std::bit_cast<std::conditional_t<sizeof(T) == 4, std::uint32_t, std::uint64_t>>(r.t1)) *
-                                       5 +
-                                   static_cast<std::uint64_t>(r.count);
+        const std::uint64_t t0 = std::bit_cast<float_bits_t<T>>(r.t0), t1 = std::bit_cast<float_bits_t<T>>(r.t1);
+        const std::uint64_t bits = (t0 * 3 + t1) * 5 + static_cast<std::uint64_t>(r.count);
         sum = (sum ^ bits) * 0x100000001B3ull;
     }
     return sum;

@@ -3,11 +3,14 @@
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <limits>
 #include <type_traits>
 #include <utility>
+
+#include <fmt/format.h>
 
 #include "core/case_in_progress.h"
 #include "core/float_bits.h"
@@ -138,17 +141,23 @@ long double tangency_gap(const ray_sphere<double>& g) {
 
 // The hunter's score of a case: larger is worse for the variant. A
 // disagreement outranks everything under misclass; under ulp only agreeing
-// answers count (their error), anything else is −1.
+// answers count (their error), anything else is −1. The search judges with
+// the error bracketed (evaluate_bracketed), so a score is known to lie in
+// [lower, upper]; lower == upper once exact.
 struct fitness {
     int tier = 0;
-    long double value = 0;
-    friend bool operator>=(const fitness& a, const fitness& b) {
-        return a.tier != b.tier ? a.tier > b.tier : a.value >= b.value;
-    }
-    friend bool operator>(const fitness& a, const fitness& b) {
-        return a.tier != b.tier ? a.tier > b.tier : a.value > b.value;
-    }
+    long double lower = 0, upper = 0;
 };
+
+// compare(a, b) when the bounds decide it: empty where the brackets overlap
+// and are not both exact.
+uncertain_comparison compare_fitness(const fitness& a, const fitness& b) {
+    if (a.tier != b.tier) return compare(a.tier, b.tier);
+    if (a.lower > b.upper) return comparison::larger;
+    if (a.upper < b.lower) return comparison::smaller;
+    if (a.lower == a.upper && b.lower == b.upper) return comparison::equal;
+    return std::nullopt;
+}
 
 // A disagreement the hunt keeps: any, or with rounding_only one whose cause
 // is rounding, or with only_cause one of that cause.
@@ -158,15 +167,60 @@ bool kept_disagreement(const hunt_evaluation& e, const hunt_options& options) {
     return !options.only_cause || e.cause == options.only_cause;
 }
 
-fitness fitness_of(const hunt_options& options, const hunt_evaluation& e, const ray_sphere<double>& g) {
-    if (e.verdict == verdict_kind::invalid || e.verdict == verdict_kind::contract_violation) return {-1, 0};
+// `error`: bounds on e.error (exact under misclass and the scale objectives).
+fitness fitness_of(const hunt_options& options, const hunt_evaluation& e, const figure_bracket& error,
+                   const ray_sphere<double>& g) {
+    if (e.verdict == verdict_kind::invalid || e.verdict == verdict_kind::contract_violation) return {-1, 0, 0};
     if (options.objective == hunt_objective::misclass) {
-        if (kept_disagreement(e, options)) return {1, 0};
+        if (kept_disagreement(e, options)) return {1, 0, 0};
         const long double gap = tangency_gap(g);
-        return {0, gap > 0 ? 1 / gap : std::numeric_limits<long double>::max()};
+        const long double closeness = gap > 0 ? 1 / gap : std::numeric_limits<long double>::max();
+        return {0, closeness, closeness};
     }
-    if (e.verdict != verdict_kind::agree) return {-1, 0};
-    return {0, static_cast<long double>(e.error)};
+    if (e.verdict != verdict_kind::agree) return {-1, 0, 0};
+    return {0, error.lower, error.upper};
+}
+
+// The figures the hunt judges a case by: the objective's own error, exact or
+// (ulp) bracketed from the oracle's enclosures; misclass, none.
+figure_request figures_for(hunt_objective objective, bool bracketed) {
+    figure_request wanted = figure_request::verdict_only();
+    switch (objective) {
+        case hunt_objective::misclass: break;
+        case hunt_objective::ulp:
+            wanted.roots = bracketed ? figure_request::root_errors::bracketed : figure_request::root_errors::exact;
+            break;
+        case hunt_objective::scale_radius:
+        case hunt_objective::scale_distance: wanted.scale_errors = true; break;
+    }
+    return wanted;
+}
+
+// evaluate_for_hunt's judgement with, when `bracketed`, the ulp objective's
+// error only bracketed (it ranks almost every case; the hunter settles it
+// where a comparison or a find needs it exactly): the evaluation, its
+// error set when the bracket is exact, and the bracket.
+std::pair<hunt_evaluation, figure_bracket> evaluate_bracketed(const audit_target& target, const corpus_case& c,
+                                                              hunt_objective objective, bool bracketed) {
+    const target_outcome outcome = judge_target(target, c, solve_case(c, target.prec), figures_for(objective, bracketed));
+    const case_score& score = outcome.score;
+    hunt_evaluation e{score.verdict, score.cause, score.detail};
+    if (score.verdict != verdict_kind::agree) return {std::move(e), {}};
+    std::optional<double> error;
+    switch (objective) {
+        case hunt_objective::misclass: break;
+        case hunt_objective::ulp:
+            if (score.root_ulp_bracket && !score.root_ulp_bracket->exact())
+                return {std::move(e), *score.root_ulp_bracket};
+            error = score.root_ulp_bracket ? score.root_ulp_bracket->lower
+                                           : std::max(score.near_ulp.value_or(0), score.far_ulp.value_or(0));
+            break;
+        case hunt_objective::scale_radius: error = score.scale_error_radius; break;
+        case hunt_objective::scale_distance: error = score.scale_error_distance; break;
+    }
+    e.error = error.value_or(0);
+    const figure_bracket exact_error{e.error, e.error};
+    return {std::move(e), exact_error};
 }
 
 // Does `e` fail the way `original` did? Same disagreement kind; for an ULP find,
@@ -176,6 +230,17 @@ bool same_failure(const hunt_options& options, const hunt_evaluation& original, 
         return e.verdict == original.verdict && e.cause == original.cause && kept_disagreement(e, options);
     return e.verdict == verdict_kind::agree && e.error >= original.error / 2 && e.error > 0;
 }
+
+// A case the search judged: its evaluation, bounds on its error (the
+// search judges with the ulp objective's error bracketed), and its score.
+// `number` names it ("hunt-evaluation-N") for a plugin that crashes on it.
+struct judged_case {
+    ray_sphere<double> geometry;
+    hunt_evaluation eval;  // eval.error is the error once error.exact()
+    figure_bracket error;
+    fitness fit;
+    std::uint64_t number = 0;
+};
 
 class hunter {
 public:
@@ -188,43 +253,38 @@ public:
         while (!exhausted()) {
             if (options_.strategy == hunt_strategy::random) {
                 // A batch of fresh start cases.
-                std::vector<ray_sphere<double>> starts(batch_size());
+                moved_.resize(batch_size());
                 const std::uint64_t first = result_.starts;
-                for (auto& g : starts) g = rounded_in(target_.prec, start_(result_.starts++));
-                const std::vector<hunt_evaluation> evals = judge_batch(starts, "evaluation", result_.evaluations, first);
-                for (std::size_t k = 0; k < starts.size() && !done(); ++k) {
+                for (auto& g : moved_) g = rounded_in(target_.prec, start_(result_.starts++));
+                std::vector<judged_case>& judged = judge_batch(moved_, "evaluation", result_.evaluations, first);
+                for (std::size_t k = 0; k < judged.size() && !done(); ++k) {
                     count_evaluation();
                     start_index_ = first + k;
-                    note(starts[k], evals[k], fitness_of(options_, evals[k], starts[k]), start_index_);
+                    note(judged[k], start_index_);
                 }
                 continue;
             }
             const std::uint64_t index = result_.starts++;
             start_index_ = index;
-            ray_sphere<double> current = rounded_in(target_.prec, start_(index));
-            hunt_evaluation current_eval = judge_batch({current}, "evaluation", result_.evaluations, index).front();
+            moved_.assign(1, rounded_in(target_.prec, start_(index)));
+            judged_case current = std::move(judge_batch(moved_, "evaluation", result_.evaluations, index).front());
             count_evaluation();
-            fitness current_fit = fitness_of(options_, current_eval, current);
-            note(current, current_eval, current_fit, index);
+            note(current, index);
             if (done()) continue;
 
             std::uint64_t stale = 0;
-            while (!exhausted() && !done() && stale < options_.patience && current_fit.tier < 1) {
+            while (!exhausted() && !done() && stale < options_.patience && current.fit.tier < 1) {
                 // Candidates all moved from the current case, then taken in order as if one at a time.
-                std::vector<ray_sphere<double>> candidates(batch_size());
-                for (auto& g : candidates) g = mutate(current);
-                const std::vector<hunt_evaluation> evals =
-                    judge_batch(candidates, "evaluation", result_.evaluations, index);
+                moved_.resize(batch_size());
+                for (auto& g : moved_) g = mutate(current.geometry);
+                std::vector<judged_case>& candidates = judge_batch(moved_, "evaluation", result_.evaluations, index);
                 for (std::size_t k = 0; k < candidates.size() && !done(); ++k) {
                     count_evaluation();
-                    const fitness candidate_fit = fitness_of(options_, evals[k], candidates[k]);
-                    note(candidates[k], evals[k], candidate_fit, index);
-                    stale = candidate_fit > current_fit ? 0 : stale + 1;
-                    if (candidate_fit >= current_fit) {
-                        current = candidates[k];
-                        current_eval = evals[k];
-                        current_fit = candidate_fit;
-                    }
+                    judged_case& candidate = candidates[k];
+                    note(candidate, index);
+                    const comparison order = rank(candidate, current);
+                    stale = order == comparison::larger ? 0 : stale + 1;
+                    if (order != comparison::smaller) current = std::move(candidate);
                 }
             }
         }
@@ -239,10 +299,17 @@ private:
     double elapsed() const {
         return std::chrono::duration<double>(std::chrono::steady_clock::now() - began_).count();
     }
+    // Out of budget. The clock is read every 16th evaluation (reading it
+    // took a tenth of a fast evaluation); a time budget only decides where
+    // the search stops.
     bool exhausted() const {
         if (done()) return true;
         if (options_.max_evaluations > 0 && result_.evaluations >= options_.max_evaluations) return true;
-        return options_.max_seconds > 0 && elapsed() >= options_.max_seconds;
+        if (options_.max_seconds <= 0 || out_of_time_) return out_of_time_;
+        if (result_.evaluations - clock_read_at_ < 16 && result_.evaluations > 0) return false;
+        clock_read_at_ = result_.evaluations;
+        out_of_time_ = elapsed() >= options_.max_seconds;
+        return out_of_time_;
     }
     bool done() const {
         return options_.objective == hunt_objective::misclass && result_.finds.size() >= options_.max_finds;
@@ -263,41 +330,93 @@ private:
         return static_cast<std::size_t>(std::max<std::uint64_t>(n, 1));
     }
 
-    // Judges cases numbered after `before` in `stage` ("hunt-evaluation-N"),
-    // searched from start case `start`. A plugin that crashes or hangs names
-    // the case it was given (core/case_in_progress.h); a batch judge names its batch.
-    std::vector<hunt_evaluation> judge_batch(const std::vector<ray_sphere<double>>& gs, const char* stage,
-                                             std::uint64_t before, std::uint64_t start) const {
-        std::vector<corpus_case> cases(gs.size());
-        for (std::size_t k = 0; k < gs.size(); ++k) {
-            cases[k].id = std::string("hunt-") + stage + "-" + std::to_string(before + k + 1);
-            cases[k].geometry = gs[k];
-            cases[k].source = "hunt, searching from start case " + std::to_string(start);
+    // Case number N of `stage` ("hunt-evaluation-N"), searched from start
+    // case `start`, written into `c`, whose strings keep their storage from
+    // batch to batch (formatting them was a tenth of a fast evaluation).
+    void name_case(corpus_case& c, const ray_sphere<double>& g, const char* stage, std::uint64_t number,
+                   std::uint64_t start) {
+        char digits[24];
+        c.id.assign("hunt-").append(stage).append("-").append(digits, std::to_chars(digits, digits + 24, number).ptr);
+        if (!source_start_ || *source_start_ != start) {
+            source_ = fmt::format("hunt, searching from start case {}", start);
+            source_start_ = start;
         }
-        if (judge_) return judge_(cases);
-        std::vector<hunt_evaluation> evals;
-        for (const corpus_case& c : cases) {
-            const case_in_progress announced(c);
-            evals.push_back(evaluate_for_hunt(target_, c, options_.objective));
-        }
-        return evals;
+        c.source.assign(source_);
+        c.geometry = g;
     }
 
-    void note(const ray_sphere<double>& g, const hunt_evaluation& e, const fitness& f, std::uint64_t index) {
+    // Judges cases numbered after `before` in `stage`, searched from start
+    // case `start`: with the ulp objective's error bracketed unless `exact`
+    // (an external judge's errors are always exact). A plugin that crashes
+    // or hangs names the case it was given (core/case_in_progress.h); a batch
+    // judge names its batch.
+    // The judged cases are kept in a member (reused: one evaluation
+    // allocated nothing) until the next batch.
+    std::vector<judged_case>& judge_batch(const std::vector<ray_sphere<double>>& gs, const char* stage,
+                                          std::uint64_t before, std::uint64_t start, bool exact = false) {
+        cases_.resize(gs.size());
+        for (std::size_t k = 0; k < gs.size(); ++k) name_case(cases_[k], gs[k], stage, before + k + 1, start);
+        std::vector<judged_case>& judged = judged_;
+        judged.resize(gs.size());
+        if (judge_) {
+            std::vector<hunt_evaluation> evals = judge_(cases_);
+            for (std::size_t k = 0; k < gs.size(); ++k) {
+                const figure_bracket exact_error{evals[k].error, evals[k].error};
+                judged[k] = scored(gs[k], std::move(evals[k]), exact_error, before + k + 1);
+            }
+            return judged;
+        }
+        for (std::size_t k = 0; k < gs.size(); ++k) {
+            const case_in_progress announced(cases_[k]);
+            auto [eval, error] = evaluate_bracketed(target_, cases_[k], options_.objective, !exact);
+            judged[k] = scored(gs[k], std::move(eval), error, before + k + 1);
+        }
+        return judged;
+    }
+
+    judged_case scored(const ray_sphere<double>& g, hunt_evaluation e, const figure_bracket& error,
+                       std::uint64_t number) const {
+        judged_case j{g, std::move(e), error, {}, number};
+        j.fit = fitness_of(options_, j.eval, j.error, g);
+        return j;
+    }
+
+    // The exact error of a case judged with it bracketed: judged again, exactly.
+    void settle(judged_case& j) {
+        if (j.error.exact()) return;
+        name_case(settling_, j.geometry, "evaluation", j.number, start_index_);
+        const case_in_progress announced(settling_);
+        auto [eval, error] = evaluate_bracketed(target_, settling_, options_.objective, false);
+        j = scored(j.geometry, std::move(eval), error, j.number);
+    }
+
+    // compare(a's score, b's): from their brackets, or settled where those overlap.
+    comparison rank(judged_case& a, judged_case& b) {
+        if (const uncertain_comparison c = compare_fitness(a.fit, b.fit)) return *c;
+        settle(a);
+        settle(b);
+        return *compare_fitness(a.fit, b.fit);
+    }
+
+    void note(judged_case& j, std::uint64_t index) {
         if (options_.objective == hunt_objective::misclass) {
-            if (f.tier == 1 && !done()) result_.finds.push_back(make_find(g, e, index));
+            if (j.fit.tier == 1 && !done()) result_.finds.push_back(make_find(j, index));
             return;
         }
-        if (f.tier == 0 && e.error > 0 && (!best_ || e.error > best_->found_eval.error))
-            best_ = make_find(g, e, index);
-        if (is_disagreement(e.verdict) && result_.disagreements++ == 0) result_.first_disagreement = make_find(g, e, index);
+        // A new largest error: possible only where the bracket reaches past the largest so far.
+        if (j.fit.tier == 0 && j.error.upper > 0 && (!best_ || j.error.upper > best_->found_eval.error)) {
+            settle(j);
+            if (j.eval.error > 0 && (!best_ || j.eval.error > best_->found_eval.error)) best_ = make_find(j, index);
+        }
+        if (is_disagreement(j.eval.verdict) && result_.disagreements++ == 0)
+            result_.first_disagreement = make_find(j, index);
     }
 
-    hunt_find make_find(const ray_sphere<double>& g, const hunt_evaluation& e, std::uint64_t index) const {
+    hunt_find make_find(const judged_case& j, std::uint64_t index) const {
         hunt_find f;
-        f.found = f.shrunk = g;
-        f.found_eval = f.shrunk_eval = e;
-        f.found_bits = f.shrunk_bits = significant_bits(g);
+        f.found = f.shrunk = j.geometry;
+        f.found_eval = f.shrunk_eval = j.eval;
+        f.found_bits = f.shrunk_bits = significant_bits(j.geometry);
         f.evaluation = result_.evaluations;
         f.seconds = elapsed();
         f.start_index = index;
@@ -338,7 +457,8 @@ private:
             if (budget == 0 || !(g.radius > 0)) return false;
             --budget;
             ++result_.shrink_evaluations;
-            const hunt_evaluation e = judge_batch({g}, "shrink", result_.shrink_evaluations - 1, f.start_index).front();
+            const hunt_evaluation e =
+                judge_batch({g}, "shrink", result_.shrink_evaluations - 1, f.start_index, true).front().eval;
             if (!same_failure(options_, f.found_eval, e)) return false;
             if (significant_bits(g) > f.shrunk_bits) return false;
             f.shrunk = g;
@@ -405,6 +525,15 @@ private:
     hunt_result result_;
     std::optional<hunt_find> best_;
     std::uint64_t start_index_ = 0;  // the start case the search is on
+    mutable std::uint64_t clock_read_at_ = 0;  // the evaluation count when exhausted() last read the clock
+    mutable bool out_of_time_ = false;         // what it read: the time budget is spent
+    // Reused from batch to batch: the cases moved (or drawn), named and judged.
+    std::vector<ray_sphere<double>> moved_;
+    std::vector<corpus_case> cases_;
+    std::vector<judged_case> judged_;
+    std::string source_;  // "hunt, searching from start case S" for source_start_ S
+    std::optional<std::uint64_t> source_start_;
+    corpus_case settling_;  // the case being judged again exactly
 };
 
 }  // namespace
@@ -418,17 +547,7 @@ hunt_evaluation evaluate_for_hunt(const audit_target& target, const ray_sphere<d
 }
 
 hunt_evaluation evaluate_for_hunt(const audit_target& target, const corpus_case& c, hunt_objective objective) {
-    const target_outcome outcome = judge_target(target, c, solve_case(c, target.prec));
-    const case_score& score = outcome.score;
-    hunt_evaluation e{score.verdict, score.cause, score.detail};
-    if (score.verdict != verdict_kind::agree) return e;
-    switch (objective) {
-        case hunt_objective::ulp:
-        case hunt_objective::misclass: e.error = std::max(score.near_ulp.value_or(0), score.far_ulp.value_or(0)); break;
-        case hunt_objective::scale_radius: e.error = score.scale_error_radius.value_or(0); break;
-        case hunt_objective::scale_distance: e.error = score.scale_error_distance.value_or(0); break;
-    }
-    return e;
+    return evaluate_bracketed(target, c, objective, false).first;
 }
 
 int significant_bits(const ray_sphere<double>& g) {

@@ -86,7 +86,8 @@ struct hunt_evaluation {
     std::optional<disagreement_cause> cause;  // of a disagreement
     std::string detail;
     // When the verdict is agree, else 0: max(near_ulp, far_ulp) for the ulp
-    // (and misclass) objective, the scale error for the scale objectives.
+    // objective, the scale error for the scale objectives (misclass: 0, no
+    // figure is measured).
     double error = 0;
 };
 

@@ -420,14 +420,39 @@ expected_hit expected_answer(const contract& promises, const exact_solution& exa
     return promises.query == query_kind::line_roots ? expected_hit{} : expect_hit(promises, exact, range);
 }
 
+// The bracketed form of the root errors: bounds on the largest of the
+// errors measure_root and measure_value give the judged values, each from
+// the root's enclosure where it brackets it, else the error itself.
+figure_bracket bracket_root_errors(const judged_list& judged, const double (&t)[2], const exact_solution& exact) {
+    figure_bracket largest;
+    for (const judged_value& j : judged) {
+        const double value = t[j.slot];
+        if (!std::isfinite(value)) continue;
+        figure_bracket b;
+        if (!j.root) {
+            std::optional<double> ulp, bits;
+            measure_value(exact.prec, j.start, value, ulp, bits);
+            b = {*ulp, *ulp};
+        } else if (const std::optional<figure_bracket> cheap = exact.root_ulp_error_bracket(*j.root, value)) {
+            b = *cheap;
+        } else {
+            const double error = exact.root_ulp_error(*j.root, value);
+            b = {error, error};
+        }
+        largest = {std::max(largest.lower, b.lower), std::max(largest.upper, b.upper)};
+    }
+    return largest;
+}
+
 // The verdict, as the one table in docs/verdicts.md reads, top to bottom: the
 // first row whose condition holds is the verdict. Every query runs the same
 // rows (a row that cannot apply to a query is skipped). `want` is
-// expected_answer's. With `measure` false only the verdict is formed (the
-// errors are left empty); a cause is set only where the verdict itself shows
-// it (line_not_ray).
+// expected_answer's. `measure` says how the root errors are measured (none:
+// only the verdict is formed); a cause is set only where the verdict itself
+// shows it (line_not_ray).
 case_score judge_verdict(const contract& promises, const variant_output& out, const exact_solution& exact,
-                         const t_range& range, const expected_hit& want, bool measure = true) {
+                         const t_range& range, const expected_hit& want,
+                         figure_request::root_errors measure = figure_request::root_errors::exact) {
     case_score s;
     const auto& r = out.roots;
     const query_kind query = promises.query;
@@ -446,7 +471,7 @@ case_score judge_verdict(const contract& promises, const variant_output& out, co
     const double t[2] = {r.t0, r.t1};
     const bool hit_expected = line ? exact.cls != line_class::miss : want.hit();
     const judged_list judged = r.count > 0 && hit_expected ? judged_values(query, exact, want) : judged_list{};
-    if (measure)
+    if (measure == figure_request::root_errors::exact)
         for (const judged_value& j : judged) {
             std::optional<double>& ulp = j.slot == 0 ? s.near_ulp : s.far_ulp;
             std::optional<double>& bits = j.slot == 0 ? s.near_bits : s.far_bits;
@@ -455,6 +480,7 @@ case_score judge_verdict(const contract& promises, const variant_output& out, co
             else
                 measure_value(exact.prec, j.start, t[j.slot], ulp, bits);
         }
+    if (measure == figure_request::root_errors::bracketed) s.root_ulp_bracket = bracket_root_errors(judged, t, exact);
     // 2. non_finite: a NaN among the values judged (any_hit: one the renderer looked at).
     for (int i = 0; i < values; ++i)
         if (std::isnan(t[i])) return fail(verdict_kind::non_finite, both());
@@ -788,17 +814,19 @@ double normal_angle(const vec3<double>& normal, const exact_solution& exact, roo
 }
 
 // An agreeing answer's outputs beside t (contract::outputs) measured, and its
-// error in the scene's length scale; where a bound it gives leaves out the
+// error in the scene's length scale when asked; where a bound it gives leaves out the
 // exact value, what is wrong, in words (verdict row 12, unsound_bound).
 std::optional<std::string> measure_outputs(const contract& promises, const variant_output& output,
                                            const exact_solution& exact, const t_range& range,
                                            const expected_hit& want, const ray_sphere<double>& input,
-                                           case_score& s) {
+                                           bool with_scale_errors, case_score& s) {
     const judged_list judged = judged_values(promises.query, exact, want);
     const double t[2] = {output.roots.t0, output.roots.t1};
-    const scale_errors scale = measure_scale_errors(judged, t, exact, input);
-    s.scale_error_radius = scale.radius;
-    s.scale_error_distance = scale.distance;
+    if (with_scale_errors) {
+        const scale_errors scale = measure_scale_errors(judged, t, exact, input);
+        s.scale_error_radius = scale.radius;
+        s.scale_error_distance = scale.distance;
+    }
     const t_bounds_check bounds = check_t_bounds(judged, output, exact);
     s.bound_ulp = bounds.width_ulp;
     std::optional<std::string> unsound = bounds.unsound;
@@ -841,7 +869,9 @@ disagreement_cause cause_of(const contract& promises, const variant_output& outp
     if (unit_assumed_wrongly) {
         const exact_solution& solved = frame.unit_direction_design();
         if (solved.valid() &&
-            judge_verdict(promises, output, solved, range, expected_answer(promises, solved, range), false).verdict ==
+            judge_verdict(promises, output, solved, range, expected_answer(promises, solved, range),
+                          figure_request::root_errors::none)
+                    .verdict ==
                 verdict_kind::agree)
             return disagreement_cause::unit_direction;
     }
@@ -873,14 +903,14 @@ const exact_solution& case_frame::unit_direction_design() const {
 }
 
 case_score judge_output(const contract& promises, const variant_output& output, const case_frame& frame,
-                        const t_range& range) {
+                        const t_range& range, const figure_request& wanted) {
     const exact_solution& exact = frame.exact();
     const expected_hit want = expected_answer(promises, exact, range);
-    case_score s = judge_verdict(promises, output, exact, range, want);
+    case_score s = judge_verdict(promises, output, exact, range, want, wanted.roots);
     if (s.verdict == verdict_kind::agree) {
-        measure_hit_point(promises, output, exact, range, want, frame.input(), s);
+        if (wanted.hit_point) measure_hit_point(promises, output, exact, range, want, frame.input(), s);
         const std::optional<std::string> unsound =
-            measure_outputs(promises, output, exact, range, want, frame.input(), s);
+            measure_outputs(promises, output, exact, range, want, frame.input(), wanted.scale_errors, s);
         if (!unsound) return s;
         s.verdict = verdict_kind::unsound_bound;
         s.detail = *unsound;
@@ -953,7 +983,7 @@ std::optional<case_score> unscored(const contract& promises, const case_frame& f
 
 template <class T>
 target_outcome judge_target_in(const audit_target& target, const corpus_case& c, const case_frame& frame,
-                               const given_answer& given) {
+                               const given_answer& given, const figure_request& wanted) {
     target_outcome outcome;
     const contract& promises = target.subject.promises;
     if (auto s = unscored(promises, frame)) {
@@ -966,7 +996,7 @@ target_outcome judge_target_in(const audit_target& target, const corpus_case& c,
     outcome.output = widen_answer(promises, ahead ? *ahead : answer_of(target, c, input, interval_in<T>(outcome.range)),
                                   input, outcome.range);
     if (target.recorded && !ahead) add_recorded_outputs(outcome.output, target.recorded->find(c.id));
-    outcome.score = judge_output(promises, outcome.output, frame, outcome.range);
+    outcome.score = judge_output(promises, outcome.output, frame, outcome.range, wanted);
     return outcome;
 }
 
@@ -975,7 +1005,15 @@ target_outcome judge_target_in(const audit_target& target, const corpus_case& c,
 target_outcome judge_target(const audit_target& target, const corpus_case& c, const case_frame& frame,
                             const given_answer& given) {
     return with_precision(target.prec, [&]<class T>(std::type_identity<T>) {
-        return judge_target_in<T>(target, c, frame, given);
+        return judge_target_in<T>(target, c, frame, given, figure_request{});
+    });
+}
+
+target_outcome judge_target(const audit_target& target, const corpus_case& c, const exact_solution& exact,
+                            const figure_request& wanted) {
+    const case_frame frame(exact, rounded_to(target.prec, c.geometry));
+    return with_precision(target.prec, [&]<class T>(std::type_identity<T>) {
+        return judge_target_in<T>(target, c, frame, given_answer{}, wanted);
     });
 }
 

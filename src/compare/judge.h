@@ -194,6 +194,26 @@ struct case_score {
     // radians between the returned normal and the exact one (either
     // orientation: the nearer of ±n*).
     std::optional<double> bound_ulp, normal_angle;
+    // With the root errors asked bracketed (figure_request): bounds on the
+    // largest of near_ulp and far_ulp (0 when no returned value has one),
+    // which are then left empty, as are their bits.
+    std::optional<figure_bracket> root_ulp_bracket;
+};
+
+// What a judgement measures beside its verdict and cause, which it always
+// decides (the outputs beside t too: they decide unsound_bound). The audit,
+// scenes and explain take every figure, the default; the hunter asks only
+// for the one its objective ranks by.
+struct figure_request {
+    enum class root_errors {
+        none,
+        exact,      // near_ulp, far_ulp and their bits, every digit right
+        bracketed,  // root_ulp_bracket alone, from the oracle's enclosures (exact where they cannot bracket)
+    };
+    root_errors roots = root_errors::exact;
+    bool hit_point = true;     // hit_point_ulp
+    bool scale_errors = true;  // scale_error_radius, scale_error_distance
+    static constexpr figure_request verdict_only() { return {root_errors::none, false, false}; }
 };
 
 // Run a variant in precision T on the inputs, asking an interval contract for
@@ -243,7 +263,7 @@ private:
 // case as the variant received it. Decides the verdict, measures the errors,
 // and names the cause of a disagreement.
 case_score judge_output(const contract& promises, const variant_output& output, const case_frame& frame,
-                        const t_range& range);
+                        const t_range& range, const figure_request& wanted = {});
 // The same for one answer: `input` is the case as the variant received it,
 // widened to double.
 case_score judge_output(const contract& promises, const variant_output& output, const exact_solution& exact,
@@ -329,6 +349,9 @@ target_outcome judge_target(const audit_target& target, const corpus_case& c, co
 // every target of a case against one frame per precision).
 target_outcome judge_target(const audit_target& target, const corpus_case& c, const case_frame& frame,
                             const given_answer& given = {});
+// The same measuring only the figures asked for (the hunter's).
+target_outcome judge_target(const audit_target& target, const corpus_case& c, const exact_solution& exact,
+                            const figure_request& wanted);
 
 // ---- The renderer's view ------------------------------------------------------
 

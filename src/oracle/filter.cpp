@@ -115,6 +115,26 @@ std::optional<double> ulp_error_from(const enclosure& x, std::optional<int> ulp_
     return rounded_ulp_ratio(exactly(value) - bounded_of(x), *ulp_exponent);
 }
 
+std::optional<figure_bracket> ulp_error_bracket_from(const enclosure& x, std::optional<int> ulp_exponent,
+                                                     double value) {
+    if (!known(x) || !ulp_exponent || *ulp_exponent < -1023 || *ulp_exponent > 1022) return std::nullopt;
+    const bounded difference = exactly(value) - bounded_of(x);
+    // |difference| lies within err of |h + l|, and m = RN(|h + l|) within
+    // 2^−53·m of that. Upper: (m + err) rounded, widened by 2^−50 (three
+    // roundings, each under 2^−53). Lower: m·(1 − 2^−52) − err·(1 + 2^−52),
+    // each product rounded to the safe side; their difference is exact when
+    // the two are within a factor 2 (Sterbenz) and otherwise within 2^−53 of
+    // itself, so the final (1 − 2^−52) keeps it below. Scaling by 2^−e is
+    // exact while the result stays normal (checked).
+    const double m = std::fabs(difference.v.h + difference.v.l);
+    const double scale = std::bit_cast<double>(static_cast<std::uint64_t>(1023 - *ulp_exponent) << 52);
+    const double upper = (m + difference.err) * (1 + 0x1p-50) * scale;
+    if (!(upper <= 0x1p1000)) return std::nullopt;
+    if (upper < 0x1p-900) return figure_bracket{0, 0x1p-900};
+    const double lower = (m * (1 - 0x1p-52) - difference.err * (1 + 0x1p-52)) * (1 - 0x1p-52) * scale;
+    return figure_bracket{lower < 0x1p-900 ? 0 : lower, upper};
+}
+
 std::optional<double> ulp_error_from(precision p, const enclosure& x, double value) {
     return ulp_error_from(x, known(x) ? ulp_exponent_of(p, x) : std::nullopt, value);
 }

@@ -121,6 +121,12 @@ std::optional<double> ulp_error_from(precision p, const enclosure& x, double val
 // The same with ulp(x)'s exponent already known (empty: the binade is open).
 std::optional<double> ulp_error_from(const enclosure& x, std::optional<int> ulp_exponent, double value);
 
+// Bounds on |value − x| / ulp(x), ulp(x) = 2^ulp_exponent, from the
+// enclosure alone; value finite. Empty where the enclosure is unknown, the
+// binade open, or the scaled bounds would leave the normal range.
+std::optional<figure_bracket> ulp_error_bracket_from(const enclosure& x, std::optional<int> ulp_exponent,
+                                                     double value);
+
 // Coordinate `axis` of o + t·d from an enclosure of t: o exactly when d's
 // coordinate is 0, else o + t·d in double-words.
 enclosure hit_coordinate_enclosure(const ray_sphere<double>& g, const enclosure& t, int axis);

@@ -127,6 +127,12 @@ struct exact_solution::internal {
         return hit_frame(s, i, axis).x;
     }
 
+    // |value| / ulp(0): the ULP error against an exact zero, ulp(0) being the
+    // precision's smallest subnormal (a power of two: exact unless it overflows).
+    static double error_against_zero(precision p, double value) {
+        return std::ldexp(std::fabs(value), -ulp_exponent_in(p, std::numeric_limits<long>::min()));
+    }
+
     static bool exact_zero_root(const exact_solution& s, root_index i) {
         const enclosure& root = root_enclosure(s, i);
         return root.err == 0 && root.hi == 0;
@@ -192,7 +198,7 @@ struct exact_solution::internal {
         const uncertain_comparison against_zero = compare_hit_by_expansion(s, i, axis, 0.0);
         if (!against_zero) return std::nullopt;
         const int sign = static_cast<int>(*against_zero);  // sign(p)
-        if (sign == 0) return std::ldexp(std::fabs(value), -ulp_exponent_in(s.prec, std::numeric_limits<long>::min()));
+        if (sign == 0) return error_against_zero(s.prec, value);
         const double guess = frame.x.hi + frame.x.lo;
         if (!(guess != 0 && std::isfinite(guess))) return std::nullopt;
         const int binade = binade_of(guess);
@@ -222,9 +228,7 @@ struct exact_solution::internal {
     // included: ulp(0) is the format's smallest subnormal, the ratio |value|
     // scaled by a power of two, exact unless it overflows).
     static std::optional<double> root_ulp_error_from_enclosure(const exact_solution& s, root_index i, double value) {
-        if (exact_zero_root(s, i) && std::isfinite(value)) {
-            return std::ldexp(std::fabs(value), -ulp_exponent_in(s.prec, std::numeric_limits<long>::min()));
-        }
+        if (exact_zero_root(s, i) && std::isfinite(value)) return error_against_zero(s.prec, value);
         const ulp_frame& frame = root_frame(s, i);
         return ulp_error_from(frame.x, frame.ulp_exponent, value);
     }
@@ -501,6 +505,15 @@ double exact_solution::root_ulp_error(root_index i, double value) const {
     frame.last_value = value;
     frame.last_error = error;
     return error;
+}
+
+std::optional<figure_bracket> exact_solution::root_ulp_error_bracket(root_index i, double value) const {
+    if (internal::exact_zero_root(*this, i)) {
+        const double error = internal::error_against_zero(prec, value);
+        return figure_bracket{error, error};
+    }
+    const ulp_frame& frame = internal::root_frame(*this, i);
+    return ulp_error_bracket_from(frame.x, frame.ulp_exponent, value);
 }
 
 double exact_solution::hit_point_ulp_error(root_index i, int axis, double value) const {

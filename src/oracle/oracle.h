@@ -31,6 +31,14 @@ const char* line_class_name(line_class c);
 
 enum class root_index { near_root, far_root };
 
+// Bounds on a figure that was not computed to every digit: lower ≤ x ≤
+// upper, both doubles, so that they also bound x correctly rounded (RN is
+// monotonic and fixes doubles). lower == upper: the figure itself.
+struct figure_bracket {
+    double lower = 0, upper = 0;
+    bool exact() const { return lower == upper; }
+};
+
 // How far the oracle had to go to settle a case's class, root signs and
 // correctly rounded roots: a floating-point filter with rigorous error bounds
 // settled everything, or it could not and exact arithmetic ran. (Later ULP
@@ -83,6 +91,13 @@ public:
     // when value == t* (an error below the double range is the smallest
     // subnormal, not 0); +inf for a non-finite value. Requires cls != miss.
     double root_ulp_error(root_index i, double value) const;
+
+    // Bounds on root_ulp_error(i, value) from the root's enclosure alone (no
+    // refinement, no exact arithmetic): for a double root about 2^−47 wide
+    // relative, which orders two errors as root_ulp_error would wherever they
+    // differ by more. nullopt where the enclosure does not settle t*'s binade
+    // (then root_ulp_error must answer). Requires cls != miss; value finite.
+    std::optional<figure_bracket> root_ulp_error_bracket(root_index i, double value) const;
 
     // Same for coordinate `axis` of o + t·d with t the root i.
     double hit_point_ulp_error(root_index i, int axis, double value) const;

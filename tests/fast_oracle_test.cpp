@@ -142,6 +142,12 @@ testing::AssertionResult identical(const route& way, const ray_sphere<double>& g
                         const double a = fast.root_ulp_error(i, v), b = ref.root_ulp_error(i, v);
                         check(same_bits(a, b), name + " root_ulp_error(" + hex(v) + "): fast " + hex(a) +
                                                    ", reference " + hex(b));
+                        // The hunter's bracket holds the error, correctly rounded, wherever it is formed.
+                        if (std::isfinite(v))
+                            if (const std::optional<figure_bracket> bracket = fast.root_ulp_error_bracket(i, v))
+                                check(bracket->lower <= b && b <= bracket->upper,
+                                      name + " root_ulp_error_bracket(" + hex(v) + ") = [" + hex(bracket->lower) +
+                                          ", " + hex(bracket->upper) + "] leaves out " + hex(b));
                     }
                     for (int axis = 0; axis < 3; ++axis) {
                         const double fr = fast.rounded_hit_coordinate(i, axis);

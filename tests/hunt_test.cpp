@@ -7,6 +7,9 @@
 
 #include <bit>
 #include <cmath>
+#include <span>
+#include <string>
+#include <vector>
 
 #include "compare/audit.h"
 #include "corpus/corpus_io.h"
@@ -180,6 +183,62 @@ TEST(Hunt, EveryFindNearExactTangentsIsAConfirmedDisagreement) {
         documented_nan = documented_nan || f.found_eval.verdict == verdict_kind::non_finite;
     }
     EXPECT_TRUE(documented_nan) << "the NaN at the tangent point was not found";
+}
+
+// The search ranks ULP errors by brackets and settles them only where two
+// overlap or a find needs the error: it must search exactly as a judge that
+// measures every error to every digit (an external judge's path, which ranks
+// by exact errors) does, whatever the variant, precision, family and strategy.
+TEST(Hunt, RankingByBracketedErrorsSearchesAsExactErrorsDo) {
+    struct setting {
+        const char* variant;
+        precision prec;
+        const char* family;
+        hunt_strategy strategy;
+    };
+    const setting settings[] = {
+        {"naive", precision::binary64, "uniform", hunt_strategy::search},
+        {"naive", precision::binary32, "near_tangent", hunt_strategy::search},
+        {"half_b", precision::binary64, "far_sphere", hunt_strategy::random},
+        {"hearn_baker_unit", precision::binary64, "on_surface", hunt_strategy::search},
+        {"stable_roots", precision::binary32, "uniform", hunt_strategy::search},
+        {"seed004_early_out", precision::binary32, "inside", hunt_strategy::search},
+        {"robust", precision::binary64, "tangent_exact", hunt_strategy::search},
+    };
+    for (const setting& s : settings) {
+        SCOPED_TRACE(std::string(s.variant) + "/" + precision_name(s.prec) + " from " + s.family);
+        const audit_target t = target(s.variant, s.prec);
+        hunt_options options;
+        options.objective = hunt_objective::ulp;
+        options.strategy = s.strategy;
+        options.max_evaluations = 3000;
+        options.patience = 150;
+        options.seed = 5;
+        const hunt_judge exact_judge = [&](std::span<const corpus_case> cases) {
+            std::vector<hunt_evaluation> evals;
+            for (const corpus_case& c : cases) evals.push_back(evaluate_for_hunt(t, c, options.objective));
+            return evals;
+        };
+        const hunt_result ranked = hunt(t, from_family(s.family, 2), options);
+        const hunt_result exact = hunt(t, from_family(s.family, 2), options, exact_judge);
+        EXPECT_EQ(ranked.evaluations, exact.evaluations);
+        EXPECT_EQ(ranked.starts, exact.starts);
+        EXPECT_EQ(ranked.shrink_evaluations, exact.shrink_evaluations);
+        EXPECT_EQ(ranked.disagreements, exact.disagreements);
+        ASSERT_EQ(ranked.finds.size(), exact.finds.size());
+        for (std::size_t k = 0; k < ranked.finds.size(); ++k) {
+            const hunt_find &a = ranked.finds[k], &b = exact.finds[k];
+            EXPECT_TRUE(same_bits(a.found, b.found));
+            EXPECT_TRUE(same_bits(a.shrunk, b.shrunk));
+            EXPECT_EQ(std::bit_cast<std::uint64_t>(a.found_eval.error), std::bit_cast<std::uint64_t>(b.found_eval.error));
+            EXPECT_EQ(std::bit_cast<std::uint64_t>(a.shrunk_eval.error), std::bit_cast<std::uint64_t>(b.shrunk_eval.error));
+            EXPECT_EQ(a.evaluation, b.evaluation);
+        }
+        ASSERT_EQ(ranked.first_disagreement.has_value(), exact.first_disagreement.has_value());
+        if (ranked.first_disagreement) {
+            EXPECT_TRUE(same_bits(ranked.first_disagreement->found, exact.first_disagreement->found));
+        }
+    }
 }
 
 TEST(Hunt, SignificantBitsCountsEachInput) {

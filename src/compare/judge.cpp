@@ -830,6 +830,7 @@ std::optional<std::string> measure_outputs(const contract& promises, const varia
     const t_bounds_check bounds = check_t_bounds(judged, output, exact);
     s.bound_ulp = bounds.width_ulp;
     std::optional<std::string> unsound = bounds.unsound;
+    if (!output.point_error && !output.normal) return unsound;
     const std::optional<exact_hit> hit = exact_hit_of(promises, output, exact, range, want);
     if (hit && hit->root && output.point_error && !unsound)
         unsound = check_point_bound(promises, output, exact, *hit->root, input);

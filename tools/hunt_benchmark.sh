@@ -62,7 +62,7 @@ for prec in float double; do
       if [ -z "$find" ]; then
         result="none in ${budget} s"
       elif [ "$objective" = misclass ]; then
-        result=$(echo "$find" | sed -n 's/^find 1: \([a-z_]*\) at evaluation \([0-9]*\) (\([0-9.]*\) s).*/\1 after \3 s (evaluation \2)/p')
+        result=$(echo "$find" | sed -n 's/^find 1: \([a-z_]*\)\( ([a-z_]*)\)\{0,1\} at evaluation \([0-9]*\) (\([0-9.]*\) s).*/\1 after \4 s (evaluation \3)/p')
       else
         result=$(echo "$find" | sed -n 's/^find 1: agree, \([^ ]*\) ulp.*/max \1 ulp (a lower bound)/p')
       fi

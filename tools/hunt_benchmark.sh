@@ -111,7 +111,7 @@ for row in "${rows[@]}"; do
   [ "$verdict" = MISSED ] || continue
   awk -v n="$new_rate" -v o="$old_rate" -v t="$target_ratio" -v oracle="${oracle_ns:-0}" -v f="$family" 'BEGIN {
     now = 1e9 / n; need = 1e9 / (t * o); rest = now - oracle;
-    printf "      needs an evaluation in %.0f ns, not %.0f (%.0f%% less); the exact oracle alone takes %.0f ns a case of %s (bench --oracle, this run), the rest of an evaluation (the move, the variant, the verdict, the error'"'"'s bracket, the bookkeeping) %.0f ns: ", need, now, 100 * (1 - need / now), oracle, f, rest;
+    printf "      needs an evaluation in %.0f ns, not %.0f (%.0f%% less); the exact oracle alone takes %.0f ns a case of %s (bench --oracle, this run), the rest of an evaluation (drawing or moving the case, the variant, the verdict, the error'"'"'s bracket, the bookkeeping) %.0f ns: ", need, now, 100 * (1 - need / now), oracle, f, rest;
     if (oracle >= need)
       print "the oracle alone is over the budget, so meeting it needs a cheaper certified answer first (docs/oracle.md: the class and signs up front, roots and hit point rounded only when asked), then the rest cut to fit";
     else

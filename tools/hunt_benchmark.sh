@@ -115,6 +115,6 @@ for row in "${rows[@]}"; do
     if (oracle >= need)
       print "the oracle alone is over the budget, so meeting it needs a cheaper certified answer first (docs/oracle.md: the class and signs up front, roots and hit point rounded only when asked), then the rest cut to fit";
     else
-      printf "the rest must fall to %.0f ns\n", need - oracle;
+      printf "the rest must fall to %.0f ns, which needs (docs/hunt.md) a solution that rounds roots and hit point only when asked and only to the precision asked (the search walks to ill-conditioned cases, where the oracle costs more than on the family'"'"'s own) and, for random sampling, a generator without a per-case seeding of its random engine\n", need - oracle;
   }'
 done

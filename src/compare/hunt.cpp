@@ -349,9 +349,8 @@ private:
     // case `start`: with the ulp objective's error bracketed unless `exact`
     // (an external judge's errors are always exact). A plugin that crashes
     // or hangs names the case it was given (core/case_in_progress.h); a batch
-    // judge names its batch.
-    // The judged cases are kept in a member (reused: one evaluation
-    // allocated nothing) until the next batch.
+    // judge names its batch. The judged cases live in a member, reused batch
+    // after batch, until the next batch.
     std::vector<judged_case>& judge_batch(const std::vector<ray_sphere<double>>& gs, const char* stage,
                                           std::uint64_t before, std::uint64_t start, bool exact = false) {
         cases_.resize(gs.size());
@@ -390,7 +389,7 @@ private:
         name_case(settling_, j.geometry, "evaluation", j.number, start_index_);
         const case_in_progress announced(settling_);
         auto [eval, error] = evaluate_bracketed(target_, settling_, options_.objective, false);
-        score(j, ray_sphere<double>(j.geometry), std::move(eval), error, j.number);
+        score(j, j.geometry, std::move(eval), error, j.number);
     }
 
     // compare(a's score, b's): from their brackets, or settled where those overlap.

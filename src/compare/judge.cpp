@@ -813,9 +813,10 @@ double normal_angle(const vec3<double>& normal, const exact_solution& exact, roo
     return std::isnan(angle) || (along == 0 && across == 0) ? std::numeric_limits<double>::infinity() : angle;
 }
 
-// An agreeing answer's outputs beside t (contract::outputs) measured, and its
-// error in the scene's length scale when asked; where a bound it gives leaves out the
-// exact value, what is wrong, in words (verdict row 12, unsound_bound).
+// An agreeing answer's outputs beside t (contract::outputs) measured, and,
+// when asked, its error in the scene's length scale; where a bound it gives
+// leaves out the exact value, what is wrong, in words (verdict row 12,
+// unsound_bound).
 std::optional<std::string> measure_outputs(const contract& promises, const variant_output& output,
                                            const exact_solution& exact, const t_range& range,
                                            const expected_hit& want, const ray_sphere<double>& input,
@@ -869,12 +870,12 @@ disagreement_cause cause_of(const contract& promises, const variant_output& outp
     }
     if (unit_assumed_wrongly) {
         const exact_solution& solved = frame.unit_direction_design();
-        if (solved.valid() &&
-            judge_verdict(promises, output, solved, range, expected_answer(promises, solved, range),
-                          figure_request::root_errors::none)
-                    .verdict ==
-                verdict_kind::agree)
-            return disagreement_cause::unit_direction;
+        if (solved.valid()) {
+            const expected_hit want = expected_answer(promises, solved, range);
+            const case_score designed =
+                judge_verdict(promises, output, solved, range, want, figure_request::root_errors::none);
+            if (designed.verdict == verdict_kind::agree) return disagreement_cause::unit_direction;
+        }
     }
     return rounding_cause(k, frame);
 }

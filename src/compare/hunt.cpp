@@ -202,7 +202,8 @@ figure_request figures_for(hunt_objective objective, bool bracketed) {
 // error set when the bracket is exact, and the bracket.
 std::pair<hunt_evaluation, figure_bracket> evaluate_bracketed(const audit_target& target, const corpus_case& c,
                                                               hunt_objective objective, bool bracketed) {
-    const target_outcome outcome = judge_target(target, c, solve_case(c, target.prec), figures_for(objective, bracketed));
+    const target_outcome outcome =
+        judge_target(target, c, solve_case(c, target.prec), given_answer{}, figures_for(objective, bracketed));
     const case_score& score = outcome.score;
     hunt_evaluation e{score.verdict, score.cause, score.detail};
     if (score.verdict != verdict_kind::agree) return {std::move(e), {}};

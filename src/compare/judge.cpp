@@ -1005,23 +1005,15 @@ target_outcome judge_target_in(const audit_target& target, const corpus_case& c,
 }  // namespace
 
 target_outcome judge_target(const audit_target& target, const corpus_case& c, const case_frame& frame,
-                            const given_answer& given) {
+                            const given_answer& given, const figure_request& wanted) {
     return with_precision(target.prec, [&]<class T>(std::type_identity<T>) {
-        return judge_target_in<T>(target, c, frame, given, figure_request{});
+        return judge_target_in<T>(target, c, frame, given, wanted);
     });
 }
 
 target_outcome judge_target(const audit_target& target, const corpus_case& c, const exact_solution& exact,
-                            const figure_request& wanted) {
-    const case_frame frame(exact, rounded_to(target.prec, c.geometry));
-    return with_precision(target.prec, [&]<class T>(std::type_identity<T>) {
-        return judge_target_in<T>(target, c, frame, given_answer{}, wanted);
-    });
-}
-
-target_outcome judge_target(const audit_target& target, const corpus_case& c, const exact_solution& exact,
-                            const given_answer& given) {
-    return judge_target(target, c, case_frame(exact, rounded_to(target.prec, c.geometry)), given);
+                            const given_answer& given, const figure_request& wanted) {
+    return judge_target(target, c, case_frame(exact, rounded_to(target.prec, c.geometry)), given, wanted);
 }
 
 template <class T>

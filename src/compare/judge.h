@@ -343,15 +343,14 @@ std::optional<batch_case<T>> run_input(const audit_target& target, const corpus_
 // contract, or run and judged. `exact` is the oracle's answer at the target's
 // precision (for float: on the float-rounded inputs). `given`, when set, is
 // the target's answer on run_input, computed ahead; otherwise it is called.
+// `wanted`: the figures measured (all, unless the caller, as the hunter,
+// asks for fewer).
 target_outcome judge_target(const audit_target& target, const corpus_case& c, const exact_solution& exact,
-                            const given_answer& given = {});
+                            const given_answer& given = {}, const figure_request& wanted = {});
 // The same with the case's frame at the target's precision (the audit judges
 // every target of a case against one frame per precision).
 target_outcome judge_target(const audit_target& target, const corpus_case& c, const case_frame& frame,
-                            const given_answer& given = {});
-// The same measuring only the figures asked for (the hunter's).
-target_outcome judge_target(const audit_target& target, const corpus_case& c, const exact_solution& exact,
-                            const figure_request& wanted);
+                            const given_answer& given = {}, const figure_request& wanted = {});
 
 // ---- The renderer's view ------------------------------------------------------
 

@@ -92,6 +92,50 @@ TEST(Gate, MalformedBaselinesNameFileLineAndField) {
     EXPECT_EQ(parse_error("# only a comment\n"), "b.txt: field 'format': empty baseline: no 'rayverify-baseline 1' line");
 }
 
+// A library's set-up (the kernel Embree picked for the CPU) is recorded by
+// --update, read back, and a run with another set-up fails the gate naming
+// both, whatever its figures; a baseline without the line takes a note.
+TEST(Gate, LibrarySetUpIsRecordedAndAnotherOneFailsTheGate) {
+    const baseline b = parse_baseline("b.txt", sample);
+    const configuration_table avx512 = {{"embree3", "kernel avx512, Embree's choice for this CPU"}};
+    figure_table current = b.figures;
+    current[{"embree3/float", "all", "cases"}] = 1000;
+    current[{"embree3/float", "all", "false_miss"}] = 96;
+    const baseline recorded = updated_baseline(b, current, avx512);
+    const std::string text = format_baseline(recorded);
+    EXPECT_NE(text.find("# The set-up embree3's library ran with; a run with another fails the gate.\n"
+                        "library embree3 kernel avx512, Embree's choice for this CPU\n"),
+              std::string::npos)
+        << text;
+    const baseline again = parse_baseline("again.txt", text);
+    EXPECT_EQ(format_baseline(again), text);
+    EXPECT_TRUE(compare_to_baseline(again, current, default_figure_tolerance, avx512).passed());
+
+    const configuration_table avx2 = {{"embree3", "kernel avx2, Embree's choice for this CPU"}};
+    const gate_result moved = compare_to_baseline(again, current, default_figure_tolerance, avx2);
+    EXPECT_FALSE(moved.passed()) << "same figures, another kernel";
+    ASSERT_EQ(moved.configuration_changes.size(), 1u);
+    EXPECT_EQ(moved.configuration_changes[0].variant, "embree3");
+    EXPECT_EQ(moved.configuration_changes[0].before, "kernel avx512, Embree's choice for this CPU");
+    EXPECT_EQ(moved.configuration_changes[0].after, "kernel avx2, Embree's choice for this CPU");
+    EXPECT_FALSE(compare_to_baseline(again, current).passed()) << "a run that reports no set-up is another one";
+
+    const gate_result unrecorded = compare_to_baseline(updated_baseline(b, current), current, default_figure_tolerance,
+                                                       avx2);
+    EXPECT_TRUE(unrecorded.passed());
+    ASSERT_FALSE(unrecorded.notes.empty());
+    EXPECT_NE(unrecorded.notes.back().find("embree3: the baseline records no library set-up"), std::string::npos);
+
+    EXPECT_EQ(format_baseline(updated_baseline(recorded, current, {})).find("library embree3"), std::string::npos)
+        << "a run without a set-up drops the line";
+    EXPECT_EQ(parse_error("rayverify-baseline 1\nlibrary embree3\n"),
+              "b.txt:2: field 'library': expected 'library VARIANT SET-UP'");
+    EXPECT_EQ(parse_error("rayverify-baseline 1\nlibrary embree3/float kernel sse2\n"),
+              "b.txt:2: field 'library': 'embree3/float' is a target; a library line names a variant, like embree3");
+    EXPECT_EQ(parse_error("rayverify-baseline 1\nlibrary embree3 kernel sse2\nlibrary embree3 kernel avx\n"),
+              "b.txt:3: field 'library': duplicate library line for embree3");
+}
+
 figure_change find_change(const gate_result& r, const std::string& text) {
     for (const figure_change& c : r.changes)
         if (c.key.text() == text) return c;

@@ -4,6 +4,8 @@
     tools/docs_run.py --binary build/rayverify [--repo DIR] [--jobs N] [--only FILE ...]
     tools/docs_run.py --binary build/rayverify --regenerate   # rewrite literal blocks that differ
     tools/docs_run.py --self-test --binary build/rayverify     # the checker must catch broken docs
+    tools/docs_run.py --binary build/rayverify --only-marked "figures vary" "depends on the CPU"
+                                                             # only the blocks that carry one of these markers
 
 The rules (docs/testing.md, "Documented commands"):
 
@@ -27,9 +29,14 @@ The rules (docs/testing.md, "Documented commands"):
     <!-- docs-run: shortened A -> B (WHY) -->  run with A replaced by B (a shorter run)
     <!-- docs-run: adapted A -> B (WHY) -->    run with A replaced by B (paths of the scratch directory)
     <!-- docs-run: figures vary (WHY) -->      measurements: every number compares as `#`, whether a
-                                               time target was met, what a missed one needs (a `needs ...`
-                                               line) and which variant is recommended or runner-up (the
-                                               cheapest that meets a budget) not at all
+                                               time target was met, what a missed one needs (the lines
+                                               indented under its met/MISSED line) and which variant is
+                                               recommended or runner-up (the cheapest that meets a budget)
+                                               not at all
+    <!-- docs-run: depends on the CPU: NAME ... (WHY) -->  lines naming one of these targets (a library
+                                               whose answers depend on the CPU: `rayverify engines` says
+                                               which) compare up to the name only; a block that audits
+                                               such a library (--engine NAME) without this marker fails
     <!-- docs-run: rows in any order (WHY) --> an excerpt whose lines may come in any order
     <!-- docs-run: needs engine NAME | needs program NAME | needs python module NAME -->
                                        skipped, saying so, where this machine lacks it
@@ -62,7 +69,7 @@ OUTPUT_TAGS = {"", "console"}
 COPIED_PATHS = ["corpus", "examples", "src/plugin", "tests/plugin_fixtures"]
 COMMAND_TIMEOUT_S = 120
 DIRECTIVES = ("excerpt", "exit", "output of", "setup", "shortened", "adapted", "figures vary", "rows in any order",
-              "needs", "skip", "not output")
+              "needs", "skip", "not output", "depends on the CPU:")
 
 
 class Block:
@@ -171,6 +178,27 @@ TIMED_CHOICE = re.compile(r"(recommended for [a-z]+ rays: )\S+")
 NUMBER = re.compile(r"[-+]?(\d+(\.\d*)?|\.\d+)([eE][-+]?\d+)?")
 
 
+CPU_DEPENDENT_NAMES = re.compile(r"^(.*?)\s*\(.*\)\s*$")
+
+
+def cpu_dependent_names(block):
+    """The target names a `depends on the CPU: NAME ... (WHY)` marker lists."""
+    names = []
+    for marker in block.directive("depends on the CPU:"):
+        match = CPU_DEPENDENT_NAMES.match(marker)
+        names += (match.group(1) if match else marker).split()
+    return names
+
+
+def cut_at_cpu_dependent_name(line, names):
+    """A line that names one of `names` as a word, kept up to that name: the rest depends on the CPU."""
+    for name in names:
+        match = re.search(r"(?<![\w.-])" + re.escape(name) + r"(?![\w-])", line)
+        if match:
+            return line[:match.end()] + " <depends on the CPU>"
+    return line
+
+
 def normalise(line, scratch, repo, figures_vary):
     line = line.replace(scratch, "<scratch>").replace(repo, "<repo>").rstrip()
     line = BUILD_LINE.sub(r"\1build: <build>", line)
@@ -187,7 +215,30 @@ def normalise(line, scratch, repo, figures_vary):
     return line
 
 
-def normalise_all(lines, scratch, repo, figures_vary):
+TARGET_VERDICT = re.compile(r"\b(met|missed|MISSED)\s*$")
+
+
+def indentation(line):
+    return len(line) - len(line.lstrip(" "))
+
+
+def without_missed_reasons(lines):
+    """The lines less those indented under a met/MISSED target line: what a missed target would need,
+    printed only when it is missed."""
+    kept, under = [], None
+    for line in lines:
+        if under is not None and line.strip() and indentation(line) > under:
+            continue
+        under = indentation(line) if TARGET_VERDICT.search(line) else None
+        kept.append(line)
+    return kept
+
+
+def normalise_all(lines, scratch, repo, figures_vary, cpu_names=()):
+    if figures_vary:
+        lines = without_missed_reasons(lines)
+    if cpu_names:
+        lines = [cut_at_cpu_dependent_name(line, cpu_names) for line in lines]
     normalised = (normalise(line, scratch, repo, figures_vary) for line in lines)
     return [line for line in normalised if line is not None]
 
@@ -251,19 +302,62 @@ def unmet_need(block, context):
     return None
 
 
+ENGINES_COUNT_LINE = re.compile(r"^\d+ of \d+ engine ")
+CPU_DEPENDENCE_LINE = re.compile(r"^answers depend on the CPU: (.*?): ")
+
+
 class Context:
     """The binary, the repository, and what this machine offers."""
 
-    def __init__(self, binary, repo):
+    def __init__(self, binary, repo, only_marked=()):
         self.binary, self.repo = os.path.abspath(binary), os.path.abspath(repo)
+        self.only_marked = tuple(only_marked)
         self._engines = None
+        self._cpu_dependent = None
+
+    def _read_engines(self):
+        """`rayverify engines`: its rows until the count line, then which targets depend on the CPU."""
+        listing = subprocess.run([self.binary, "engines"], capture_output=True, text=True).stdout.splitlines()
+        self._engines, self._cpu_dependent = set(), set()
+        rows = True
+        for line in listing[1:]:
+            if ENGINES_COUNT_LINE.match(line):
+                rows = False
+            elif rows and line.strip() and " available" in line and "not available" not in line:
+                self._engines.add(line.split()[0])
+            elif not rows and CPU_DEPENDENCE_LINE.match(line):
+                self._cpu_dependent.update(n.strip() for n in CPU_DEPENDENCE_LINE.match(line).group(1).split(","))
 
     def available_engines(self):
         if self._engines is None:
-            listing = subprocess.run([self.binary, "engines"], capture_output=True, text=True).stdout
-            self._engines = {l.split()[0] for l in listing.splitlines()[1:]
-                             if l.strip() and "not available" not in l and " of " not in l}
+            self._read_engines()
         return self._engines
+
+    def cpu_dependent_engines(self):
+        """The targets whose answers depend on the CPU, as `rayverify engines` says."""
+        if self._cpu_dependent is None:
+            self._read_engines()
+        return self._cpu_dependent
+
+
+ENGINE_OPTION = re.compile(r"--engine[ =]'?\"?([\w.-]+):kernels")
+
+
+def unmarked_cpu_dependence(block, steps, context):
+    """A reason when the block runs or shows a target whose answers depend on the CPU that its
+    `depends on the CPU:` marker does not name (a word of a command or of its documented output); None otherwise."""
+    marked = set(cpu_dependent_names(block))
+    for command, expected in steps:
+        text = "\n".join([command] + (expected or []))
+        named = {n for n in context.cpu_dependent_engines()
+                 if re.search(r"(?<![\w.-])" + re.escape(n) + r"(?![\w-]|:kernels)", text)}
+        named |= {m + ":kernels" for m in ENGINE_OPTION.findall(command)}
+        missing = sorted(named - marked)
+        if missing:
+            return (f"`{command}` runs or shows {', '.join(missing)}, whose answers depend on the CPU (`rayverify "
+                    f"engines` says why): mark the block <!-- docs-run: depends on the CPU: {' '.join(missing)} (WHY) "
+                    "--> so that their lines are compared up to the name only")
+    return None
 
 
 def make_scratch(context, parent):
@@ -325,6 +419,8 @@ def check_document(path, context, parent, regenerate):
         kind = classify(block)
         if kind == "text":
             continue
+        if context.only_marked and not any(block.directive(marker) for marker in context.only_marked):
+            continue
         if kind == "unmarked":
             failures.append(f"{block.where()}: an untagged block that runs no rayverify command line: start it with "
                             "`$ COMMAND`, or mark it (output of, not output, skip)")
@@ -344,6 +440,10 @@ def check_document(path, context, parent, regenerate):
                 failures.append(f"{block.where()}: marker '{shortening}' is not 'A -> B (WHY)'")
                 continue
             commands = [c.replace(match.group(1), match.group(2)) for c in commands]
+        unmarked = unmarked_cpu_dependence(block, list(zip(commands, [e for _, e in steps])), context)
+        if unmarked:
+            failures.append(f"{block.where()}: {unmarked}")
+            continue
         setups = block.directive("setup")
         results = run_steps(setups + commands, scratch, bin_dir, context)
         problems = [f"setup `{command}` exited {status}; it printed:\n" + "\n".join("  " + l for l in output[-20:])
@@ -352,6 +452,7 @@ def check_document(path, context, parent, regenerate):
         statuses = expected_statuses(block, len(commands))
         excerpt = bool(block.directive("excerpt"))
         figures_vary = bool(block.directive("figures vary"))
+        cpu_names = cpu_dependent_names(block)
         any_order = bool(block.directive("rows in any order"))
         for index, ((command, expected), (output, status)) in enumerate(zip(steps, results)):
             want = statuses[index] if index < len(statuses) else 0
@@ -360,12 +461,12 @@ def check_document(path, context, parent, regenerate):
                                 "\n".join("  " + l for l in output[-20:]))
             if expected is None:
                 continue
-            documented = normalise_all(expected, scratch, context.repo, figures_vary)
-            regenerated = normalise_all(output, scratch, context.repo, figures_vary)
+            documented = normalise_all(expected, scratch, context.repo, figures_vary, cpu_names)
+            regenerated = normalise_all(output, scratch, context.repo, figures_vary, cpu_names)
             problem = compare(documented, regenerated, excerpt or any_order, any_order)
             if problem:
                 problems.append(f"`{command}`: {problem}")
-                if regenerate and not excerpt and not figures_vary:
+                if regenerate and not excerpt and not figures_vary and not cpu_names:
                     replacements.append((block, index, [l.replace(scratch, ".").rstrip() for l in output]))
         if problems:
             failures.append(f"{block.where()}:\n" + "\n".join(problems))
@@ -454,14 +555,50 @@ def self_test(context):
                                                   "no such line\n```\n", 1),
         "a misspelt marker": ("<!-- docs-run: excerp -->\n```\n$ rayverify variants --json > /dev/null\n```\n", 1),
     }
-    if probe.returncode != 1:
-        print(f"self-test: the probe audit exited {probe.returncode}, expected 1")
+    # A row of a target whose answers depend on the CPU, documented with other figures and another verdict than
+    # this machine prints (as another CPU's kernel gives): it passes when the block is marked, and only then.
+    cpu_probe = subprocess.run([context.binary, "audit", "--variant", "naive", "--variant", "half_b", "--precision",
+                                "float", "--summary", "--generate", "near_tangent:50"], capture_output=True, text=True)
+    cpu_output = cpu_probe.stdout + cpu_probe.stderr
+    half_b_row = next((l for l in cpu_output.splitlines() if l.startswith("half_b")), "")
+    other_cpu_row = re.sub(r"[a-z_]+ \d+\b", "wrong_root 112", re.sub(r"\d", "7", half_b_row.split("half_b", 2)[-1]))
+    other_cpu_output = cpu_output.replace(half_b_row, half_b_row.split("half_b", 2)[0] + "half_b" + other_cpu_row)
+    cpu_block = ("{marker}<!-- docs-run: exit 1 -->\n```\n$ rayverify audit --variant naive --variant half_b "
+                 "--precision float --summary --generate near_tangent:50\n" + other_cpu_output + "```\n")
+    cpu_marker = "<!-- docs-run: depends on the CPU: half_b (self-test: as another CPU's kernel would answer) -->\n"
+    # A benchmark block documented on the branch this machine did not take: a met target's line, run where it is
+    # missed (and its reasons printed under it), and the other way round.
+    met = "  audit / naive double, uniform                          40.00x  target <= 40x  met"
+    missed = ("  audit / naive double, uniform                         135.40x  target <= 40x  MISSED\n"
+              "      needs 95.4x of 135.4x gone (70%)\n      the lines cost 1601 ns per case-target\n")
+    bench_block = ("{marker}```\n$ rayverify variants > /dev/null && printf 'targets, this run:\\n{printed}'\n"
+                   "targets, this run:\n{documented}\n```\n")
+    bench_marker = "<!-- docs-run: figures vary (self-test: run times) -->\n"
+    cases.update({
+        "a CPU-dependent row with other figures, marked": (cpu_block.format(marker=cpu_marker), 0),
+        "a CPU-dependent row with other figures, unmarked": (cpu_block.format(marker=""), 1),
+        "a met target documented, missed when run": (bench_block.format(
+            marker=bench_marker, printed=missed.replace("%", "%%").replace("\n", "\\n"), documented=met), 0),
+        "a missed target documented, met when run": (bench_block.format(
+            marker=bench_marker, printed=met + "\\n", documented=missed.rstrip("\n")), 0),
+        "a met target documented, missed when run, unmarked": (bench_block.format(
+            marker="", printed=missed.replace("%", "%%").replace("\n", "\\n"), documented=met), 1),
+        "an engine whose answers depend on the CPU, unmarked": (
+            "<!-- docs-run: exit 1 -->\n```\n$ rayverify audit --engine self_test_cpu_engine --summary\n"
+            "self_test_cpu_engine 1 self_test_cpu_engine 6.4%\n```\n", 1),
+    })
+    if probe.returncode != 1 or cpu_probe.returncode != 1 or not half_b_row:
+        print(f"self-test: the probe audits exited {probe.returncode} and {cpu_probe.returncode}, expected 1 "
+              "(with a half_b row)")
         return 1
     failed = 0
     with tempfile.TemporaryDirectory(prefix="rayverify-docs-run-self-test-") as repo:
         for name, (text, want) in cases.items():
             open(os.path.join(repo, "doc.md"), "w", encoding="utf-8").write(text)
-            got = run_all(Context(context.binary, repo), ["doc.md"], 1, False)
+            checker = Context(context.binary, repo)
+            checker._cpu_dependent = {"self_test_cpu_engine"}  # as `rayverify engines` would list one
+            checker._engines = {"self_test_cpu_engine"}
+            got = run_all(checker, ["doc.md"], 1, False)
             verdict = "ok" if got == want else "WRONG"
             failed += got != want
             print(f"self-test: {name}: exit {got}, expected {want}: {verdict}")
@@ -476,11 +613,17 @@ def main():
     parser.add_argument("--only", nargs="*", help="these documents (paths relative to the repository)")
     parser.add_argument("--regenerate", action="store_true", help="rewrite literal output blocks that differ")
     parser.add_argument("--self-test", action="store_true", help="check that the checker catches broken docs")
+    parser.add_argument("--only-marked", nargs="+", default=(), metavar="MARKER",
+                        help="only the blocks carrying one of these markers (e.g. \"figures vary\")")
     arguments = parser.parse_args()
     if not os.access(arguments.binary, os.X_OK):
         print(f"docs-run: error: {arguments.binary} is not an executable", file=sys.stderr)
         return 2
-    context = Context(arguments.binary, arguments.repo)
+    unknown = [m for m in arguments.only_marked if not m.startswith(DIRECTIVES)]
+    if unknown:
+        print(f"docs-run: error: --only-marked {unknown}: not markers (docs/testing.md lists them)", file=sys.stderr)
+        return 2
+    context = Context(arguments.binary, arguments.repo, arguments.only_marked)
     if arguments.self_test:
         return self_test(context)
     return run_all(context, documents(context.repo, arguments.only), arguments.jobs, arguments.regenerate)

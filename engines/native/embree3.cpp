@@ -1,9 +1,25 @@
 // Embree 3 as Debian's libembree3 installs it, audited as a plugin: a device,
 // a scene with one RTC_GEOMETRY_TYPE_SPHERE_POINT geometry (one vertex:
 // centre and radius, float4), committed, and rtcIntersect1 with an RTCRayHit
-// whose tnear/tfar are the case's range. Built twice from this file: default
-// scene flags (embree3) and RTC_SCENE_FLAG_ROBUST (embree3_robust, with
-// RAYVERIFY_EMBREE_ROBUST defined).
+// whose tnear/tfar are the case's range. Built several times from this file:
+// default scene flags (embree3), RTC_SCENE_FLAG_ROBUST (embree3_robust, with
+// RAYVERIFY_EMBREE_ROBUST defined), and one kernel pinned (embree3_sse2 ...
+// embree3_avx512, with RAYVERIFY_EMBREE_PINNED_KERNEL and
+// RAYVERIFY_EMBREE_TARGET_NAME defined).
+//
+// The kernel. Embree 3 picks one of the kernels it was built with (Debian's:
+// sse2, sse4.2, avx, avx2, avx512) from the CPU's instruction set when the
+// device is made, unless the device's configuration names one ("isa=sse2");
+// the kernels answer differently (AVX2 fuses multiply-adds, AVX-512 takes the
+// reciprocal estimate from rcp14ps instead of rcpps). The plugin reports the
+// kernel its device runs (rayverify_plugin_library_configuration), as Embree
+// itself says it: a second device made with "verbose=1" prints the targets
+// the configuration enables and those compiled in, and the kernel is the
+// highest target in both. A pinned kernel this CPU cannot run, or one the
+// library was built without, makes the plugin unavailable here
+// (rayverify_plugin_unavailable). For tests only, RAYVERIFY_TEST_EMBREE_KERNEL
+// makes an unpinned target run that kernel, as on a CPU whose best kernel it
+// is, and the configuration says so.
 //
 // The library's test (kernels/geometry/sphere_intersector.h,
 // SphereIntersector1::intersect): rd2 = rcp(d·d), c0 = c − o, p = (c0·d)·rd2,
@@ -34,31 +50,162 @@
 // committed scene.
 #include <embree3/rtcore.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <iostream>
 #include <limits>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include "rayverify_plugin.h"
 
 namespace {
 
-#ifdef RAYVERIFY_EMBREE_ROBUST
-constexpr const char* plugin_name = "embree3_robust";
-constexpr const char* plugin_contract =
-    "query=nearest_hit,range=interval,ends=[],inside=far_root,tangent=hit,faces=both,unit_direction=no,normal=yes";
+#if defined(RAYVERIFY_EMBREE_PINNED_KERNEL)
+constexpr const char* plugin_name = RAYVERIFY_EMBREE_TARGET_NAME;
+constexpr const char* pinned_kernel = RAYVERIFY_EMBREE_PINNED_KERNEL;
 constexpr const char* plugin_build =
-    "Debian 12 package libembree-dev 3.13.5, float, as packaged (the device's ISA chosen at run time; "
-    "x86 rcp = estimate + one Newton step); scene flags RTC_SCENE_FLAG_ROBUST";
+    "Debian 12 package libembree-dev 3.13.5, float, as packaged, its kernel pinned (rtcNewDevice(\"isa="
+    RAYVERIFY_EMBREE_PINNED_KERNEL "\")); default scene flags";
+#elif defined(RAYVERIFY_EMBREE_ROBUST)
+constexpr const char* plugin_name = "embree3_robust";
+constexpr const char* pinned_kernel = nullptr;
+constexpr const char* plugin_build =
+    "Debian 12 package libembree-dev 3.13.5, float, as packaged (the device's kernel chosen at run time from the "
+    "CPU); scene flags RTC_SCENE_FLAG_ROBUST";
 #else
 constexpr const char* plugin_name = "embree3";
+constexpr const char* pinned_kernel = nullptr;
+constexpr const char* plugin_build =
+    "Debian 12 package libembree-dev 3.13.5, float, as packaged (the device's kernel chosen at run time from the "
+    "CPU); default scene flags";
+#endif
 constexpr const char* plugin_contract =
     "query=nearest_hit,range=interval,ends=[],inside=far_root,tangent=hit,faces=both,unit_direction=no,normal=yes";
-constexpr const char* plugin_build =
-    "Debian 12 package libembree-dev 3.13.5, float, as packaged (the device's ISA chosen at run time; "
-    "x86 rcp = estimate + one Newton step); default scene flags";
-#endif
+constexpr const char* test_kernel_variable = "RAYVERIFY_TEST_EMBREE_KERNEL";
+
+// Embree's names of its kernels in verbose output, with the configuration's
+// names for them, lowest first.
+struct kernel_name {
+    const char* in_verbose_output;
+    const char* in_configuration;
+};
+constexpr kernel_name embree_kernels[] = {
+    {"SSE2", "sse2"}, {"SSE4.2", "sse4.2"}, {"AVX", "avx"}, {"AVX2", "avx2"}, {"AVX512", "avx512"}};
+
+bool is_kernel_name(const std::string& name) {
+    for (const kernel_name& k : embree_kernels)
+        if (name == k.in_configuration) return true;
+    return false;
+}
+
+// The words of the verbose output's line that ends with `suffix`.
+std::vector<std::string> targets_line(const std::string& verbose, const std::string& suffix) {
+    std::istringstream lines(verbose);
+    std::string line;
+    while (std::getline(lines, line)) {
+        const std::size_t at = line.find(suffix);
+        if (at == std::string::npos) continue;
+        std::istringstream words(line.substr(0, at));
+        std::vector<std::string> out;
+        for (std::string w; words >> w;)
+            if (w != "Targets" && w != ":") out.push_back(w);
+        return out;
+    }
+    return {};
+}
+
+// What Embree says of a device made with `config`: the kernel it runs (the
+// highest target both enabled and compiled in, as Embree names it in its
+// configuration; empty when the output names none) and the kernels compiled
+// in. Embree prints it to std::cout when the device is made with verbose=1;
+// the plugin reads it through std::cout's buffer (the library and the plugin
+// share libstdc++'s std::cout), while rayverify loads the plugin on one thread.
+struct kernel_report {
+    bool device_made = false;
+    std::string kernel;
+    std::vector<std::string> compiled;  // configuration names
+    std::string error;                  // when the device could not be made
+};
+
+kernel_report ask_embree(const std::string& config) {
+    const std::string verbose_config = config.empty() ? "verbose=1" : config + ",verbose=1";
+    std::ostringstream captured;
+    std::streambuf* const previous = std::cout.rdbuf(captured.rdbuf());
+    RTCDevice probe = rtcNewDevice(verbose_config.c_str());
+    std::cout.rdbuf(previous);
+    kernel_report out;
+    if (probe == nullptr) {
+        out.error = rtcGetDeviceError(nullptr) == RTC_ERROR_UNSUPPORTED_CPU ? "this CPU does not support it"
+                                                                            : "rtcNewDevice failed";
+        return out;
+    }
+    out.device_made = true;
+    rtcReleaseDevice(probe);
+    const std::vector<std::string> enabled = targets_line(captured.str(), "(supported)");
+    const std::vector<std::string> compiled = targets_line(captured.str(), "(compile time enabled)");
+    const auto has = [](const std::vector<std::string>& list, const char* name) {
+        return std::find(list.begin(), list.end(), name) != list.end();
+    };
+    for (const kernel_name& k : embree_kernels) {
+        if (!has(compiled, k.in_verbose_output)) continue;
+        out.compiled.push_back(k.in_configuration);
+        if (has(enabled, k.in_verbose_output)) out.kernel = k.in_configuration;
+    }
+    return out;
+}
+
+// How the device is configured and what runs: the configuration string
+// passed to rtcNewDevice, the kernel, the line reported, and why the plugin
+// cannot run here (empty when it can).
+struct device_setup {
+    std::string config;
+    std::string configuration_line;
+    std::string unavailable;
+};
+
+device_setup choose_device() {
+    device_setup out;
+    std::string forced;
+    const char* how = nullptr;
+    if (pinned_kernel != nullptr) {
+        forced = pinned_kernel;
+        how = "pinned";
+    } else if (const char* test = std::getenv(test_kernel_variable); test != nullptr && *test != '\0') {
+        forced = test;
+        how = "test hook";
+        if (!is_kernel_name(forced)) {
+            out.unavailable = std::string(test_kernel_variable) + "='" + forced +
+                              "' names no Embree kernel (sse2, sse4.2, avx, avx2, avx512)";
+            return out;
+        }
+    }
+    if (!forced.empty()) out.config = "isa=" + forced;
+    const kernel_report report = ask_embree(out.config);
+    if (!forced.empty() && report.device_made &&
+        std::find(report.compiled.begin(), report.compiled.end(), forced) == report.compiled.end()) {
+        out.unavailable = "this Embree was built without its " + forced + " kernel";
+        return out;
+    }
+    if (!report.device_made) {
+        out.unavailable = forced.empty() ? "Embree could not make a device (" + report.error + ")"
+                                         : "this CPU does not run Embree's " + forced + " kernel (" + report.error + ")";
+        return out;
+    }
+    const std::string kernel = report.kernel.empty() ? "unknown (Embree's verbose output named none)" : report.kernel;
+    if (how == nullptr)
+        out.configuration_line = "kernel " + kernel + ", Embree's choice for this CPU";
+    else if (std::string(how) == "pinned")
+        out.configuration_line = "kernel " + kernel + ", pinned with isa=" + forced;
+    else
+        out.configuration_line = "kernel " + kernel + ", set by " + test_kernel_variable +
+                                 " (a test hook: as on a CPU whose best kernel it is)";
+    return out;
+}
 
 // Embree's ray.valid() (kernels/common/ray.h), which its rtcIntersect1 asserts.
 constexpr float embree_flt_large = 1.844E18f;
@@ -83,8 +230,15 @@ struct embree_world {
     float* vertex = nullptr;  // x, y, z, radius
     bool committed = false;
 
+    device_setup setup = choose_device();
+
     embree_world() {
-        device = rtcNewDevice(nullptr);
+        if (!setup.unavailable.empty()) return;  // no device: every case stays unanswered
+        device = rtcNewDevice(setup.config.empty() ? nullptr : setup.config.c_str());
+        if (device == nullptr) {
+            setup.unavailable = "Embree could not make a device with \"" + setup.config + "\"";
+            return;
+        }
         rtcSetDeviceErrorFunction(device, report_error, nullptr);
         scene = rtcNewScene(device);
 #ifdef RAYVERIFY_EMBREE_ROBUST
@@ -141,6 +295,7 @@ RAYVERIFY_PLUGIN_EXPORT const rayverify_plugin_info_v2* rayverify_plugin_describ
 RAYVERIFY_PLUGIN_EXPORT void rayverify_plugin_intersect_batch_float(const rayverify_case_float* cases,
                                                                     rayverify_answer_float* answers, size_t count) {
     embree_world& w = world();
+    if (w.device == nullptr) return;  // unavailable here: every count stays -1
     RTCIntersectContext context;
     for (size_t i = 0; i < count; ++i) {
         const rayverify_case_float& k = cases[i];
@@ -183,11 +338,23 @@ RAYVERIFY_PLUGIN_EXPORT void rayverify_plugin_intersect_batch_float(const rayver
 RAYVERIFY_PLUGIN_EXPORT const char* rayverify_plugin_library_version(void) {
     static const std::string version = [] {
         RTCDevice device = world().device;
+        if (device == nullptr) return std::string();
         return std::to_string(rtcGetDeviceProperty(device, RTC_DEVICE_PROPERTY_VERSION_MAJOR)) + "." +
                std::to_string(rtcGetDeviceProperty(device, RTC_DEVICE_PROPERTY_VERSION_MINOR)) + "." +
                std::to_string(rtcGetDeviceProperty(device, RTC_DEVICE_PROPERTY_VERSION_PATCH));
     }();
-    return version.c_str();
+    return version.empty() ? nullptr : version.c_str();
+}
+
+// The kernel this device runs, and how it was chosen (see the top).
+RAYVERIFY_PLUGIN_EXPORT const char* rayverify_plugin_library_configuration(void) {
+    const std::string& line = world().setup.configuration_line;
+    return line.empty() ? nullptr : line.c_str();
+}
+
+RAYVERIFY_PLUGIN_EXPORT const char* rayverify_plugin_unavailable(void) {
+    const std::string& why = world().setup.unavailable;
+    return why.empty() ? nullptr : why.c_str();
 }
 
 }  // extern "C"

@@ -201,7 +201,7 @@ std::string format_oracle_timing(const oracle_timing& t) {
                        t.repetitions);
     out += "targets, this run:\n";
     const auto target = [&out](const std::string& what, double value, double limit, bool at_most) {
-        const bool met = at_most ? value <= limit : value >= limit;
+        const bool met = target_met(value, limit, at_most ? target_direction::at_most : target_direction::at_least);
         out += fmt::format("  {:<44} {:>8.1f}x  target {}{:g}x  {}\n", what, value, at_most ? "<= " : ">= ", limit,
                            met ? "met" : "MISSED");
         return met;

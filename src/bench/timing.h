@@ -36,6 +36,15 @@ struct timing_options {
     bool include_oracle = true;   // also time solve_exact and solve_exact_reference (double inputs)
 };
 
+// Whether a measured figure meets its target: at most `limit` (a cost) or at
+// least `limit` (a speed-up). The one test behind every benchmark's met /
+// MISSED. For tests only, RAYVERIFY_TEST_BENCH_TARGETS=met (or =missed)
+// makes every target met (or missed) whatever was measured, so that a
+// documented benchmark block can be checked against both branches on any
+// machine (docs/testing.md); any other value is ignored.
+enum class target_direction { at_most, at_least };
+bool target_met(double value, double limit, target_direction direction);
+
 // Precisions timed: the two the audit judges plus long double.
 inline constexpr const char* timed_precisions[] = {"float", "double", "long double"};
 

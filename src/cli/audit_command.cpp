@@ -282,8 +282,9 @@ void print_libraries(const std::vector<audit_target>& targets) {
         if (!t.subject.library || std::find(named.begin(), named.end(), t.subject.name) != named.end()) continue;
         named.push_back(t.subject.name);
         const library_identity& l = *t.subject.library;
-        fmt::print("library: {} is {}{} ({})\n", t.subject.name, l.name.empty() ? "a library" : l.name,
-                   l.version.empty() ? ", version unknown" : " " + l.version, l.source.empty() ? "source unknown" : l.source);
+        fmt::print("library: {} is {}{} ({}){}\n", t.subject.name, l.name.empty() ? "a library" : l.name,
+                   l.version.empty() ? ", version unknown" : " " + l.version, l.source.empty() ? "source unknown" : l.source,
+                   l.configuration.empty() ? "" : ", " + l.configuration);
     }
 }
 

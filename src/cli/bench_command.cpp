@@ -159,7 +159,7 @@ json robust_figures(const std::vector<bench::timing_row>& rows,
                 continue;
             }
             const double ratio = row->median / naive[family];
-            const bool met = ratio <= robust_target_ratio;
+            const bool met = bench::target_met(ratio, robust_target_ratio, bench::target_direction::at_most);
             fmt::print(" {:>24}", fmt::format("{:.2f} ({})", ratio, met ? "met" : "missed"));
             target_json.push_back({{"family", family}, {"variant", row->variant}, {"precision", row->precision},
                                    {"ratio_to_naive_double", ratio}, {"met", met}});

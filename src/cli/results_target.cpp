@@ -235,8 +235,7 @@ std::vector<audit_target> outside_targets(const results_options& options, const 
                           options.command_timeout, feed);
         targets.push_back(std::move(target));
     }
-    for (const std::string& name : options.engines) {
-        const shipped_library lib = available_library(name);
+    for (const shipped_library& lib : requested_libraries(options.engines)) {
         if (lib.how != shipped_library::runner::program) continue;  // a plugin: select_targets
         const precision prec = lib.precisions.front();
         const std::string prec_name(precision_name(prec));

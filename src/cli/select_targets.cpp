@@ -58,8 +58,7 @@ std::vector<audit_target> select_targets(const std::vector<std::string>& variant
                                               "built-in variants and other plugins)",
                                               chosen[i].name));
     // The engines' libraries called through plugins (the others run as programs: outside_targets).
-    for (const std::string& name : engine_names) {
-        const shipped_library lib = available_library(name);
+    for (const shipped_library& lib : requested_libraries(engine_names)) {
         if (lib.how != shipped_library::runner::plugin) continue;
         variant v = load_plugin(lib.plugin, isolation);
         if (v.name != lib.name)

@@ -1,6 +1,7 @@
 #include "cli/shipped_libraries.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <sys/wait.h>
 
 #include <algorithm>
@@ -28,18 +29,26 @@ std::string file_text(const fs::path& path) {
     return text.str();
 }
 
-// A JSON manifest: an array of objects whose listed members are strings (or null).
-nlohmann::ordered_json manifest(const fs::path& path, const std::vector<std::string>& members) {
+// A JSON manifest: an array of objects whose listed members are strings (or
+// null), and whose optional members, where present, are too.
+nlohmann::ordered_json manifest(const fs::path& path, const std::vector<std::string>& members,
+                                const std::vector<std::string>& optional_members = {}) {
     const nlohmann::ordered_json doc = parse_json_input(file_text(path), path.string());
     if (!doc.is_array()) throw input_error(path.string(), 1, "", "expected an array of libraries");
-    for (std::size_t i = 0; i < doc.size(); ++i)
+    const auto text_or_null = [](const nlohmann::ordered_json& v) { return v.is_string() || v.is_null(); };
+    for (std::size_t i = 0; i < doc.size(); ++i) {
         for (const std::string& m : members)
-            if (!doc[i].is_object() || !doc[i].contains(m) || !(doc[i][m].is_string() || doc[i][m].is_null()))
+            if (!doc[i].is_object() || !doc[i].contains(m) || !text_or_null(doc[i][m]))
                 throw input_error(path.string(), 0, fmt::format("[{}].{}", i, m), "missing, or not a string");
+        for (const std::string& m : optional_members)
+            if (doc[i].contains(m) && !text_or_null(doc[i][m]))
+                throw input_error(path.string(), 0, fmt::format("[{}].{}", i, m), "not a string");
+    }
     return doc;
 }
 
 std::string text_member(const nlohmann::ordered_json& object, const char* member) {
+    if (!object.contains(member)) return {};
     const auto& value = object.at(member);
     return value.is_string() ? value.get<std::string>() : std::string();
 }
@@ -89,13 +98,16 @@ void add_native_libraries(std::vector<shipped_library>& out) {
         installed_file(RAYVERIFY_INSTALLED_NATIVE_ENGINES, "native_engines.json", RAYVERIFY_NATIVE_ENGINES);
     std::error_code error;
     if (!fs::exists(listed, error)) return;
-    const nlohmann::ordered_json doc = manifest(listed, {"name", "library", "package", "plugin", "why_not"});
+    const nlohmann::ordered_json doc =
+        manifest(listed, {"name", "library", "package", "plugin", "why_not"}, {"depends_on_cpu", "kernel_of"});
     for (const auto& entry : doc) {
         shipped_library lib;
         lib.name = text_member(entry, "name");
         lib.how = shipped_library::runner::plugin;
+        lib.depends_on_cpu = text_member(entry, "depends_on_cpu");
+        lib.kernel_of = text_member(entry, "kernel_of");
         const std::string package = text_member(entry, "package");
-        lib.identity = {text_member(entry, "library"), "", "Debian package " + package};
+        lib.identity = {text_member(entry, "library"), "", "Debian package " + package, ""};
         lib.why_not = text_member(entry, "why_not");
         const std::string plugin = text_member(entry, "plugin");
         if (lib.why_not.empty() && plugin.empty()) lib.why_not = "no plugin was built for it";
@@ -107,7 +119,13 @@ void add_native_libraries(std::vector<shipped_library>& out) {
                 lib.precisions = precisions_of(v);
                 lib.contract = format_contract(v.promises);
                 lib.api = v.citation;
-                if (v.library) lib.identity.version = v.library->version;
+                if (v.library) {
+                    lib.identity.version = v.library->version;
+                    lib.identity.configuration = v.library->configuration;
+                }
+            } catch (const plugin_cannot_run_here& e) {
+                lib.why_not = e.reason();
+                lib.runs_elsewhere_only = true;
             } catch (const input_error& e) {
                 lib.why_not = fmt::format("its plugin cannot be loaded ({}); rebuild rayverify", e.what());
             }
@@ -138,7 +156,7 @@ void add_javascript_libraries(std::vector<shipped_library>& out) {
         lib.name = text_member(entry, "name");
         lib.how = shipped_library::runner::program;
         const std::string package = text_member(entry, "package");
-        lib.identity = {text_member(entry, "library"), "", "npm package " + package};
+        lib.identity = {text_member(entry, "library"), "", "npm package " + package, ""};
         lib.contract = text_member(entry, "contract");
         lib.api = text_member(entry, "api");
         const std::string prec = text_member(entry, "precision");
@@ -194,8 +212,40 @@ shipped_library available_library(const std::string& name) {
                                       known.empty() ? "none (this build lists no engine library)" : known));
     }
     if (!found->available())
-        throw input_error("", 0, "--engine", fmt::format("engine library '{}' is not available: {}", name, found->why_not));
+        throw input_error("", 0, "--engine",
+                          fmt::format("engine library '{}' is not available{}: {}", name,
+                                      found->runs_elsewhere_only ? " on this machine" : "", found->why_not));
     return *found;
+}
+
+std::vector<shipped_library> requested_libraries(const std::vector<std::string>& names) {
+    std::vector<shipped_library> out;
+    for (const std::string& name : names) {
+        if (!name.ends_with(every_kernel_suffix)) {
+            out.push_back(available_library(name));
+            continue;
+        }
+        const std::string of = name.substr(0, name.size() - every_kernel_suffix.size());
+        std::vector<std::string> pinned, runnable;
+        for (const shipped_library& l : shipped_libraries()) {
+            if (l.kernel_of != of) continue;
+            pinned.push_back(l.name);
+            if (l.available()) {
+                out.push_back(l);
+                runnable.push_back(l.name);
+            }
+        }
+        if (pinned.empty())
+            throw input_error("", 0, "--engine",
+                              fmt::format("'{}': engine library '{}' has no pinned kernels (`rayverify engines` lists "
+                                          "the libraries that do)",
+                                          name, of));
+        if (runnable.empty())
+            throw input_error("", 0, "--engine",
+                              fmt::format("'{}': none of {}'s pinned kernels ({}) is available on this machine", name,
+                                          of, fmt::join(pinned, ", ")));
+    }
+    return out;
 }
 
 }  // namespace rayverify::cli

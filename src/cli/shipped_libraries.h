@@ -16,6 +16,7 @@
 
 #include <filesystem>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/ray_sphere_case.h"
@@ -38,6 +39,15 @@ struct shipped_library {
     std::string contract;
     std::string api;      // the call made, e.g. "rtcIntersect1"; may be empty
     std::string why_not;  // empty when it can be audited here; else why not, and how to install it
+    // why_not is this machine's: the library is installed, but says it cannot
+    // run here (a kernel this CPU lacks); not a broken or missing install.
+    bool runs_elsewhere_only = false;
+    // Why its answers depend on the CPU it runs on (an ISA dispatch, the CPU's
+    // reciprocal estimate); empty when they do not.
+    std::string depends_on_cpu;
+    // The target whose kernel this one pins (e.g. "embree3" for
+    // "embree3_sse2"); empty for a target as the library runs itself.
+    std::string kernel_of;
 
     bool available() const { return why_not.empty(); }
 };
@@ -50,7 +60,19 @@ const std::vector<shipped_library>& shipped_libraries();
 
 // The library named `name`, available here. Throws input_error (field
 // "--engine") for an unknown name (listing the known ones) or one that is not
-// available (saying why and how to install it).
+// available (saying why and how to install it, or that this machine cannot
+// run it).
 shipped_library available_library(const std::string& name);
+
+// What `--engine` names, in order: each name as available_library finds it,
+// and `NAME:kernels` as every target pinning one of NAME's kernels that runs
+// on this machine (embree3:kernels: embree3_sse2 ... embree3_avx512), lowest
+// kernel first. Throws input_error (field "--engine") as available_library
+// does, and for `NAME:kernels` when NAME has no pinned kernels, or none of
+// them runs here.
+std::vector<shipped_library> requested_libraries(const std::vector<std::string>& names);
+
+// The suffix of `--engine NAME:kernels`.
+inline constexpr std::string_view every_kernel_suffix = ":kernels";
 
 }  // namespace rayverify::cli

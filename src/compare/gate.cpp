@@ -189,6 +189,17 @@ baseline parse_baseline(const std::string& file, std::string_view text) {
             b.policies.push_back({words[1], words[2], value, std::exchange(pending, {})});
             continue;
         }
+        if (words[0] == "library") {
+            if (words.size() < 3) throw error("library", "expected 'library VARIANT SET-UP'");
+            if (words[1].find('/') != std::string::npos)
+                throw error("library", fmt::format("{} is a target; a library line names a variant, like embree3",
+                                                   quoted(words[1])));
+            std::string text = words[2];
+            for (std::size_t i = 3; i < words.size(); ++i) text += " " + words[i];
+            if (!b.configurations.emplace(words[1], configuration_line{text, std::exchange(pending, {})}).second)
+                throw error("library", fmt::format("duplicate library line for {}", printable(words[1])));
+            continue;
+        }
         if (words.size() != 4) throw error("entry", fmt::format("expected 'TARGET FAMILY FIGURE VALUE', got {} fields",
                                                                 words.size()));
         if (words[0].find('/') == std::string::npos)
@@ -219,6 +230,10 @@ std::string format_baseline(const baseline& b) {
         comments(p.comments);
         out += fmt::format("policy {} {} {}\n", p.scope, p.key, number_text(p.value));
     }
+    for (const auto& [variant, line] : b.configurations) {
+        comments(line.comments);
+        out += fmt::format("library {} {}\n", variant, line.text);
+    }
     std::string previous;
     for (const auto& [key, value] : b.figures) {
         if (key.target + key.family != previous) out += "\n";
@@ -245,10 +260,35 @@ baseline new_baseline() {
     return b;
 }
 
-baseline updated_baseline(const baseline& old, const figure_table& current) {
+configuration_table configurations_of(std::span<const audit_target> targets) {
+    configuration_table out;
+    for (const audit_target& t : targets)
+        if (t.subject.library && !t.subject.library->configuration.empty())
+            out[t.subject.name] = t.subject.library->configuration;
+    return out;
+}
+
+baseline updated_baseline(const baseline& old, const figure_table& current,
+                          const configuration_table& current_configurations) {
     baseline b = old;
     std::set<std::string> run;
     for (const auto& entry : current) run.insert(entry.first.target);
+    for (const std::string& target : run) {
+        const std::string variant = variant_of(target);
+        const auto now = current_configurations.find(variant);
+        if (now == current_configurations.end()) {
+            if (const auto gone = b.configurations.find(variant); gone != b.configurations.end()) {
+                b.trailing_comments.insert(b.trailing_comments.end(), gone->second.comments.begin(),
+                                           gone->second.comments.end());
+                b.configurations.erase(gone);
+            }
+            continue;
+        }
+        configuration_line& line = b.configurations[variant];
+        if (line.comments.empty() && line.text.empty())
+            line.comments = {"# The set-up " + variant + "'s library ran with; a run with another fails the gate."};
+        line.text = now->second;
+    }
     b.figures.clear();
     b.comments.clear();
     for (const auto& [key, value] : old.figures)
@@ -264,7 +304,7 @@ baseline updated_baseline(const baseline& old, const figure_table& current) {
 }
 
 bool gate_result::passed() const {
-    if (compared == 0) return false;
+    if (compared == 0 || !configuration_changes.empty()) return false;
     return std::none_of(changes.begin(), changes.end(), [](const figure_change& c) {
         return c.kind == change_kind::worse || c.kind == change_kind::stale;
     });
@@ -352,9 +392,26 @@ gate_result compare_tables(const figure_table& before, const figure_table& after
 
 }  // namespace
 
-gate_result compare_to_baseline(const baseline& base, const figure_table& current, double tolerance) {
-    return compare_tables(
+gate_result compare_to_baseline(const baseline& base, const figure_table& current, double tolerance,
+                                const configuration_table& current_configurations) {
+    gate_result result = compare_tables(
         base.figures, current, [&](const std::string& target) { return base.policy_for(target); }, true, tolerance);
+    std::set<std::string> variants_run, variants_known;
+    for (const auto& entry : current) variants_run.insert(variant_of(entry.first.target));
+    for (const auto& entry : base.figures) variants_known.insert(variant_of(entry.first.target));
+    for (const std::string& variant : variants_run) {
+        const auto recorded = base.configurations.find(variant);
+        const auto now = current_configurations.find(variant);
+        const std::string after = now == current_configurations.end() ? std::string() : now->second;
+        if (recorded != base.configurations.end()) {
+            if (recorded->second.text != after) result.configuration_changes.push_back({variant, recorded->second.text, after});
+        } else if (!after.empty() && variants_known.count(variant)) {
+            result.notes.push_back(fmt::format("{}: the baseline records no library set-up; this run's: {} "
+                                               "(--update records it)",
+                                               variant, after));
+        }
+    }
+    return result;
 }
 
 gate_result compare_figures(const figure_table& before, const figure_table& after, const gate_policy& policy,
@@ -404,7 +461,8 @@ gate_run run_gate(std::span<const corpus_case> cases, const std::vector<audit_ta
     run.examples = gate_examples(examples_per_figure);
     run.totals = run_audit(cases, targets, [&](const audited_case& c) { run.examples.add(c, targets); }, {}, threads);
     run.current = figures_of(run.totals);
-    run.result = compare_to_baseline(base, run.current, tolerance);
+    run.configurations = configurations_of(targets);
+    run.result = compare_to_baseline(base, run.current, tolerance, run.configurations);
     return run;
 }
 

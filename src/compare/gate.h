@@ -10,9 +10,16 @@
 //     policy default ulp_slack 1          # a ULP figure may grow to baseline × slack
 //     policy default count_slack 0        # a count may grow by this many cases
 //     policy naive/float ulp_slack 2      # per variant ("naive") or target ("naive/float")
+//     library embree3 kernel avx512, Embree's choice for this CPU
 //     naive/float all cases 3000
 //     naive/float far_sphere false_miss 45
 //     naive/float far_sphere near_ulp_max 1.2e+08
+//
+// A `library VARIANT TEXT` line records the set-up of the library a target
+// ran (library_identity::configuration: the kernel Embree picked for the CPU,
+// say), which decides its answers as much as the code does: a run whose
+// set-up differs from the baseline's fails the gate, naming both, instead of
+// failing on figures that moved for that reason.
 #pragma once
 
 #include <cstddef>
@@ -63,9 +70,20 @@ struct policy_line {
     std::vector<std::string> comments;  // the comment lines above it, verbatim
 };
 
+// The library set-up each target ran with (library_identity::configuration),
+// by variant name; only targets whose library reports one.
+using configuration_table = std::map<std::string, std::string>;
+configuration_table configurations_of(std::span<const audit_target> targets);
+
+struct configuration_line {
+    std::string text;
+    std::vector<std::string> comments;  // the comment lines above it, verbatim
+};
+
 struct baseline {
     std::vector<std::string> format_comments;  // comment lines above the format line
     std::vector<policy_line> policies;          // in file order; the last matching line wins
+    std::map<std::string, configuration_line> configurations;  // `library VARIANT TEXT` lines, by variant
     figure_table figures;
     std::map<figure_key, std::vector<std::string>> comments;  // comment lines above each figure
     std::vector<std::string> trailing_comments;                // after the last entry, or orphaned by --update
@@ -84,8 +102,11 @@ baseline new_baseline();
 
 // --update: every figure of a target in `current` is replaced by the current
 // value (figures that vanished are dropped, their comments kept at the end);
-// targets not run keep their lines; policies and comments are kept.
-baseline updated_baseline(const baseline& old, const figure_table& current);
+// targets not run keep their lines; policies and comments are kept. A
+// variant run with a library set-up records it (`library` line); one run
+// without drops the line.
+baseline updated_baseline(const baseline& old, const figure_table& current,
+                          const configuration_table& current_configurations = {});
 
 enum class change_kind {
     worse,         // beyond the policy: fails the gate
@@ -102,8 +123,15 @@ struct figure_change {
     double limit = 0;  // for worse and within_slack: the largest value the policy allows
 };
 
+// A variant whose library ran with another set-up than the baseline records.
+struct configuration_change {
+    std::string variant;
+    std::string before, after;  // the baseline's; this run's (empty: none reported)
+};
+
 struct gate_result {
     std::vector<figure_change> changes;  // every figure that differs, in figure_key order
+    std::vector<configuration_change> configuration_changes;  // each fails the gate
     std::vector<std::string> notes;      // what was not compared, and why
     std::size_t compared = 0;            // figures compared with a baseline value
     bool passed() const;
@@ -117,9 +145,13 @@ struct gate_result {
 // ULP figures are decimal approximations of exact errors: two that differ by
 // at most `tolerance` relative to the larger are the same figure (last-digit
 // noise); counts are compared exactly.
+// A variant run whose library set-up differs from the baseline's `library`
+// line is a configuration_change (a failure); one the baseline has figures
+// for but no `library` line, while this run reports one, a note.
 inline constexpr double default_figure_tolerance = 1e-9;
 gate_result compare_to_baseline(const baseline& base, const figure_table& current,
-                                double tolerance = default_figure_tolerance);
+                                double tolerance = default_figure_tolerance,
+                                const configuration_table& current_configurations = {});
 
 // Every difference between two figure tables, judged with one policy
 // (`rayverify diff`: before = A, after = B).
@@ -146,6 +178,7 @@ private:
 struct gate_run {
     audit_totals totals;
     figure_table current;
+    configuration_table configurations;  // the library set-up each variant ran with
     gate_result result;
     gate_examples examples{0};
 };

@@ -30,6 +30,11 @@ struct library_identity {
     std::string name;     // e.g. "Embree 3"; empty when only the version is known
     std::string version;  // as the library reports it, else as its package manager does; empty when unknown
     std::string source;   // where it comes from, e.g. "Debian package libembree-dev", "npm package three"
+    // What of the library's own set-up decides its answers and may differ
+    // between machines running the same binary, e.g. "kernel avx2, Embree's
+    // choice for this CPU"; empty when nothing does (rayverify_plugin.h,
+    // rayverify_plugin_library_configuration).
+    std::string configuration;
 };
 
 struct variant {

@@ -124,13 +124,14 @@ void encode_version_2(std::string& out, const plugin_description& d) {
     put_text(out, d.contract_spec);
     put_text(out, d.build);
     put_text(out, d.library_version);
+    put_text(out, d.library_configuration);
     put_u32(out, std::uint32_t{d.has_double});
 }
 
 bool decode_version_2(reader& in, plugin_description& d) {
     std::uint32_t abi = 0, has_double = 0;
     if (!in.u32(abi) || !in.text(d.contract_spec) || !in.text(d.build) || !in.text(d.library_version) ||
-        !in.u32(has_double)) return false;
+        !in.text(d.library_configuration) || !in.u32(has_double)) return false;
     d.abi = static_cast<int>(abi);
     d.has_double = has_double != 0;
     return true;

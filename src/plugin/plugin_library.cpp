@@ -106,6 +106,12 @@ opened_library open_library(const std::filesystem::path& library) {
     if (const auto version =
             reinterpret_cast<rayverify_library_version_fn>(symbol("rayverify_plugin_library_version", false)))
         opened.description.library_version = escaped(text_or(version(), ""));
+    if (const auto configuration = reinterpret_cast<rayverify_library_configuration_fn>(
+            symbol("rayverify_plugin_library_configuration", false)))
+        opened.description.library_configuration = escaped(text_or(configuration(), ""));
+    if (const auto unavailable = reinterpret_cast<rayverify_unavailable_fn>(symbol("rayverify_plugin_unavailable", false)))
+        if (const char* why = unavailable())
+            throw unusable_library(escaped(why), unusable_library::here);
     const auto thread_safe = reinterpret_cast<rayverify_thread_safe_fn>(symbol("rayverify_plugin_thread_safe", false));
     if (const auto describe_v2 =
             reinterpret_cast<rayverify_describe_v2_fn>(symbol("rayverify_plugin_describe_v2", false))) {
@@ -157,7 +163,8 @@ variant described_variant(const plugin_description& d) {
     v.citation = d.citation;
     v.formula = d.formula;
     v.thread_safe = d.thread_safe;  // rayverify_plugin.h: one thread unless rayverify_plugin_thread_safe() says otherwise
-    if (!d.library_version.empty()) v.library = library_identity{"", d.library_version, ""};
+    if (!d.library_version.empty() || !d.library_configuration.empty())
+        v.library = library_identity{"", d.library_version, "", d.library_configuration};
     if (d.abi == RAYVERIFY_PLUGIN_ABI_VERSION_2) {
         v.build = d.build;
         v.promises = parse_contract(d.contract_spec);  // checked by open_library

@@ -32,6 +32,8 @@ struct plugin_description {
     std::string contract_spec, build;
     // Either version: rayverify_plugin_library_version(), when exported; empty otherwise.
     std::string library_version;
+    // Either version: rayverify_plugin_library_configuration(), when exported; empty otherwise.
+    std::string library_configuration;
     bool has_float = false;
     bool has_double = true;  // version 1 always
     bool thread_safe = false;  // rayverify_plugin_thread_safe() returned nonzero
@@ -47,16 +49,23 @@ struct opened_library {
 };
 
 // Why a library cannot be used: the text after "LIBRARY: field '--plugin': ".
+// `here`: the library is sound but said it cannot run on this machine
+// (rayverify_plugin_unavailable), rather than being broken; the text is its
+// reason.
 class unusable_library : public std::runtime_error {
 public:
-    using std::runtime_error::runtime_error;
+    enum where { anywhere, here };
+    explicit unusable_library(const std::string& problem, where w = anywhere)
+        : std::runtime_error(problem), only_here(w == here) {}
+    bool only_here;
 };
 
 // dlopen the library and check what it describes: version 2 when it exports
 // rayverify_plugin_describe_v2, else version 1. Throws unusable_library
 // (missing file or symbol, not loadable, another ABI version, no name, a name
 // that is not one token, an unknown query kind; version 2: a contract spec
-// that does not parse, no precision, a missing batch function).
+// that does not parse, no precision, a missing batch function; `here` when
+// rayverify_plugin_unavailable gives a reason).
 opened_library open_library(const std::filesystem::path& library);
 
 // The variant the description stands for: name, citation, formula and

@@ -314,6 +314,7 @@ variant load_in_process(const std::filesystem::path& library) {
         library_loading.store(nullptr);
     } catch (const unusable_library& e) {
         library_loading.store(nullptr);
+        if (e.only_here) throw plugin_cannot_run_here(library, e.what());
         throw input_error(library.string(), 0, "--plugin", e.what());
     }
     plugin->name = plugin->library.description.name;

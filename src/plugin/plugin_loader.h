@@ -40,6 +40,20 @@ variant load_plugin(const std::filesystem::path& library, const plugin_isolation
 // nullopt when no version 1 kind says it (a version 2 spec is needed).
 std::optional<std::string> version1_query_name(const contract& c);
 
+// A plugin that loaded but says it cannot run on this machine
+// (rayverify_plugin_unavailable: a kernel this CPU lacks, say): bad input,
+// like any unusable plugin, told apart so that `rayverify engines` can list
+// it as not runnable here rather than broken. Thrown in process only.
+class plugin_cannot_run_here : public input_error {
+public:
+    plugin_cannot_run_here(const std::filesystem::path& library, const std::string& reason)
+        : input_error(library.string(), 0, "--plugin", "it cannot run on this machine: " + reason), reason_(reason) {}
+    const std::string& reason() const { return reason_; }  // as the plugin gives it
+
+private:
+    std::string reason_;
+};
+
 // An isolated plugin that was killed by a signal, exited, or gave no answer
 // within the timeout, on one call. Bad input, so an input_error naming the
 // library (exit 2), whose message says what happened and on which case: the

@@ -203,6 +203,23 @@ RAYVERIFY_PLUGIN_EXPORT int rayverify_plugin_thread_safe(void);
 typedef const char* (*rayverify_library_version_fn)(void);
 RAYVERIFY_PLUGIN_EXPORT const char* rayverify_plugin_library_version(void);
 
+/* Optional. What of the library's own set-up decides its answers and can
+ * differ between machines running the same binary, as one line: the kernel
+ * a library picked for this CPU (e.g. "kernel avx2, Embree's choice for this
+ * CPU"), or one the plugin pinned ("kernel sse2, pinned with isa=sse2").
+ * rayverify records it beside the version in reports, summaries and gate
+ * baselines, and a gate fails when it differs from the baseline's. NULL or
+ * absent: nothing of the kind. */
+typedef const char* (*rayverify_library_configuration_fn)(void);
+RAYVERIFY_PLUGIN_EXPORT const char* rayverify_plugin_library_configuration(void);
+
+/* Optional. NULL when the plugin can answer here; otherwise why it cannot
+ * on this machine (e.g. "this CPU does not run Embree's avx512 kernel"):
+ * loading it is then an input error with that reason, and `rayverify
+ * engines` lists it as not runnable here. Asked once, after loading. */
+typedef const char* (*rayverify_unavailable_fn)(void);
+RAYVERIFY_PLUGIN_EXPORT const char* rayverify_plugin_unavailable(void);
+
 #ifdef __cplusplus
 }
 #endif

@@ -100,7 +100,9 @@ json tally_json(const target_tally& t, const char* scope) {
 }  // namespace
 
 json library_json(const library_identity& library) {
-    return {{"name", library.name}, {"version", library.version}, {"source", library.source}};
+    json out = {{"name", library.name}, {"version", library.version}, {"source", library.source}};
+    if (!library.configuration.empty()) out["configuration"] = library.configuration;
+    return out;
 }
 
 json contract_json(const contract& c) {

@@ -43,6 +43,13 @@ std::string xml_escaped(std::string_view text) {
 
 bool fails(const figure_change& c) { return c.kind == change_kind::worse || c.kind == change_kind::stale; }
 
+std::string configuration_change_line(const configuration_change& c) {
+    return fmt::format("{}: library set-up '{}' in the baseline, '{}' in this run (its answers depend on it: gate a "
+                       "pinned set-up, e.g. one of `rayverify engines`' pinned kernels, or review and --update on "
+                       "this machine)",
+                       c.variant, c.before, c.after.empty() ? "none reported" : c.after);
+}
+
 // The failing figure's first cases, as corpus lines that paste back into a corpus file.
 std::string example_lines(const gate_run& run, const figure_change& c, std::span<const corpus_case> corpus,
                           std::string_view indent) {
@@ -61,6 +68,7 @@ std::string render_gate_text(const gate_run& run, std::span<const corpus_case> c
     const gate_result& r = run.result;
     std::string out;
     std::size_t worse = 0, better = 0, slack = 0, fresh = 0;
+    for (const configuration_change& c : r.configuration_changes) out += fmt::format("SETUP  {}\n", configuration_change_line(c));
     for (const figure_change& c : r.changes) {
         if (!fails(c)) continue;
         ++worse;
@@ -83,7 +91,10 @@ std::string render_gate_text(const gate_run& run, std::span<const corpus_case> c
     if (r.compared == 0)
         out += "gate: FAILED: no figure of this run has a baseline value (wrong baseline, or create it with --update)\n";
     else if (!r.passed())
-        out += fmt::format("gate: FAILED: {} figure(s) worse than the baseline allows; {} compared\n", worse,
+        out += fmt::format("gate: FAILED: {} figure(s) worse than the baseline allows{}; {} compared\n", worse,
+                           r.configuration_changes.empty()
+                               ? std::string()
+                               : fmt::format(", {} library set-up(s) not the baseline's", r.configuration_changes.size()),
                            r.compared);
     else
         out += fmt::format("gate: passed: {} figures compared, {} better{}, {} worse within the policy's slack\n",
@@ -99,6 +110,17 @@ std::string render_junit(const gate_run& run, std::span<const corpus_case> corpu
 
     std::string suites;
     std::size_t total_tests = 0, total_failures = 0;
+    if (!run.result.configuration_changes.empty()) {
+        std::string cases;
+        for (const configuration_change& c : run.result.configuration_changes)
+            cases += fmt::format("    <testcase classname=\"library set-up\" name=\"{}\">\n      <failure message=\"library "
+                                 "set-up differs from the baseline's\">{}</failure>\n    </testcase>\n",
+                                 xml_escaped(c.variant), xml_escaped(configuration_change_line(c)));
+        total_tests += run.result.configuration_changes.size();
+        total_failures += run.result.configuration_changes.size();
+        suites += fmt::format("  <testsuite name=\"library set-up\" tests=\"{0}\" failures=\"{0}\">\n{1}  </testsuite>\n",
+                              run.result.configuration_changes.size(), cases);
+    }
     for (const auto& [target, families] : groups) {
         std::string cases;
         std::size_t failures = 0;

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <fstream>
@@ -368,6 +369,20 @@ std::string render_markdown(const json& report) {
                        build["compiler"].get<std::string>(), build["flags"].get<std::string>(), build["build_type"].get<std::string>(),
                        build["rayverify_version"].get<std::string>());
     if (report.contains("machine")) run += fmt::format("- CPU: {}\n", report["machine"]["cpu"].get<std::string>());
+    if (report.contains("results")) {
+        // Each library audited as shipped once, with the set-up it ran (Embree's kernel).
+        std::vector<std::string> named;
+        for (const json& r : report["results"]) {
+            if (!r.contains("library")) continue;
+            const std::string variant = r["variant"].get<std::string>();
+            if (std::find(named.begin(), named.end(), variant) != named.end()) continue;
+            named.push_back(variant);
+            const json& l = r["library"];
+            run += fmt::format("- library: `{}` is {} {} ({}){}\n", variant, l["name"].get<std::string>(),
+                               l["version"].get<std::string>(), l["source"].get<std::string>(),
+                               l.contains("configuration") ? ", " + l["configuration"].get<std::string>() : "");
+        }
+    }
     if (report.contains("corpus")) {
         run += fmt::format("- corpus: {} cases", report["corpus"]["cases"].get<std::size_t>());
         if (report["corpus"].contains("cases_by_family")) {

@@ -304,8 +304,12 @@ private:
             }
             text(member(c, path + ".contract", "tangent_rule"), path + ".contract.tangent_rule");
             if (target.contains("library"))
+            {
                 for (const char* key : {"name", "version", "source"})
                     text(member(target["library"], path + ".library", key), path + ".library." + key);
+                if (target["library"].contains("configuration"))
+                    text(target["library"]["configuration"], path + ".library.configuration");
+            }
         }
     }
 
@@ -646,7 +650,8 @@ std::vector<audit_target> targets_from_json(const json& j) {
         if (t.contains("library"))
             target.subject.library = library_identity{t["library"].at("name").get<std::string>(),
                                                       t["library"].at("version").get<std::string>(),
-                                                      t["library"].at("source").get<std::string>()};
+                                                      t["library"].at("source").get<std::string>(),
+                                                      t["library"].value("configuration", std::string())};
         targets.push_back(std::move(target));
     }
     return targets;

@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "support/hostile_fp_plugins.h"
 #include "core/float_bits.h"
 #include "corpus/corpus_io.h"
 #include "oracle/oracle.h"
@@ -351,6 +352,7 @@ TEST(FastOracleRandom, IdenticalToReference) {
 }
 
 TEST(LongSweepFastOracle, IdenticalToReferenceOnMillions) {
+    const std::vector<variant> hostile = test_support::load_hostile_fp_plugins();  // the truth holds with them loaded
     const std::uint64_t seed = std::random_device{}();
     std::printf("seed %llu\n", static_cast<unsigned long long>(seed));
     const comparison_tally tally = sweep(seed, 150000, 16);

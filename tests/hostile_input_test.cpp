@@ -252,6 +252,8 @@ std::string answering_program(const std::string& after_batch, const std::string&
 
 const std::string modal_plugin = RAYVERIFY_FIXTURE_PLUGIN_MODAL;
 const std::string garbage_plugin = RAYVERIFY_FIXTURE_PLUGIN_GARBAGE;
+const std::string fp_hostile_plugin = RAYVERIFY_FIXTURE_FP_HOSTILE;
+const std::string fp_fast_math_plugin = RAYVERIFY_FIXTURE_FP_FAST_MATH_LINK;
 
 std::string bytes(const char* data, std::size_t size) { return std::string(data, size); }
 
@@ -660,6 +662,50 @@ std::vector<bad_input> bad_inputs() {
          "./modal.so: field '--plugin': the plugin's name '\\x1B[31mred' must be one token without '/', '#' or "
          "control characters",
          plugin_copy(modal_plugin, "modal.so"), false, "FIXTURE_MODE=escape_name"},
+        // The floating-point environment (core/fp_environment.h): what a library sets at load is the
+        // environment its calls run in, named; what a call changes is undone after it, with a warning.
+        {"a plugin that sets FTZ+DAZ when it loads (as a library linked with `-ffast-math` does)",
+         "rayverify audit --plugin ./hostile.so --corpus good.txt", one("good.txt", good), 0,
+         "fp environment: fp_hostile runs in FTZ+DAZ, set when the library loaded (what GCC's crtfastmath.o sets: "
+         "linked with -ffast-math?); rayverify's own arithmetic in the IEEE default",
+         plugin_copy(fp_hostile_plugin, "hostile.so"), false, "FIXTURE_FP_MODE=load_ftz_daz", "fp environment:"},
+        {"a plugin linked with `-ffast-math` (GCC's crtfastmath.o sets FTZ+DAZ)",
+         "rayverify audit --plugin ./fastmath.so --corpus good.txt", one("good.txt", good), 0,
+         "fp environment: fp_fast_math_link runs in FTZ+DAZ, set when the library loaded",
+         plugin_copy(fp_fast_math_plugin, "fastmath.so"), false, "", "fp environment:"},
+        {"a plugin that sets rounding upward when it loads", "rayverify audit --plugin ./hostile.so --corpus good.txt",
+         one("good.txt", good), 0, "fp environment: fp_hostile runs in rounding upward, set when the library loaded",
+         plugin_copy(fp_hostile_plugin, "hostile.so"), false, "FIXTURE_FP_MODE=load_upward", "fp environment:"},
+        {"a plugin that leaves the x87 unit at single precision when it loads",
+         "rayverify audit --plugin ./hostile.so --corpus good.txt", one("good.txt", good), 0,
+         "fp environment: fp_hostile runs in x87 precision single, set when the library loaded",
+         plugin_copy(fp_hostile_plugin, "hostile.so"), false, "FIXTURE_FP_MODE=load_x87", "fp environment:"},
+        {"a plugin that traps FE_INVALID from its load, then makes a NaN",
+         "rayverify audit --plugin ./hostile.so --corpus nan.txt --precision double",
+         one("nan.txt", "nan - 0 0 -5 0 0 1e300 0 0 0 1\n"), 2,
+         "./hostile.so: field '--plugin': plugin 'fp_hostile' crashed (SIGFPE) on case nan (nan.txt:1)",
+         plugin_copy(fp_hostile_plugin, "hostile.so"), false, "FIXTURE_FP_MODE=load_unmask_invalid"},
+        {"a plugin that sets FTZ+DAZ in every batch", "rayverify audit --plugin ./hostile.so --corpus good.txt",
+         one("good.txt", good), 0,
+         "warning: target 'fp_hostile' changed the floating-point environment in a call, to FTZ+DAZ (it was given "
+         "the IEEE default)",
+         plugin_copy(fp_hostile_plugin, "hostile.so"), false, "FIXTURE_FP_MODE=batch_ftz_daz"},
+        {"a plugin that rounds toward zero after every batch", "rayverify audit --plugin ./hostile.so --corpus good.txt",
+         one("good.txt", good), 0, "changed the floating-point environment in a call, to rounding toward zero",
+         plugin_copy(fp_hostile_plugin, "hostile.so"), false, "FIXTURE_FP_MODE=batch_toward_zero"},
+        {"a plugin that unmasks FE_INVALID, FE_DIVBYZERO and FE_OVERFLOW after every batch",
+         "rayverify audit --plugin ./hostile.so --corpus good.txt", one("good.txt", good), 0,
+         "changed the floating-point environment in a call, to FE_INVALID trapped, FE_DIVBYZERO trapped, "
+         "FE_OVERFLOW trapped",
+         plugin_copy(fp_hostile_plugin, "hostile.so"), false, "FIXTURE_FP_MODE=batch_unmask"},
+        {"a plugin that leaves the x87 unit at single precision after every batch",
+         "rayverify audit --plugin ./hostile.so --corpus good.txt", one("good.txt", good), 0,
+         "changed the floating-point environment in a call, to x87 precision single",
+         plugin_copy(fp_hostile_plugin, "hostile.so"), false, "FIXTURE_FP_MODE=batch_x87"},
+        {"`--fp-env` naming no environment", "rayverify audit --variant naive --fp-env fast", {}, 2,
+         "field '--fp-env': 'fast' is not an environment"},
+        {"`--fp-env` naming no target of the run", "rayverify audit --variant naive --fp-env robust=ftz+daz", {}, 2,
+         "field '--fp-env': 'robust=ftz+daz' names no target of this run"},
         {"`hunt` a plugin whose every answer is NaN: a finding, not \"no agreeing answer\"",
          "rayverify hunt --plugin ./modal.so --seconds 0 --evaluations 20 -o finds.txt", {}, 1,
          "20 of 20 evaluations disagreed with the exact answer; the first (non_finite) at evaluation 1",

@@ -22,6 +22,7 @@
 #include <thread>
 #include <vector>
 
+#include "support/hostile_fp_plugins.h"
 #include "compare/judge.h"
 #include "corpus/corpus_io.h"
 #include "scene/scene.h"
@@ -592,6 +593,7 @@ TEST(JudgeProperty, MatchesABruteForceExactJudgement) {
 // CI's long run: a million cases or more, on every core, bounded to about 90 s.
 // Thread i sweeps seed + i.
 TEST(LongSweepJudge, MatchesABruteForceExactJudgementOnMillions) {
+    const std::vector<variant> hostile = test_support::load_hostile_fp_plugins();  // the truth holds with them loaded
     const std::uint64_t seed = seed_for_run();
     const unsigned threads = std::max(1u, std::thread::hardware_concurrency());
     std::printf("seeds %llu to %llu, one per thread (RAYVERIFY_JUDGE_SEED replays the first)\n",

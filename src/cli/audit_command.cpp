@@ -286,6 +286,15 @@ void print_libraries(const std::vector<audit_target>& targets) {
                    l.version.empty() ? ", version unknown" : " " + l.version, l.source.empty() ? "source unknown" : l.source,
                    l.configuration.empty() ? "" : ", " + l.configuration);
     }
+    std::vector<std::string> environments;
+    for (const audit_target& t : targets) {
+        if (t.subject.fp_environment.empty() ||
+            std::find(environments.begin(), environments.end(), t.subject.name) != environments.end())
+            continue;
+        environments.push_back(t.subject.name);
+        fmt::print("fp environment: {} runs in {}; rayverify's own arithmetic in the IEEE default\n", t.subject.name,
+                   t.subject.fp_environment);
+    }
 }
 
 int publish_audit(const audit_totals& totals, const std::optional<nlohmann::ordered_json>& report,

@@ -190,6 +190,11 @@ int run_oracle_timing(const std::vector<corpus_case>& cases, const bench_options
 }
 
 int run(const bench_options& options, const std::string& command_line) {
+    // Its timings and choices are of the code as compiled, in the IEEE default.
+    if (!options.isolation.environment.empty())
+        throw input_error("", 0, "--fp-env",
+                          "bench times and judges its targets in the IEEE default; --fp-env is for audit, gate, "
+                          "explain, hunt and render");
     std::vector<std::filesystem::path> paths(options.corpus.begin(), options.corpus.end());
     if (paths.empty()) paths.emplace_back(default_corpus());
     std::vector<corpus_case> cases;

@@ -196,8 +196,19 @@ private:
 // --tolerance, on gate and diff: ULP figures within it (relative) are equal.
 void add_tolerance_option(CLI::App* sub, double& tolerance);
 
-// --isolate and --plugin-timeout, on every command that takes --plugin.
+// --isolate, --plugin-timeout and --fp-env, on every command that takes --plugin.
 void add_isolation_options(CLI::App* sub, plugin_isolation& isolation);
+
+// --fp-env: one value ("ftz+daz", or "TARGET=ftz+daz") into `choice`; throws
+// input_error (field --fp-env) for a name that is no environment, one this
+// machine cannot set, or a second one for the same scope.
+void add_fp_environment(fp_environment_choice& choice, const std::string& value);
+// The state of a spec this machine can set; input_error (--fp-env) otherwise.
+fp_state settable_fp_state(const fp_environment_spec& spec);
+// Every TARGET=ENV names a target of `targets` run in this process (not one
+// answering from a results file, a program or a JavaScript engine); an
+// environment for every target is noted on stderr for those it cannot reach.
+void check_fp_environment_targets(const fp_environment_choice& choice, const std::vector<audit_target>& targets);
 
 // Shared by audit and hunt (cli/audit_command.cpp): the shard `--shard`
 // names, "K/N", "auto" or "auto/N" (corpus/shard_environment.h); an automatic

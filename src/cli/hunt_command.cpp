@@ -89,6 +89,7 @@ int run(const hunt_command_options& given, const std::string& command_line) {
         throw input_error("", 0, "--precision",
                           fmt::format("{} does not run in {}", o.variant.empty() ? o.plugin : o.variant, o.precision));
     if (library) targets.front().subject.library = library;
+    check_fp_environment_targets(o.isolation.environment, targets);
     const audit_target& target = targets.front();
     const family_info* family = find_generator_family(o.family);
     if (family == nullptr) {

@@ -68,6 +68,11 @@ void print_kind(const bench::kind_recommendation& k, const bench::recommend_budg
 }
 
 int run(const recommend_options& options) {
+    // Its timings and choices are of the code as compiled, in the IEEE default.
+    if (!options.isolation.environment.empty())
+        throw input_error("", 0, "--fp-env",
+                          "recommend times and judges its targets in the IEEE default; --fp-env is for audit, gate, "
+                          "explain, hunt and render");
     const scene s = read_scene(options.scene_file);
     const bench::recommend_budget budget = bench::parse_budget(options.budget);
 

@@ -273,6 +273,7 @@ std::vector<audit_target> targets_with_results(const std::vector<std::string>& v
                               fmt::format("the --results answers are in {}, which --precision leaves out", prec));
     }
     append_outside_targets(targets, outside);
+    check_fp_environment_targets(isolation.environment, targets);
     return targets;
 }
 

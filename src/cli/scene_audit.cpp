@@ -26,6 +26,7 @@ std::vector<audit_target> scene_audit_targets(const scene& s, const std::vector<
                                       [&](const audit_target& u) { return u.subject.name == t.subject.name; });
         if (!seen) targets.push_back({t.subject, s.prec});
     }
+    check_fp_environment_targets(isolation.environment, targets);
     return targets;
 }
 

@@ -76,6 +76,10 @@ struct variant {
     std::string build{};
     // Set for a target that is a library as shipped (see library_identity).
     std::optional<library_identity> library{};
+    // The floating-point environment its calls run in when it is not the
+    // IEEE default, and how it came about ("FTZ+DAZ, set when the library
+    // loaded ...", "rounding upward (--fp-env upward)"); empty otherwise.
+    std::string fp_environment{};
 
     bool runs_in(precision p) const {
         return p == precision::binary32 ? static_cast<bool>(run_float) : static_cast<bool>(run_double);

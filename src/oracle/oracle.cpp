@@ -17,6 +17,8 @@
 // for everything; the tests require both routes to agree bit for bit.
 #include "oracle/oracle.h"
 
+#include "core/fp_environment.h"
+
 #include "oracle/filter.h"
 #include "oracle/internal/correct_rounding.h"
 #include "oracle/internal/exact_number.h"
@@ -678,6 +680,10 @@ comparison compare_roots(const exact_solution& a, root_index i, const exact_solu
 
 exact_solution solve_exact(const ray_sphere<double>& g, precision prec, std::optional<double> tmin,
                            std::optional<double> tmax) {
+    // The filters' error bounds assume rounding to nearest and gradual
+    // underflow: whatever foreign code left on this thread, the truth is
+    // computed in the IEEE default (core/fp_environment.h; a few instructions).
+    restore_ieee_default();
     exact_solution solution = exact_solution::internal::filtered(g, prec, tmin, tmax);
     if (solution.valid()) {
         stage_tally& solutions = oracle_stage_counts_this_thread().solutions;

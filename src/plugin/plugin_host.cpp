@@ -125,13 +125,18 @@ void encode_version_2(std::string& out, const plugin_description& d) {
     put_text(out, d.build);
     put_text(out, d.library_version);
     put_text(out, d.library_configuration);
+    put_text(out, std::string(reinterpret_cast<const char*>(&d.environment_at_load), sizeof d.environment_at_load));
     put_u32(out, std::uint32_t{d.has_double});
 }
 
 bool decode_version_2(reader& in, plugin_description& d) {
     std::uint32_t abi = 0, has_double = 0;
+    std::string environment;  // the child's fp_state, byte for byte (the same executable)
     if (!in.u32(abi) || !in.text(d.contract_spec) || !in.text(d.build) || !in.text(d.library_version) ||
-        !in.text(d.library_configuration) || !in.u32(has_double)) return false;
+        !in.text(d.library_configuration) || !in.text(environment) || environment.size() != sizeof(fp_state) ||
+        !in.u32(has_double))
+        return false;
+    std::memcpy(&d.environment_at_load, environment.data(), sizeof(fp_state));
     d.abi = static_cast<int>(abi);
     d.has_double = has_double != 0;
     return true;
@@ -201,7 +206,8 @@ bool answer_call(int fd, Fn intersect, const unsigned char* request) {
 // The child: a copy of rayverify at the moment of the fork. It must never
 // return or unwind into the parent's frames, so it ends in _exit, which also
 // keeps the parent's atexit handlers and buffered output from running twice.
-[[noreturn]] void run_child(const std::filesystem::path& library, int fd, pid_t parent) noexcept {
+[[noreturn]] void run_child(const std::filesystem::path& library, int fd, pid_t parent,
+                            const fp_environment_choice& environment) noexcept {
     try {
         // Killed with rayverify, even in the middle of a call that never returns.
         ::prctl(PR_SET_PDEATHSIG, SIGKILL);
@@ -225,10 +231,12 @@ bool answer_call(int fd, Fn intersect, const unsigned char* request) {
             put_text(message, e.what());
         }
         if (!send_message(fd, message) || !opened.handle) ::_exit(0);
+        const fp_state plugin_environment = plugin_run_environment(opened.description, environment);
         for (;;) {
             unsigned char request[request_size];
             std::int32_t kind = 0;
             if (!receive_all(fd, &kind, sizeof kind)) ::_exit(0);  // rayverify closed its end: done
+            set_fp_state(plugin_environment);  // as it was given, whatever its last call left
             bool answered = false;
             if (kind == float_batch) {
                 answered = answer_batch<rayverify_case_float, rayverify_answer_float>(fd, opened.batch_float);
@@ -256,7 +264,8 @@ std::string how_it_ended(int status) {
 
 }  // namespace
 
-plugin_host::plugin_host(std::filesystem::path library, double timeout_seconds)
+plugin_host::plugin_host(std::filesystem::path library, double timeout_seconds,
+                         const fp_environment_choice& environment)
     : library_(std::move(library)), timeout_seconds_(timeout_seconds) {
     const auto fail = [&](const std::string& problem) { throw input_error(library_.string(), 0, "--plugin", problem); };
     int ends[2];
@@ -274,7 +283,7 @@ plugin_host::plugin_host(std::filesystem::path library, double timeout_seconds)
     }
     if (pid == 0) {
         ::close(ends[0]);
-        run_child(library_, ends[1], parent);
+        run_child(library_, ends[1], parent, environment);
     }
     ::close(ends[1]);
     fd_ = ends[0];

@@ -23,8 +23,11 @@ class plugin_host {
 public:
     // Forks the child and waits (at most timeout_seconds) for its description.
     // Throws input_error naming the library when it cannot be used, or when
-    // the child dies or does not answer while opening it.
-    plugin_host(std::filesystem::path library, double timeout_seconds);
+    // the child dies or does not answer while opening it. The child runs the
+    // plugin's every call in the environment `environment` chosen for it by
+    // name, else in the one its library set when loaded (the child computes
+    // nothing else).
+    plugin_host(std::filesystem::path library, double timeout_seconds, const fp_environment_choice& environment);
     // Closes the socket; the child exits at the end of file and is reaped.
     ~plugin_host();
     plugin_host(const plugin_host&) = delete;

@@ -80,9 +80,7 @@ void open_v2(opened_library& opened, rayverify_describe_v2_fn describe, const st
             reinterpret_cast<rayverify_batch_float_fn>(symbol("rayverify_plugin_intersect_batch_float", true));
 }
 
-}  // namespace
-
-opened_library open_library(const std::filesystem::path& library) {
+opened_library opened_here(const std::filesystem::path& library) {
     std::error_code error;
     if (!std::filesystem::is_regular_file(library, error)) fail("no such file (expected a shared library)");
     // An absolute path, so that dlopen never searches LD_LIBRARY_PATH for a bare name.
@@ -155,6 +153,37 @@ opened_library open_library(const std::filesystem::path& library) {
     d.has_float = opened.run_float != nullptr;
     d.thread_safe = thread_safe != nullptr && thread_safe() != 0;
     return opened;
+}
+
+// The IEEE default again for the calling thread, however the library left it.
+struct ieee_default_on_exit {
+    ~ieee_default_on_exit() { set_fp_state(ieee_default_fp_state()); }
+};
+
+}  // namespace
+
+opened_library open_library(const std::filesystem::path& library) {
+    const ieee_default_on_exit restore;
+    opened_library opened = opened_here(library);
+    opened.description.environment_at_load = current_fp_state();
+    return opened;
+}
+
+fp_state plugin_run_environment(const plugin_description& description, const fp_environment_choice& choice) {
+    if (const std::optional<fp_environment_spec> chosen = choice.for_target(description.name))
+        if (const std::optional<fp_state> state = fp_state_for(*chosen)) return *state;
+    return description.environment_at_load;
+}
+
+std::string plugin_environment_text(const plugin_description& description, const fp_environment_choice& choice) {
+    if (const std::optional<fp_environment_spec> chosen = choice.for_target(description.name)) return chosen_fp_environment_text(*chosen);
+    const fp_state& loaded = description.environment_at_load;
+    if (is_ieee_default(loaded)) return {};
+    fp_state ftz_daz = ieee_default_fp_state();
+    if (const std::optional<fp_state> s = fp_state_for({true, true, fp_environment_spec::rounding::nearest})) ftz_daz = *s;
+    return describe_fp_state(loaded) + (loaded == ftz_daz ? ", set when the library loaded (what GCC's crtfastmath.o "
+                                                             "sets: linked with -ffast-math?)"
+                                                           : ", set when the library loaded");
 }
 
 variant described_variant(const plugin_description& d) {

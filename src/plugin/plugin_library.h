@@ -14,6 +14,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "core/fp_environment.h"
 #include "core/ray_sphere_case.h"
 #include "intersectors/registry.h"
 #include "plugin/rayverify_plugin.h"
@@ -34,6 +35,10 @@ struct plugin_description {
     std::string library_version;
     // Either version: rayverify_plugin_library_configuration(), when exported; empty otherwise.
     std::string library_configuration;
+    // The floating-point environment the process had once the library was
+    // loaded and had described itself (a -ffast-math link's crtfastmath.o sets
+    // FTZ+DAZ); the IEEE default for a library that changes nothing.
+    fp_state environment_at_load = ieee_default_fp_state();
     bool has_float = false;
     bool has_double = true;  // version 1 always
     bool thread_safe = false;  // rayverify_plugin_thread_safe() returned nonzero
@@ -65,8 +70,20 @@ public:
 // (missing file or symbol, not loadable, another ABI version, no name, a name
 // that is not one token, an unknown query kind; version 2: a contract spec
 // that does not parse, no precision, a missing batch function; `here` when
-// rayverify_plugin_unavailable gives a reason).
+// rayverify_plugin_unavailable gives a reason). The floating-point
+// environment the library leaves (loading it, its constructors, its describe
+// functions) is kept in the description, and the calling thread's is the
+// IEEE default again when it returns or throws.
 opened_library open_library(const std::filesystem::path& library);
+
+// The environment a plugin's calls run in: the one chosen for its name
+// (--fp-env), else the one its library set when it was loaded.
+fp_state plugin_run_environment(const plugin_description& description, const fp_environment_choice& choice);
+// How that environment came about, for reports: empty for the IEEE default
+// nobody chose; "FTZ+DAZ, set when the library loaded (what GCC's
+// crtfastmath.o sets: linked with -ffast-math?)"; "rounding upward (--fp-env
+// upward)".
+std::string plugin_environment_text(const plugin_description& description, const fp_environment_choice& choice);
 
 // The variant the description stands for: name, citation, formula and
 // contract; no run functions, thread_safe as rayverify_plugin_thread_safe() says (else one thread).

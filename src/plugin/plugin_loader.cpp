@@ -8,6 +8,7 @@
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
+#include <functional>
 #include <initializer_list>
 #include <iterator>
 #include <limits>
@@ -303,7 +304,48 @@ void batch_in_process(const in_process_plugin& plugin, Fn intersect, const contr
     take_answers<T>(answers.answers(), promises, cases, out);
 }
 
-variant load_in_process(const std::filesystem::path& library) {
+// ---- The floating-point environment a target's calls run in ----
+
+// One target's environment, and whether a call has changed it yet.
+struct environment_guard {
+    fp_state given;
+    std::string target;
+    mutable std::atomic<bool> warned{false};
+
+    void before_call() const {
+        if (!(current_fp_state() == given)) set_fp_state(given);
+    }
+    void after_call() const noexcept {
+        const fp_state left = current_fp_state();
+        if (!(left == given) && !warned.exchange(true)) {
+            try {
+                fmt::print(stderr,
+                           "rayverify: warning: target '{}' changed the floating-point environment in a call, to {} "
+                           "(it was given {}): each call is given its own again, and rayverify's arithmetic runs in "
+                           "the IEEE default\n",
+                           target, describe_fp_state(left), describe_fp_state(given));
+            } catch (...) {
+                // the warning is lost; the environment is still restored
+            }
+        }
+        if (!is_ieee_default(left)) set_fp_state(ieee_default_fp_state());
+    }
+};
+
+template <class R, class... Args>
+std::function<R(Args...)> guarded(const std::shared_ptr<const environment_guard>& guard, std::function<R(Args...)> f) {
+    if (!f) return f;
+    return [guard, f = std::move(f)](Args... args) -> R {
+        guard->before_call();
+        struct restore_after {
+            const environment_guard& guard;
+            ~restore_after() { guard.after_call(); }
+        } restore{*guard};
+        return f(std::forward<Args>(args)...);
+    };
+}
+
+variant load_in_process(const std::filesystem::path& library, const fp_environment_choice& environment) {
     auto plugin = std::make_shared<in_process_plugin>();
     plugin->path = library.string();
     install_hooks();  // before dlopen: a constructor may crash or exit, a truncated library raise SIGBUS
@@ -318,6 +360,8 @@ variant load_in_process(const std::filesystem::path& library) {
         throw input_error(library.string(), 0, "--plugin", e.what());
     }
     plugin->name = plugin->library.description.name;
+    const fp_state run_environment = plugin_run_environment(plugin->library.description, environment);
+    std::string environment_text = plugin_environment_text(plugin->library.description, environment);
 
     variant v = described_variant(plugin->library.description);
     const bool has_float = plugin->library.run_float != nullptr;
@@ -332,7 +376,7 @@ variant load_in_process(const std::filesystem::path& library) {
                                     else
                                         batch_in_process<T>(*p, p->library.batch_double, promises, cases, answers);
                                 });
-        return v;
+        return in_fp_environment(std::move(v), run_environment, std::move(environment_text));
     }
     bind_entry_points(v, has_float, [p](const auto& s, auto tmin, auto tmax, bool interval_asked) {
         if constexpr (std::is_same_v<decltype(tmin), float>)
@@ -340,15 +384,18 @@ variant load_in_process(const std::filesystem::path& library) {
         else
             return call_in_process(*p, p->library.run_double, s, tmin, tmax, interval_asked);
     });
-    return v;
+    return in_fp_environment(std::move(v), run_environment, std::move(environment_text));
 }
 
 // ---- Isolated: the same functions, answered by the plugin's child process ----
 
-variant load_isolated(const std::filesystem::path& library, double timeout_seconds) {
-    const auto host = std::make_shared<plugin_host>(library, timeout_seconds);
+variant load_isolated(const std::filesystem::path& library, double timeout_seconds,
+                      const fp_environment_choice& environment) {
+    const auto host = std::make_shared<plugin_host>(library, timeout_seconds, environment);
     variant v = described_variant(host->description());
     v.thread_safe = false;  // one child process answers one call at a time
+    // Its calls run in the child, in the environment the child sets for them; ours stays ours.
+    v.fp_environment = plugin_environment_text(host->description(), environment);
     if (host->description().abi == RAYVERIFY_PLUGIN_ABI_VERSION_2) {
         bind_batch_entry_points(v, host->description().has_float, host->description().has_double,
                                 [host, promises = v.promises]<class T>(std::span<const batch_case<T>> cases,
@@ -388,7 +435,24 @@ std::optional<std::string> version1_query_name(const contract& c) {
 }
 
 variant load_plugin(const std::filesystem::path& library, const plugin_isolation& isolation) {
-    return isolation.child_process ? load_isolated(library, isolation.timeout_seconds) : load_in_process(library);
+    return isolation.child_process ? load_isolated(library, isolation.timeout_seconds, isolation.environment)
+                                   : load_in_process(library, isolation.environment);
+}
+
+variant in_fp_environment(variant v, const fp_state& environment, std::string how) {
+    const auto guard = std::make_shared<environment_guard>();
+    guard->given = environment;
+    guard->target = v.name;
+    v.run_float = guarded(guard, std::move(v.run_float));
+    v.run_double = guarded(guard, std::move(v.run_double));
+    v.run_float_in = guarded(guard, std::move(v.run_float_in));
+    v.run_double_in = guarded(guard, std::move(v.run_double_in));
+    v.answer_float = guarded(guard, std::move(v.answer_float));
+    v.answer_double = guarded(guard, std::move(v.answer_double));
+    v.batch_float = guarded(guard, std::move(v.batch_float));
+    v.batch_double = guarded(guard, std::move(v.batch_double));
+    v.fp_environment = std::move(how);
+    return v;
 }
 
 }  // namespace rayverify

@@ -6,6 +6,7 @@
 #include <optional>
 #include <string>
 
+#include "core/fp_environment.h"
 #include "core/input_error.h"
 #include "core/ray_sphere_case.h"
 #include "intersectors/registry.h"
@@ -23,6 +24,10 @@ namespace rayverify {
 struct plugin_isolation {
     bool child_process = false;
     double timeout_seconds = 10;  // child_process: the longest wait for one answer, loading included
+    // The floating-point environment the plugin's calls run in, chosen by
+    // name (--fp-env); a plugin not named runs in the one its library set
+    // when it was loaded (the IEEE default unless it changed it).
+    fp_environment_choice environment{};
 };
 
 // dlopen the library and wrap its functions as a variant: run_double always,
@@ -34,6 +39,14 @@ struct plugin_isolation {
 // inconsistently (no name, a name with whitespace, an unknown query kind);
 // isolated, also when the child process dies or hangs while loading it.
 variant load_plugin(const std::filesystem::path& library, const plugin_isolation& isolation = {});
+
+// `v` with each of its functions run in `environment` on the calling thread
+// and the IEEE default restored after every call, whatever the call left, so
+// that rayverify's own arithmetic never runs in a target's environment. A
+// call that leaves another environment than it was given is named once on
+// standard error (it is given its own again before each call). `how` is what
+// reports say of the environment (variant::fp_environment).
+variant in_fp_environment(variant v, const fp_state& environment, std::string how);
 
 // The version 1 query kind (rayverify_plugin.h) whose contract is `c`, with
 // its unit-direction flag and clamp, e.g. "RAYVERIFY_NEAREST_IN_INTERVAL";

@@ -268,6 +268,7 @@ json audit_report_json(const audit_totals& totals, const run_context& context) {
                       {"formula", target.subject.formula},
                       {"contract", contract_json(target.subject.promises)}};
         if (target.subject.library) entry["library"] = library_json(*target.subject.library);
+        if (!target.subject.fp_environment.empty()) entry["fp_environment"] = target.subject.fp_environment;
         entry.update(tally_json(totals.overall[i], scope));
         json families = json::object();
         for (const auto& [family, tallies] : totals.by_family) families[family] = tally_json(tallies[i], scope);

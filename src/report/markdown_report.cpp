@@ -382,6 +382,16 @@ std::string render_markdown(const json& report) {
                                l["version"].get<std::string>(), l["source"].get<std::string>(),
                                l.contains("configuration") ? ", " + l["configuration"].get<std::string>() : "");
         }
+        named.clear();
+        for (const json& r : report["results"]) {
+            if (!r.contains("fp_environment")) continue;
+            const std::string variant = r["variant"].get<std::string>();
+            if (std::find(named.begin(), named.end(), variant) != named.end()) continue;
+            named.push_back(variant);
+            run += fmt::format("- floating-point environment: `{}` runs in {} (rayverify's own arithmetic in the IEEE "
+                               "default)\n",
+                               variant, r["fp_environment"].get<std::string>());
+        }
     }
     if (report.contains("corpus")) {
         run += fmt::format("- corpus: {} cases", report["corpus"]["cases"].get<std::size_t>());

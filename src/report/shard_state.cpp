@@ -310,6 +310,7 @@ private:
                 if (target["library"].contains("configuration"))
                     text(target["library"]["configuration"], path + ".library.configuration");
             }
+            if (target.contains("fp_environment")) text(target["fp_environment"], path + ".fp_environment");
         }
     }
 
@@ -632,6 +633,7 @@ json targets_json(const std::vector<audit_target>& targets) {
                        {"formula", t.subject.formula},
                        {"contract", contract_json(t.subject.promises)}});
         if (t.subject.library) out.back()["library"] = library_json(*t.subject.library);
+        if (!t.subject.fp_environment.empty()) out.back()["fp_environment"] = t.subject.fp_environment;
     }
     return out;
 }
@@ -652,6 +654,7 @@ std::vector<audit_target> targets_from_json(const json& j) {
                                                       t["library"].at("version").get<std::string>(),
                                                       t["library"].at("source").get<std::string>(),
                                                       t["library"].value("configuration", std::string())};
+        target.subject.fp_environment = t.value("fp_environment", std::string());
         targets.push_back(std::move(target));
     }
     return targets;

@@ -11,6 +11,7 @@ set -euo pipefail
 packages=(
   g++ cmake make               # toolchain
   lld                          # LLVM's linker: links the test executables in under half GNU ld's time
+  ccache                       # a compiler cache: CMakeLists.txt uses it where it is installed
   libcgal-dev libgmp-dev libmpfr-dev libboost-dev   # exact oracle (CGAL 5.5 is header-only)
   libgtest-dev                 # tests
   libcli11-dev nlohmann-json3-dev libfmt-dev        # CLI, JSON reports, formatting

@@ -21,6 +21,8 @@ namespace {
 namespace fs = std::filesystem;
 using rayverify::test_support::read_text;
 using rayverify::test_support::run_cli;
+using rayverify::test_support::run_shell;
+using rayverify::test_support::scratch_directory;
 
 const std::string corpus = RAYVERIFY_CORPUS_DIR;
 const std::string js_engines = std::string(RAYVERIFY_SOURCE_DIR) + "/engines/js";
@@ -104,6 +106,23 @@ TEST_F(ShippedLibraries, ThreeFromNpmIsJudgedLikeTheBuiltInPortOfTheSameCode) {
     ASSERT_EQ(port.exit_code, 1) << port.output;
     EXPECT_EQ(row_of(library.output, "three"), row_of(port.output, "threejs"));
     EXPECT_NE(library.output.find("library: three is three.js "), std::string::npos) << library.output;
+}
+
+// The engines' node runs in an environment rayverify builds: a caller's
+// NODE_OPTIONS that replaces Math.sqrt changes nothing audited, and one with
+// a typo does not make node look missing.
+TEST_F(ShippedLibraries, TheCallersNodeOptionsNeverReachTheEnginesNode) {
+    if (!javascript_installed()) GTEST_FAIL() << "npm packages missing: run tools/setup.sh (npm ci in engines/js)";
+    const scratch_directory dir("node_options");
+    std::ofstream(dir.path() / "sqrt.js") << "Math.sqrt = (x) => 1;\n";
+    const auto clean = run_cli("audit --corpus " + corpus + " --engine three");
+    const auto preloaded = run_shell("NODE_OPTIONS='--require " + (dir.path() / "sqrt.js").string() + "' " RAYVERIFY_CLI
+                                     " audit --corpus " + corpus + " --engine three");
+    ASSERT_EQ(clean.exit_code, 1) << clean.output;
+    ASSERT_EQ(preloaded.exit_code, 1) << preloaded.output;
+    EXPECT_EQ(row_of(preloaded.output, "three"), row_of(clean.output, "three"));
+    const auto typo = run_shell("NODE_OPTIONS=--no-such-option " RAYVERIFY_CLI " engines");
+    EXPECT_NE(engine_line(typo.output, "three").find("  available"), std::string::npos) << typo.output;
 }
 
 // Hit points alone, worked by hand: o = (0, 0, −5), d = (0, 0, 1), c = 0, r = 1

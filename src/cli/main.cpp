@@ -5,6 +5,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <exception>
+#include <new>
 #include <sstream>
 #include <system_error>
 
@@ -116,6 +117,10 @@ int main(int argc, char** argv) {
             return cli::exit_input_error;
         }
         tell(fmt::format("rayverify: internal error: {}\n", e.what()));
+        return 3;
+    } catch (const std::bad_alloc&) {  // on any thread of the audit: the workers pass theirs on
+        tell("rayverify: error: out of memory (std::bad_alloc): give it more memory, or fewer --threads; no output "
+             "was written\n");
         return 3;
     } catch (const std::exception& e) {
         tell(fmt::format("rayverify: internal error: {}\n", e.what()));

@@ -135,10 +135,25 @@ void add_native_libraries(std::vector<shipped_library>& out) {
     }
 }
 
-// The node major version on PATH; 0 when there is none.
-int node_major_version() {
-    const std::string version = command_output("node --version 2>/dev/null");  // "v20.20.2"
-    if (version.size() < 2 || version[0] != 'v') return 0;
+// The environment the engines' node runs in, built by rayverify: the
+// caller's PATH and HOME and nothing else, so that no NODE_OPTIONS (a
+// --require that replaces Math.sqrt, a typo), NODE_PATH or other variable of
+// the caller's reaches the library audited.
+constexpr const char* node_environment = "env -i PATH=\"$PATH\" HOME=\"$HOME\" ";
+
+// The node on PATH: its major version, or 0 with why not (not found, or its
+// own answer to --version when it fails).
+int node_major_version(std::string& why_not) {
+    if (command_output("command -v node").empty()) {
+        why_not = "node is not on PATH (Node.js 18 or later runs the JavaScript engines)";
+        return 0;
+    }
+    const std::string version = command_output(std::string(node_environment) + "node --version 2>/dev/null");  // "v20.20.2"
+    if (version.size() < 2 || version[0] != 'v') {
+        const std::string said = command_output(std::string(node_environment) + "node --version 2>&1 || true");
+        why_not = fmt::format("`node --version` fails: {}", said.empty() ? "(it printed nothing)" : said.substr(0, 200));
+        return 0;
+    }
     return std::atoi(version.c_str() + 1);
 }
 
@@ -149,7 +164,8 @@ void add_javascript_libraries(std::vector<shipped_library>& out) {
     if (!fs::exists(dir / "engines.json", error)) return;
     const nlohmann::ordered_json doc =
         manifest(dir / "engines.json", {"name", "library", "package", "adapter", "precision", "contract", "api"});
-    const int node = node_major_version();
+    std::string node_why_not;
+    const int node = node_major_version(node_why_not);
     const std::string install = fmt::format("run tools/setup.sh, or npm ci --prefix {}", dir.string());
     for (const auto& entry : doc) {
         shipped_library lib;
@@ -166,7 +182,7 @@ void add_javascript_libraries(std::vector<shipped_library>& out) {
             throw input_error((dir / "engines.json").string(), 0, lib.name + ".precision",
                               fmt::format("'{}' is not float or double", prec));
         const fs::path adapter = dir / text_member(entry, "adapter");
-        lib.command = "node " + shell_quoted(adapter.string());
+        lib.command = std::string(node_environment) + "node " + shell_quoted(adapter.string());
         const fs::path package_json = dir / "node_modules" / package / "package.json";
         if (fs::exists(package_json, error)) {
             try {
@@ -178,7 +194,7 @@ void add_javascript_libraries(std::vector<shipped_library>& out) {
             }
         }
         if (node == 0)
-            lib.why_not = "node is not on PATH (Node.js 18 or later runs the JavaScript engines)";
+            lib.why_not = node_why_not;
         else if (node < 18)
             lib.why_not = fmt::format("node {} is too old (Node.js 18 or later runs the JavaScript engines)", node);
         else if (!fs::exists(adapter, error))

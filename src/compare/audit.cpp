@@ -1,6 +1,6 @@
 #include "compare/audit.h"
 
-#include "core/fp_environment.h"
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <atomic>
@@ -9,10 +9,13 @@
 #include <cmath>
 #include <exception>
 #include <iterator>
+#include <mutex>
+#include <system_error>
 #include <thread>
 #include <tuple>
 
 #include "core/case_in_progress.h"
+#include "core/fp_environment.h"
 
 namespace rayverify {
 
@@ -345,14 +348,69 @@ audit_totals audit_accumulator::finish(unsigned threads) const {
     return totals;
 }
 
+namespace {
+
+// The first exception any of several threads met, to be rethrown on the
+// calling thread (an exception leaving a thread's function would end the
+// process in std::terminate, with its temporary outputs and lock left behind).
+class first_failure {
+public:
+    void keep() {
+        const std::lock_guard lock(mutex_);
+        if (!failure_) failure_ = std::current_exception();
+    }
+    bool any() {
+        const std::lock_guard lock(mutex_);
+        return failure_ != nullptr;
+    }
+    void rethrow() {
+        const std::lock_guard lock(mutex_);
+        if (failure_) std::rethrow_exception(failure_);
+    }
+
+private:
+    std::mutex mutex_;
+    std::exception_ptr failure_;
+};
+
+// Starts helper(w) on threads w = 1 .. wanted, as many as the system lets it
+// create (a container's pid limit, a lack of memory): one that cannot be
+// created is left out, never waited for, and said on stderr (once a process).
+// Returns how many started.
+unsigned start_helpers(std::vector<std::jthread>& helpers, unsigned wanted, const std::function<void(unsigned)>& helper) {
+    for (unsigned w = 1; w <= wanted; ++w) {
+        try {
+            helpers.emplace_back(helper, w);
+        } catch (const std::system_error& e) {
+            static std::atomic<bool> said{false};  // once a process: later passes meet the same limit
+            if (!said.exchange(true))
+                fmt::print(stderr, "rayverify: note: could start {} of the {} threads asked for ({}): working on {}\n",
+                           w, wanted + 1, e.code().message(), w);
+            return w - 1;
+        }
+    }
+    return wanted;
+}
+
+}  // namespace
+
 void run_in_parallel(std::size_t count, unsigned threads, const std::function<void(std::size_t)>& job) {
     std::atomic<std::size_t> next{0};
+    first_failure failure;
     const auto work = [&] {
-        for (std::size_t k; (k = next.fetch_add(1)) < count;) job(k);
+        try {
+            for (std::size_t k; (k = next.fetch_add(1)) < count && !failure.any();) job(k);
+        } catch (...) {
+            failure.keep();
+        }
     };
-    std::vector<std::jthread> helpers;
-    for (unsigned w = 1; w < std::min<std::size_t>(threads, count); ++w) helpers.emplace_back(work);
-    work();
+    {
+        std::vector<std::jthread> helpers;
+        start_helpers(helpers, static_cast<unsigned>(std::min<std::size_t>(threads, count)) - (count > 0 ? 1 : 0),
+                      [&](unsigned) { work(); });
+        work();
+    }  // joined
+    failure.rethrow();
 }
 
 unsigned audit_threads(const std::vector<audit_target>& targets, unsigned requested) {
@@ -395,18 +453,26 @@ audit_accumulator audit_stream(const case_source& next, const std::vector<audit_
     // reads the following chunk while the helpers start on this one (then
     // joins them), and runs the ordered hook between chunks. Only plugins
     // may throw during the work (they force one thread, so no helper waits then).
+    // A helper's exception (std::bad_alloc, a hook's) is kept and rethrown
+    // here once the chunk is done; a helper that cannot be started is left
+    // out of the barrier rather than waited for.
     std::barrier chunk_sync(static_cast<std::ptrdiff_t>(threads));
     bool finished = false;
+    first_failure helper_failure;
     std::vector<std::jthread> helpers;
-    for (unsigned w = 1; w < threads; ++w)
-        helpers.emplace_back([&, w] {
-            for (;;) {
-                chunk_sync.arrive_and_wait();  // a chunk is ready, or the stream ended
-                if (finished) return;
+    const unsigned started = start_helpers(helpers, threads - 1, [&](unsigned w) {
+        for (;;) {
+            chunk_sync.arrive_and_wait();  // a chunk is ready, or the stream ended
+            if (finished) return;
+            try {
                 work(w);
-                chunk_sync.arrive_and_wait();  // the chunk is done
+            } catch (...) {
+                helper_failure.keep();
             }
-        });
+            chunk_sync.arrive_and_wait();  // the chunk is done
+        }
+    });
+    for (unsigned missing = started + 1; missing < threads; ++missing) (void)chunk_sync.arrive_and_drop();
     std::size_t done = 0;
     std::exception_ptr failure;
     const auto read_next = [&] {
@@ -446,6 +512,13 @@ audit_accumulator audit_stream(const case_source& next, const std::vector<audit_
                 failure = std::current_exception();
             }
             if (threads > 1) chunk_sync.arrive_and_wait();  // even after a failure: the helpers finish the chunk
+            if (!failure && helper_failure.any()) {
+                try {
+                    helper_failure.rethrow();
+                } catch (...) {
+                    failure = std::current_exception();
+                }
+            }
             if (failure) break;
             if (hooks.ordered)
                 for (std::size_t i = 0; i < cases.size(); ++i) hooks.ordered(audited[i], indices[i], i);

@@ -73,13 +73,19 @@ TEST(Recommend, BudgetParses) {
     EXPECT_EQ(parse_budget("max-wrong=3").max_wrong, 3u);
     EXPECT_EQ(parse_budget("max-ulp=0.5").max_ulp, 0.5);
     for (const char* bad : {"", "max-ulp", "max-ulp=", "max-ulp=x", "max-ulp=4x", "max-ulp=-1", "max-wrong=-2",
-                            "speed=3", "max-ulp=inf"}) {
+                            "speed=3", "max-ulp=inf", "max-ulp=4,max-ulp=8"}) {
         try {
             parse_budget(bad);
             ADD_FAILURE() << "accepted '" << bad << "'";
         } catch (const input_error& e) {
             EXPECT_NE(std::string(e.what()).find("--budget"), std::string::npos) << e.what();
         }
+    }
+    try {
+        parse_budget("max-wrong=1,max-ulp=2,max-wrong=3");
+        ADD_FAILURE() << "accepted a key given twice";
+    } catch (const input_error& e) {
+        EXPECT_NE(std::string(e.what()).find("'max-wrong=3': the key is given twice"), std::string::npos) << e.what();
     }
 }
 

@@ -20,6 +20,7 @@ std::string recommend_budget::describe() const {
 
 recommend_budget parse_budget(const std::string& text) {
     recommend_budget budget;
+    std::vector<std::string> given;  // keys seen: one given twice would keep the last silently
     std::size_t start = 0;
     while (start <= text.size()) {
         const std::size_t comma = std::min(text.find(',', start), text.size());
@@ -31,6 +32,8 @@ recommend_budget parse_budget(const std::string& text) {
             throw input_error("", 0, "--budget", fmt::format("'{}': {} (expected max-ulp=X,max-wrong=N)", part, why));
         };
         if (eq == std::string::npos || value.empty()) bad("not KEY=VALUE");
+        if (std::find(given.begin(), given.end(), key) != given.end()) bad("the key is given twice");
+        given.push_back(key);
         std::size_t used = 0;
         try {
             if (key == "max-ulp") {

@@ -156,7 +156,10 @@ int run(const audit_options& options, const std::string& command_line) {
     const unsigned requested = options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency());
     const unsigned threads = audit_threads(targets, requested);
     if (threads < requested)
-        terminal::note("audit: a plugin is not thread-safe (called from one thread): auditing on one thread");
+        terminal::note(options.isolation.child_process
+                           ? "audit: --isolate answers each plugin's calls in one child process, one at a time: "
+                             "auditing on one thread"
+                           : "audit: a plugin is not thread-safe (called from one thread): auditing on one thread");
 
     // Every output is declared (opened as a temporary) before the audit and
     // committed only once all of them are complete: an error leaves no output behind.

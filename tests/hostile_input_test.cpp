@@ -662,6 +662,16 @@ std::vector<bad_input> bad_inputs() {
          "./modal.so: field '--plugin': the plugin's name '\\x1B[31mred' must be one token without '/', '#' or "
          "control characters",
          plugin_copy(modal_plugin, "modal.so"), false, "FIXTURE_MODE=escape_name"},
+        // What the user typed reaches the terminal escaped: no newline of theirs starts a line, no
+        // escape sequence colours it (one function: escaped_control, for every error).
+        {"a corpus id holding an escape sequence", "rayverify audit --corpus esc.txt",
+         one("esc.txt", good + "bad\x1b[31m - 0 0 -5 0 0 1 0 0 0 1\n"), 2,
+         "esc.txt:2: field 'id': expected a token without spaces or control characters, got 'bad\\x1B[31m'"},
+        {"`--variant` holding a newline and a line of its own",
+         "rayverify audit --variant \"$(printf 'naive\\nall checks passed')\"", {}, 2,
+         "field '--variant': unknown variant 'naive\\x0Aall checks passed'"},
+        {"`--precision` holding an escape sequence", "rayverify audit --precision \"$(printf '\\033[31mfloat')\"", {},
+         2, "--precision: \\x1B[31mfloat not in {float,double}"},
         // The floating-point environment (core/fp_environment.h): what a library sets at load is the
         // environment its calls run in, named; what a call changes is undone after it, with a warning.
         {"a plugin that sets FTZ+DAZ when it loads (as a library linked with `-ffast-math` does)",

@@ -8,6 +8,7 @@
 #include "cli/terminal.h"
 #include "core/build_info.h"
 #include "core/spelling.h"
+#include "core/target_name.h"
 #include "report/audit_report.h"
 
 namespace rayverify::cli {
@@ -178,8 +179,10 @@ std::string parse_error_text(const CLI::App& app, const CLI::ParseError& error, 
             }
         }
     }
-    std::string text = fmt::format("rayverify: error: {}\n", what);
-    if (!hint.empty()) text += fmt::format("rayverify: {}\n", hint);
+    // What the user typed is echoed in `what` and `hint`: shown escaped, so
+    // that no escape sequence or newline of theirs reaches the terminal raw.
+    std::string text = fmt::format("rayverify: error: {}\n", escaped_control(what));
+    if (!hint.empty()) text += fmt::format("rayverify: {}\n", escaped_control(hint));
     text += fmt::format("run '{} --help' for the options\n", path);
     return text;
 }

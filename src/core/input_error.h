@@ -9,6 +9,7 @@
 #include <string_view>
 
 #include "core/ray_sphere_case.h"
+#include "core/target_name.h"
 
 namespace rayverify {
 
@@ -47,7 +48,9 @@ private:
         std::string where = file.empty() ? std::string("<command line>") : file;
         if (line > 0) where += ":" + std::to_string(line);
         if (!field.empty()) where += ": field '" + field + "'";
-        return where + ": " + problem;
+        // A file name, a field or a value the user gave may hold an escape
+        // sequence or a newline: the message shows them escaped, one line.
+        return escaped_control(where + ": " + problem);
     }
 
     std::string file_;

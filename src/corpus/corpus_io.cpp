@@ -19,6 +19,8 @@
 #include <unordered_map>
 #include <utility>
 
+#include "core/target_name.h"
+
 namespace rayverify {
 
 namespace fs = std::filesystem;
@@ -55,9 +57,11 @@ std::string_view trim(std::string_view s) {
 constexpr std::string_view byte_order_mark = "\xEF\xBB\xBF";
 
 // An id or family must survive a trip through the text format: one token, not a comment.
+// One word: no blank, and no control character (an id is echoed to the
+// terminal, report.md and corpus lines: an ESC or a BEL would reach them raw).
 bool is_plain_token(std::string_view s) {
     return !s.empty() && s.front() != '#' && s.find(byte_order_mark) == std::string_view::npos &&
-           std::ranges::none_of(s, [](char c) { return is_space(c) || c == '\n'; });
+           std::ranges::none_of(s, [](char c) { return is_space(c) || is_control_byte(static_cast<unsigned char>(c)); });
 }
 
 int hex_digit_value(char c) {
@@ -155,12 +159,12 @@ corpus_case make_case(const case_cells& cells, const std::string& file, std::siz
     c.id = std::string(cells[id_field].value_or(""));
     if (!is_plain_token(c.id))
         throw input_error(file, line, "id",
-                          fmt::format("expected a token without spaces, got '{}'", c.id));
+                          fmt::format("expected a token without spaces or control characters, got '{}'", c.id));
     if (cells[family_field] && *cells[family_field] != "-")
         c.family = std::string(*cells[family_field]);
     if (!c.family.empty() && !is_plain_token(c.family))
         throw input_error(file, line, "family",
-                          fmt::format("expected a token without spaces, got '{}'", c.family));
+                          fmt::format("expected a token without spaces or control characters, got '{}'", c.family));
 
     std::array<double, 10> v{};
     for (std::size_t i = 0; i < v.size(); ++i)

@@ -195,6 +195,61 @@ TEST(Gate, NewFamiliesAndTargetsAreNotesAChangedFamilyIsStale) {
     EXPECT_FALSE(compare_to_baseline(b, {{{"other/double", "all", "cases"}, 3}}).passed()) << "nothing compared";
 }
 
+// A gate does not pass on less than its baseline: a family the corpus no
+// longer has and a target not run fail, naming them, unless the baseline or
+// --allow-missing allows them; a target that scored no case fails too.
+TEST(Gate, AnAbsentFamilyOrTargetFailsUnlessAllowed) {
+    const baseline b = parse_baseline("b.txt", sample);
+    figure_table current = b.figures;
+    current.erase({"naive/float", "far_sphere", "cases"});
+    current.erase({"naive/float", "far_sphere", "false_miss"});
+    current.erase({"naive/float", "far_sphere", "near_ulp_max"});
+    gate_result r = compare_to_baseline(b, current);
+    EXPECT_FALSE(r.passed()) << "a family left out of the corpus";
+    EXPECT_EQ(find_change(r, "naive/float far_sphere cases").kind, change_kind::missing);
+    EXPECT_TRUE(compare_to_baseline(b, current, default_figure_tolerance, {}, {"far_sphere"}).passed());
+    const baseline allowing = parse_baseline("b.txt", std::string(sample) + "allow-missing far_sphere\n");
+    EXPECT_TRUE(compare_to_baseline(allowing, current).passed());
+    EXPECT_NE(format_baseline(allowing).find("allow-missing far_sphere\n"), std::string::npos);
+
+    figure_table naive_only = b.figures;
+    for (auto it = naive_only.begin(); it != naive_only.end();)
+        it = it->first.target == "hearn_baker/double" ? naive_only.erase(it) : std::next(it);
+    r = compare_to_baseline(b, naive_only);
+    EXPECT_FALSE(r.passed()) << "a target of the baseline not run";
+    EXPECT_EQ(find_change(r, "hearn_baker/double all cases").kind, change_kind::missing);
+    EXPECT_TRUE(compare_to_baseline(b, naive_only, default_figure_tolerance, {}, {"hearn_baker"}).passed());
+    EXPECT_TRUE(compare_to_baseline(b, naive_only, default_figure_tolerance, {}, {"hearn_baker/double"}).passed());
+    EXPECT_EQ(parse_error("rayverify-baseline 1\nallow-missing\n"),
+              "b.txt:2: field 'allow-missing': expected 'allow-missing FAMILY|VARIANT|TARGET'");
+}
+
+// Every case invalid (tmin > tmax on every line): the audit scored nothing,
+// which is a finding, and the gate fails instead of passing as "better".
+TEST(Gate, ATargetThatScoredNoCaseFailsTheAuditAndTheGate) {
+    const scratch_directory dir("gate_unscored");
+    const fs::path corpus = dir.path() / "swapped.txt";
+    {
+        std::ofstream out(corpus);
+        for (int i = 0; i < 20; ++i) out << "s" << i << " fam 0 0 -5 0 0 1 0 0 0 1 3 1\n";  // tmin 3 > tmax 1
+    }
+    const command_result audited = run_cli("audit --variant naive --precision double --corpus '" + corpus.string() + "'");
+    EXPECT_EQ(audited.exit_code, 1) << audited.output;
+    EXPECT_NE(audited.output.find("audit: naive/double scored no case of 20"), std::string::npos) << audited.output;
+    const std::string baseline = (dir.path() / "b.txt").string();
+    const std::string good = (dir.path() / "good.txt").string();
+    std::ofstream(good) << "s0 fam 0 0 -5 0 0 1 0 0 0 1\n";
+    ASSERT_EQ(run_cli("gate --variant naive --precision double --corpus '" + good + "' --baseline '" + baseline +
+                      "' --update").exit_code,
+              0);
+    // The same ids and family, each now invalid: the gate may not read "better".
+    std::ofstream(good) << "s0 fam 0 0 -5 0 0 1 0 0 0 1 3 1\n";
+    const command_result gated = run_cli("gate --variant naive --precision double --corpus '" + good + "' --baseline '" +
+                                         baseline + "'");
+    EXPECT_EQ(gated.exit_code, 1) << gated.output;
+    EXPECT_NE(gated.output.find("NONE   naive/double: scored no case of this run"), std::string::npos) << gated.output;
+}
+
 TEST(Gate, CliUpdateThenGateThenRegressionWithJunitAndDiff) {
     const fs::path dir = fs::temp_directory_path() / "rayverify_gate_cli";
     fs::remove_all(dir);

@@ -27,6 +27,7 @@ struct gate_options {
     unsigned threads = 0;  // 0: every hardware thread
     results_options results;
     double tolerance = default_figure_tolerance;
+    std::vector<std::string> allow_missing;  // families, variants or targets of the baseline the run may lack
 };
 
 std::string read_text_file(const std::filesystem::path& path, const std::string& field) {
@@ -74,7 +75,8 @@ int run(const gate_options& options) {
     if (targets.empty()) throw input_error("", 0, "--precision", "no variant runs in the chosen precision");
 
     const unsigned threads = options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency());
-    const gate_run run = run_gate(cases, targets, base, options.examples, threads, options.tolerance);
+    const gate_run run =
+        run_gate(cases, targets, base, options.examples, threads, options.tolerance, options.allow_missing);
     if (updated != nullptr) {
         updated->stream() << format_baseline(updated_baseline(base, run.current, run.configurations));
         std::size_t changed = 0;
@@ -102,6 +104,10 @@ command add_gate_command(CLI::App& app) {
                 "max and p99 ULP error of each root) with a reviewed baseline. Exit 1 when a figure is worse "
                 "than the baseline's policy allows; better figures pass and say the baseline can be tightened.");
     sub->add_option("--baseline", options->baseline, "Baseline file (text, one figure a line)")->required();
+    sub->add_option("--allow-missing", options->allow_missing,
+                    "A family, variant or target of the baseline this run may leave out (repeatable); without it "
+                    "one that is absent fails the gate")
+        ->type_name("NAME");
     sub->add_option("--corpus", options->corpus,
                     "Corpus file (.txt or .csv) or directory of them; repeatable. Default: the shipped corpus");
     sub->add_option("--variant", options->variants, "Built-in variant to gate (repeatable; default: all)");

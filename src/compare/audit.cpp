@@ -111,6 +111,10 @@ std::size_t target_tally::disagreements() const {
 
 std::size_t target_tally::by_design() const { return by_design_count(causes); }
 
+std::size_t target_tally::scored() const {
+    return verdicts[static_cast<int>(verdict_kind::agree)] + disagreements();
+}
+
 // Bucket keys: 0 holds exactly 0; key k ≥ 1 holds the doubles whose bits,
 // shifted right by 52 − resolution_bits, equal k − 1. For non-negative
 // doubles (with +inf and NaN above every finite value) the bits order as the

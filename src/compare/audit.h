@@ -216,6 +216,8 @@ struct target_tally {
     std::size_t agree_far = 0;
     std::size_t disagreements() const;
     std::size_t by_design() const;  // disagreements with a by-design cause
+    // Cases judged: agreeing or disagreeing (not invalid, not breaking the contract).
+    std::size_t scored() const;
 };
 
 // The "agree but far" line: |t − t*|·|d| ≥ 2^-10 r (about 0.1% of the radius).

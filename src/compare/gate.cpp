@@ -6,6 +6,7 @@
 #include <array>
 #include <charconv>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <set>
 #include <utility>
@@ -189,6 +190,11 @@ baseline parse_baseline(const std::string& file, std::string_view text) {
             b.policies.push_back({words[1], words[2], value, std::exchange(pending, {})});
             continue;
         }
+        if (words[0] == "allow-missing") {
+            if (words.size() != 2) throw error("allow-missing", "expected 'allow-missing FAMILY|VARIANT|TARGET'");
+            b.allowed_missing.emplace_back(words[1], std::exchange(pending, {}));
+            continue;
+        }
         if (words[0] == "library") {
             if (words.size() < 3) throw error("library", "expected 'library VARIANT SET-UP'");
             if (words[1].find('/') != std::string::npos)
@@ -233,6 +239,10 @@ std::string format_baseline(const baseline& b) {
     for (const auto& [variant, line] : b.configurations) {
         comments(line.comments);
         out += fmt::format("library {} {}\n", variant, line.text);
+    }
+    for (const auto& [name, lines] : b.allowed_missing) {
+        comments(lines);
+        out += fmt::format("allow-missing {}\n", name);
     }
     std::string previous;
     for (const auto& [key, value] : b.figures) {
@@ -304,9 +314,9 @@ baseline updated_baseline(const baseline& old, const figure_table& current,
 }
 
 bool gate_result::passed() const {
-    if (compared == 0 || !configuration_changes.empty()) return false;
+    if (compared == 0 || !configuration_changes.empty() || !unscored.empty()) return false;
     return std::none_of(changes.begin(), changes.end(), [](const figure_change& c) {
-        return c.kind == change_kind::worse || c.kind == change_kind::stale;
+        return c.kind == change_kind::worse || c.kind == change_kind::stale || c.kind == change_kind::missing;
     });
 }
 
@@ -326,9 +336,13 @@ std::optional<figure_change> judge(const figure_key& key, double before, double 
     return change;
 }
 
+// Whether a family or target the baseline holds may be absent from a run;
+// nullptr: absence is only noted (`rayverify diff` compares what both have).
+using absence_rule = std::function<bool(const std::string& target, const std::string& family)>;
+
 template <class PolicyOf>
 gate_result compare_tables(const figure_table& before, const figure_table& after, const PolicyOf& policy_of,
-                    bool notes_for_unrun, double tolerance) {
+                    const absence_rule* may_be_absent, double tolerance) {
     gate_result result;
     std::set<std::string> targets_run, targets_known;
     for (const auto& entry : after) targets_run.insert(entry.first.target);
@@ -378,13 +392,21 @@ gate_result compare_tables(const figure_table& before, const figure_table& after
             result.notes.push_back(fmt::format("{}: in the baseline ({}), no value in this run (no agreeing case)",
                                                key.text(), number_text(value)));
     }
-    for (const auto& [target, family] : missing_families)
-        result.notes.push_back(fmt::format("{} {}: in the baseline, not in this corpus", target, family));
-    if (notes_for_unrun) {
-        std::size_t unrun = 0;
-        for (const std::string& t : targets_known) unrun += targets_run.count(t) ? 0 : 1;
-        if (unrun > 0) result.notes.push_back(fmt::format("{} target(s) in the baseline were not run", unrun));
-    }
+    const auto absent = [&](const std::string& target, const std::string& family, const std::string& what) {
+        if (may_be_absent == nullptr || (*may_be_absent)(target, family)) {
+            result.notes.push_back(fmt::format("{} {}: in the baseline, {}{}", target, family, what,
+                                               may_be_absent == nullptr ? "" : " (allowed)"));
+            return;
+        }
+        const auto cases = before.find({target, family, "cases"});
+        result.changes.push_back({{target, family, "cases"},
+                                  cases == before.end() ? std::nullopt : std::optional<double>(cases->second),
+                                  std::nullopt, change_kind::missing, 0});
+    };
+    for (const auto& [target, family] : missing_families) absent(target, family, "not in this corpus");
+    if (may_be_absent != nullptr)
+        for (const std::string& t : targets_known)
+            if (!targets_run.count(t)) absent(t, std::string(all_families), "not run");
     std::stable_sort(result.changes.begin(), result.changes.end(),
                      [](const figure_change& a, const figure_change& b) { return a.key < b.key; });
     return result;
@@ -393,9 +415,16 @@ gate_result compare_tables(const figure_table& before, const figure_table& after
 }  // namespace
 
 gate_result compare_to_baseline(const baseline& base, const figure_table& current, double tolerance,
-                                const configuration_table& current_configurations) {
+                                const configuration_table& current_configurations,
+                                const std::vector<std::string>& allow_missing) {
+    std::set<std::string> allowed(allow_missing.begin(), allow_missing.end());
+    for (const auto& [name, unused] : base.allowed_missing) allowed.insert(name);
+    const absence_rule may_be_absent = [&](const std::string& target, const std::string& family) {
+        return allowed.count(family) > 0 || allowed.count(target) > 0 || allowed.count(variant_of(target)) > 0;
+    };
     gate_result result = compare_tables(
-        base.figures, current, [&](const std::string& target) { return base.policy_for(target); }, true, tolerance);
+        base.figures, current, [&](const std::string& target) { return base.policy_for(target); }, &may_be_absent,
+        tolerance);
     std::set<std::string> variants_run, variants_known;
     for (const auto& entry : current) variants_run.insert(variant_of(entry.first.target));
     for (const auto& entry : base.figures) variants_known.insert(variant_of(entry.first.target));
@@ -416,7 +445,7 @@ gate_result compare_to_baseline(const baseline& base, const figure_table& curren
 
 gate_result compare_figures(const figure_table& before, const figure_table& after, const gate_policy& policy,
                             double tolerance) {
-    return compare_tables(before, after, [&](const std::string&) { return policy; }, false, tolerance);
+    return compare_tables(before, after, [&](const std::string&) { return policy; }, nullptr, tolerance);
 }
 
 void gate_examples::add(const audited_case& c, const std::vector<audit_target>& targets) {
@@ -456,13 +485,17 @@ std::vector<const corpus_case*> gate_examples::cases_for(const figure_key& key, 
 }
 
 gate_run run_gate(std::span<const corpus_case> cases, const std::vector<audit_target>& targets,
-                  const baseline& base, std::size_t examples_per_figure, unsigned threads, double tolerance) {
+                  const baseline& base, std::size_t examples_per_figure, unsigned threads, double tolerance,
+                  const std::vector<std::string>& allow_missing) {
     gate_run run;
     run.examples = gate_examples(examples_per_figure);
     run.totals = run_audit(cases, targets, [&](const audited_case& c) { run.examples.add(c, targets); }, {}, threads);
     run.current = figures_of(run.totals);
     run.configurations = configurations_of(targets);
-    run.result = compare_to_baseline(base, run.current, tolerance, run.configurations);
+    run.result = compare_to_baseline(base, run.current, tolerance, run.configurations, allow_missing);
+    for (std::size_t i = 0; i < run.totals.targets.size(); ++i)
+        if (run.totals.overall[i].cases > 0 && run.totals.overall[i].scored() == 0)
+            run.result.unscored.push_back(run.totals.targets[i].label());
     return run;
 }
 

@@ -84,6 +84,9 @@ struct baseline {
     std::vector<std::string> format_comments;  // comment lines above the format line
     std::vector<policy_line> policies;          // in file order; the last matching line wins
     std::map<std::string, configuration_line> configurations;  // `library VARIANT TEXT` lines, by variant
+    // `allow-missing NAME` lines: a family, a variant or a target the baseline
+    // holds that a run may leave out (each with the comment lines above it).
+    std::vector<std::pair<std::string, std::vector<std::string>>> allowed_missing;
     figure_table figures;
     std::map<figure_key, std::vector<std::string>> comments;  // comment lines above each figure
     std::vector<std::string> trailing_comments;                // after the last entry, or orphaned by --update
@@ -114,6 +117,8 @@ enum class change_kind {
     better,        // the baseline can be tightened
     stale,         // the family's case count changed: figures not comparable, fails
     new_entry,     // no baseline for it: reported, not a failure
+    missing,       // in the baseline, absent from the run (a family not in the corpus, a target not run):
+                   // fails unless allowed (`allow-missing NAME`, --allow-missing NAME)
 };
 
 struct figure_change {
@@ -132,6 +137,9 @@ struct configuration_change {
 struct gate_result {
     std::vector<figure_change> changes;  // every figure that differs, in figure_key order
     std::vector<configuration_change> configuration_changes;  // each fails the gate
+    // Targets (labels) that scored no case of the run (each invalid at its
+    // precision or breaking its contract): they passed nothing, and fail.
+    std::vector<std::string> unscored;
     std::vector<std::string> notes;      // what was not compared, and why
     std::size_t compared = 0;            // figures compared with a baseline value
     bool passed() const;
@@ -147,11 +155,16 @@ struct gate_result {
 // noise); counts are compared exactly.
 // A variant run whose library set-up differs from the baseline's `library`
 // line is a configuration_change (a failure); one the baseline has figures
-// for but no `library` line, while this run reports one, a note.
+// for but no `library` line, while this run reports one, a note. A family or
+// target of the baseline that the run lacks is `missing` (a failure: a gate
+// does not pass on less than it was asked to judge) unless the baseline's
+// `allow-missing` lines or `allow_missing` name it (a family, a variant or a
+// target), which makes it a note.
 inline constexpr double default_figure_tolerance = 1e-9;
 gate_result compare_to_baseline(const baseline& base, const figure_table& current,
                                 double tolerance = default_figure_tolerance,
-                                const configuration_table& current_configurations = {});
+                                const configuration_table& current_configurations = {},
+                                const std::vector<std::string>& allow_missing = {});
 
 // Every difference between two figure tables, judged with one policy
 // (`rayverify diff`: before = A, after = B).
@@ -184,6 +197,6 @@ struct gate_run {
 };
 gate_run run_gate(std::span<const corpus_case> cases, const std::vector<audit_target>& targets,
                   const baseline& base, std::size_t examples_per_figure, unsigned threads = 1,
-                  double tolerance = default_figure_tolerance);
+                  double tolerance = default_figure_tolerance, const std::vector<std::string>& allow_missing = {});
 
 }  // namespace rayverify

@@ -24,6 +24,12 @@ std::string change_line(const figure_change& c) {
     if (c.kind == change_kind::worse || c.kind == change_kind::within_slack)
         line += fmt::format(" (allowed ≤ {})", value_text(c.limit));
     if (c.kind == change_kind::stale) line += " (the family's cases changed: figures not comparable; review, then --update)";
+    if (c.kind == change_kind::missing)
+        line = fmt::format("{} {}: in the baseline ({} cases), {} (a gate does not pass on less than its baseline; "
+                           "--allow-missing {} or an 'allow-missing' line allows it)",
+                           c.key.target, c.key.family, value_text(c.before),
+                           c.key.family == all_families ? "not run" : "not in this corpus",
+                           c.key.family == all_families ? c.key.target.substr(0, c.key.target.find('/')) : c.key.family);
     return line;
 }
 
@@ -41,7 +47,15 @@ std::string xml_escaped(std::string_view text) {
     return out;
 }
 
-bool fails(const figure_change& c) { return c.kind == change_kind::worse || c.kind == change_kind::stale; }
+bool fails(const figure_change& c) {
+    return c.kind == change_kind::worse || c.kind == change_kind::stale || c.kind == change_kind::missing;
+}
+
+std::string unscored_line(const std::string& target) {
+    return fmt::format("{}: scored no case of this run (each is invalid at its precision or breaks its contract): it "
+                       "passed nothing",
+                       target);
+}
 
 std::string configuration_change_line(const configuration_change& c) {
     return fmt::format("{}: library set-up '{}' in the baseline, '{}' in this run (its answers depend on it: gate a "
@@ -67,12 +81,13 @@ std::string example_lines(const gate_run& run, const figure_change& c, std::span
 std::string render_gate_text(const gate_run& run, std::span<const corpus_case> corpus) {
     const gate_result& r = run.result;
     std::string out;
-    std::size_t worse = 0, better = 0, slack = 0, fresh = 0;
+    std::size_t worse = 0, absent = 0, better = 0, slack = 0, fresh = 0;
     for (const configuration_change& c : r.configuration_changes) out += fmt::format("SETUP  {}\n", configuration_change_line(c));
+    for (const std::string& t : r.unscored) out += fmt::format("NONE   {}\n", unscored_line(t));
     for (const figure_change& c : r.changes) {
         if (!fails(c)) continue;
-        ++worse;
-        out += fmt::format("WORSE  {}\n", change_line(c));
+        ++(c.kind == change_kind::missing ? absent : worse);
+        out += fmt::format("{} {}\n", c.kind == change_kind::missing ? "ABSENT" : "WORSE ", change_line(c));
         out += example_lines(run, c, corpus, "    ");
     }
     for (const figure_change& c : r.changes) {
@@ -91,10 +106,13 @@ std::string render_gate_text(const gate_run& run, std::span<const corpus_case> c
     if (r.compared == 0)
         out += "gate: FAILED: no figure of this run has a baseline value (wrong baseline, or create it with --update)\n";
     else if (!r.passed())
-        out += fmt::format("gate: FAILED: {} figure(s) worse than the baseline allows{}; {} compared\n", worse,
+        out += fmt::format("gate: FAILED: {} figure(s) worse than the baseline allows{}{}{}; {} compared\n", worse,
+                           absent == 0 ? std::string() : fmt::format(", {} family or target group(s) absent", absent),
                            r.configuration_changes.empty()
                                ? std::string()
                                : fmt::format(", {} library set-up(s) not the baseline's", r.configuration_changes.size()),
+                           r.unscored.empty() ? std::string()
+                                              : fmt::format(", {} target(s) scored no case", r.unscored.size()),
                            r.compared);
     else
         out += fmt::format("gate: passed: {} figures compared, {} better{}, {} worse within the policy's slack\n",
@@ -110,6 +128,17 @@ std::string render_junit(const gate_run& run, std::span<const corpus_case> corpu
 
     std::string suites;
     std::size_t total_tests = 0, total_failures = 0;
+    if (!run.result.unscored.empty()) {
+        std::string cases;
+        for (const std::string& t : run.result.unscored)
+            cases += fmt::format("    <testcase classname=\"scored cases\" name=\"{}\">\n      <failure message=\"scored no "
+                                 "case\">{}</failure>\n    </testcase>\n",
+                                 xml_escaped(t), xml_escaped(unscored_line(t)));
+        total_tests += run.result.unscored.size();
+        total_failures += run.result.unscored.size();
+        suites += fmt::format("  <testsuite name=\"scored cases\" tests=\"{0}\" failures=\"{0}\">\n{1}  </testsuite>\n",
+                              run.result.unscored.size(), cases);
+    }
     if (!run.result.configuration_changes.empty()) {
         std::string cases;
         for (const configuration_change& c : run.result.configuration_changes)
@@ -206,6 +235,7 @@ std::string render_figure_diff(const gate_result& result) {
             case change_kind::within_slack: tag = "worse "; ++worse; break;
             case change_kind::better: tag = "better"; ++better; break;
             case change_kind::stale: tag = "cases "; break;
+            case change_kind::missing: tag = "only A"; break;
             case change_kind::new_entry: tag = "only B"; break;
         }
         out += fmt::format("{} {}\n", tag, change_line(figure_change{c.key, c.before, c.after, change_kind::better, 0}));

@@ -4,8 +4,8 @@
 #include "cli/shipped_libraries.h"
 #include "core/fp_environment.h"
 #include "core/input_error.h"
-#include "core/target_name.h"
 #include "core/spelling.h"
+#include "core/target_name.h"
 #include "plugin/plugin_loader.h"
 
 namespace rayverify::cli {

@@ -171,13 +171,13 @@ struct device_setup {
 device_setup choose_device() {
     device_setup out;
     std::string forced;
-    const char* how = nullptr;
+    enum class chosen_by { embree, pin, test_hook } how = chosen_by::embree;
     if (pinned_kernel != nullptr) {
         forced = pinned_kernel;
-        how = "pinned";
+        how = chosen_by::pin;
     } else if (const char* test = std::getenv(test_kernel_variable); test != nullptr && *test != '\0') {
         forced = test;
-        how = "test hook";
+        how = chosen_by::test_hook;
         if (!is_kernel_name(forced)) {
             out.unavailable = std::string(test_kernel_variable) + "='" + forced +
                               "' names no Embree kernel (sse2, sse4.2, avx, avx2, avx512)";
@@ -197,13 +197,14 @@ device_setup choose_device() {
         return out;
     }
     const std::string kernel = report.kernel.empty() ? "unknown (Embree's verbose output named none)" : report.kernel;
-    if (how == nullptr)
-        out.configuration_line = "kernel " + kernel + ", Embree's choice for this CPU";
-    else if (std::string(how) == "pinned")
-        out.configuration_line = "kernel " + kernel + ", pinned with isa=" + forced;
-    else
-        out.configuration_line = "kernel " + kernel + ", set by " + test_kernel_variable +
-                                 " (a test hook: as on a CPU whose best kernel it is)";
+    switch (how) {
+        case chosen_by::embree: out.configuration_line = "kernel " + kernel + ", Embree's choice for this CPU"; break;
+        case chosen_by::pin: out.configuration_line = "kernel " + kernel + ", pinned with isa=" + forced; break;
+        case chosen_by::test_hook:
+            out.configuration_line = "kernel " + kernel + ", set by " + test_kernel_variable +
+                                     " (a test hook: as on a CPU whose best kernel it is)";
+            break;
+    }
     return out;
 }
 

@@ -325,7 +325,7 @@ int publish_audit(const audit_totals& totals, const std::optional<nlohmann::orde
     for (const target_tally& t : totals.overall) findings = findings || t.disagreements() > 0;
     // A target that judged nothing passed nothing: a finding, said.
     for (std::size_t i = 0; i < totals.targets.size(); ++i)
-        if (totals.overall[i].cases > 0 && totals.overall[i].scored() == 0) {
+        if (totals.overall[i].scored_nothing()) {
             terminal::note(fmt::format("audit: {} scored no case of {}: each is invalid at its precision or breaks "
                                        "its contract (not scored): a finding, not a pass",
                                        totals.targets[i].label(), totals.overall[i].cases));

@@ -5,7 +5,6 @@
 #include "core/fp_environment.h"
 #include "core/input_error.h"
 #include "core/spelling.h"
-#include "core/target_name.h"
 #include "plugin/plugin_loader.h"
 
 namespace rayverify::cli {
@@ -103,15 +102,15 @@ void add_fp_environment(fp_environment_choice& choice, const std::string& value)
     if (!spec)
         throw input_error("", 0, "--fp-env",
                           fmt::format("'{}' is not an environment: one of {}, joined with '+' (one rounding at most)",
-                                      escaped_control(environment), fp_environment_names));
+                                      environment, fp_environment_names));
     settable_fp_state(*spec);
     if (equals == std::string::npos) {
         if (choice.every) throw input_error("", 0, "--fp-env", "two environments for every target: give one, or TARGET=ENV");
         choice.every = *spec;
     } else if (name.empty() || !choice.by_target.emplace(name, *spec).second) {
         throw input_error("", 0, "--fp-env",
-                          name.empty() ? std::string("'=") + escaped_control(environment) + "' names no target"
-                                       : fmt::format("two environments for target '{}'", escaped_control(name)));
+                          name.empty() ? "'=" + environment + "' names no target"
+                                       : fmt::format("two environments for target '{}'", name));
     }
 }
 
@@ -131,7 +130,7 @@ void check_fp_environment_targets(const fp_environment_choice& choice, const std
             for (const audit_target& t : targets)
                 if (std::find(names.begin(), names.end(), t.subject.name) == names.end()) names.push_back(t.subject.name);
             throw input_error("", 0, "--fp-env",
-                              fmt::format("'{}={}' names no target of this run{}", escaped_control(name),
+                              fmt::format("'{}={}' names no target of this run{}", name,
                                           fp_environment_name(spec), did_you_mean(name, names)));
         }
         if (answers_elsewhere(*named))

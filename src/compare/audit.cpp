@@ -15,7 +15,6 @@
 #include <tuple>
 
 #include "core/case_in_progress.h"
-#include "core/fp_environment.h"
 
 namespace rayverify {
 
@@ -30,9 +29,6 @@ std::vector<audit_target> targets_for(std::span<const variant> variants) {
 void audit_case_into(audited_case& out, const corpus_case& c, std::span<const audit_target> targets,
                      std::span<const given_answer> given) {
     const case_in_progress announced(c);  // named by a plugin that crashes or hangs on it
-    // The judge and the measures run in the IEEE default, whatever a target
-    // left (each target's calls restore it: this is the backstop).
-    restore_ieee_default();
     out.source = &c;
     out.exact_double = solve_case(c, precision::binary64);
     const bool float_used = std::any_of(targets.begin(), targets.end(),

@@ -218,6 +218,9 @@ struct target_tally {
     std::size_t by_design() const;  // disagreements with a by-design cause
     // Cases judged: agreeing or disagreeing (not invalid, not breaking the contract).
     std::size_t scored() const;
+    // Cases were audited and none was judged: the target passed nothing (a
+    // finding of audit, a failure of the gate).
+    bool scored_nothing() const { return cases > 0 && scored() == 0; }
 };
 
 // The "agree but far" line: |t − t*|·|d| ≥ 2^-10 r (about 0.1% of the radius).

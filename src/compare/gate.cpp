@@ -494,7 +494,7 @@ gate_run run_gate(std::span<const corpus_case> cases, const std::vector<audit_ta
     run.configurations = configurations_of(targets);
     run.result = compare_to_baseline(base, run.current, tolerance, run.configurations, allow_missing);
     for (std::size_t i = 0; i < run.totals.targets.size(); ++i)
-        if (run.totals.overall[i].cases > 0 && run.totals.overall[i].scored() == 0)
+        if (run.totals.overall[i].scored_nothing())
             run.result.unscored.push_back(run.totals.targets[i].label());
     return run;
 }

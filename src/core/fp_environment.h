@@ -92,14 +92,4 @@ struct fp_environment_choice {
     bool empty() const { return !every && by_target.empty(); }
 };
 
-// Sets `state` on the calling thread for the life of the scope, then the IEEE
-// default again (what rayverify's own arithmetic runs in).
-class fp_state_scope {
-public:
-    explicit fp_state_scope(const fp_state& state) { set_fp_state(state); }
-    ~fp_state_scope() { set_fp_state(ieee_default_fp_state()); }
-    fp_state_scope(const fp_state_scope&) = delete;
-    fp_state_scope& operator=(const fp_state_scope&) = delete;
-};
-
 }  // namespace rayverify

@@ -683,6 +683,9 @@ exact_solution solve_exact(const ray_sphere<double>& g, precision prec, std::opt
     // The filters' error bounds assume rounding to nearest and gradual
     // underflow: whatever foreign code left on this thread, the truth is
     // computed in the IEEE default (core/fp_environment.h; a few instructions).
+    // Every audited case, hunted candidate and explained case is solved here
+    // first, and each target's calls restore the default after them, so the
+    // judge and the measures that follow run in it too.
     restore_ieee_default();
     exact_solution solution = exact_solution::internal::filtered(g, prec, tmin, tmax);
     if (solution.valid()) {

@@ -19,6 +19,7 @@
 #include <functional>
 #include <random>
 #include <set>
+#include <regex>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -66,9 +67,15 @@ struct run_result {
     // What the tool answered: the first line of stderr, or else the stdout
     // line starting with `prefix` (for bad input that is accepted and listed).
     std::string answer(const std::string& prefix) const {
-        std::istringstream lines(err.empty() ? out : err);
-        for (std::string line; std::getline(lines, line);)
-            if (!err.empty() || line.starts_with(prefix)) return line;
+        // The summary of what a command read from each corpus argument
+        // ("audit: read corpus: 6 files, ...") is a note, not the answer.
+        static const std::regex reading_note("^[a-z]+: read .*: [0-9]+ files?, [0-9]+ cases?.*");
+        std::istringstream err_lines(err);
+        for (std::string line; std::getline(err_lines, line);)
+            if (!std::regex_match(line, reading_note)) return line;
+        std::istringstream out_lines(out);
+        for (std::string line; std::getline(out_lines, line);)
+            if (line.starts_with(prefix)) return line;
         return "";
     }
 };

@@ -198,6 +198,7 @@ int run(const audit_options& options, const std::string& command_line) {
                                                                      : nullptr,
                                        progress.reporter(), failures != nullptr ? &failures->stream() : nullptr);
     progress.finish();
+    if (!stream.reading().arguments.empty()) terminal::note("audit: read " + stream.reading().text());
 
     run_context context{recorded_command(command_line), {}, {}};
     for (const auto& p : paths) context.corpus_paths.push_back(p.string());

@@ -198,10 +198,12 @@ int run(const bench_options& options, const std::string& command_line) {
     std::vector<std::filesystem::path> paths(options.corpus.begin(), options.corpus.end());
     if (paths.empty()) paths.emplace_back(default_corpus());
     std::vector<corpus_case> cases;
-    for (corpus_case& c : read_corpus(paths))
+    corpus_reading reading;
+    for (corpus_case& c : read_corpus(paths, &reading))
         if (options.families.empty() ||
             std::find(options.families.begin(), options.families.end(), c.family) != options.families.end())
             cases.push_back(std::move(c));
+    terminal::note("bench: read " + reading.text());
     if (cases.empty()) throw input_error("", 0, "--family", "no case of the chosen families in the corpus");
     if (options.oracle && !options.benchmark_json.empty())
         throw input_error("", 0, "--benchmark-json", "times the variants: not with --oracle");

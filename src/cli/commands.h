@@ -64,7 +64,9 @@ struct results_options {
     std::string file, contract_spec, name;
     std::string command;
     std::string format = "jsonl";  // of --command's batches
-    double command_timeout = 60;   // seconds a --command program may take over one batch
+    // Seconds a --command program or an engine's program may take over one
+    // batch before it is killed; unset: 60 for --command, 300 for an engine.
+    std::optional<double> command_timeout;
     std::vector<std::string> engines;
 };
 

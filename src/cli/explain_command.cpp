@@ -198,7 +198,7 @@ int run(const explain_options& options) {
     if (!options.case_id.empty()) {
         std::vector<std::filesystem::path> paths(options.corpus.begin(), options.corpus.end());
         if (paths.empty()) paths.emplace_back(default_corpus());
-        corpus = read_corpus(paths);
+        corpus = read_corpus(paths);  // to find one case by id: no summary of what was read
     }
     const corpus_case c = options.case_id.empty() ? case_from_arguments(options.values) : case_from_corpus(options, corpus);
     // A results file answers its corpus, found by id; a program is asked this one case.

@@ -58,6 +58,7 @@ int run_export(const export_options& o) {
             indices.clear();
         }
         count = first.total();
+        if (!first.reading().arguments.empty()) terminal::note("export: read " + first.reading().text());
         fingerprint = first.fingerprint();
     }
     const precision prec = !o.precision.empty() ? named_precision(o.precision)

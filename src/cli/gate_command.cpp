@@ -64,7 +64,9 @@ int run(const gate_options& options) {
     declare_results_inputs(outputs, options.results);
     output_file* updated = options.update ? &outputs.file(baseline_path, "--baseline") : nullptr;
     output_file* junit = !options.update && !options.junit.empty() ? &outputs.file(options.junit, "--junit") : nullptr;
-    const std::vector<corpus_case> cases = read_corpus(paths);
+    corpus_reading reading;
+    const std::vector<corpus_case> cases = read_corpus(paths, &reading);
+    terminal::note("gate: read " + reading.text());
     const std::vector<audit_target> outside = outside_targets(options.results, options.precisions, [&](const case_sink& add) {
         for (const corpus_case& c : cases) add(c);
         return fingerprint_of(cases);

@@ -13,6 +13,7 @@
 #include "cli/commands.h"
 #include "cli/manual.h"
 #include "cli/terminal.h"
+#include "core/child_processes.h"
 #include "core/input_error.h"
 #include "core/outputs.h"
 #include "corpus/corpus_io.h"
@@ -44,8 +45,9 @@ int printed(const CLI::App& app, const CLI::ParseError& e) {
     tell(errors.str());
     const std::string out = text.str();
     errno = 0;
-    if (std::fwrite(out.data(), 1, out.size(), stdout) != out.size() || std::fflush(stdout) != 0) {
-        const int error = errno;
+    if (std::fwrite(out.data(), 1, out.size(), stdout) != out.size() || std::fflush(stdout) != 0 ||
+        rayverify::standard_output_closed_by_reader()) {
+        const int error = rayverify::standard_output_closed_by_reader() ? EPIPE : errno;
         tell(fmt::format("rayverify: error: standard output: cannot write: {}\n",
                          error != 0 ? std::generic_category().message(error) : std::string("a write failed")));
         return rayverify::cli::exit_input_error;
@@ -60,6 +62,8 @@ int main(int argc, char** argv) {
     // From here on, an exit() is not the command's own (a plugin's: plugin/plugin_loader.cpp),
     // and a signal removes the outputs a command left unfinished.
     const running_command running;
+    guard_standard_output();
+    become_child_subreaper();  // what a program started and left behind comes back to rayverify (core/child_processes.h)
     std::string command_line;
     for (int i = 0; i < argc; ++i) command_line += (i ? " " : "") + std::string(argv[i]);
 
@@ -99,7 +103,7 @@ int main(int argc, char** argv) {
         for (const cli::command& command : commands)
             if (command.parser->parsed()) {
                 const int code = command.run();
-                check_standard_output();  // a lost table is not a success
+                check_standard_output_at_exit();  // a lost table is not a success
                 return code;
             }
         return cli::exit_input_error;

@@ -63,10 +63,10 @@ void add_results_options(CLI::App* sub, results_options& options) {
         ->needs(command)
         ->capture_default_str();
     sub->add_option("--command-timeout", options.command_timeout,
-                    "With --command: seconds the program may take over one batch of cases before it is killed")
-        ->check(finite_number(0.001, 86400))
-        ->needs(command)
-        ->capture_default_str();
+                    "Seconds a --command program, or an engine that runs as a program (node), may take over one "
+                    "batch of 4096 cases before it is killed (default: 60 for --command, 300 for an engine, whose "
+                    "first batch also starts node and loads the library)")
+        ->check(finite_number(0.001, 86400));
     sub->add_option("--engine", options.engines,
                     "An engine's library as its package installs it (`rayverify engines` lists them: Embree, "
                     "Bullet, ODE, three.js, ...), audited as a variant under its own name (repeatable)");
@@ -169,8 +169,10 @@ audit_target results_file_target(const results_options& options, const case_feed
 // Cases a program is sent at once: few enough to keep a batch's text small,
 // enough that starting a batch costs nothing beside answering it.
 constexpr std::size_t program_batch_cases = 4096;
-// The longest an engine's program may take over one batch: a guard against a
-// hang (a batch takes well under a second), generous for a loaded machine.
+// The longest a program may take over one batch unless --command-timeout
+// says otherwise: a guard against a hang. An engine's batch takes well under
+// a second; its 300 s are generous for a loaded machine.
+constexpr double command_program_timeout = 60;
 constexpr double engine_program_timeout = 300;
 
 // `target` (an outside target) answered by a program: the whole input sent
@@ -232,7 +234,7 @@ std::vector<audit_target> outside_targets(const results_options& options, const 
         audit_target target = outside_target(options.name, options.contract_spec, "command " + options.command,
                                              program_precision(precisions, scene_precision));
         answer_by_program(target, options.command, *exchange_format_from_name(options.format),
-                          options.command_timeout, feed);
+                          options.command_timeout.value_or(command_program_timeout), feed);
         targets.push_back(std::move(target));
     }
     for (const shipped_library& lib : requested_libraries(options.engines)) {
@@ -249,7 +251,8 @@ std::vector<audit_target> outside_targets(const results_options& options, const 
                                              prec);
         target.subject.library = lib.identity;
         if (!scene_precision || *scene_precision == prec)
-            answer_by_program(target, lib.command, exchange_format::jsonl, engine_program_timeout, feed);
+            answer_by_program(target, lib.command, exchange_format::jsonl,
+                              options.command_timeout.value_or(engine_program_timeout), feed);
         else
             target.recorded = std::make_shared<answer_book>();  // no answers: the scene audit says why
         targets.push_back(std::move(target));

@@ -32,6 +32,13 @@ bool colour_allowed() {
     return isatty(STDOUT_FILENO) != 0;
 }
 
+// Notes and progress never fail a command: a stderr that cannot be written
+// (closed by `2>&1 | head`) loses them, nothing else.
+void to_stderr(std::string_view text) {
+    std::fwrite(text.data(), 1, text.size(), stderr);
+    std::fflush(stderr);
+}
+
 std::string painted(std::string_view text, const char* code) {
     if (!current().colour) return std::string(text);
     return fmt::format("\033[{}m{}\033[0m", code, text);
@@ -82,7 +89,7 @@ std::string coloured_verdicts(const std::string& text) {
 }
 
 void note(std::string_view text) {
-    if (!current().quiet) fmt::print(stderr, "{}\n", text);
+    if (!current().quiet) to_stderr(fmt::format("{}\n", text));
 }
 
 std::string clock_text(double seconds) {
@@ -129,8 +136,7 @@ void progress::draw(double done, std::string_view extra) {
         line += fmt::format(" {}, {} elapsed", unit_, clock_text(elapsed));
     }
     if (!extra.empty()) line += fmt::format(", {}", extra);
-    fmt::print(stderr, "\r\033[K{}", line);
-    std::fflush(stderr);
+    to_stderr(fmt::format("\r\033[K{}", line));
     drawn_ = true;
 }
 
@@ -139,7 +145,7 @@ void progress::finish() {
     finished_ = true;
     if (!shown_ || !drawn_) return;
     draw(last_done_, last_extra_);
-    fmt::print(stderr, "\n");
+    to_stderr("\n");
 }
 
 }  // namespace rayverify::cli::terminal

@@ -24,6 +24,7 @@
 #include <streambuf>
 #include <utility>
 
+#include "core/child_processes.h"
 #include "core/input_error.h"
 
 namespace rayverify {
@@ -89,11 +90,12 @@ void remove_directory_now(const char* path) noexcept {
     ::rmdir(path);
 }
 
-const int cleanup_signals[] = {SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGPIPE};
+const int cleanup_signals[] = {SIGINT, SIGTERM, SIGHUP, SIGQUIT};
 struct sigaction previous_actions[std::size(cleanup_signals)];
 
 void on_cleanup_signal(int signal) {
     const int saved_errno = errno;
+    end_program_sessions_now();  // the programs and engines running, and all they started
     remove_unfinished_outputs();
     // The signal's own action (the default: end the process) as soon as this handler returns.
     for (std::size_t i = 0; i < std::size(cleanup_signals); ++i)
@@ -115,6 +117,18 @@ void install_signal_handlers() {
             if (previous_actions[i].sa_handler == SIG_IGN) continue;
             ::sigaction(cleanup_signals[i], &action, nullptr);
         }
+        // A reader that closes a pipe (`rayverify audit --report d | head`)
+        // makes the write fail with EPIPE instead of ending the process: what
+        // remains of standard output is dropped, the files are still written
+        // (guard_standard_output). A handler, not SIG_IGN, so that the
+        // programs rayverify starts get the default action back at exec.
+        struct sigaction pipe_action {};
+        pipe_action.sa_handler = [](int) {};
+        pipe_action.sa_flags = SA_RESTART;
+        sigemptyset(&pipe_action.sa_mask);
+        struct sigaction caller_pipe_action {};
+        ::sigaction(SIGPIPE, nullptr, &caller_pipe_action);
+        if (caller_pipe_action.sa_handler != SIG_IGN) ::sigaction(SIGPIPE, &pipe_action, nullptr);
         // Past RLIMIT_FSIZE a write fails with EFBIG (an error we report and
         // clean up after) instead of the default SIGXFSZ ending the process.
         ::signal(SIGXFSZ, SIG_IGN);
@@ -598,6 +612,44 @@ void write_file_atomically(const fs::path& path, const std::string& contents) {
     outputs.commit();
 }
 
+namespace {
+
+// Set once the reader of standard output has closed it (EPIPE): what is
+// written after that is dropped.
+std::atomic<bool> standard_output_closed{false};
+
+// Standard output's writes, through fopencookie: a closed pipe drops the
+// rest; any other failure (a full disk) is the stream's error, as before.
+ssize_t write_standard_output(void*, const char* data, std::size_t size) {
+    for (std::size_t done = 0; done < size && !standard_output_closed.load();) {
+        const ssize_t n = ::write(STDOUT_FILENO, data + done, size - done);
+        if (n >= 0) {
+            done += static_cast<std::size_t>(n);
+        } else if (errno == EPIPE) {
+            standard_output_closed.store(true);
+        } else if (errno != EINTR) {
+            return 0;  // fopencookie's "error": the stream's error flag, errno kept
+        }
+    }
+    return static_cast<ssize_t>(size);
+}
+
+}  // namespace
+
+void guard_standard_output() {
+    static std::once_flag once;
+    std::call_once(once, [] {
+        const cookie_io_functions_t io{nullptr, write_standard_output, nullptr, nullptr};
+        FILE* guarded = ::fopencookie(nullptr, "w", io);
+        if (guarded == nullptr) return;  // stdout as it was: a closed pipe then ends the write with an error
+        std::fflush(stdout);
+        ::setvbuf(guarded, nullptr, ::isatty(STDOUT_FILENO) ? _IOLBF : _IOFBF, BUFSIZ);
+        stdout = guarded;
+    });
+}
+
+bool standard_output_closed_by_reader() { return standard_output_closed.load(); }
+
 void check_standard_output() {
     errno = 0;
     const bool flushed = std::fflush(stdout) == 0;
@@ -606,6 +658,15 @@ void check_standard_output() {
     std::clearerr(stdout);
     throw input_error("standard output", 0, "",
                       "cannot write: " + (error != 0 ? error_text(error) : std::string("a write failed")));
+}
+
+void check_standard_output_at_exit() {
+    check_standard_output();
+    if (standard_output_closed_by_reader())
+        throw input_error("standard output", 0, "",
+                          "cannot write: " + error_text(EPIPE) +
+                              " (its reader closed it: the rest of the output was dropped; the command ran to "
+                              "its end and wrote its files)");
 }
 
 void remove_unfinished_outputs() noexcept {

@@ -105,10 +105,21 @@ private:
 // Writes `contents` to `path` as a run of one output.
 void write_file_atomically(const std::filesystem::path& path, const std::string& contents);
 
+// Standard output written through a guard (main calls this first): when its
+// reader closes the pipe (`rayverify audit --report d | head`), the rest of
+// the output is dropped and the command runs to its end, files included;
+// check_standard_output_at_exit then makes the broken pipe the exit status.
+void guard_standard_output();
+bool standard_output_closed_by_reader();
+
 // Flushes standard output; throws input_error ("standard output") when a write
-// to it failed (a full disk, /dev/full, a closed pipe). Every command calls it
-// before committing its files, and main once more before exiting.
+// to it failed (a full disk, /dev/full, RLIMIT_FSIZE). Every command calls it
+// before committing its files: a table lost that way never comes with files
+// that look complete. A pipe closed by its reader is not such a failure.
 void check_standard_output();
+// The same, and a pipe closed by its reader is an error too (exit 2): main
+// calls it once the command is done.
+void check_standard_output_at_exit();
 
 // Async-signal-safe: removes every unfinished output of every live
 // run_outputs of this process (temporaries, staged files, locks, then the

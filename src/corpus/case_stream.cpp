@@ -71,8 +71,13 @@ generate_spec parse_generate_spec(std::string_view text) {
 
 case_stream::case_stream(std::vector<fs::path> paths, shard_spec shard, std::size_t chunk)
     : shard_(shard), chunk_(chunk), paths_(std::move(paths)) {
-    for (const fs::path& path : paths_)
-        for (fs::path& file : corpus_files(path)) files_.push_back(std::move(file));
+    for (const fs::path& path : paths_) {
+        reading_.arguments.push_back({list_corpus_argument(path), 0});
+        for (const fs::path& file : reading_.arguments.back().argument.files) {
+            files_.push_back(file);
+            file_argument_.push_back(reading_.arguments.size() - 1);
+        }
+    }
 }
 
 case_stream::case_stream(std::vector<generate_spec> specs, shard_spec shard, std::size_t chunk)
@@ -118,7 +123,8 @@ bool case_stream::next_from_files(std::vector<corpus_case>& cases, std::vector<s
     while (cases.size() < chunk_) {
         if (position_ == current_.size()) {
             if (next_file_ == files_.size()) break;
-            current_ = read_corpus_file(files_[next_file_++]);  // one file at a time (each at most 64 MiB)
+            current_ = read_corpus_file(files_[next_file_]);  // one file at a time (each at most 64 MiB)
+            reading_.arguments[file_argument_[next_file_++]].cases += current_.size();
             position_ = 0;
             continue;
         }

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "core/ray_sphere_case.h"
+#include "corpus/corpus_io.h"
 
 namespace rayverify {
 
@@ -88,6 +89,9 @@ public:
     // case (id, family, inputs, interval) for files; of the specs and each
     // family's generator version for generated cases.
     std::string fingerprint() const { return fingerprint_.text(); }
+    // Each corpus argument's files and the cases read from them so far
+    // (complete once next() returned false); empty for generated cases.
+    const corpus_reading& reading() const { return reading_; }
 
 private:
     bool next_from_files(std::vector<corpus_case>& cases, std::vector<std::size_t>& indices);
@@ -100,6 +104,8 @@ private:
     // Files.
     std::vector<std::filesystem::path> paths_;
     std::vector<std::filesystem::path> files_;
+    std::vector<std::size_t> file_argument_;  // files_[i] came from reading_.arguments[file_argument_[i]]
+    corpus_reading reading_;
     std::size_t next_file_ = 0;
     std::vector<corpus_case> current_;
     std::size_t position_ = 0;

@@ -20,6 +20,7 @@
 #include <utility>
 
 #include "core/target_name.h"
+#include "corpus/manifest.h"
 
 namespace rayverify {
 
@@ -327,29 +328,94 @@ void check_unique_ids(const std::vector<corpus_case>& cases) {
 
 }  // namespace
 
-std::vector<fs::path> corpus_files(const fs::path& path) {
+namespace {
+
+bool is_corpus_file_name(const fs::path& file) {
+    const std::string ext = file.extension().string();
+    return iequals(ext, ".txt") || iequals(ext, ".csv");
+}
+
+// How many files named like corpus files lie anywhere under `dir`.
+std::size_t corpus_files_below(const fs::path& dir) {
+    std::size_t count = 0;
     std::error_code ec;
-    if (!fs::is_directory(path, ec)) return {path};
-    std::vector<fs::path> files;
+    for (fs::recursive_directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))
+        if (is_corpus_file_name(it->path()) && !it->is_directory(ec)) ++count;
+    return count;
+}
+
+// The subdirectories of `dir` whose files its MANIFEST lists: corpora of
+// their own by the manifest's say (corpus/edge beside the shipped corpus).
+std::vector<std::string> manifest_subdirectories(const fs::path& dir) {
+    std::vector<std::string> names;
+    std::error_code ec;
+    if (!fs::is_regular_file(dir / "MANIFEST", ec)) return names;
+    for (const manifest_entry& entry : read_manifest(dir / "MANIFEST"))
+        if (const std::size_t slash = entry.file.find('/'); slash != std::string::npos)
+            names.push_back(entry.file.substr(0, slash));
+    return names;
+}
+
+}  // namespace
+
+corpus_argument list_corpus_argument(const fs::path& path) {
+    corpus_argument argument{path, {}, {}};
+    std::error_code ec;
+    if (!fs::is_directory(path, ec)) {
+        argument.files.push_back(path);
+        return argument;
+    }
+    const std::vector<std::string> separate = manifest_subdirectories(path);
     for (fs::directory_iterator it(path, ec), end; !ec && it != end; it.increment(ec)) {
-        const std::string ext = it->path().extension().string();
-        if (!iequals(ext, ".txt") && !iequals(ext, ".csv")) continue;
-        // Named like a corpus file but not one: an error, never silently skipped.
         std::error_code status_error;
         const fs::file_status status = fs::status(it->path(), status_error);
+        if (fs::is_directory(status)) {
+            // Never skipped in silence: a corpus of its own by the MANIFEST's
+            // say, or refused while it holds corpus files.
+            const std::string name = it->path().filename().string();
+            const std::size_t held = corpus_files_below(it->path());
+            if (held == 0) continue;
+            if (std::ranges::find(separate, name) != separate.end()) {
+                argument.separate_subdirectories.push_back(it->path());
+                continue;
+            }
+            throw input_error(
+                it->path().string(), 0, "",
+                fmt::format("a subdirectory of {} holding {} corpus file{}, which --corpus {} does not read "
+                            "(it reads a directory's own *.txt and *.csv files): name it with a --corpus of "
+                            "its own (--corpus {}), or move its files",
+                            path.string(), held, held == 1 ? "" : "s", path.string(), it->path().string()));
+        }
+        if (!is_corpus_file_name(it->path())) continue;
+        // Named like a corpus file but not one: an error, never silently skipped.
         if (status.type() == fs::file_type::not_found && fs::is_symlink(it->symlink_status(status_error)))
             throw input_error(it->path().string(), 0, "", "is a symbolic link to a missing file");
-        if (fs::is_directory(status)) continue;  // not read: the listing is not recursive
         if (!fs::is_regular_file(status))
             throw input_error(it->path().string(), 0, "",
                               "is not a regular file (a pipe, socket or device named like a corpus file)");
-        files.push_back(it->path());
+        argument.files.push_back(it->path());
     }
     if (ec)
         throw input_error(path.string(), 0, "",
                           fmt::format("cannot list directory: {}", ec.message()));
-    std::ranges::sort(files);
-    return files;
+    std::ranges::sort(argument.files);
+    std::ranges::sort(argument.separate_subdirectories);
+    return argument;
+}
+
+std::vector<fs::path> corpus_files(const fs::path& path) { return list_corpus_argument(path).files; }
+
+std::string corpus_reading::text() const {
+    std::string out;
+    for (const argument_tally& a : arguments) {
+        out += fmt::format("{}{}: {} file{}, {} case{}", out.empty() ? "" : "; ", escaped_control(a.argument.path.string()),
+                           a.argument.files.size(), a.argument.files.size() == 1 ? "" : "s", a.cases,
+                           a.cases == 1 ? "" : "s");
+        for (const fs::path& sub : a.argument.separate_subdirectories)
+            out += fmt::format(" ({}/ not read: a corpus of its own in {})", escaped_control(sub.filename().string()),
+                               escaped_control((a.argument.path / "MANIFEST").string()));
+    }
+    return out;
 }
 
 double parse_exact_double(std::string_view token, const std::string& file, std::size_t line,
@@ -562,14 +628,18 @@ std::vector<corpus_case> parse_corpus(const std::string& file, std::string_view 
     return cases;
 }
 
-std::vector<corpus_case> read_corpus(const std::vector<fs::path>& paths) {
+std::vector<corpus_case> read_corpus(const std::vector<fs::path>& paths, corpus_reading* reading) {
     std::vector<corpus_case> cases;
-    for (const auto& path : paths)
-        for (const auto& file : corpus_files(path)) {
+    for (const auto& path : paths) {
+        corpus_reading::argument_tally tally{list_corpus_argument(path), 0};
+        for (const auto& file : tally.argument.files) {
             auto part = read_corpus_file(file);
+            tally.cases += part.size();
             cases.insert(cases.end(), std::make_move_iterator(part.begin()),
                          std::make_move_iterator(part.end()));
         }
+        if (reading != nullptr) reading->arguments.push_back(std::move(tally));
+    }
     if (cases.empty()) {
         std::string names;
         for (const auto& path : paths) names += (names.empty() ? "" : ", ") + path.string();

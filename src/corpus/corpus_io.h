@@ -78,16 +78,38 @@ std::vector<corpus_case> read_corpus_file(const std::filesystem::path& path);
 // `file` with that contents (`csv`: the CSV format, else the text format).
 std::vector<corpus_case> parse_corpus(const std::string& file, std::string_view contents, bool csv);
 
-// The files a path names: itself, or a directory's *.txt and *.csv sorted by
-// name (non-recursive). Throws input_error when a directory cannot be listed
-// or holds something named *.txt or *.csv that is neither a regular file
-// nor a directory (a dangling link, a pipe, a device).
+// One --corpus argument as listed: a file names itself; a directory gives its
+// own *.txt and *.csv files, sorted by name. A subdirectory holding corpus
+// files (at any depth) is never skipped in silence: it is refused
+// (input_error naming it) unless the directory's MANIFEST lists files in it,
+// which makes it a corpus of its own (corpus/edge beside the shipped
+// corpus), kept in `separate_subdirectories` for the reading summary. Also
+// refused: a directory that cannot be listed, or something named *.txt or
+// *.csv that is not a regular file (a dangling link, a pipe, a device).
+struct corpus_argument {
+    std::filesystem::path path;
+    std::vector<std::filesystem::path> files;
+    std::vector<std::filesystem::path> separate_subdirectories;
+};
+corpus_argument list_corpus_argument(const std::filesystem::path& path);
 std::vector<std::filesystem::path> corpus_files(const std::filesystem::path& path);
 
-// Read files and directories (a directory contributes its *.txt and *.csv
-// files, non-recursive, sorted by name), in the order given. Duplicate ids
-// across everything read, or no case at all, are errors.
-std::vector<corpus_case> read_corpus(const std::vector<std::filesystem::path>& paths);
+// What was read from each argument, for the line every command that reads a
+// corpus prints on stderr: "corpus: 6 files, 3000 cases (edge/ not read: …)".
+struct corpus_reading {
+    struct argument_tally {
+        corpus_argument argument;
+        std::size_t cases = 0;
+    };
+    std::vector<argument_tally> arguments;
+    std::string text() const;
+};
+
+// Read files and directories (as list_corpus_argument lists them), in the
+// order given. Duplicate ids across everything read, or no case at all, are
+// errors. `reading`, when given, gets each argument's files and cases.
+std::vector<corpus_case> read_corpus(const std::vector<std::filesystem::path>& paths,
+                                     corpus_reading* reading = nullptr);
 
 // The corpus readers' line splitting, for other readers of text files
 // (corpus/exchange.h): each line with its number, without its end of line;

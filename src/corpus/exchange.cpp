@@ -444,6 +444,17 @@ parsed_header header_from_comment(std::string_view line_text, const std::string&
     return {precision_from(*prec, file, line), fingerprint_from(*fingerprint, file, line)};
 }
 
+}  // namespace
+
+void check_results_header(std::string_view text, exchange_format format, const std::string& file, std::size_t line) {
+    if (format == exchange_format::csv)
+        header_from_comment(text, file, line);
+    else
+        header_from_json(parse_json_input(text, file, line), file, line, "results");
+}
+
+namespace {
+
 // Builds one answer from named values, checking each.
 class answer_builder {
 public:

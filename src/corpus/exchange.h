@@ -130,6 +130,10 @@ struct results_file {
 // are read: a FIFO or a device (which could block, or never end) is refused.
 results_file read_results(const std::filesystem::path& path, const results_scope* scope = nullptr);
 
+// Throws input_error (file, line) unless `text` is a results file's header
+// line in `format` (csv or jsonl): a stream's first line, checked on arrival.
+void check_results_header(std::string_view text, exchange_format format, const std::string& file, std::size_t line);
+
 // The same from memory: `text` is the file's contents, `sidecar` the npy
 // companion's (required for npy).
 results_file parse_results(const std::string& name, std::string_view text, exchange_format format,

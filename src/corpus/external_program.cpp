@@ -17,6 +17,7 @@
 #include <sstream>
 #include <thread>
 
+#include "core/child_processes.h"
 #include "core/process_status.h"
 #include "corpus/case_stream.h"
 
@@ -26,23 +27,75 @@ namespace {
 
 using steady = std::chrono::steady_clock;
 
-// Where a complete answer to `cases` cases ends in `text`, or npos: the header
-// line, then (CSV) the column row, then one line per case; blank lines (and
-// CSV comment lines) are not counted.
-std::size_t answer_end(std::string_view text, exchange_format format, std::size_t cases) {
-    const std::size_t needed = cases + (format == exchange_format::csv ? 2 : 1);
-    std::size_t counted = 0;
-    for (std::size_t at = 0;;) {
-        const std::size_t end = text.find('\n', at);
-        if (end == std::string_view::npos) return std::string_view::npos;
-        std::string_view line = text.substr(at, end - at);
-        if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-        const bool blank = line.find_first_not_of(" \t") == std::string_view::npos;
-        const bool comment = format == exchange_format::csv && counted > 0 && !blank && line.front() == '#';
-        if (!blank && !comment) ++counted;
-        at = end + 1;
-        if (counted == needed) return at;
+// The answer to one batch as it arrives, line by line: each byte is looked
+// at once (never rescanned from the start), the first line is checked as a
+// results header the moment it is complete, and the answer may not grow past
+// what a batch of its size can need.
+class answer_reader {
+public:
+    answer_reader(std::string name, exchange_format format, std::span<const corpus_case> cases)
+        : name_(std::move(name)), format_(format), needed_(cases.size() + (format == exchange_format::csv ? 2 : 1)) {
+        // A results line is an id and at most 15 numbers: 4 KiB beyond its id is room to spare.
+        limit_ = 65536;
+        for (const corpus_case& c : cases) limit_ += 4096 + c.id.size();
     }
+
+    // Takes the bytes read so far (`text`, grown since the last call); the
+    // end of the complete answer in it, or npos. Throws input_error for a
+    // first line that is no results header, a line over 1 MiB, or an answer
+    // longer than the limit.
+    std::size_t scan(std::string_view text) {
+        for (;;) {
+            const std::size_t end = text.find('\n', scanned_);
+            if (end == std::string_view::npos) {
+                scanned_ = text.size();
+                if (text.size() - line_start_ > max_answer_line)
+                    throw input_error(name_, lines_ + 1, "", "a line longer than 1 MiB");
+                if (text.size() > limit_)
+                    throw input_error(name_, 0, "",
+                                      fmt::format("{} bytes without completing the answer, more than a batch of {} "
+                                                  "cases can need ({} bytes)",
+                                                  text.size(), needed_ - 1 - (format_ == exchange_format::csv),
+                                                  limit_));
+                return std::string_view::npos;
+            }
+            std::string_view line = text.substr(line_start_, end - line_start_);
+            scanned_ = line_start_ = end + 1;
+            ++lines_;
+            if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+            const bool blank = line.find_first_not_of(" \t") == std::string_view::npos;
+            const bool comment = format_ == exchange_format::csv && counted_ > 0 && !blank && line.front() == '#';
+            if (blank || comment) continue;
+            if (counted_ == 0) check_results_header(line, format_, name_, lines_);
+            if (++counted_ == needed_) return line_start_;
+        }
+    }
+
+private:
+    static constexpr std::size_t max_answer_line = std::size_t{1} << 20;
+    std::string name_;
+    exchange_format format_;
+    std::size_t needed_;
+    std::size_t limit_ = 0;
+    std::size_t scanned_ = 0, line_start_ = 0, counted_ = 0, lines_ = 0;
+};
+
+// A command the shell runs as one program, with words, quotes and variables
+// but no operator that makes it a pipeline, a list or a redirection.
+bool is_simple_command(std::string_view command) {
+    const std::size_t start = command.find_first_not_of(" \t");
+    if (start == std::string_view::npos) return false;
+    const std::string_view first_word = command.substr(start, command.find_first_of(" \t", start) - start);
+    // "VAR=value program" sets a variable for the program, and a shell's own
+    // builtins and keywords are no program: `exec` would look for a file of that name.
+    static constexpr std::string_view shell_words[] = {
+        "exit", "return", "break", "continue", ".",    ":",     "eval", "exec",   "export", "readonly",
+        "set",  "shift",  "times", "trap",     "unset", "cd",   "read", "wait",   "alias",  "ulimit",
+        "umask", "getopts", "local", "jobs",   "fg",    "bg",   "command", "type", "if",    "while",
+        "for",  "until",  "case",  "source",   "hash"};
+    return command.find_first_of(";&|<>()`\n{}!") == std::string_view::npos &&
+           first_word.find('=') == std::string_view::npos &&
+           std::find(std::begin(shell_words), std::end(shell_words), first_word) == std::end(shell_words);
 }
 
 }  // namespace
@@ -76,11 +129,16 @@ external_program::external_program(std::string command, exchange_format format, 
         std::signal(SIGPIPE, SIG_DFL);
         if (::dup2(in[0], STDIN_FILENO) < 0 || ::dup2(out[1], STDOUT_FILENO) < 0) ::_exit(127);
         ::close_range(3, ~0u, 0);
-        ::execl("/bin/sh", "sh", "-c", command_.c_str(), static_cast<char*>(nullptr));
+        // A simple command replaces the shell (exec): the program itself is
+        // the session's leader, killed with rayverify (PR_SET_PDEATHSIG).
+        const std::string shell_text = is_simple_command(command_) ? "exec " + command_ : command_;
+        ::execl("/bin/sh", "sh", "-c", shell_text.c_str(), static_cast<char*>(nullptr));
         ::_exit(127);
     }
     ::close(in[0]);
     ::close(out[1]);
+    started_child(pid);
+    program_session_opened(pid);
     to_program_ = in[1];
     from_program_ = out[0];
     pid_ = pid;
@@ -98,31 +156,14 @@ std::string external_program::ended() {
     if (pid_ <= 0) return "ended";
     // With its input closed the program should exit; one that lingers is killed.
     const std::optional<int> status = reap_child(pid_, -pid_, std::min(timeout_seconds_, 5.0));
-    kill_session();  // anything it started and left running
+    child_ended(pid_);
+    end_program_session(pid_);  // anything it started and left running, in its session or not
     pid_ = -1;
     return status ? describe_wait_status(*status) : "ended";
 }
 
 void external_program::kill_session() {
-    if (pid_ <= 0) return;
-    ::kill(-pid_, SIGKILL);  // its process group, the session's first
-    // A process that moved to a group of its own is still in the session:
-    // /proc/PID/stat's sixth field is the session id.
-    std::error_code error;
-    for (const auto& entry : std::filesystem::directory_iterator("/proc", error)) {
-        const std::string name = entry.path().filename().string();
-        if (name.empty() || name.find_first_not_of("0123456789") != std::string::npos) continue;
-        std::ifstream stat(entry.path() / "stat");
-        std::string text;
-        if (!std::getline(stat, text)) continue;
-        const std::size_t after_name = text.rfind(')');  // the command name may hold spaces
-        if (after_name == std::string::npos) continue;
-        std::istringstream fields(text.substr(after_name + 1));
-        std::string state;
-        long long parent = 0, group = 0, session = 0;
-        if (!(fields >> state >> parent >> group >> session)) continue;
-        if (session == pid_) ::kill(static_cast<pid_t>(std::stoll(name)), SIGKILL);
-    }
+    if (pid_ > 0) ::kill(-pid_, SIGKILL);  // its process group; ended() takes the rest
 }
 
 void external_program::finish() {
@@ -190,7 +231,19 @@ std::shared_ptr<const answer_book> external_program::answer(std::span<const corp
     std::size_t written = 0;
     std::string reply = std::move(pending_);
     pending_.clear();
-    std::size_t end = answer_end(reply, format_, cases.size());
+    answer_reader reader(fmt::format("answer to batch {}", batches_), format_, cases);
+    const auto scanned = [&] {
+        try {
+            return reader.scan(reply);
+        } catch (const input_error& e) {
+            kill_session();
+            ended();
+            fail(fmt::format("answered with something that is not an answer to its batch ({}); it was stopped",
+                             e.what()),
+                 cases);
+        }
+    };
+    std::size_t end = scanned();
     while (end == std::string::npos) {
         const auto left = std::chrono::ceil<std::chrono::milliseconds>(deadline - steady::now()).count();
         if (left <= 0) {
@@ -218,7 +271,7 @@ std::shared_ptr<const answer_book> external_program::answer(std::span<const corp
             if (n < 0 && (errno == EINTR || errno == EAGAIN)) continue;
             if (n <= 0) fail(ended(), cases);  // end of its output: it exited or closed it
             reply.append(chunk, static_cast<std::size_t>(n));
-            end = answer_end(reply, format_, cases.size());
+            end = scanned();
         }
     }
     pending_ = reply.substr(end);

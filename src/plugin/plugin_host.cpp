@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "core/case_in_progress.h"
+#include "core/child_processes.h"
 #include "core/process_status.h"
 
 namespace rayverify::plugin_internal {
@@ -286,6 +287,7 @@ plugin_host::plugin_host(std::filesystem::path library, double timeout_seconds,
         run_child(library_, ends[1], parent, environment);
     }
     ::close(ends[1]);
+    started_child(pid);
     fd_ = ends[0];
     pid_ = pid;
 
@@ -320,6 +322,7 @@ std::string plugin_host::ended() {
     // The socket closes as the child exits: it is reaped at once, or killed
     // when it lingers (a plugin that closed the socket itself).
     const std::optional<int> status = reap_child(pid_, pid_, timeout_seconds_);
+    child_ended(pid_);
     pid_ = -1;
     return status ? how_it_ended(*status) : "ended";
 }

@@ -322,6 +322,13 @@ std::vector<bad_input> bad_inputs() {
          "dup.txt:2: field 'id': duplicate id 'good', first defined at dup.txt:1"},
         {"duplicate id across files", "rayverify audit --corpus a.txt --corpus b.txt",
          {{"a.txt", good}, {"b.txt", good}}, 2, "b.txt:1: field 'id'"},
+        {"a corpus directory with a subdirectory of corpus files (never skipped in silence)",
+         "rayverify audit --corpus dir", {}, 2, "dir/sub: a subdirectory of dir holding 1 corpus file",
+         [good](const fs::path& dir) {
+             fs::create_directories(dir / "dir" / "sub");
+             std::ofstream(dir / "dir" / "a.txt") << good;
+             std::ofstream(dir / "dir" / "sub" / "b.txt") << good;
+         }},
         // Whole files.
         {"empty file", "rayverify audit --corpus empty.txt", one("empty.txt", ""), 2, "empty.txt: empty corpus"},
         {"comments and blank lines only", "rayverify audit --corpus notes.txt",

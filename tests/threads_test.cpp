@@ -54,9 +54,17 @@ TEST(Threads, AnExceptionOnAnAuditHelperReachesTheCallerOnceTheChunkIsDone) {
     };
     audit_hooks hooks;
     std::atomic<int> seen{0};
+    std::atomic<bool> helper_ran{false};
     hooks.parallel = [&](const audited_case&, std::size_t, std::size_t, unsigned worker) {
         ++seen;
-        if (worker == 1) throw std::bad_alloc();
+        if (worker == 1) {
+            helper_ran = true;
+            throw std::bad_alloc();
+        }
+        // The calling thread holds back until the helper has a case of its own: on a
+        // loaded machine it could otherwise take the whole chunk before the helper starts.
+        const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+        while (!helper_ran && std::chrono::steady_clock::now() < deadline) std::this_thread::yield();
     };
     const std::vector<variant> naive = {*find_builtin_variant("naive")};
     const std::vector<audit_target> targets = targets_for(naive);

@@ -137,18 +137,22 @@ int run(const audit_options& options, const std::string& command_line) {
             ? std::string()
             : per_case_location(options.per_case_file, options.report_dir);
     case_stream stream = input.open(shard);
-    // A results file or a program answers the whole input (every shard's cases), checked before any case is judged.
-    const std::vector<audit_target> outside = outside_targets(options.results, options.precisions, [&](const case_sink& add) {
-        case_stream whole = input.open();
-        std::vector<corpus_case> cases;
-        std::vector<std::size_t> indices;
-        while (whole.next(cases, indices)) {
-            for (const corpus_case& c : cases) add(c);
-            cases.clear();
-            indices.clear();
-        }
-        return whole.fingerprint();
-    });
+    // A results file answers the whole input (every shard's cases), checked before any case is judged; a
+    // program or an engine's node is asked each chunk's cases as they are judged.
+    const std::vector<audit_target> outside = outside_targets(
+        options.results, options.precisions,
+        [&](const case_sink& add) {
+            case_stream whole = input.open();
+            std::vector<corpus_case> cases;
+            std::vector<std::size_t> indices;
+            while (whole.next(cases, indices)) {
+                for (const corpus_case& c : cases) add(c);
+                cases.clear();
+                indices.clear();
+            }
+            return whole.fingerprint();
+        },
+        std::nullopt, programs_answer::chunk_by_chunk);
     const std::vector<audit_target> targets =
         targets_with_results(options.variants, options.plugins, options.precisions, options.isolation, options.results,
                              outside);
@@ -198,6 +202,7 @@ int run(const audit_options& options, const std::string& command_line) {
                                                                      : nullptr,
                                        progress.reporter(), failures != nullptr ? &failures->stream() : nullptr);
     progress.finish();
+    finish_outside_answers(targets);  // nothing may follow a program's last answer
     if (!stream.reading().arguments.empty()) terminal::note("audit: read " + stream.reading().text());
 
     run_context context{recorded_command(command_line), {}, {}};

@@ -146,11 +146,18 @@ void declare_results_inputs(run_outputs& outputs, const results_options& options
 // (`scene_precision`); an engine's program in its own, left out when
 // --precision leaves that out, and not run on a scene of another precision
 // (its target then has no answers, and the scene audit says why).
+// With programs_answer::chunk_by_chunk (audit), a program is started here
+// but asked nothing: the audit asks it each chunk's cases as it judges them
+// (audit_target::answer_chunk), and calls finish_outside_answers at the end.
 using case_sink = std::function<void(const corpus_case&)>;
 using case_feed = std::function<std::string(const case_sink&)>;
+enum class programs_answer { whole_input_first, chunk_by_chunk };
 std::vector<audit_target> outside_targets(const results_options& options, const std::vector<std::string>& precisions,
                                           const case_feed& feed,
-                                          std::optional<precision> scene_precision = std::nullopt);
+                                          std::optional<precision> scene_precision = std::nullopt,
+                                          programs_answer how = programs_answer::whole_input_first);
+// After the last chunk: every chunk-by-chunk program must have said nothing more.
+void finish_outside_answers(const std::vector<audit_target>& targets);
 
 // A target answering from outside rayverify (a results file, a --command):
 // its name (one token, not a built-in's), contract spec (core/contract.h's

@@ -206,6 +206,42 @@ void answer_by_program(audit_target& target, const std::string& command, exchang
     target.recorded = std::move(book);
 }
 
+// `target` answered by a program chunk by chunk as the audit judges them
+// (audit_target::answer_chunk): one batch per chunk, each answer checked
+// against its batch, and the book holds that batch's answers only.
+void answer_by_program_per_chunk(audit_target& target, const std::string& command, exchange_format format,
+                                 double timeout) {
+    struct program_answers {
+        program_answers(const std::string& command, exchange_format format, precision prec, double timeout)
+            : program(command, format, prec, timeout) {}
+        external_program program;
+        std::shared_ptr<answer_book> book = std::make_shared<answer_book>();
+        std::size_t answered = 0;
+    };
+    auto state = std::make_shared<program_answers>(command, format, target.prec, timeout);
+    state->book->source = "command " + command;
+    state->book->prec = target.prec;
+    target.recorded = state->book;
+    const contract promises = target.subject.promises;
+    target.answer_chunk = [state, promises](std::span<const corpus_case> cases) {
+        answer_book& book = *state->book;
+        book.by_id.clear();
+        for (std::size_t begin = 0; begin < cases.size(); begin += program_batch_cases) {
+            const std::size_t end = std::min(cases.size(), begin + program_batch_cases);
+            const std::shared_ptr<const answer_book> answers = state->program.answer(cases.subspan(begin, end - begin));
+            for (const auto& [id, a] : answers->by_id) {
+                recorded_answer numbered = a;
+                numbered.line += state->answered + begin;  // its position among all the program's answers
+                book.by_id.emplace(id, numbered);
+            }
+        }
+        state->answered += cases.size();
+        check_recorded_values(promises, book);
+        check_named_outputs(promises, book);
+    };
+    target.finish_answers = [state] { state->program.finish(); };
+}
+
 // The one precision a --command program answers in.
 precision program_precision(const std::vector<std::string>& precisions, std::optional<precision> scene_precision) {
     if (scene_precision) return *scene_precision;
@@ -217,7 +253,8 @@ precision program_precision(const std::vector<std::string>& precisions, std::opt
 }  // namespace
 
 std::vector<audit_target> outside_targets(const results_options& options, const std::vector<std::string>& precisions,
-                                          const case_feed& feed, std::optional<precision> scene_precision) {
+                                          const case_feed& feed, std::optional<precision> scene_precision,
+                                          programs_answer how) {
     if (!options.file.empty() && !options.command.empty())
         throw input_error("", 0, "--command", "give either --results or --command, not both");
     if (options.file.empty() && options.command.empty())
@@ -233,8 +270,11 @@ std::vector<audit_target> outside_targets(const results_options& options, const 
         contract_from(options.contract_spec);  // a bad contract before the program starts
         audit_target target = outside_target(options.name, options.contract_spec, "command " + options.command,
                                              program_precision(precisions, scene_precision));
-        answer_by_program(target, options.command, *exchange_format_from_name(options.format),
-                          options.command_timeout.value_or(command_program_timeout), feed);
+        const double timeout = options.command_timeout.value_or(command_program_timeout);
+        if (how == programs_answer::chunk_by_chunk)
+            answer_by_program_per_chunk(target, options.command, *exchange_format_from_name(options.format), timeout);
+        else
+            answer_by_program(target, options.command, *exchange_format_from_name(options.format), timeout, feed);
         targets.push_back(std::move(target));
     }
     for (const shipped_library& lib : requested_libraries(options.engines)) {
@@ -250,9 +290,11 @@ std::vector<audit_target> outside_targets(const results_options& options, const 
                                                          lib.command),
                                              prec);
         target.subject.library = lib.identity;
-        if (!scene_precision || *scene_precision == prec)
-            answer_by_program(target, lib.command, exchange_format::jsonl,
-                              options.command_timeout.value_or(engine_program_timeout), feed);
+        const double timeout = options.command_timeout.value_or(engine_program_timeout);
+        if (how == programs_answer::chunk_by_chunk && !scene_precision)
+            answer_by_program_per_chunk(target, lib.command, exchange_format::jsonl, timeout);
+        else if (!scene_precision || *scene_precision == prec)
+            answer_by_program(target, lib.command, exchange_format::jsonl, timeout, feed);
         else
             target.recorded = std::make_shared<answer_book>();  // no answers: the scene audit says why
         targets.push_back(std::move(target));
@@ -278,6 +320,11 @@ std::vector<audit_target> targets_with_results(const std::vector<std::string>& v
     append_outside_targets(targets, outside);
     check_fp_environment_targets(isolation.environment, targets);
     return targets;
+}
+
+void finish_outside_answers(const std::vector<audit_target>& targets) {
+    for (const audit_target& t : targets)
+        if (t.finish_answers) t.finish_answers();
 }
 
 void append_outside_targets(std::vector<audit_target>& targets, const std::vector<audit_target>& outside) {

@@ -492,7 +492,10 @@ audit_accumulator audit_stream(const case_source& next, const std::vector<audit_
             audited.resize(hooks.ordered ? cases.size() : 0);
             claimed = 0;
             try {
-                ahead = batch_answers(cases, targets);  // before the helpers start on the chunk
+                // Before the helpers start on the chunk: the answers asked of outside targets and batch calls.
+                for (const audit_target& t : targets)
+                    if (t.answer_chunk) t.answer_chunk(cases);
+                ahead = batch_answers(cases, targets);
             } catch (...) {
                 failure = std::current_exception();
                 break;

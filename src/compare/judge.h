@@ -47,6 +47,7 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <variant>
@@ -278,6 +279,13 @@ struct audit_target {
     variant subject;
     precision prec = precision::binary64;
     std::shared_ptr<const answer_book> recorded{};
+    // A target answered from outside chunk by chunk (a --command program, an
+    // engine's node, in an audit): called with each chunk's cases before any
+    // of them is judged, it fills `recorded` with their answers, so that
+    // memory holds one chunk's answers, never the input's. `finish_answers`,
+    // after the last chunk, checks that nothing followed the last answer.
+    std::function<void(std::span<const corpus_case>)> answer_chunk{};
+    std::function<void()> finish_answers{};
     // "name/precision": label() whole, label_parts() in pieces (written
     // without building the string, as per-case lines do for every case).
     std::array<std::string_view, 3> label_parts() const { return {subject.name, "/", precision_name(prec)}; }

@@ -135,7 +135,9 @@ TEST(Bench, OracleTimingTimesEveryRoute) {
     std::istringstream lines(table);
     std::string line, previous;
     while (std::getline(lines, line)) {
-        if (previous.find("MISSED") != std::string::npos) EXPECT_EQ(line.rfind("      needs ", 0), 0u) << previous << "\n" << line;
+        if (previous.find("MISSED") != std::string::npos) {
+            EXPECT_EQ(line.rfind("      needs ", 0), 0u) << previous << "\n" << line;
+        }
         previous = line;
     }
 }

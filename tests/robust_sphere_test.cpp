@@ -655,7 +655,7 @@ TEST(RobustSphereVendored, HeaderAloneWithFmaContractionGivesTheSameAnswers) {
     fs::copy_file(source / "tests/robust_vendored/answers.h", dir / "answers.h");
     fs::copy_file(source / "tests/robust_vendored/main.cpp", dir / "main.cpp");
     const auto built = test_support::run_shell(std::string(RAYVERIFY_CXX_COMPILER) +
-                                               " -std=c++20 -O2 -mfma -ffp-contract=fast -Wall -Wextra -Wpedantic "
+                                               " -std=c++17 -O2 -mfma -ffp-contract=fast -Wall -Wextra -Wpedantic "
                                                "-Werror -I " + dir.string() + " " + (dir / "main.cpp").string() + " -o " +
                                                (dir / "vendored").string());
     ASSERT_EQ(built.exit_code, 0) << built.output;

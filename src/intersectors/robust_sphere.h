@@ -1,7 +1,7 @@
 // robust_sphere — a ray–sphere intersector that is never wrong about the
 // class of a case, and whose roots are correctly rounded.
 //
-// Header only, C++20 standard library only (and not even that on a GPU's
+// Header only, C++17 (or later) standard library only (and not even that on a GPU's
 // path): copy this one file into an engine, CPU or CUDA/HIP kernel. rayverify
 // installs it as <rayverify/robust_sphere.h>; its proofs are rayverify's
 // audit, hunts and tests (docs/robust_sphere.md).
@@ -195,6 +195,15 @@ namespace detail {
 
 template <class T>
 inline constexpr bool supported = std::is_same_v<T, float> || std::is_same_v<T, double>;
+
+// T as a parameter that takes no part in deducing T (std::type_identity_t of
+// C++20): a query's tmin and tmax follow the ray's type.
+template <class T>
+struct same_type {
+    using type = T;
+};
+template <class T>
+using same_t = typename same_type<T>::type;
 
 // ---------------------------------------------------------------------------
 // The few operations of <cmath> and <bit> the header needs, as every
@@ -507,6 +516,7 @@ ROBUST_SPHERE_INLINE ROBUST_SPHERE_HD uncertain_value<float> certified_rounding(
 // (detail::refined_*), where stage 1 could not answer.
 template <class T, bool Refine>
 class fast_solver {
+    static_assert(supported<T>, "robust_sphere.h answers in float or double");
     static constexpr bool words_allowed = Refine && std::is_same_v<T, double>;
 
 public:
@@ -1564,7 +1574,6 @@ ROBUST_SPHERE_HD T rounded_up(double bound) {
 
 // Both roots of the line (t of any sign): exact class, roots as promised above.
 template <roots R = roots::correctly_rounded, class T>
-    requires detail::supported<T>
 ROBUST_SPHERE_INLINE ROBUST_SPHERE_HD line_roots<T> intersect_line(const ray<T>& r, const sphere<T>& s) {
     detail::fast_solver<T, false> fast(r, s);
     line_roots<T> out;
@@ -1575,10 +1584,9 @@ ROBUST_SPHERE_INLINE ROBUST_SPHERE_HD line_roots<T> intersect_line(const ray<T>&
 // The nearest root t* with tmin < t* < tmax; an end given as ends::closed
 // includes t* equal to it. Decided exactly.
 template <ends Lower = ends::open, ends Upper = ends::open, roots R = roots::correctly_rounded, class T>
-    requires detail::supported<T>
 ROBUST_SPHERE_INLINE ROBUST_SPHERE_HD ray_hit<T> nearest_hit(const ray<T>& r, const sphere<T>& s,
-                                                             std::type_identity_t<T> tmin,
-                                                             std::type_identity_t<T> tmax) {
+                                                             detail::same_t<T> tmin,
+                                                             detail::same_t<T> tmax) {
     detail::fast_solver<T, false> fast(r, s);
     ray_hit<T> out;
     if (detail::query_nearest<Lower, Upper, R>(fast, tmin, tmax, out)) return out;
@@ -1587,9 +1595,8 @@ ROBUST_SPHERE_INLINE ROBUST_SPHERE_HD ray_hit<T> nearest_hit(const ray<T>& r, co
 
 // Is there a root in the interval (a shadow ray)? Decided exactly.
 template <ends Lower = ends::open, ends Upper = ends::open, class T>
-    requires detail::supported<T>
 ROBUST_SPHERE_INLINE ROBUST_SPHERE_HD bool any_hit(const ray<T>& r, const sphere<T>& s,
-                                                   std::type_identity_t<T> tmin, std::type_identity_t<T> tmax) {
+                                                   detail::same_t<T> tmin, detail::same_t<T> tmax) {
     detail::fast_solver<T, false> fast(r, s);
     bool out = false;
     if (detail::query_any<Lower, Upper>(fast, tmin, tmax, out)) return out;
@@ -1600,7 +1607,6 @@ ROBUST_SPHERE_INLINE ROBUST_SPHERE_HD bool any_hit(const ray<T>& r, const sphere
 // would run. For measuring the fallback rate (host only); the answers are
 // the same.
 template <roots R = roots::correctly_rounded, class T>
-    requires detail::supported<T>
 std::optional<line_roots<T>> intersect_line_fast(const ray<T>& r, const sphere<T>& s) {
     detail::fast_solver<T, true> fast(r, s);
     line_roots<T> out;
@@ -1609,9 +1615,8 @@ std::optional<line_roots<T>> intersect_line_fast(const ray<T>& r, const sphere<T
 }
 
 template <ends Lower = ends::open, ends Upper = ends::open, roots R = roots::correctly_rounded, class T>
-    requires detail::supported<T>
-std::optional<ray_hit<T>> nearest_hit_fast(const ray<T>& r, const sphere<T>& s, std::type_identity_t<T> tmin,
-                                           std::type_identity_t<T> tmax) {
+std::optional<ray_hit<T>> nearest_hit_fast(const ray<T>& r, const sphere<T>& s, detail::same_t<T> tmin,
+                                           detail::same_t<T> tmax) {
     detail::fast_solver<T, true> fast(r, s);
     ray_hit<T> out;
     if (detail::query_nearest<Lower, Upper, R>(fast, tmin, tmax, out)) return out;
@@ -1619,9 +1624,8 @@ std::optional<ray_hit<T>> nearest_hit_fast(const ray<T>& r, const sphere<T>& s, 
 }
 
 template <ends Lower = ends::open, ends Upper = ends::open, class T>
-    requires detail::supported<T>
-std::optional<bool> any_hit_fast(const ray<T>& r, const sphere<T>& s, std::type_identity_t<T> tmin,
-                                 std::type_identity_t<T> tmax) {
+std::optional<bool> any_hit_fast(const ray<T>& r, const sphere<T>& s, detail::same_t<T> tmin,
+                                 detail::same_t<T> tmax) {
     detail::fast_solver<T, true> fast(r, s);
     bool out = false;
     if (detail::query_any<Lower, Upper>(fast, tmin, tmax, out)) return out;
@@ -1637,8 +1641,8 @@ std::optional<bool> any_hit_fast(const ray<T>& r, const sphere<T>& s, std::type_
 // smaller where |d_i|·ulp(t) dominates (grazing hits, hits far along the ray).
 // For t = ±the largest finite T (a root past the range) the error is +inf.
 template <class T>
-    requires detail::supported<T>
-ROBUST_SPHERE_HD surface_point<T> hit_point(const ray<T>& r, const sphere<T>& s, std::type_identity_t<T> t, bool reproject = false) {
+ROBUST_SPHERE_HD surface_point<T> hit_point(const ray<T>& r, const sphere<T>& s, detail::same_t<T> t, bool reproject = false) {
+    static_assert(detail::supported<T>, "robust_sphere.h answers in float or double");
     using detail::dd;
     const T o[3] = {r.origin.x, r.origin.y, r.origin.z};
     const T d[3] = {r.direction.x, r.direction.y, r.direction.z};

@@ -5,7 +5,7 @@
 # a libm call the device cannot resolve would show here as an .extern .func).
 # Usage: cmake -DCLANG=… -DSOURCE_DIR=… -DPTX=… -P compile_kernel.cmake
 execute_process(
-  COMMAND ${CLANG} -x cuda --cuda-device-only -nocudainc -nocudalib --cuda-gpu-arch=sm_70 -std=c++20 -O2
+  COMMAND ${CLANG} -x cuda --cuda-device-only -nocudainc -nocudalib --cuda-gpu-arch=sm_70 -std=c++17 -O2
           -Wall -Wextra -Werror -Wno-unknown-cuda-version -I${SOURCE_DIR}/src/intersectors
           -S ${SOURCE_DIR}/tests/cuda/robust_kernel.cu -o ${PTX}
   RESULT_VARIABLE result ERROR_VARIABLE errors OUTPUT_VARIABLE output)

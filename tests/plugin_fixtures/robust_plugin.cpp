@@ -1,9 +1,11 @@
-// robust_sphere.h as a GPU compiler builds it, on a CPU: compiled with
-// -mfma -ffp-contract=fast (every a·b + c may become one fused operation, as
-// nvcc's default -fmad=true does) into a version 2 plugin, one per query
-// level and tier (ROBUST_QUERY below), so that robust_fma_test audits and
-// hunts it through `rayverify audit --plugin` / `hunt --plugin` like any
-// user's intersector.
+// robust_sphere.h built as a user's project builds it, into a version 2
+// plugin, one per query level and tier (ROBUST_QUERY below), so that tests
+// audit and hunt it through `rayverify audit --plugin` / `hunt --plugin` like
+// any user's intersector. ROBUST_PLUGIN_SUFFIX names the build and
+// ROBUST_PLUGIN_FLAGS states its flags: robust_fma_test builds it as GPU
+// compilers do on a CPU (-mfma -ffp-contract=fast: every a·b + c may become
+// one fused operation, as nvcc's default -fmad=true does), robust_cxx17_test
+// as a C++17 project does, with gcc and with clang.
 #include "rayverify_plugin.h"
 #include "robust_sphere.h"
 
@@ -12,27 +14,30 @@ namespace rs = robust_sphere;
 #if !defined(ROBUST_QUERY)
 #error "ROBUST_QUERY: 0 line roots, 1 nearest hit, 2 any hit, 3 bounded line roots, 4 bounded nearest hit"
 #endif
+#if !defined(ROBUST_PLUGIN_SUFFIX) || !defined(ROBUST_PLUGIN_FLAGS)
+#error "ROBUST_PLUGIN_SUFFIX (\"_fma\") and ROBUST_PLUGIN_FLAGS (\"-O2 -mfma ...\") name and describe the build"
+#endif
 
 namespace {
 
 #if ROBUST_QUERY == 0
-constexpr const char* plugin_name = "robust_fma";
+constexpr const char* plugin_name = "robust" ROBUST_PLUGIN_SUFFIX;
 constexpr const char* spec = "query=line_roots,reports_tangent=yes";
 constexpr const char* tangent_rule = "Δ′ == 0 (exact)";
 #elif ROBUST_QUERY == 1
-constexpr const char* plugin_name = "robust_nearest_fma";
+constexpr const char* plugin_name = "robust_nearest" ROBUST_PLUGIN_SUFFIX;
 constexpr const char* tangent_rule = nullptr;
 constexpr const char* spec = "query=nearest_hit,range=interval";
 #elif ROBUST_QUERY == 2
-constexpr const char* plugin_name = "robust_any_hit_fma";
+constexpr const char* plugin_name = "robust_any_hit" ROBUST_PLUGIN_SUFFIX;
 constexpr const char* tangent_rule = nullptr;
 constexpr const char* spec = "query=any_hit,range=interval";
 #elif ROBUST_QUERY == 3
-constexpr const char* plugin_name = "robust_bounded_fma";
+constexpr const char* plugin_name = "robust_bounded" ROBUST_PLUGIN_SUFFIX;
 constexpr const char* spec = "query=line_roots,reports_tangent=yes";
 constexpr const char* tangent_rule = "Δ′ == 0 (exact)";
 #else
-constexpr const char* plugin_name = "robust_bounded_nearest_fma";
+constexpr const char* plugin_name = "robust_bounded_nearest" ROBUST_PLUGIN_SUFFIX;
 constexpr const char* tangent_rule = nullptr;
 constexpr const char* spec = "query=nearest_hit,range=interval";
 #endif
@@ -68,9 +73,9 @@ extern "C" {
 RAYVERIFY_PLUGIN_EXPORT const rayverify_plugin_info_v2* rayverify_plugin_describe_v2(void) {
     static const rayverify_plugin_info_v2 info = {RAYVERIFY_PLUGIN_ABI_VERSION_2,
                                                   plugin_name,
-                                                  "rayverify robust_sphere.h (tests/plugin_fixtures/robust_fma_plugin.cpp)",
+                                                  "rayverify robust_sphere.h (tests/plugin_fixtures/robust_plugin.cpp)",
                                                   "as the built-in robust variants",
-                                                  "-O2 -mfma -ffp-contract=fast (fused multiply-adds where the compiler likes)",
+                                                  ROBUST_PLUGIN_FLAGS,
                                                   spec,
                                                   tangent_rule,
                                                   RAYVERIFY_FLOAT | RAYVERIFY_DOUBLE};

@@ -13,11 +13,13 @@
 #include <vector>
 
 #include "support/process.h"
+#include "support/report_results.h"
 
 namespace rayverify {
 namespace {
 
 using nlohmann::json;
+using test_support::result_for;
 using test_support::run_cli;
 
 // The plugins' paths, and the built-in variant each one's query is.
@@ -30,14 +32,6 @@ std::vector<std::string> plugin_paths() {
 
 const char* const builtin_of_query[] = {"robust", "robust_nearest", "robust_any_hit", "robust_bounded",
                                         "robust_bounded_nearest"};
-
-const json& result_for(const json& report, const std::string& variant, const std::string& precision) {
-    for (const json& r : report.at("results"))
-        if (r.at("variant") == variant && r.at("precision") == precision) return r;
-    ADD_FAILURE() << "no result for " << variant << "/" << precision;
-    static const json none = json::object();
-    return none;
-}
 
 TEST(RobustCxx17, EveryQueryBuiltAsCxx17WithEachCompilerAnswersAsTheLibrary) {
     const std::vector<std::string> paths = plugin_paths();

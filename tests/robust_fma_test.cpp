@@ -16,12 +16,14 @@
 #include <vector>
 
 #include "support/process.h"
+#include "support/report_results.h"
 
 namespace rayverify {
 namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
+using test_support::result_for;
 using test_support::run_cli;
 
 struct fma_plugin {
@@ -55,14 +57,6 @@ bool cpu_has_fma() {
     } while (0)
 
 #if defined(RAYVERIFY_ROBUST_FMA_PLUGIN_0)
-
-const json& result_for(const json& report, const std::string& variant, const std::string& precision) {
-    for (const json& r : report.at("results"))
-        if (r.at("variant") == variant && r.at("precision") == precision) return r;
-    ADD_FAILURE() << "no result for " << variant << "/" << precision;
-    static const json none = json::object();
-    return none;
-}
 
 TEST(RobustFma, ContractedBuildGivesTheVerdictsOfTheLibraryOnTheShippedCorpusAndEdgeFamilies) {
     SKIP_WITHOUT_FMA_PLUGINS();

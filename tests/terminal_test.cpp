@@ -200,6 +200,10 @@ TEST_F(Terminal, BashCompletionIsGeneratedFromTheDefinitionAndCompletes) {
     EXPECT_EQ(complete("rayverify audit --variant hearn_baker_unit_n"), "hearn_baker_unit_nearest\n");
     EXPECT_EQ(complete("rayverify hunt --sec"), "--seconds\n");
     EXPECT_EQ(complete("rayverify hunt --budg"), "\n") << "deprecated spellings are not offered";
+    // Every word the option takes, from the one list its check uses (it offered 2 of 4).
+    EXPECT_EQ(complete("rayverify hunt --objective \"\""), "ulp misclass scale_radius scale_distance\n");
+    EXPECT_EQ(complete("rayverify hunt --objective sc"), "scale_radius scale_distance\n");
+    EXPECT_EQ(complete("rayverify hunt --strategy \"\""), "search random\n");
     const std::string text = read_text(script);
     for (const char* command : {"audit", "gate", "hunt", "merge", "bench", "explain", "render", "recommend"})
         for (const std::string& option : listed_options(command)) {

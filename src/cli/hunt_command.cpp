@@ -108,7 +108,7 @@ int run(const hunt_command_options& given, const std::string& command_line) {
     options.objective = *hunt_objective_from_name(o.objective);  // checked by CLI11
     options.rounding_only = o.rounding_only || o.cause == "rounding";
     if (o.cause == "algorithmic") options.only_cause = disagreement_cause::algorithmic;
-    options.strategy = o.strategy == "search" ? hunt_strategy::search : hunt_strategy::random;
+    options.strategy = *hunt_strategy_from_name(o.strategy);  // checked by CLI11
     options.seed = shard_search_seed(o.seed, shard.index, shard.count);
     options.max_seconds = o.budget;
     options.max_evaluations = o.evaluations;
@@ -319,7 +319,7 @@ command add_hunt_command(CLI::App& app, const std::string& command_line) {
     sub->add_option("--objective", o->objective,
                     "ulp (largest ULP error), scale_radius (largest |t - t*|·|d|/r, which does not explode as t* -> 0), "
                     "scale_distance (largest |t - t*|·|d|/|o - c|) or misclass (disagreements)")
-        ->check(CLI::IsMember({"ulp", "scale_radius", "scale_distance", "misclass"}))
+        ->check(CLI::IsMember(hunt_objective_names()))
         ->capture_default_str();
     sub->add_flag("--rounding-only", o->rounding_only,
                   "misclass: keep only disagreements whose cause is rounding (not by design: clamp, contract "
@@ -329,7 +329,7 @@ command add_hunt_command(CLI::App& app, const std::string& command_line) {
                     "avoids: fix the formula) or rounding (either rounding cause: as --rounding-only)")
         ->check(CLI::IsMember({"algorithmic", "rounding"}));
     sub->add_option("--strategy", o->strategy, "search, or random (plain sampling of the family: the baseline)")
-        ->check(CLI::IsMember({"search", "random"}))
+        ->check(CLI::IsMember(hunt_strategy_names()))
         ->capture_default_str();
     sub->add_option("--seed", o->seed, "Seed of the start cases and of the search")
         ->check(whole_number(0))

@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "cli/commands.h"
+#include "compare/hunt.h"
 #include "core/build_info.h"
 #include "corpus/generators.h"
 #include "intersectors/registry.h"
@@ -45,8 +46,8 @@ value_kind value_of(const CLI::Option* opt, const std::string& command) {
     if (name == "variant") return {value_kind::words, variant_names()};
     if (name == "precision") return {value_kind::words, precision_names()};
     if (name == "family") return {value_kind::words, family_names()};
-    if (name == "objective") return {value_kind::words, {"ulp", "misclass"}};
-    if (name == "strategy") return {value_kind::words, {"search", "random"}};
+    if (name == "objective") return {value_kind::words, hunt_objective_names()};
+    if (name == "strategy") return {value_kind::words, hunt_strategy_names()};
     static const std::vector<std::string> typed = {
         "threads", "seed",  "count",  "repetitions", "min-time", "sweep",   "evaluations", "finds",
         "examples", "seconds", "budget", "plugin-timeout", "shard", "tolerance", "generate", "case"};

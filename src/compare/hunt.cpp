@@ -23,8 +23,26 @@ constexpr std::pair<hunt_objective, const char*> objective_names[] = {{hunt_obje
                                                                       {hunt_objective::misclass, "misclass"},
                                                                       {hunt_objective::scale_radius, "scale_radius"},
                                                                       {hunt_objective::scale_distance, "scale_distance"}};
+constexpr std::pair<hunt_strategy, const char*> strategy_names[] = {{hunt_strategy::search, "search"},
+                                                                    {hunt_strategy::random, "random"}};
+
+template <class Table>
+std::vector<std::string> names_of(const Table& table) {
+    std::vector<std::string> names;
+    for (const auto& entry : table) names.emplace_back(entry.second);
+    return names;
+}
 
 }  // namespace
+
+std::vector<std::string> hunt_objective_names() { return names_of(objective_names); }
+std::vector<std::string> hunt_strategy_names() { return names_of(strategy_names); }
+
+std::optional<hunt_strategy> hunt_strategy_from_name(std::string_view name) {
+    for (const auto& [strategy, n] : strategy_names)
+        if (n == name) return strategy;
+    return std::nullopt;
+}
 
 const char* hunt_objective_name(hunt_objective o) {
     for (const auto& [objective, name] : objective_names)
@@ -39,7 +57,11 @@ std::optional<hunt_objective> hunt_objective_from_name(std::string_view name) {
 }
 
 bool maximises_error(hunt_objective o) { return o != hunt_objective::misclass; }
-const char* hunt_strategy_name(hunt_strategy s) { return s == hunt_strategy::search ? "search" : "random"; }
+const char* hunt_strategy_name(hunt_strategy s) {
+    for (const auto& [strategy, name] : strategy_names)
+        if (strategy == s) return name;
+    return "?";
+}
 
 namespace {
 

@@ -45,6 +45,11 @@ enum class hunt_strategy {
 
 const char* hunt_objective_name(hunt_objective o);
 const char* hunt_strategy_name(hunt_strategy s);
+std::optional<hunt_strategy> hunt_strategy_from_name(std::string_view name);
+// Every name --objective and --strategy take, in one place for the option's
+// check and the shell completion.
+std::vector<std::string> hunt_objective_names();
+std::vector<std::string> hunt_strategy_names();
 
 struct hunt_options {
     hunt_objective objective = hunt_objective::ulp;

@@ -267,10 +267,11 @@ TEST_F(Cli, BenchAuditTimesTheWholeAuditPerFamilyWithItsStages) {
     std::istringstream targets_part(run.output.substr(run.output.find("targets, this run:")));
     std::string previous;
     while (std::getline(targets_part, line)) {
-        if (previous.find("MISSED") != std::string::npos)
+        if (previous.find("MISSED") != std::string::npos) {
             EXPECT_TRUE(line.rfind("      needs ", 0) == 0 || line.rfind("      the lines cost ", 0) == 0 ||
                         line.find(" bytes of text per case, ") != std::string::npos)
                 << previous << "\n" << line;
+        }
         previous = line;
     }
     EXPECT_NE(run.output.find("per-case output / audit, all"), std::string::npos) << run.output;

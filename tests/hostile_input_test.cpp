@@ -324,7 +324,7 @@ std::vector<bad_input> bad_inputs() {
          {{"a.txt", good}, {"b.txt", good}}, 2, "b.txt:1: field 'id'"},
         {"a corpus directory with a subdirectory of corpus files (never skipped in silence)",
          "rayverify audit --corpus dir", {}, 2, "dir/sub: a subdirectory of dir holding 1 corpus file",
-         [good](const fs::path& dir) {
+         [](const fs::path& dir) {
              fs::create_directories(dir / "dir" / "sub");
              std::ofstream(dir / "dir" / "a.txt") << good;
              std::ofstream(dir / "dir" / "sub" / "b.txt") << good;

@@ -44,12 +44,6 @@ std::optional<hunt_strategy> hunt_strategy_from_name(std::string_view name) {
     return std::nullopt;
 }
 
-const char* hunt_objective_name(hunt_objective o) {
-    for (const auto& [objective, name] : objective_names)
-        if (objective == o) return name;
-    return "?";
-}
-
 std::optional<hunt_objective> hunt_objective_from_name(std::string_view name) {
     for (const auto& [objective, n] : objective_names)
         if (n == name) return objective;
@@ -57,11 +51,6 @@ std::optional<hunt_objective> hunt_objective_from_name(std::string_view name) {
 }
 
 bool maximises_error(hunt_objective o) { return o != hunt_objective::misclass; }
-const char* hunt_strategy_name(hunt_strategy s) {
-    for (const auto& [strategy, name] : strategy_names)
-        if (strategy == s) return name;
-    return "?";
-}
 
 namespace {
 

@@ -43,8 +43,6 @@ enum class hunt_strategy {
     random,  // plain random sampling: every evaluation a fresh start case (the baseline)
 };
 
-const char* hunt_objective_name(hunt_objective o);
-const char* hunt_strategy_name(hunt_strategy s);
 std::optional<hunt_strategy> hunt_strategy_from_name(std::string_view name);
 // Every name --objective and --strategy take, in one place for the option's
 // check and the shell completion.

@@ -309,14 +309,6 @@ void add_recorded_outputs(variant_output& out, const recorded_answer* r) {
 
 }  // namespace
 
-template <class T>
-variant_output evaluate(const variant& v, const ray_sphere<T>& input, ray_interval<T> interval, const t_range& range) {
-    return widen_answer(v.promises, answer_in(v, input, interval), input, range);
-}
-
-template variant_output evaluate<float>(const variant&, const ray_sphere<float>&, ray_interval<float>, const t_range&);
-template variant_output evaluate<double>(const variant&, const ray_sphere<double>&, ray_interval<double>,
-                                         const t_range&);
 
 // ---- Judging -------------------------------------------------------------------------
 

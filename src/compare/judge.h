@@ -217,12 +217,6 @@ struct figure_request {
     static constexpr figure_request verdict_only() { return {root_errors::none, false, false}; }
 };
 
-// Run a variant in precision T on the inputs, asking an interval contract for
-// `interval`, and widen its answer. `range` is the range the contract answers
-// on (for the hit point).
-template <class T>
-variant_output evaluate(const variant& v, const ray_sphere<T>& input, ray_interval<T> interval, const t_range& range);
-
 // What judging one case at one precision needs that no target changes,
 // formed once and shared by every target judged on the case: the inputs as
 // a variant in that precision receives them (widened to double), their

@@ -78,7 +78,6 @@ std::string_view interned_text(std::string text) {
 
 std::string_view query_kind_name(query_kind k) { return name_in(query_kind_names, k); }
 std::string_view range_source_name(range_source r) { return name_in(range_source_names, r); }
-std::string_view end_kind_name(end_kind e) { return name_in(end_kind_names, e); }
 std::string_view inside_rule_name(inside_rule i) { return name_in(inside_rule_names, i); }
 std::string_view answer_kind_name(answer_kind a) { return name_in(answer_kind_names, a); }
 std::string_view point_bound_name(point_bound b) { return name_in(point_bound_names, b); }

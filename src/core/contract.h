@@ -111,7 +111,6 @@ std::string_view interned_text(std::string text);
 
 std::string_view query_kind_name(query_kind k);
 std::string_view range_source_name(range_source r);
-std::string_view end_kind_name(end_kind e);
 std::string_view inside_rule_name(inside_rule i);
 std::string_view answer_kind_name(answer_kind a);
 std::string_view point_bound_name(point_bound b);

@@ -84,7 +84,6 @@ constexpr std::array<std::array<std::string_view, 4>, 3> optional_groups = {{
 
 }  // namespace
 
-std::vector<std::string> case_columns() { return {case_column_names.begin(), case_column_names.end()}; }
 
 std::vector<std::string> answer_columns() {
     std::vector<std::string> names(answer_t_columns.begin(), answer_t_columns.end());

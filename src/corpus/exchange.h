@@ -80,8 +80,6 @@ private:
     std::size_t written_ = 0;
 };
 
-// The columns of a cases file, in order (CSV header, npy columns).
-std::vector<std::string> case_columns();
 // The columns an answer may have: count (required), t0, t1 (as the contract
 // needs them: check_recorded_values), then the optional groups t0_lo t0_hi
 // t1_lo t1_hi, px py pz, nx ny nz (each group all or none).

@@ -251,17 +251,20 @@ TEST(NativeEngines, GateRecordsEmbreesKernelAndFailsOnAnother) {
     if (!loaded(*embree, why_not)) GTEST_SKIP() << why_not;
     const test_support::scratch_directory out("embree_gate");
     const std::string baseline = (out.path() / "baseline.txt").string();
-    const std::string hook = "RAYVERIFY_TEST_EMBREE_KERNEL=sse2 ";
+    // Leak checking off for these runs: under load LeakSanitizer's tracer can crash while Embree's
+    // TBB threads end (exit 1 after "gate: passed"); what is tested here is the gate.
+    const std::string hook = "ASAN_OPTIONS=detect_leaks=0 RAYVERIFY_TEST_EMBREE_KERNEL=sse2 ";
     ASSERT_EQ(test_support::run_shell(hook + RAYVERIFY_CLI " gate --engine embree3 --baseline '" + baseline + "' --update")
                   .exit_code,
               0);
     EXPECT_NE(test_support::read_text(baseline).find("\nlibrary embree3 kernel sse2, set by RAYVERIFY_TEST_EMBREE_KERNEL"),
               std::string::npos);
-    EXPECT_EQ(test_support::run_shell(hook + RAYVERIFY_CLI " gate --engine embree3 --baseline '" + baseline + "'").exit_code,
-              0);
+    const test_support::command_result same =
+        test_support::run_shell(hook + RAYVERIFY_CLI " gate --engine embree3 --baseline '" + baseline + "'");
+    EXPECT_EQ(same.exit_code, 0) << same.output;
     const std::string junit = (out.path() / "gate.xml").string();
     const test_support::command_result other = test_support::run_shell(
-        "RAYVERIFY_TEST_EMBREE_KERNEL=avx " RAYVERIFY_CLI " gate --engine embree3 --baseline '" + baseline +
+        "ASAN_OPTIONS=detect_leaks=0 RAYVERIFY_TEST_EMBREE_KERNEL=avx " RAYVERIFY_CLI " gate --engine embree3 --baseline '" + baseline +
         "' --junit '" + junit + "'");
     EXPECT_EQ(other.exit_code, 1) << other.output;
     EXPECT_NE(other.output.find("SETUP  embree3: library set-up 'kernel sse2, set by RAYVERIFY_TEST_EMBREE_KERNEL"),

@@ -32,6 +32,7 @@
 #include "corpus/case_stream.h"
 #include "corpus/corpus_io.h"
 #include "corpus/exchange.h"
+#include "support/results_program.h"
 
 namespace {
 
@@ -242,19 +243,8 @@ void setup_run(const fs::path& dir, const std::string& arguments) {
 // A program for `hunt --command` (python3): it answers every batch with a miss per case, then
 // writes `after_batch` after each answer and `at_end` when its input ends.
 std::string answering_program(const std::string& after_batch, const std::string& at_end) {
-    return "import json, sys\n"
-           "while True:\n"
-           "    header = sys.stdin.readline()\n"
-           "    if not header:\n"
-           "        break\n"
-           "    h = json.loads(header)\n"
-           "    ids = [json.loads(sys.stdin.readline())['id'] for _ in range(h['cases'])]\n"
-           "    out = [json.dumps({'rayverify': 'results', 'version': 1, 'precision': h['precision'],\n"
-           "                       'fingerprint': h['fingerprint']})]\n"
-           "    out += [json.dumps({'id': i, 'count': 0}) for i in ids]\n"
-           "    sys.stdout.write('\\n'.join(out) + '\\n' + " + after_batch + ")\n"
-           "    sys.stdout.flush()\n"
-           "sys.stdout.write(" + at_end + ")\n";
+    return "import json, sys\n" + rayverify::test_support::miss_answering_loop(after_batch) + "sys.stdout.write(" +
+           at_end + ")\n";
 }
 
 const std::string modal_plugin = RAYVERIFY_FIXTURE_PLUGIN_MODAL;

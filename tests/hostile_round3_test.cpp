@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "support/process.h"
+#include "support/results_program.h"
 #include "support/sanitized.h"
 
 extern char** environ;
@@ -24,6 +25,7 @@ extern char** environ;
 namespace {
 
 namespace fs = std::filesystem;
+using rayverify::test_support::miss_answering_loop;
 using rayverify::test_support::read_text;
 using rayverify::test_support::run_cli;
 using rayverify::test_support::run_shell;
@@ -81,17 +83,7 @@ void write_escaping_program(const fs::path& file, bool busy) {
                         << (busy ? "sys.stdin.readline()\n"
                                    "while True:\n"
                                    "    pass\n"
-                                 : "while True:\n"
-                                   "    header = sys.stdin.readline()\n"
-                                   "    if not header:\n"
-                                   "        break\n"
-                                   "    h = json.loads(header)\n"
-                                   "    ids = [json.loads(sys.stdin.readline())['id'] for _ in range(h['cases'])]\n"
-                                   "    out = [json.dumps({'rayverify': 'results', 'version': 1, 'precision': "
-                                   "h['precision'], 'fingerprint': h['fingerprint']})]\n"
-                                   "    out += [json.dumps({'id': i, 'count': 0}) for i in ids]\n"
-                                   "    sys.stdout.write('\\n'.join(out) + '\\n')\n"
-                                   "    sys.stdout.flush()\n");
+                                 : miss_answering_loop());
 }
 
 std::vector<std::string> words_of(const std::string& text) {
@@ -188,19 +180,7 @@ TEST(ProgramStreams, AnAnswerLongerThanItsBatchCanNeedIsStopped) {
 // The peak memory (KiB) of `rayverify audit` over `count` generated cases
 // with a --command program that answers count 0 for every case.
 long audit_peak_kib(const fs::path& dir, std::size_t count) {
-    std::ofstream(dir / "zero.py")
-        << "import json, sys\n"
-           "while True:\n"
-           "    header = sys.stdin.readline()\n"
-           "    if not header:\n"
-           "        break\n"
-           "    h = json.loads(header)\n"
-           "    ids = [json.loads(sys.stdin.readline())['id'] for _ in range(h['cases'])]\n"
-           "    out = [json.dumps({'rayverify': 'results', 'version': 1, 'precision': h['precision'], "
-           "'fingerprint': h['fingerprint']})]\n"
-           "    out += [json.dumps({'id': i, 'count': 0}) for i in ids]\n"
-           "    sys.stdout.write('\\n'.join(out) + '\\n')\n"
-           "    sys.stdout.flush()\n";
+    std::ofstream(dir / "zero.py") << "import json, sys\n" << miss_answering_loop();
     std::ofstream(dir / "peak.py") << "import resource, subprocess, sys\n"
                                       "subprocess.run(sys.argv[1:], stdout=subprocess.DEVNULL)\n"
                                       "print(resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss)\n";

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "support/process.h"
+#include "support/results_program.h"
 
 namespace {
 
@@ -312,17 +313,7 @@ TEST_F(OtherLanguages, WhatTheProgramStartsDoesNotOutliveTheHunt) {
                                  "    open(sys.argv[1], 'w').write(str(os.getpid()))\n"
                                  "    time.sleep(120)\n"
                                  "    os._exit(0)\n"
-                                 "while True:\n"
-                                 "    header = sys.stdin.readline()\n"
-                                 "    if not header:\n"
-                                 "        break\n"
-                                 "    h = json.loads(header)\n"
-                                 "    ids = [json.loads(sys.stdin.readline())['id'] for _ in range(h['cases'])]\n"
-                                 "    out = [json.dumps({'rayverify': 'results', 'version': 1, 'precision': h['precision'],\n"
-                                 "                       'fingerprint': h['fingerprint']})]\n"
-                                 "    out += [json.dumps({'id': i, 'count': 0}) for i in ids]\n"
-                                 "    sys.stdout.write('\\n'.join(out) + '\\n')\n"
-                                 "    sys.stdout.flush()\n";
+                              << rayverify::test_support::miss_answering_loop();
     const auto r = run_cli("hunt --command 'python3 " + at("p.py") + " " + at("pid") + "' --contract " +
                            naive_contract + " --name leaver --evaluations 4 --budget 0 --no-shrink -o " + at("f.txt"));
     ASSERT_NE(r.exit_code, 2) << r.output;

@@ -175,6 +175,19 @@ constexpr std::size_t program_batch_cases = 4096;
 constexpr double command_program_timeout = 60;
 constexpr double engine_program_timeout = 300;
 
+// Asks `program` for `cases` (one batch) and adds its answers to `book`, each
+// numbered by its position among all the program's answers (`answered`
+// came before this batch).
+void ask_program(external_program& program, std::span<const corpus_case> cases, std::size_t answered,
+                 answer_book& book) {
+    const std::shared_ptr<const answer_book> answers = program.answer(cases);
+    for (const auto& [id, a] : answers->by_id) {
+        recorded_answer numbered = a;
+        numbered.line += answered;
+        book.by_id.emplace(id, numbered);
+    }
+}
+
 // `target` (an outside target) answered by a program: the whole input sent
 // batch by batch, each answer checked against its batch (corpus/external_program.h).
 void answer_by_program(audit_target& target, const std::string& command, exchange_format format, double timeout,
@@ -186,12 +199,7 @@ void answer_by_program(audit_target& target, const std::string& command, exchang
     std::vector<corpus_case> batch;
     std::size_t answered = 0;
     const auto ask = [&] {
-        const std::shared_ptr<const answer_book> answers = program.answer(batch);
-        for (const auto& [id, a] : answers->by_id) {
-            recorded_answer numbered = a;
-            numbered.line += answered;  // its position among all the program's answers
-            book->by_id.emplace(id, numbered);
-        }
+        ask_program(program, batch, answered, *book);
         answered += batch.size();
         batch.clear();
     };
@@ -228,12 +236,7 @@ void answer_by_program_per_chunk(audit_target& target, const std::string& comman
         book.by_id.clear();
         for (std::size_t begin = 0; begin < cases.size(); begin += program_batch_cases) {
             const std::size_t end = std::min(cases.size(), begin + program_batch_cases);
-            const std::shared_ptr<const answer_book> answers = state->program.answer(cases.subspan(begin, end - begin));
-            for (const auto& [id, a] : answers->by_id) {
-                recorded_answer numbered = a;
-                numbered.line += state->answered + begin;  // its position among all the program's answers
-                book.by_id.emplace(id, numbered);
-            }
+            ask_program(state->program, cases.subspan(begin, end - begin), state->answered + begin, book);
         }
         state->answered += cases.size();
         check_recorded_values(promises, book);

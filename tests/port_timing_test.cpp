@@ -1,8 +1,7 @@
 // tools/port_timing/: the engine ports timed in rayverify's build and in an
-// engine's Release build. Its list of ports must be the registry's (a port
-// added to the registry and not to the timing list, or the other way round,
-// fails here), and the two builds must answer alike on every port, or the
-// Release timing would be of other code.
+// engine's Release build. Its list of ports must be the registry's (both
+// expand intersectors/variants.def), and the two builds must answer alike on
+// every port, or the Release timing would be of other code.
 #include <gtest/gtest.h>
 
 #include <map>

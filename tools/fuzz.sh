@@ -21,21 +21,40 @@ cmake -S fuzz -B "$build" -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWit
 cmake --build "$build" -j "$(nproc)" --target "${targets[@]/#/fuzz_}"
 
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
-for target in "${targets[@]}"; do
-  corpus=$build/corpus/$target        # grows across runs; the seeds stay untouched
-  artifacts=$build/artifacts/$target/
+# One target, for the time given: its corpus grows across runs; the seeds stay untouched.
+fuzz_one() {
+  local target=$1
+  local corpus=$build/corpus/$target artifacts=$build/artifacts/$target/
   mkdir -p "$corpus" "$artifacts"
-  inputs=("$corpus" "fuzz/seeds/$target")
+  local inputs=("$corpus" "fuzz/seeds/$target")
   [ -d "fuzz/regressions/$target" ] && inputs+=("fuzz/regressions/$target")  # git keeps no empty folder
-  options=(-max_total_time="$seconds" -timeout=20 -rss_limit_mb=2048 -print_final_stats=1
-           -artifact_prefix="$artifacts")
+  local options=(-max_total_time="$seconds" -timeout=20 -rss_limit_mb=2048 -print_final_stats=1
+                 -artifact_prefix="$artifacts")
   [ -f "fuzz/$target.dict" ] && options+=(-dict="fuzz/$target.dict")
   echo "fuzz: $target for ${seconds}s" >&2
-  log=$build/$target.log
+  local log=$build/$target.log
   if ! "$build/fuzz_$target" "${options[@]}" "${inputs[@]}" >"$log" 2>&1; then
     tail -n 60 "$log" >&2
     echo "fuzz: $target failed; the input is in $artifacts, the log in $log" >&2
-    exit 1
+    return 1
   fi
-  grep -E '^(Done|stat::number_of_executed_units|stat::peak_rss_mb)' "$log" >&2 || true
+  grep -E '^(Done|stat::number_of_executed_units|stat::peak_rss_mb)' "$log" | sed "s/^/$target: /" >&2 || true
+}
+
+# The targets side by side, one per core (each fuzzer is one process, one
+# thread): every target still runs for the whole time given.
+parallel=$(nproc)
+running=0 failed=0
+for target in "${targets[@]}"; do
+  fuzz_one "$target" &
+  running=$((running + 1))
+  if [ "$running" -ge "$parallel" ]; then
+    wait -n || failed=1
+    running=$((running - 1))
+  fi
 done
+while [ "$running" -gt 0 ]; do
+  wait -n || failed=1
+  running=$((running - 1))
+done
+exit "$failed"

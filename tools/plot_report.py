@@ -39,9 +39,11 @@ def colour(variant):
         return VARIANT_COLOURS[variant]
     return EXTRA_ASSIGNED.setdefault(variant, EXTRA_COLOURS[len(EXTRA_ASSIGNED) % len(EXTRA_COLOURS)])
 PRECISION_MARKERS = {"float": "o", "double": "s", "long double": "D", "exact": "*"}
-# The wrong-class verdicts: rayverify passes them (--misclassifications) from its
-# one verdict table (src/compare/judge.cpp), so that this script keeps no list.
+# The wrong-class and the unscored verdicts: rayverify passes them
+# (--misclassifications, --unscored) from its one verdict table
+# (src/compare/judge.cpp), so that this script keeps no list.
 MISCLASS = ()
+UNSCORED = ()
 DPI = 100
 plt.rcParams.update({"font.size": 11, "axes.titlesize": 11, "legend.fontsize": 10})
 
@@ -65,7 +67,7 @@ def number(x):
 
 def scored(entry):
     v = entry["verdicts"]
-    return entry["cases"] - v.get("invalid", 0) - v.get("contract_violation", 0)
+    return entry["cases"] - sum(v.get(k, 0) for k in UNSCORED)
 
 
 def misclassification_rate(entry):
@@ -280,7 +282,7 @@ def plot_far_sphere(report, directory):
             worst, rate, n = [], [], []
             for d in bins:
                 idx = [i for i in keep if math.floor(math.log10(number(ratio[i]))) == d
-                       and t["verdict"][i] not in ("invalid", "contract_violation")]
+                       and t["verdict"][i] not in UNSCORED]
                 errors = [number(t["near_ulp"][i]) for i in idx if t["near_ulp"][i] is not None]
                 errors = [e for e in errors if math.isfinite(e)]
                 worst.append(max(errors) if errors else None)
@@ -382,11 +384,12 @@ def plot_histograms(report, directory):
 
 
 def main():
-    global MISCLASS
+    global MISCLASS, UNSCORED
     args = sys.argv[1:]
-    if len(args) != 3 or args[1] != "--misclassifications":
-        sys.exit("usage: plot_report.py REPORT_DIR --misclassifications NAME,NAME,...")
+    if len(args) != 5 or args[1] != "--misclassifications" or args[3] != "--unscored":
+        sys.exit("usage: plot_report.py REPORT_DIR --misclassifications NAME,NAME,... --unscored NAME,NAME,...")
     MISCLASS = tuple(args[2].split(","))
+    UNSCORED = tuple(args[4].split(","))
     directory = args[0]
     with open(os.path.join(directory, "report.json")) as f:
         report = json.load(f)

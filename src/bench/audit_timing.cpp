@@ -12,17 +12,13 @@
 
 #include "bench/oracle_timing.h"
 #include "bench/timing.h"
+#include "compare/audit.h"
 #include "corpus/case_stream.h"
 #include "corpus/manifest.h"
 #include "intersectors/registry.h"
 
 namespace rayverify::bench {
 namespace {
-
-const std::vector<std::string> ratio_variants = {
-    "naive",         "half_b",          "seed003_reduced",     "seed004_early_out",  "geometric",
-    "stable_roots",  "hearn_baker",     "fma_discriminant",    "hearn_baker_any_hit", "hearn_baker_nearest",
-    "hearn_baker_unit", "hearn_baker_unit_nearest", "hearn_baker_unit_any_hit"};
 
 // An output stream that takes every character and keeps none: the per-case
 // lines are rendered and written as the audit writes them, to no file.
@@ -197,11 +193,7 @@ generation_timing time_uniform_generation(int repetitions, std::size_t count) {
 
 std::vector<audit_target> audit_timing_targets() {
     std::vector<variant> chosen;
-    for (const std::string& name : ratio_variants) {
-        const variant* v = find_builtin_variant(name);
-        if (v == nullptr) throw std::logic_error("bench --audit: no built-in variant " + name);
-        chosen.push_back(*v);
-    }
+    for (const std::string_view name : textbook_variant_names()) chosen.push_back(*find_builtin_variant(name));
     return targets_for(chosen);
 }
 
@@ -214,7 +206,7 @@ audit_timing measure_audit_timing(const std::vector<corpus_case>& cases, int rep
                                   const whole_audit_pass& pass) {
     const std::vector<audit_target> targets = audit_timing_targets();
     std::map<std::string, std::vector<corpus_case>> by_family;
-    for (const corpus_case& c : cases) by_family[c.family.empty() ? "-" : c.family].push_back(c);
+    for (const corpus_case& c : cases) by_family[family_key(c)].push_back(c);
     audit_timing out;
     out.target_count = targets.size();
     out.repetitions = repetitions;

@@ -9,6 +9,7 @@
 
 #include "bench/collecting_reporter.h"
 #include "bench/timing.h"
+#include "compare/audit.h"
 #include "intersectors/naive.h"
 #include "oracle/algebraic_route.h"
 #include "oracle/filter.h"
@@ -160,7 +161,7 @@ oracle_timing time_oracle(const std::vector<corpus_case>& cases, const oracle_ti
     prepared all;
     for (const corpus_case& c : cases) {
         if (validity<double>(c.geometry) != invalid_reason::none) continue;
-        for (prepared* p : {&by_family[c.family.empty() ? "-" : c.family], &all}) {
+        for (prepared* p : {&by_family[family_key(c)], &all}) {
             p->cases.push_back(c);
             p->inputs.push_back(c.geometry);
         }

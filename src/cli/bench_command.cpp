@@ -16,6 +16,7 @@
 #include "bench/robust_fallback.h"
 #include "bench/timing.h"
 #include "cli/commands.h"
+#include "compare/audit.h"
 #include "compare/stability.h"
 #include "core/input_error.h"
 #include "corpus/corpus_io.h"
@@ -211,8 +212,10 @@ int run(const bench_options& options, const std::string& command_line) {
         throw input_error("", 0, "--precision", "times the variants: not with --oracle (the oracle is exact)");
     if (options.oracle) return run_oracle_timing(cases, options);
     if (options.audit && (!options.benchmark_json.empty() || !options.precisions.empty() || !options.report_dir.empty()))
-        throw input_error("", 0, "--audit", "times the audit of the 13 textbook variants: not with --benchmark-json, "
-                                            "--precision or --report");
+        throw input_error("", 0, "--audit",
+                          fmt::format("times the audit of the {} textbook variants: not with --benchmark-json, "
+                                      "--precision or --report",
+                                      textbook_variant_names().size()));
     if (options.audit) {
         const auto whole_pass = [](const case_source& next, const std::vector<audit_target>& targets,
                                    std::ostream* per_case) { return run_audit_pass(next, targets, 1, true, per_case).audit.cases; };
@@ -282,7 +285,7 @@ int run(const bench_options& options, const std::string& command_line) {
 
     // Run time, per family.
     std::map<std::string, std::vector<corpus_case>> by_family;
-    for (const corpus_case& c : cases) by_family[c.family.empty() ? "-" : c.family].push_back(c);
+    for (const corpus_case& c : cases) by_family[family_key(c)].push_back(c);
     bench::timing_options timing;
     timing.variants = options.variants;
     for (const audit_target& t : plugin_targets)
@@ -408,9 +411,10 @@ command add_bench_command(CLI::App& app, const std::string& command_line) {
                   "Time the exact oracles instead: the filtered oracle and the reference route against the naive "
                   "double intersector per family, with the filter's fallback rates");
     sub->add_flag("--audit", options->audit,
-                  "Time the whole audit instead (the 13 textbook variants in float and double, one thread) per "
-                  "case-target against the naive double intersector per family, with the share of figures each "
-                  "stage of the oracle settled")
+                  fmt::format("Time the whole audit instead (the {} textbook variants in float and double, one "
+                              "thread) per case-target against the naive double intersector per family, with the "
+                              "share of figures each stage of the oracle settled",
+                              textbook_variant_names().size()))
         ->excludes("--oracle");
     sub->add_option("--family", options->families, "Only cases of this family (repeatable; default: all)");
     sub->add_option("--precision", options->precisions,

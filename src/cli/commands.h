@@ -20,6 +20,7 @@
 #include "compare/audit.h"
 #include "corpus/case_stream.h"
 #include "corpus/exchange.h"
+#include "core/exit_codes.h"
 #include "core/outputs.h"
 #include "plugin/plugin_loader.h"
 #include "report/markdown_report.h"
@@ -27,9 +28,10 @@
 
 namespace rayverify::cli {
 
-inline constexpr int exit_ok = 0;
-inline constexpr int exit_findings = 1;
-inline constexpr int exit_input_error = 2;
+using rayverify::exit_findings;
+using rayverify::exit_input_error;
+using rayverify::exit_internal_error;
+using rayverify::exit_ok;
 
 // A subcommand: its parser and the action run when it was chosen.
 struct command {

@@ -231,7 +231,7 @@ int run(const explain_options& options) {
         const target_outcome& o = audited.outcomes[i];
         const contract& promises = targets[i].subject.promises;
         const auto& r = o.output.roots;
-        const bool ran = o.score.verdict != verdict_kind::invalid && o.score.verdict != verdict_kind::contract_violation;
+        const bool ran = is_scored(o.score.verdict);
         // Every value the judge looked at: a line answer's t1 even with count 1.
         const bool shows_t0 = ran && r.count > 0 && promises.query != query_kind::any_hit;
         const bool shows_t1 = shows_t0 && promises.query == query_kind::line_roots;

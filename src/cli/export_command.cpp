@@ -102,7 +102,7 @@ command add_export_subcommand(CLI::App* corpus) {
     sub->add_option("--generate", o->generate, "Generated cases instead: FAMILY:COUNT[:SEED]; repeatable");
     sub->add_option("--scene", o->scene, "A scene file's (ray, sphere) pairs instead, ids '<ray>/<sphere>'");
     sub->add_option("--format", o->format, "csv, jsonl or npy (default: by the output's extension)")
-        ->check(CLI::IsMember({"csv", "jsonl", "npy"}));
+        ->check(CLI::IsMember(every_exchange_format_name()));
     sub->add_option("--precision", o->precision,
                     "float or double: every value rounded to it, as an intersector in that precision receives it "
                     "(default: double; a scene's own precision)")

@@ -121,13 +121,13 @@ int main(int argc, char** argv) {
             return cli::exit_input_error;
         }
         tell(fmt::format("rayverify: internal error: {}\n", e.what()));
-        return 3;
+        return cli::exit_internal_error;
     } catch (const std::bad_alloc&) {  // on any thread of the audit: the workers pass theirs on
         tell("rayverify: error: out of memory (std::bad_alloc): give it more memory, or fewer --threads; no output "
              "was written\n");
-        return 3;
+        return cli::exit_internal_error;
     } catch (const std::exception& e) {
         tell(fmt::format("rayverify: internal error: {}\n", e.what()));
-        return 3;
+        return cli::exit_internal_error;
     }
 }

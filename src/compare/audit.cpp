@@ -108,7 +108,10 @@ std::size_t target_tally::disagreements() const {
 std::size_t target_tally::by_design() const { return by_design_count(causes); }
 
 std::size_t target_tally::scored() const {
-    return verdicts[static_cast<int>(verdict_kind::agree)] + disagreements();
+    std::size_t n = 0;
+    for (int k = 0; k < verdict_kind_count; ++k)
+        if (is_scored(static_cast<verdict_kind>(k))) n += verdicts[k];
+    return n;
 }
 
 // Bucket keys: 0 holds exactly 0; key k ≥ 1 holds the doubles whose bits,

@@ -142,7 +142,7 @@ variant_output as_answered_under(const contract& declared, const contract& candi
 void lint_case(const contract& declared, std::span<const lint_candidate> candidates, const case_score& score,
                const variant_output& output, const exact_solution& exact, const t_range& range,
                const ray_sphere<double>& input, contract_lint_tally& into) {
-    if (score.verdict == verdict_kind::invalid || score.verdict == verdict_kind::contract_violation) return;
+    if (!is_scored(score.verdict)) return;
     if (into.fixed.size() < candidates.size()) {
         into.fixed.resize(candidates.size());
         into.broken.resize(candidates.size());
@@ -189,9 +189,7 @@ void contract_lint_accumulator::add(const audited_case& c) {
     for (std::size_t t = 0; t < candidates.size() && t < c.outcomes.size(); ++t) {
         if (candidates[t].empty()) continue;
         const target_outcome& outcome = c.outcomes[t];
-        if (outcome.score.verdict == verdict_kind::invalid ||
-            outcome.score.verdict == verdict_kind::contract_violation)
-            continue;
+        if (!is_scored(outcome.score.verdict)) continue;
         const ray_sphere<double> input = precisions[t] == precision::binary32
                                              ? rounded_to<double>(rounded_to<float>(c.source->geometry))
                                              : c.source->geometry;

@@ -11,6 +11,7 @@
 #include <set>
 #include <utility>
 
+#include "compare/audit.h"
 #include "core/input_error.h"
 
 namespace rayverify {
@@ -168,7 +169,7 @@ baseline parse_baseline(const std::string& file, std::string_view text) {
         // A target's precision, when the text names a target ("naive/float").
         const auto check_precision = [&](const std::string& target, const std::string& field) {
             const std::string precision = target.substr(target.find('/') + 1);
-            if (precision != "float" && precision != "double")
+            if (!precision_from_name(precision))
                 throw error(field, fmt::format("{}: unknown precision {} (float or double)", quoted(target),
                                                quoted(precision)));
         };
@@ -450,7 +451,7 @@ gate_result compare_figures(const figure_table& before, const figure_table& afte
 
 void gate_examples::add(const audited_case& c, const std::vector<audit_target>& targets) {
     if (per_figure_ == 0) return;
-    const std::string family = c.source->family.empty() ? "-" : c.source->family;
+    const std::string family = family_key(*c.source);
     for (std::size_t t = 0; t < targets.size(); ++t) {
         const verdict_kind verdict = c.outcomes[t].score.verdict;
         if (!is_disagreement(verdict)) continue;

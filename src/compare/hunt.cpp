@@ -14,41 +14,25 @@
 
 #include "core/case_in_progress.h"
 #include "core/float_bits.h"
+#include "core/name_table.h"
 
 namespace rayverify {
 
 namespace {
 
-constexpr std::pair<hunt_objective, const char*> objective_names[] = {{hunt_objective::ulp, "ulp"},
-                                                                      {hunt_objective::misclass, "misclass"},
-                                                                      {hunt_objective::scale_radius, "scale_radius"},
-                                                                      {hunt_objective::scale_distance, "scale_distance"}};
-constexpr std::pair<hunt_strategy, const char*> strategy_names[] = {{hunt_strategy::search, "search"},
-                                                                    {hunt_strategy::random, "random"}};
-
-template <class Table>
-std::vector<std::string> names_of(const Table& table) {
-    std::vector<std::string> names;
-    for (const auto& entry : table) names.emplace_back(entry.second);
-    return names;
-}
+constexpr name_table<hunt_objective, 4> objective_names{{{hunt_objective::ulp, "ulp"},
+                                                        {hunt_objective::misclass, "misclass"},
+                                                        {hunt_objective::scale_radius, "scale_radius"},
+                                                        {hunt_objective::scale_distance, "scale_distance"}}};
+constexpr name_table<hunt_strategy, 2> strategy_names{{{hunt_strategy::search, "search"}, {hunt_strategy::random, "random"}}};
 
 }  // namespace
 
-std::vector<std::string> hunt_objective_names() { return names_of(objective_names); }
-std::vector<std::string> hunt_strategy_names() { return names_of(strategy_names); }
+std::vector<std::string> hunt_objective_names() { return names_in(objective_names); }
+std::vector<std::string> hunt_strategy_names() { return names_in(strategy_names); }
 
-std::optional<hunt_strategy> hunt_strategy_from_name(std::string_view name) {
-    for (const auto& [strategy, n] : strategy_names)
-        if (n == name) return strategy;
-    return std::nullopt;
-}
-
-std::optional<hunt_objective> hunt_objective_from_name(std::string_view name) {
-    for (const auto& [objective, n] : objective_names)
-        if (n == name) return objective;
-    return std::nullopt;
-}
+std::optional<hunt_strategy> hunt_strategy_from_name(std::string_view name) { return value_in(strategy_names, name); }
+std::optional<hunt_objective> hunt_objective_from_name(std::string_view name) { return value_in(objective_names, name); }
 
 bool maximises_error(hunt_objective o) { return o != hunt_objective::misclass; }
 
@@ -181,7 +165,7 @@ bool kept_disagreement(const hunt_evaluation& e, const hunt_options& options) {
 // `error`: bounds on e.error (exact under misclass and the scale objectives).
 fitness fitness_of(const hunt_options& options, const hunt_evaluation& e, const figure_bracket& error,
                    const ray_sphere<double>& g) {
-    if (e.verdict == verdict_kind::invalid || e.verdict == verdict_kind::contract_violation) return {-1, 0, 0};
+    if (!is_scored(e.verdict)) return {-1, 0, 0};
     if (options.objective == hunt_objective::misclass) {
         if (kept_disagreement(e, options)) return {1, 0, 0};
         const long double gap = tangency_gap(g);

@@ -139,6 +139,7 @@ std::optional<verdict_kind> verdict_from_name(std::string_view name) {
 }
 
 bool is_disagreement(verdict_kind k) { return entry(k).scored == scoring::disagreement; }
+bool is_scored(verdict_kind k) { return entry(k).scored != scoring::not_scored; }
 bool is_misclassification(verdict_kind k) { return entry(k).misclassification; }
 bool is_corpus_verdict(verdict_kind k) { return !entry(k).scene_only; }
 std::array<std::uint8_t, 3> verdict_colour_rgb(verdict_kind k) { return entry(k).colour; }

@@ -93,6 +93,9 @@ std::string_view verdict_meaning(verdict_kind k);
 std::string_view verdict_column(verdict_kind k);
 // Neither agree nor one of the two kinds that are not scored.
 bool is_disagreement(verdict_kind k);
+// Agree or a disagreement: not contract_violation or invalid, which say the
+// case is not one the variant can be held to.
+bool is_scored(verdict_kind k);
 // A wrong class: false miss or hit, tangent split or missed, false tangent.
 bool is_misclassification(verdict_kind k);
 // A verdict a corpus case can get (every kind but wrong_sphere, a scene's): a column of the corpus tables.

@@ -49,7 +49,7 @@ void stability_accumulator::add(const audited_case& c, std::size_t index) {
     const std::string& id = c.source->id;
     for (std::size_t t = 0; t < targets.size(); ++t) {
         const case_score& score = c.outcomes[t].score;
-        if (score.verdict == verdict_kind::invalid || score.verdict == verdict_kind::contract_violation) continue;
+        if (!is_scored(score.verdict)) continue;
         const stability_measures& m = s.at(targets[t].prec);
         const int bucket = condition_bucket(m);
         stability_samples& out = family_samples[t];

@@ -9,13 +9,12 @@
 #include <utility>
 #include <vector>
 
+#include "core/name_table.h"
+
 namespace rayverify {
 namespace {
 
-// One table per enum: the value and its name, in enum order.
-template <class E, std::size_t N>
-using name_table = std::array<std::pair<E, std::string_view>, N>;
-
+// One table per enum (core/name_table.h).
 constexpr name_table<query_kind, 3> query_kind_names{{
     {query_kind::line_roots, "line_roots"}, {query_kind::nearest_hit, "nearest_hit"}, {query_kind::any_hit, "any_hit"}}};
 constexpr name_table<range_source, 4> range_source_names{{{range_source::ray, "ray"},
@@ -28,27 +27,6 @@ constexpr name_table<inside_rule, 3> inside_rule_names{
 constexpr name_table<answer_kind, 2> answer_kind_names{{{answer_kind::t, "t"}, {answer_kind::point, "point"}}};
 constexpr name_table<point_bound, 3> point_bound_names{
     {{point_bound::none, "no"}, {point_bound::hit, "yes"}, {point_bound::surface, "surface"}}};
-
-template <class E, std::size_t N>
-std::string_view name_in(const name_table<E, N>& table, E value) {
-    for (const auto& [v, name] : table)
-        if (v == value) return name;
-    return "?";  // unreachable for a valid enum value
-}
-
-template <class E, std::size_t N>
-std::optional<E> value_in(const name_table<E, N>& table, std::string_view name) {
-    for (const auto& [v, n] : table)
-        if (n == name) return v;
-    return std::nullopt;
-}
-
-template <class E, std::size_t N>
-std::string allowed(const name_table<E, N>& table) {
-    std::string out;
-    for (const auto& [v, name] : table) out += (out.empty() ? "" : ", ") + std::string(name);
-    return out;
-}
 
 // The shortest decimal that reads back as x (std::to_chars), ±inf spelled out.
 std::string number_text(double x) {
@@ -195,11 +173,11 @@ contract parse_contract(std::string_view spec, contract c) {
         given.push_back(key);
         if (key == "query") {
             const auto v = query_kind_from_name(value);
-            if (!v) throw fail(key, value, allowed(query_kind_names));
+            if (!v) throw fail(key, value, allowed_names(query_kind_names));
             c.query = *v;
         } else if (key == "range") {
             const auto v = range_source_from_name(value);
-            if (!v) throw fail(key, value, allowed(range_source_names));
+            if (!v) throw fail(key, value, allowed_names(range_source_names));
             c.range = *v;
         } else if (key == "ends") {
             if (value.size() != 2 || (value[0] != '(' && value[0] != '[') || (value[1] != ')' && value[1] != ']'))
@@ -208,7 +186,7 @@ contract parse_contract(std::string_view spec, contract c) {
             c.upper_end = value[1] == ']' ? end_kind::closed : end_kind::open;
         } else if (key == "inside") {
             const auto v = inside_rule_from_name(value);
-            if (!v) throw fail(key, value, allowed(inside_rule_names));
+            if (!v) throw fail(key, value, allowed_names(inside_rule_names));
             c.inside = *v;
         } else if (key == "tangent") {
             if (value != "hit" && value != "miss") throw fail(key, value, "hit or miss");
@@ -228,7 +206,7 @@ contract parse_contract(std::string_view spec, contract c) {
             c.tangent_threshold = x;
         } else if (key == "answer") {
             const auto v = answer_kind_from_name(value);
-            if (!v) throw fail(key, value, allowed(answer_kind_names));
+            if (!v) throw fail(key, value, allowed_names(answer_kind_names));
             c.answer = *v;
         } else if (key == "t_bounds") {
             c.outputs.t_bounds = yes_no_value(key, value);
@@ -236,7 +214,7 @@ contract parse_contract(std::string_view spec, contract c) {
             c.outputs.hit_point = yes_no_value(key, value);
         } else if (key == "point_error") {
             const auto v = point_bound_from_name(value);
-            if (!v) throw fail(key, value, allowed(point_bound_names));
+            if (!v) throw fail(key, value, allowed_names(point_bound_names));
             c.outputs.point_error = *v;
         } else if (key == "normal") {
             c.outputs.normal = yes_no_value(key, value);

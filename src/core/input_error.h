@@ -13,14 +13,20 @@
 
 namespace rayverify {
 
-// Text of an input repeated in a message: every byte that is not printable
-// ASCII shown as \xNN, so that binary garbage gives a one-line message.
-inline std::string printable(std::string_view text) {
+// What printable does with bytes above ASCII: show them as \xNN (the text
+// need not be UTF-8), or keep them (text known to be UTF-8, e.g. a JSON
+// string that parsed).
+enum class non_ascii_bytes { escape, keep };
+
+// Text of an input repeated in a message: control characters (and, unless
+// kept, every byte that is not ASCII) shown as \xNN, so that binary garbage
+// gives a one-line message.
+inline std::string printable(std::string_view text, non_ascii_bytes above_ascii = non_ascii_bytes::escape) {
     static constexpr char digits[] = "0123456789ABCDEF";
     std::string out;
     for (const char c : text) {
         const auto byte = static_cast<unsigned char>(c);
-        if (byte < 0x20 || byte >= 0x7f)
+        if (byte < 0x20 || byte == 0x7f || (byte > 0x7f && above_ascii == non_ascii_bytes::escape))
             out += {'\\', 'x', digits[byte >> 4], digits[byte & 15]};
         else
             out += c;

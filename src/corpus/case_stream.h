@@ -64,6 +64,12 @@ private:
     std::uint64_t hash_ = 0xcbf29ce484222325ULL;
 };
 
+// Whether text is written as case_fingerprint::text() writes a fingerprint or
+// a file's digest: 16 lower-case hex digits.
+inline bool is_fingerprint_text(std::string_view text) {
+    return text.size() == 16 && text.find_first_not_of("0123456789abcdef") == std::string_view::npos;
+}
+
 class case_stream {
 public:
     static constexpr std::size_t default_chunk = 4096;

@@ -19,6 +19,8 @@
 #include <sys/stat.h>
 
 #include "core/input_error.h"
+#include "core/name_table.h"
+#include "corpus/case_stream.h"
 #include "corpus/corpus_io.h"
 #include "corpus/json_input.h"
 
@@ -29,20 +31,16 @@ using json = nlohmann::ordered_json;
 
 // ---- Names ----------------------------------------------------------------------
 
-std::string_view exchange_format_name(exchange_format f) {
-    switch (f) {
-        case exchange_format::csv: return "csv";
-        case exchange_format::jsonl: return "jsonl";
-        case exchange_format::npy: return "npy";
-    }
-    return "?";
-}
+namespace {
+constexpr name_table<exchange_format, 3> exchange_format_names{
+    {{exchange_format::csv, "csv"}, {exchange_format::jsonl, "jsonl"}, {exchange_format::npy, "npy"}}};
+}  // namespace
 
+std::string_view exchange_format_name(exchange_format f) { return name_in(exchange_format_names, f); }
 std::optional<exchange_format> exchange_format_from_name(std::string_view name) {
-    for (exchange_format f : {exchange_format::csv, exchange_format::jsonl, exchange_format::npy})
-        if (name == exchange_format_name(f)) return f;
-    return std::nullopt;
+    return value_in(exchange_format_names, name);
 }
+std::vector<std::string> every_exchange_format_name() { return names_in(exchange_format_names); }
 
 std::optional<exchange_format> exchange_format_of(const fs::path& path) {
     std::string ext = path.extension().string();
@@ -374,16 +372,12 @@ struct parsed_header {
 };
 
 precision precision_from(const std::string& text, const std::string& file, std::size_t line) {
-    if (text == "float") return precision::binary32;
-    if (text == "double") return precision::binary64;
+    if (const std::optional<precision> p = precision_from_name(text)) return *p;
     throw input_error(file, line, "precision", fmt::format("'{}' (expected float or double)", text));
 }
 
 std::string fingerprint_from(const std::string& text, const std::string& file, std::size_t line) {
-    const bool hex16 = text.size() == 16 && std::all_of(text.begin(), text.end(), [](char c) {
-                           return (c >= '0' && c <= '9') || (c >= 'a' && c <= 'f');
-                       });
-    if (!hex16)
+    if (!is_fingerprint_text(text))
         throw input_error(file, line, "fingerprint",
                           fmt::format("'{}' (expected the 16 hex digits of the cases' header)", text));
     return text;

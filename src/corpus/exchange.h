@@ -36,6 +36,8 @@ namespace rayverify {
 enum class exchange_format { csv, jsonl, npy };
 
 std::string_view exchange_format_name(exchange_format f);
+// Every format's name, in enum order (export --format's choices).
+std::vector<std::string> every_exchange_format_name();
 std::optional<exchange_format> exchange_format_from_name(std::string_view name);
 // By the file's extension (.csv, .jsonl, .npy; any case); nullopt for another.
 std::optional<exchange_format> exchange_format_of(const std::filesystem::path& path);

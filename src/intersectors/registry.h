@@ -112,6 +112,10 @@ answer<T> answer_in(const variant& v, const ray_sphere<T>& s, ray_interval<T> in
 // All built-in variants, in a fixed order (the order of reports).
 std::span<const variant> builtin_variants();
 
+// The built-in published formulas (variants.def's textbook family), in the
+// registry's order: what `bench --audit` times.
+std::span<const std::string_view> textbook_variant_names();
+
 // nullptr when no built-in variant has that name.
 const variant* find_builtin_variant(std::string_view name);
 

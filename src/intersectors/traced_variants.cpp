@@ -6,27 +6,7 @@
 
 #include "intersectors/traced.h"
 // traced.h first: the intersectors below find its overloads when instantiated on traced scalars.
-#include "intersectors/cycles_point.h"
-#include "intersectors/embree4_sphere.h"
-#include "intersectors/fma_discriminant.h"
-#include "intersectors/geometric.h"
-#include "intersectors/godot_segment.h"
-#include "intersectors/half_b.h"
-#include "intersectors/hearn_baker.h"
-#include "intersectors/hearn_baker_any_hit.h"
-#include "intersectors/hearn_baker_nearest.h"
-#include "intersectors/hearn_baker_unit.h"
-#include "intersectors/jolt_ray_sphere.h"
-#include "intersectors/mitsuba3_sphere.h"
-#include "intersectors/naive.h"
-#include "intersectors/pbrt_v4_sphere.h"
-#include "intersectors/raylib_collision.h"
-#include "intersectors/robust.h"
-#include "intersectors/seed003_reduced.h"
-#include "intersectors/seed004_early_out.h"
-#include "intersectors/stable_roots.h"
-#include "intersectors/threejs_ray.h"
-#include "intersectors/wald_origin_shift.h"
+#include "intersectors/all.h"
 
 namespace rayverify {
 namespace {
@@ -84,7 +64,6 @@ void trace_robust_filter(const ray_sphere<T>& s) {
     [](const ray_sphere<T>& s, T tmin, T tmax) {                                              \
         record_roots<T>(intersectors::fn<traced<T>>(traced_inputs(s), tmin, tmax));           \
     }
-#define RAYVERIFY_BOTH(kind, fn) {#fn, kind(fn, float), kind(fn, double), {}}
 
 constexpr std::string_view robust_what =
     "robust_sphere.h runs on float and double only: its static filter's values, computed in double, beside "
@@ -92,40 +71,33 @@ constexpr std::string_view robust_what =
 constexpr trace_fn<float> robust_float = [](const ray_sphere<float>& s, float, float) { trace_robust_filter(s); };
 constexpr trace_fn<double> robust_double = [](const ray_sphere<double>& s, double, double) { trace_robust_filter(s); };
 
-const std::array<variant_trace, 29> traces{{
-    RAYVERIFY_BOTH(RAYVERIFY_PLAIN, naive),
-    RAYVERIFY_BOTH(RAYVERIFY_PLAIN, half_b),
-    RAYVERIFY_BOTH(RAYVERIFY_PLAIN, seed003_reduced),
-    RAYVERIFY_BOTH(RAYVERIFY_PLAIN, seed004_early_out),
-    RAYVERIFY_BOTH(RAYVERIFY_PLAIN, geometric),
-    RAYVERIFY_BOTH(RAYVERIFY_PLAIN, stable_roots),
-    RAYVERIFY_BOTH(RAYVERIFY_PLAIN, hearn_baker),
-    RAYVERIFY_BOTH(RAYVERIFY_PLAIN, fma_discriminant),
-    RAYVERIFY_BOTH(RAYVERIFY_RANGED, hearn_baker_any_hit),
-    RAYVERIFY_BOTH(RAYVERIFY_RANGED, hearn_baker_nearest),
-    RAYVERIFY_BOTH(RAYVERIFY_PLAIN, hearn_baker_unit),
-    RAYVERIFY_BOTH(RAYVERIFY_RANGED, hearn_baker_unit_nearest),
-    RAYVERIFY_BOTH(RAYVERIFY_RANGED, hearn_baker_unit_any_hit),
-    RAYVERIFY_BOTH(RAYVERIFY_PLAIN, wald_origin_shift),
-    {"robust", robust_float, robust_double, robust_what},
-    {"robust_nearest", robust_float, robust_double, robust_what},
-    {"robust_any_hit", robust_float, robust_double, robust_what},
-    {"robust_bounded", robust_float, robust_double, robust_what},
-    {"robust_bounded_nearest", robust_float, robust_double, robust_what},
-    {"pbrt_v4", RAYVERIFY_RANGED(pbrt_v4, float), RAYVERIFY_RANGED(pbrt_v4, double),
-     "interval arithmetic: each end of an interval beside the value it encloses"},
-    RAYVERIFY_BOTH(RAYVERIFY_RANGED, mitsuba3_preliminary),
-    RAYVERIFY_BOTH(RAYVERIFY_RANGED, mitsuba3_ray_test),
-    {"embree4", RAYVERIFY_RANGED(embree4, float), nullptr, {}},
-    {"cycles_point", RAYVERIFY_RANGED(cycles_point, float), nullptr, {}},
-    {"jolt", RAYVERIFY_RANGED(jolt, float), nullptr, {}},
-    {"jolt_fma", RAYVERIFY_RANGED(jolt_fma, float), nullptr, {}},
-    {"threejs", nullptr, RAYVERIFY_RANGED(threejs, double), {}},
-    RAYVERIFY_BOTH(RAYVERIFY_RANGED, godot),
-    {"raylib", RAYVERIFY_RANGED(raylib, float), nullptr, {}},
-}};
+// What a port's steps are when they are not plain arithmetic; else empty.
+constexpr std::string_view port_what(std::string_view name) {
+    return name == "pbrt_v4" ? "interval arithmetic: each end of an interval beside the value it encloses" : "";
+}
 
-#undef RAYVERIFY_BOTH
+// A textbook formula runs traced in its own shape; robust_sphere.h shows its filter.
+#define RAYVERIFY_TRACE_textbook(fn, shape) {#fn, shape(fn, float), shape(fn, double), {}}
+#define RAYVERIFY_TRACE_robust(fn, shape) {#fn, robust_float, robust_double, robust_what}
+#define RAYVERIFY_SHAPE_plain RAYVERIFY_PLAIN
+#define RAYVERIFY_SHAPE_interval RAYVERIFY_RANGED
+#define RAYVERIFY_IN_yes(fn, T) RAYVERIFY_RANGED(fn, T)
+#define RAYVERIFY_IN_no(fn, T) nullptr
+
+// Every built-in variant (variants.def), in its order.
+const auto traces = std::to_array<variant_trace>({
+#define RAYVERIFY_FORMULA(fn, shape, family, citation, formula) RAYVERIFY_TRACE_##family(fn, RAYVERIFY_SHAPE_##shape),
+#define RAYVERIFY_PORT(fn, in_float, in_double, citation, formula, build) \
+    {#fn, RAYVERIFY_IN_##in_float(fn, float), RAYVERIFY_IN_##in_double(fn, double), port_what(#fn)},
+#include "intersectors/variants.def"
+});
+
+#undef RAYVERIFY_IN_no
+#undef RAYVERIFY_IN_yes
+#undef RAYVERIFY_SHAPE_interval
+#undef RAYVERIFY_SHAPE_plain
+#undef RAYVERIFY_TRACE_robust
+#undef RAYVERIFY_TRACE_textbook
 #undef RAYVERIFY_RANGED
 #undef RAYVERIFY_PLAIN
 

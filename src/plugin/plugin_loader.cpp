@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "core/case_in_progress.h"
+#include "core/exit_codes.h"
 #include "core/outputs.h"
 #include "plugin/plugin_host.h"
 #include "plugin/plugin_library.h"
@@ -114,7 +115,7 @@ bool tell_what_happened(std::initializer_list<std::string_view> what) {
 void crash_handler(int signal, siginfo_t*, void*) {
     const int saved_errno = errno;
     remove_unfinished_outputs();
-    if (::getpid() == hooks_owner && tell_what_happened({"crashed (", signal_name(signal), ")"})) ::_exit(2);
+    if (::getpid() == hooks_owner && tell_what_happened({"crashed (", signal_name(signal), ")"})) ::_exit(exit_input_error);
     // A crash of rayverify's own: back to what was there before (the default,
     // or a sanitizer's handler), which takes the signal as soon as this handler returns.
     for (std::size_t i = 0; i < std::size(crash_signals); ++i)
@@ -133,7 +134,7 @@ void exit_hook() {
                    "loaded in this process?); rerun with --isolate; no output was written\n");
     }
     remove_unfinished_outputs();
-    ::_exit(2);
+    ::_exit(exit_input_error);
 }
 
 void install_hooks() {

@@ -325,7 +325,7 @@ std::string per_case_line(const audited_case& audited, const std::vector<audit_t
         const std::array<std::string_view, 3> label = targets[i].label_parts();
         line.key_text(label).begin_object();
         line.member("verdict", verdict_name(o.score.verdict));
-        const bool ran = o.score.verdict != verdict_kind::invalid && o.score.verdict != verdict_kind::contract_violation;
+        const bool ran = is_scored(o.score.verdict);
         if (o.score.cause) line.member("cause", cause_name(*o.score.cause));
         if (ran) {
             const contract& promises = targets[i].subject.promises;

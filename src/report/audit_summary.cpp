@@ -16,22 +16,18 @@ struct member {
     std::string name;
     std::array<const target_tally*, 2> tally{};
 
-    static std::size_t scored(const target_tally& t) {
-        return t.cases - t.verdicts[static_cast<int>(verdict_kind::contract_violation)] -
-               t.verdicts[static_cast<int>(verdict_kind::invalid)];
-    }
     // Wrong answers over scored cases, both precisions together.
     double wrong_share() const {
         std::size_t wrong = 0, total = 0;
         for (const target_tally* t : tally)
-            if (t) wrong += t->disagreements(), total += scored(*t);
+            if (t) wrong += t->disagreements(), total += t->scored();
         return total ? static_cast<double>(wrong) / static_cast<double>(total) : 0.0;
     }
 };
 
 std::string share_text(const target_tally* t) {
     if (!t) return "-";
-    const std::size_t n = member::scored(*t);
+    const std::size_t n = t->scored();
     if (n == 0) return "no cases";
     const double share = 100.0 * static_cast<double>(t->disagreements()) / static_cast<double>(n);
     return t->disagreements() == 0 ? "0" : fmt::format("{:.3g}%", share);

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include "bench/timing.h"
+#include "intersectors/registry.h"
 #include "report/audit_report.h"
 
 namespace rayverify {
@@ -31,13 +32,13 @@ std::string format_rows(const bench::audit_timing& timing) {
     }
     out += fmt::format(
         "audit_ns/ct = CPU ns per case-target of the audit as `rayverify audit --report` runs it (oracle, {} "
-        "targets: the 13 textbook variants in float and double, judge, stability, plot sample), one thread, median "
+        "targets: the {} textbook variants in float and double, judge, stability, plot sample), one thread, median "
         "of {} repetitions; audit/naive and per-case (the audit writing --per-case lines, over the audit alone) are "
         "medians of each repetition's ratio of neighbouring timings; *_exp, *_ex = share "
         "of the oracle's answers of each kind (solutions of float and double inputs, ULP errors of roots and "
         "hit-point coordinates, comparisons with a value, rounded hit coordinates) that needed floating-point "
         "expansions (no big numbers) or exact arithmetic (GMP); the rest the filters (static, then double-word) settled.\n",
-        timing.target_count, timing.repetitions);
+        timing.target_count, textbook_variant_names().size(), timing.repetitions);
     return out;
 }
 

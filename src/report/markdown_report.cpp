@@ -45,9 +45,10 @@ std::size_t misclassified(const json& verdicts) {
 }
 
 std::size_t scored(const json& entry) {
-    const json& v = entry["verdicts"];
-    return entry["cases"].get<std::size_t>() - v["invalid"].get<std::size_t>() -
-           v["contract_violation"].get<std::size_t>();
+    std::size_t n = 0;
+    for (const auto& [name, count] : entry["verdicts"].items())
+        if (const auto kind = verdict_from_name(name); kind && is_scored(*kind)) n += count.get<std::size_t>();
+    return n;
 }
 
 // What each plot shows, as its image's alt text.
@@ -419,13 +420,18 @@ plot_outcome render_plots(const std::filesystem::path& dir) {
                           ": install python3-matplotlib (tools/setup.sh) for the plots";
         return outcome;
     }
-    // The wrong-class verdicts from the one verdict table, so that the script keeps no list of its own.
-    std::string misclassifications;
-    for (int k = 0; k < verdict_kind_count; ++k)
-        if (is_misclassification(static_cast<verdict_kind>(k)))
-            misclassifications += (misclassifications.empty() ? "" : ",") + std::string(verdict_name(static_cast<verdict_kind>(k)));
-    const std::string command = fmt::format("'{}' '{}' '{}' --misclassifications {} 2>&1", python, script, dir.string(),
-                                            misclassifications);
+    // The wrong-class and the unscored verdicts from the one verdict table, so
+    // that the script keeps no list of its own.
+    const auto names_where = [](bool (*holds)(verdict_kind)) {
+        std::string names;
+        for (int k = 0; k < verdict_kind_count; ++k)
+            if (holds(static_cast<verdict_kind>(k)))
+                names += (names.empty() ? "" : ",") + std::string(verdict_name(static_cast<verdict_kind>(k)));
+        return names;
+    };
+    const std::string command = fmt::format(
+        "'{}' '{}' '{}' --misclassifications {} --unscored {} 2>&1", python, script, dir.string(),
+        names_where(is_misclassification), names_where([](verdict_kind k) { return !is_scored(k); }));
     std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), pclose);
     if (!pipe) {
         outcome.message = "cannot run " + script;

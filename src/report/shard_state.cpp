@@ -207,7 +207,7 @@ public:
             for (std::size_t i = 0; i < items.size(); ++i) text(items[i], fmt::format("{}[{}]", path, i));
         }
         const std::string fingerprint = text(member(input, "input", "fingerprint"), "input.fingerprint");
-        if (fingerprint.size() != 16 || fingerprint.find_first_not_of("0123456789abcdef") != std::string::npos)
+        if (!is_fingerprint_text(fingerprint))
             fail("input.fingerprint", fmt::format("'{}' is not 16 hex digits", printable(fingerprint)));
         check_digests(member(input, "input", "digests"));
         cases_ = whole(member(shard, "shard", "cases"), "shard.cases");
@@ -293,7 +293,7 @@ private:
             const json& target = list[t];
             for (const char* key : {"variant", "citation", "formula"}) text(member(target, path, key), path + "." + key);
             const std::string precision = text(member(target, path, "precision"), path + ".precision");
-            if (precision != "float" && precision != "double")
+            if (!precision_from_name(precision))
                 fail(path + ".precision", fmt::format("'{}' is neither float nor double", printable(precision)));
             const json& c = member(target, path, "contract");
             const std::string spec = text(member(c, path + ".contract", "spec"), path + ".contract.spec");
@@ -320,7 +320,7 @@ private:
     void check_digests(const json& digests) const {
         const auto digest = [&](const json& j, const std::string& path) {
             const std::string d = text(j, path);
-            if (d.size() != 16 || d.find_first_not_of("0123456789abcdef") != std::string::npos)
+            if (!is_fingerprint_text(d))
                 fail(path, fmt::format("'{}' is not 16 hex digits", printable(d)));
         };
         const json& results = member(digests, "input.digests", "results");
@@ -339,7 +339,7 @@ private:
             fail("per_case_file", fmt::format("'{}' is not a path inside the shard directory", printable(path.string())));
         // The digest of the per-case file's contents as the audit wrote them.
         const std::string digest = text(member(doc_, "", "per_case_digest"), "per_case_digest");
-        if (digest.size() != 16 || digest.find_first_not_of("0123456789abcdef") != std::string::npos)
+        if (!is_fingerprint_text(digest))
             fail("per_case_digest", fmt::format("'{}' is not 16 hex digits", printable(digest)));
     }
 

@@ -148,21 +148,6 @@ public:
     std::optional<std::pair<std::size_t, std::string>> error;  // byte, message
 };
 
-// Messages quote what the file holds: control characters, and in a parse
-// error (where the bytes need not be UTF-8) every non-ASCII byte, are shown
-// as \xNN, so that a message is one line of text.
-std::string printable(const std::string& text, bool ascii_only) {
-    std::string out;
-    for (const char c : text) {
-        const auto byte = static_cast<unsigned char>(c);
-        if (byte < 0x20 || byte == 0x7f || (ascii_only && byte > 0x7f))
-            out += fmt::format("\\x{:02X}", byte);
-        else
-            out += c;
-    }
-    return out;
-}
-
 // The line of the first bracket nested deeper than `limit`, or 0. Checked
 // before parsing, since field_lines recurses once per level: a file of a
 // million '[' would overflow the stack. A scene nests four levels deep.
@@ -192,7 +177,7 @@ public:
     reader(std::string file, const field_lines& lines) : file_(std::move(file)), lines_(lines) {}
 
     [[noreturn]] void fail(const std::string& path, const std::string& problem) const {
-        throw input_error(file_, lines_.line_of(path), printable(path, false), printable(problem, false));
+        throw input_error(file_, lines_.line_of(path), printable(path, non_ascii_bytes::keep), printable(problem, non_ascii_bytes::keep));
     }
 
     static std::string child(const std::string& path, const std::string& key) {
@@ -524,12 +509,12 @@ scene parse_scene(const std::string& text, const std::filesystem::path& file) {
         const auto& [at, what] = parser.error.value_or(std::pair<std::size_t, std::string>{0, "unknown error"});
         const std::size_t byte = at == 0 ? 0 : std::min<std::size_t>(at - 1, text.size());
         const std::size_t line = 1 + static_cast<std::size_t>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(byte), '\n'));
-        throw input_error(name, line, "", "not valid JSON: " + printable(what, true));
+        throw input_error(name, line, "", "not valid JSON: " + printable(what));
     }
     const field_lines lines(text);
     const reader in(name, lines);
     if (const auto& twice = lines.duplicate())
-        throw input_error(name, twice->second, printable(twice->first, false), "given twice in one object");
+        throw input_error(name, twice->second, printable(twice->first, non_ascii_bytes::keep), "given twice in one object");
 
     scene s;
     s.file = file;

@@ -28,15 +28,7 @@
 #include <vector>
 
 #include "core/float_bits.h"
-#include "intersectors/cycles_point.h"
-#include "intersectors/embree4_sphere.h"
-#include "intersectors/godot_segment.h"
-#include "intersectors/jolt_ray_sphere.h"
-#include "intersectors/mitsuba3_sphere.h"
-#include "intersectors/naive.h"
-#include "intersectors/pbrt_v4_sphere.h"
-#include "intersectors/raylib_collision.h"
-#include "intersectors/threejs_ray.h"
+#include "intersectors/all.h"
 
 namespace {
 
@@ -66,22 +58,16 @@ struct port {
     port_fn<double> in_double;  // nullptr: no double build
 };
 
-// The ports of src/intersectors/registry.cpp, in its order (port_timing_test
-// checks the names against the registry's engine ports).
+// The ports of src/intersectors/variants.def, in its order.
+#define RAYVERIFY_IN_yes(fn, T) on_ray<T, intersectors::fn<T>>
+#define RAYVERIFY_IN_no(fn, T) nullptr
 const port ports[] = {
-    {"pbrt_v4", on_ray<float, intersectors::pbrt_v4<float>>, on_ray<double, intersectors::pbrt_v4<double>>},
-    {"mitsuba3_preliminary", on_ray<float, intersectors::mitsuba3_preliminary<float>>,
-     on_ray<double, intersectors::mitsuba3_preliminary<double>>},
-    {"mitsuba3_ray_test", on_ray<float, intersectors::mitsuba3_ray_test<float>>,
-     on_ray<double, intersectors::mitsuba3_ray_test<double>>},
-    {"embree4", on_ray<float, intersectors::embree4<float>>, nullptr},
-    {"cycles_point", on_ray<float, intersectors::cycles_point<float>>, nullptr},
-    {"jolt", on_ray<float, intersectors::jolt<float>>, nullptr},
-    {"jolt_fma", on_ray<float, intersectors::jolt_fma<float>>, nullptr},
-    {"threejs", nullptr, on_ray<double, intersectors::threejs<double>>},
-    {"godot", on_ray<float, intersectors::godot<float>>, on_ray<double, intersectors::godot<double>>},
-    {"raylib", on_ray<float, intersectors::raylib<float>>, nullptr},
+#define RAYVERIFY_PORT(fn, in_float, in_double, citation, formula, build) \
+    {#fn, RAYVERIFY_IN_##in_float(fn, float), RAYVERIFY_IN_##in_double(fn, double)},
+#include "intersectors/variants.def"
 };
+#undef RAYVERIFY_IN_no
+#undef RAYVERIFY_IN_yes
 
 // Rays from a box of side 20 around spheres near the origin, aimed at the
 // centre within half a radius or so: hits, misses and grazes, as `uniform`.

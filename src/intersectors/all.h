@@ -1,0 +1,25 @@
+// Every built-in variant's intersector header (intersectors/variants.def
+// lists the variants): what a file that expands the list includes.
+#pragma once
+
+#include "intersectors/cycles_point.h"
+#include "intersectors/embree4_sphere.h"
+#include "intersectors/fma_discriminant.h"
+#include "intersectors/geometric.h"
+#include "intersectors/godot_segment.h"
+#include "intersectors/half_b.h"
+#include "intersectors/hearn_baker.h"
+#include "intersectors/hearn_baker_any_hit.h"
+#include "intersectors/hearn_baker_nearest.h"
+#include "intersectors/hearn_baker_unit.h"
+#include "intersectors/jolt_ray_sphere.h"
+#include "intersectors/mitsuba3_sphere.h"
+#include "intersectors/naive.h"
+#include "intersectors/pbrt_v4_sphere.h"
+#include "intersectors/raylib_collision.h"
+#include "intersectors/robust.h"
+#include "intersectors/seed003_reduced.h"
+#include "intersectors/seed004_early_out.h"
+#include "intersectors/stable_roots.h"
+#include "intersectors/threejs_ray.h"
+#include "intersectors/wald_origin_shift.h"

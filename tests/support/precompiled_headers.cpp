@@ -1,0 +1,2 @@
+// The translation unit that builds the tests' precompiled header
+// (support/precompiled.h, tests/CMakeLists.txt); it holds nothing else.

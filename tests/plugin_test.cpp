@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 
@@ -58,6 +59,44 @@ TEST(Plugin, ExampleMatchesBuiltinHearnBakerOnTheShippedCorpus) {
     EXPECT_EQ(totals.overall[0].errors[rayverify::error_figure::near_root_ulp].max, totals.overall[1].errors[rayverify::error_figure::near_root_ulp].max);
     EXPECT_EQ(totals.overall[0].errors[rayverify::error_figure::far_root_ulp].p99, totals.overall[1].errors[rayverify::error_figure::far_root_ulp].p99);
     EXPECT_GT(totals.overall[0].disagreements(), 0u) << "hearn_baker's known 0/0 tangent NaN must show";
+}
+
+// bench times a plugin in a pass of its own (registry.h, timed_pass_fn): the
+// pass calls the same function on the same cases, so its hit count is the sum
+// of the counts the per-case calls return, pass after pass.
+TEST(Plugin, TimedPassCallsTheEntryPointOnEveryCase) {
+    const variant v = load_plugin(RAYVERIFY_EXAMPLE_PLUGIN);
+    ASSERT_TRUE(v.timed_pass_double);
+    EXPECT_FALSE(v.timed_pass_float) << "the example has no float function";
+    std::vector<ray_sphere<double>> cases;
+    long long expected = 0;
+    for (const corpus_case& c : read_corpus({RAYVERIFY_CORPUS_DIR})) {
+        cases.push_back(c.geometry);
+        expected += v.run_double(c.geometry).count;
+    }
+    ASSERT_GT(expected, 0);
+    const std::function<long long()> pass = v.timed_pass_double(cases);
+    EXPECT_EQ(pass(), expected);
+    EXPECT_EQ(pass(), expected);
+    EXPECT_EQ(v.timed_pass_double({})(), 0);
+}
+
+// The guard areas around the roots are checked once per timed pass: a plugin
+// that writes outside them still fails the pass, naming it.
+TEST(Plugin, TimedPassCatchesAWriteOutsideTheRoots) {
+    ASSERT_EQ(::setenv("FIXTURE_MODE", "overrun", 1), 0);  // read when the library loads
+    const variant v = load_plugin(RAYVERIFY_FIXTURE_PLUGIN_MODAL);
+    ::unsetenv("FIXTURE_MODE");
+    const std::vector<ray_sphere<double>> cases(3, ray_sphere<double>{{0, 0, -5}, {0, 0, 1}, {0, 0, 0}, 1});
+    const std::function<long long()> pass = v.timed_pass_double(cases);
+    try {
+        pass();
+        ADD_FAILURE() << "the overrun went unnoticed";
+    } catch (const plugin_failure& e) {
+        EXPECT_NE(std::string(e.what()).find("wrote outside its roots[2] buffer in a timed pass over 3 cases"),
+                  std::string::npos)
+            << e.what();
+    }
 }
 
 // The garbage fixture answers by origin.x: 0 → count 3, 1 → NaN roots, 2 → roots out of order, 3 → right.

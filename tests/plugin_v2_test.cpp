@@ -106,6 +106,32 @@ TEST(PluginV2, ExamplesAuditedInProcessAndIsolatedAlike) {
     }
 }
 
+// bench's timed pass of a version 2 plugin is one call of its batch function
+// on every case, each asked on the interval its plain calls are: the same
+// answers as those calls, summed, in each precision it has. The isolated
+// plugin has none (its calls cross a socket; bench times them as they are).
+TEST(PluginV2, TimedPassIsOneBatchOfThePlainCalls) {
+    for (const char* library : {RAYVERIFY_EXAMPLE_NEAREST_SPHERE, RAYVERIFY_EXAMPLE_SHADOW_SPHERE,
+                                RAYVERIFY_EXAMPLE_POINT_SPHERE, RAYVERIFY_EXAMPLE_BOUNDS_SPHERE}) {
+        const variant v = load_plugin(library);
+        for (const precision p : every_precision) with_precision(p, [&]<class T>(std::type_identity<T>) {
+            const auto& timed_pass = [&]() -> const timed_pass_fn<T>& {
+                if constexpr (std::is_same_v<T, float>) return v.timed_pass_float; else return v.timed_pass_double;
+            }();
+            ASSERT_EQ(static_cast<bool>(timed_pass), v.runs_in(p)) << library;
+            if (!timed_pass) return;
+            std::vector<ray_sphere<T>> cases;
+            long long expected = 0;
+            for (const corpus_case& c : shipped_corpus()) {
+                cases.push_back(rounded_to<T>(c.geometry));
+                expected += run_in(v, cases.back(), ray_interval<T>{}).count;
+            }
+            EXPECT_EQ(timed_pass(cases)(), expected) << library;
+        });
+        EXPECT_FALSE(load_plugin(library, plugin_isolation{true, 30}).timed_pass_double) << library;
+    }
+}
+
 TEST(PluginV2, OutputsBesideTAreMeasured) {
     const variant bounds = load_plugin(RAYVERIFY_EXAMPLE_BOUNDS_SPHERE);
     const variant nearest = load_plugin(RAYVERIFY_EXAMPLE_NEAREST_SPHERE);

@@ -20,9 +20,10 @@
 
 namespace rayverify::bench {
 
-// The targets the per case-target ratio is measured with: the 13 built-in
-// variants of before the engine ports, in both precisions (26 targets), so
-// that adding variants does not move the figure (docs/oracle.md).
+// The targets the per case-target ratio is measured with: the textbook
+// formulas (textbook_variant_names, intersectors/variants.def) in both
+// precisions, so that adding an engine port does not move the figure
+// (docs/oracle.md).
 std::vector<audit_target> audit_timing_targets();
 
 // The goals the figures are held to (bench prints met or MISSED beside each).

@@ -401,7 +401,8 @@ command add_bench_command(CLI::App& app, const std::string& command_line) {
     sub->add_option("--variant", options->variants, "Variant to time (repeatable; default: all built-in)");
     sub->add_option("--plugin", options->plugins,
                     "Shared library implementing rayverify_plugin.h, audited and timed beside the built-in variants "
-                    "(called through a function pointer; repeatable)");
+                    "(timed through its entry point in a loop of its own, its guards checked once per pass; "
+                    "repeatable)");
     sub->add_option("--engine", options->engines,
                     "An engine's library as its package installs it (`rayverify engines`), audited and, when called "
                     "through a plugin, timed beside the built-in variants, its own call overhead included "

@@ -37,6 +37,16 @@ struct library_identity {
     std::string configuration;
 };
 
+// One timed pass of a target's plain function over many cases: given the
+// cases, it sets up once (outside the timed region) and returns the pass
+// itself, which bench runs many times and which returns the sum of the hit
+// counts. A target whose calls go through a harness (an in-process plugin: its
+// guard buffer, crash marker and floating-point environment) sets and checks
+// the harness once per pass, not once per case, so that bench times the
+// formula as it times a built-in's inlined loop (bench/timing.cpp).
+template <class T>
+using timed_pass_fn = std::function<std::function<long long()>(std::span<const ray_sphere<T>>)>;
+
 struct variant {
     std::string name;      // stable identifier used on the command line and in reports
     std::string citation;  // where the formula comes from
@@ -69,6 +79,11 @@ struct variant {
     // chunk of cases; the single-case functions above call it with one.
     std::function<void(std::span<const batch_case<float>>, std::span<answer<float>>)> batch_float{};
     std::function<void(std::span<const batch_case<double>>, std::span<answer<double>>)> batch_double{};
+    // Set only for a target whose per-call harness bench should leave out of
+    // its timings (an in-process plugin): its plain function over many cases
+    // in one pass (timed_pass_fn).
+    timed_pass_fn<float> timed_pass_float{};
+    timed_pass_fn<double> timed_pass_double{};
     // An engine's port: which build of the engine it models (precision of the
     // rays and of the arithmetic, real or unfused multiply-adds, how a
     // reciprocal is computed, flags that change rounding); empty for a

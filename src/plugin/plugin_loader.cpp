@@ -305,6 +305,85 @@ void batch_in_process(const in_process_plugin& plugin, Fn intersect, const contr
     take_answers<T>(answers.answers(), promises, cases, out);
 }
 
+// A version 1 call's arguments, laid out before a timed pass.
+template <class T>
+struct call_arguments {
+    T o[3], d[3], c[3];
+    T r;
+};
+
+// The error of a timed pass whose guard areas were overwritten: the pass's
+// first case stands for the case, which the pass does not track.
+template <class T>
+plugin_failure overran_in_timed_pass(const in_process_plugin& plugin, std::string_view buffer, std::size_t cases,
+                                     std::string_view function, const ray_sphere<T>& first, T tmin) {
+    return plugin_failure(plugin.path,
+                          fmt::format("plugin '{}' wrote outside its {} buffer in a timed pass over {} cases, in its "
+                                      "{} function (the case shown is the pass's first)",
+                                      plugin.name, buffer, cases, function),
+                          failing_case(first, tmin, std::numeric_limits<T>::infinity(), false));
+}
+
+// A timed pass (timed_pass_fn) through a version 1 plugin's own function: the
+// cases laid out as its arguments beforehand, one roots buffer between guard
+// areas for the whole pass and the crash marker set once; the guards are
+// checked after the pass.
+template <class T, class Fn>
+timed_pass_fn<T> raw_timed_pass(std::shared_ptr<const in_process_plugin> plugin, Fn intersect, T tmin) {
+    return [plugin, intersect, tmin](std::span<const ray_sphere<T>> cases) -> std::function<long long()> {
+        if (cases.empty()) return [] { return 0LL; };
+        auto arguments = std::make_shared<std::vector<call_arguments<T>>>();
+        arguments->reserve(cases.size());
+        for (const ray_sphere<T>& s : cases)
+            arguments->push_back({{s.origin.x, s.origin.y, s.origin.z},
+                                  {s.direction.x, s.direction.y, s.direction.z},
+                                  {s.centre.x, s.centre.y, s.centre.z},
+                                  s.radius});
+        return [plugin, intersect, tmin, arguments, buffer = std::make_shared<guarded_roots<T>>(),
+                first = cases.front()] {
+            constexpr const char* function = std::is_same_v<T, float> ? "float" : "double";
+            constexpr T inf = std::numeric_limits<T>::infinity();
+            long long hits = 0;
+            {
+                const in_call marked(*plugin, function);
+                for (const call_arguments<T>& a : *arguments)
+                    hits += intersect(a.o, a.d, a.c, a.r, tmin, inf, buffer->roots());
+            }
+            if (!buffer->intact())
+                throw overran_in_timed_pass(*plugin, "roots[2]", arguments->size(), function, first, tmin);
+            return hits;
+        };
+    };
+}
+
+// A timed pass through a version 2 plugin's batch function: the cases laid
+// out as its batch beforehand, one call for the pass into answers between
+// guard areas, checked after it.
+template <class T, class Fn>
+timed_pass_fn<T> batch_timed_pass(std::shared_ptr<const in_process_plugin> plugin, Fn intersect, T tmin) {
+    return [plugin, intersect, tmin](std::span<const ray_sphere<T>> cases) -> std::function<long long()> {
+        if (cases.empty()) return [] { return 0LL; };
+        std::vector<batch_case<T>> asked;
+        asked.reserve(cases.size());
+        for (const ray_sphere<T>& s : cases) asked.push_back({s, {tmin, std::numeric_limits<T>::infinity()}});
+        auto given = std::make_shared<const std::vector<rayverify_case_t<T>>>(plugin_cases<T>(asked));
+        auto answers = std::make_shared<guarded_answers<rayverify_answer_t<T>>>(cases.size());
+        return [plugin, intersect, tmin, given, answers, first = cases.front()] {
+            constexpr const char* function = std::is_same_v<T, float> ? "float batch" : "double batch";
+            {
+                const in_call marked(*plugin, function);
+                intersect(given->data(), answers->data(), given->size());
+            }
+            if (!answers->intact())
+                throw overran_in_timed_pass(*plugin, fmt::format("answers[{}]", given->size()), given->size(),
+                                            function, first, tmin);
+            long long hits = 0;
+            for (const rayverify_answer_t<T>& a : answers->answers()) hits += a.count;
+            return hits;
+        };
+    };
+}
+
 // ---- The floating-point environment a target's calls run in ----
 
 // One target's environment, and whether a call has changed it yet.
@@ -346,6 +425,23 @@ std::function<R(Args...)> guarded(const std::shared_ptr<const environment_guard>
     };
 }
 
+// A timed pass run in the target's environment: set before the pass, checked
+// and restored after it (once per pass, as the harness around it).
+template <class T>
+timed_pass_fn<T> guarded_pass(const std::shared_ptr<const environment_guard>& guard, timed_pass_fn<T> prepare) {
+    if (!prepare) return prepare;
+    return [guard, prepare = std::move(prepare)](std::span<const ray_sphere<T>> cases) -> std::function<long long()> {
+        return [guard, pass = prepare(cases)] {
+            guard->before_call();
+            struct restore_after {
+                const environment_guard& guard;
+                ~restore_after() { guard.after_call(); }
+            } restore{*guard};
+            return pass();
+        };
+    };
+}
+
 variant load_in_process(const std::filesystem::path& library, const fp_environment_choice& environment) {
     auto plugin = std::make_shared<in_process_plugin>();
     plugin->path = library.string();
@@ -377,6 +473,11 @@ variant load_in_process(const std::filesystem::path& library, const fp_environme
                                     else
                                         batch_in_process<T>(*p, p->library.batch_double, promises, cases, answers);
                                 });
+        if (d.has_float)
+            v.timed_pass_float = batch_timed_pass<float>(p, p->library.batch_float, interval_start<float>(v.promises));
+        if (d.has_double)
+            v.timed_pass_double =
+                batch_timed_pass<double>(p, p->library.batch_double, interval_start<double>(v.promises));
         return in_fp_environment(std::move(v), run_environment, std::move(environment_text));
     }
     bind_entry_points(v, has_float, [p](const auto& s, auto tmin, auto tmax, bool interval_asked) {
@@ -385,6 +486,8 @@ variant load_in_process(const std::filesystem::path& library, const fp_environme
         else
             return call_in_process(*p, p->library.run_double, s, tmin, tmax, interval_asked);
     });
+    v.timed_pass_double = raw_timed_pass<double>(p, p->library.run_double, interval_start<double>(v.promises));
+    if (has_float) v.timed_pass_float = raw_timed_pass<float>(p, p->library.run_float, interval_start<float>(v.promises));
     return in_fp_environment(std::move(v), run_environment, std::move(environment_text));
 }
 
@@ -452,6 +555,8 @@ variant in_fp_environment(variant v, const fp_state& environment, std::string ho
     v.answer_double = guarded(guard, std::move(v.answer_double));
     v.batch_float = guarded(guard, std::move(v.batch_float));
     v.batch_double = guarded(guard, std::move(v.batch_double));
+    v.timed_pass_float = guarded_pass(guard, std::move(v.timed_pass_float));
+    v.timed_pass_double = guarded_pass(guard, std::move(v.timed_pass_double));
     v.fp_environment = std::move(how);
     return v;
 }

@@ -53,8 +53,9 @@ std::string format_parts(const bench::audit_timing& timing) {
         for (const auto& [name, value] : r.parts.named()) out += fmt::format(" {:>10.1f}x", value);
         out += fmt::format(" {:>10.1f}x {:>10.1f}x\n", r.parts.sum(), r.audit_ratio);
     }
-    out += "targets = the 26 targets' own answers; oracle = solve_case on the double and the float inputs; judge = "
-           "audit_case less those two (outputs widened, ULP errors, verdicts, and each case's frame, formed once "
+    out += fmt::format("targets = the {} targets' own answers; oracle = solve_case on the double and the float inputs; "
+                       "judge = ", timing.target_count);
+    out += "audit_case less those two (outputs widened, ULP errors, verdicts, and each case's frame, formed once "
            "per precision and shared by the targets: its stability measures, unit-direction checks); accumulate = "
            "audit_stream less audit_case (tallies, error histograms); stability = the whole pass less audit_stream "
            "(stability tallies, plot sample, contract lint, example cases). The last three are differences of "

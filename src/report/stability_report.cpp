@@ -248,8 +248,13 @@ json timing_json(const std::vector<bench::timing_row>& rows, const bench::timing
                                        "double-double filter cannot decide)"},
                       {"exact_reference", "solve_exact_reference on the double inputs: the same answers from exact "
                                           "arithmetic alone, no filter"},
-                      {"plugins", "a --plugin, and an engine port (a variant with a build), is called through "
-                                  "a function pointer per test (the other built-in variants are inlined)"}};
+                      {"plugins", "a --plugin run in process is timed in its own loop: one pass over the same "
+                                  "cases through its entry point (a function pointer per test; a version 2 "
+                                  "plugin's batch function once per pass), its arguments laid out before the "
+                                  "timing, its guard buffer, crash marker and floating-point environment set and "
+                                  "checked once per pass; an isolated plugin, or an engine port (a variant with a "
+                                  "build), is called through its function per test (the other built-in variants "
+                                  "are inlined)"}};
     out["reference"] = reference_label;
     json table = json::array();
     std::map<std::string, std::pair<double, std::size_t>> totals;  // label → (Σ ns·cases, Σ cases)

@@ -425,20 +425,13 @@ std::function<R(Args...)> guarded(const std::shared_ptr<const environment_guard>
     };
 }
 
-// A timed pass run in the target's environment: set before the pass, checked
-// and restored after it (once per pass, as the harness around it).
+// A timed pass run in the target's environment: the pass itself is guarded
+// as a call is, so the environment is set and checked once per pass.
 template <class T>
 timed_pass_fn<T> guarded_pass(const std::shared_ptr<const environment_guard>& guard, timed_pass_fn<T> prepare) {
     if (!prepare) return prepare;
-    return [guard, prepare = std::move(prepare)](std::span<const ray_sphere<T>> cases) -> std::function<long long()> {
-        return [guard, pass = prepare(cases)] {
-            guard->before_call();
-            struct restore_after {
-                const environment_guard& guard;
-                ~restore_after() { guard.after_call(); }
-            } restore{*guard};
-            return pass();
-        };
+    return [guard, prepare = std::move(prepare)](std::span<const ray_sphere<T>> cases) {
+        return guarded(guard, prepare(cases));
     };
 }
 

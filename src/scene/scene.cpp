@@ -177,7 +177,8 @@ public:
     reader(std::string file, const field_lines& lines) : file_(std::move(file)), lines_(lines) {}
 
     [[noreturn]] void fail(const std::string& path, const std::string& problem) const {
-        throw input_error(file_, lines_.line_of(path), printable(path, non_ascii_bytes::keep), printable(problem, non_ascii_bytes::keep));
+        throw input_error(file_, lines_.line_of(path), printable(path, non_ascii_bytes::keep),
+                          printable(problem, non_ascii_bytes::keep));
     }
 
     static std::string child(const std::string& path, const std::string& key) {
@@ -514,7 +515,8 @@ scene parse_scene(const std::string& text, const std::filesystem::path& file) {
     const field_lines lines(text);
     const reader in(name, lines);
     if (const auto& twice = lines.duplicate())
-        throw input_error(name, twice->second, printable(twice->first, non_ascii_bytes::keep), "given twice in one object");
+        throw input_error(name, twice->second, printable(twice->first, non_ascii_bytes::keep),
+                          "given twice in one object");
 
     scene s;
     s.file = file;

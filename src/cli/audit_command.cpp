@@ -102,17 +102,16 @@ private:
 // state records): the answers of a results file (with an npy's companion),
 // the plugin libraries. `merge` requires the same digests of every shard,
 // however the paths were spelled.
-nlohmann::ordered_json input_digests(const audit_options& options) {
-    nlohmann::ordered_json results = nullptr;
+shard_header::digests_record input_digests(const audit_options& options) {
+    shard_header::digests_record digests;
     if (!options.results.file.empty()) {
         std::vector<std::filesystem::path> files{options.results.file};
         if (exchange_format_of(options.results.file) == exchange_format::npy)
             files.push_back(sidecar_of(options.results.file));
-        results = files_digest(files, "--results");
+        digests.results = files_digest(files, "--results");
     }
-    nlohmann::ordered_json plugins = nlohmann::ordered_json::array();
-    for (const std::string& p : options.plugins) plugins.push_back(files_digest({p}, "--plugin"));
-    return {{"results", results}, {"plugins", plugins}};
+    for (const std::string& p : options.plugins) digests.plugins.push_back(files_digest({p}, "--plugin"));
+    return digests;
 }
 
 int run(const audit_options& options, const std::string& command_line) {
@@ -213,26 +212,21 @@ int run(const audit_options& options, const std::string& command_line) {
     if (outputs.report || outputs.summary_md != nullptr) {
         report = audit_report_document(audited, totals, context, requested);
         if (state_file != nullptr) {
-            nlohmann::ordered_json state = {
-                {"schema_version", schema_version::shard_state},
-                {"format", shard_state_format},
-                {"build", build_json()},
-                {"command", context.command_line},
-                {"input", {{"paths", context.corpus_paths},
-                           {"generated", context.generated},
-                           {"cases", stream.total()},
-                           {"fingerprint", stream.fingerprint()},
-                           {"digests", input_digests(options)}}},
-                {"shard", {{"index", shard.index}, {"count", shard.count}, {"cases", audited.audit.cases}}},
-                {"targets", targets_json(targets)},
-                {"per_case_file", per_case_location_in_shard.empty()
-                                      ? nlohmann::ordered_json(nullptr)
-                                      : nlohmann::ordered_json(per_case_location_in_shard)},
-                {"per_case_digest", per_case_location_in_shard.empty()
-                                        ? nlohmann::ordered_json(nullptr)
-                                        : nlohmann::ordered_json(per_case_digest->digest().text())},
-                {"state", state_json(audited)}};
-            state_file->stream() << state.dump() << '\n';
+            shard_header header;
+            header.schema_version = schema_version::shard_state;
+            header.format = shard_state_format;
+            header.build = build_json();
+            header.command = context.command_line;
+            header.input = {context.corpus_paths, context.generated, stream.total(), stream.fingerprint(),
+                            input_digests(options)};
+            header.shard = shard;
+            header.cases = audited.audit.cases;
+            header.targets = targets;
+            if (!per_case_location_in_shard.empty()) {
+                header.per_case_file = per_case_location_in_shard;
+                header.per_case_digest = per_case_digest->digest().text();
+            }
+            state_file->stream() << shard_document(header, audited).dump() << '\n';
             (*report)["shard"] = {{"index", shard.index},
                                   {"count", shard.count},
                                   {"cases", audited.audit.cases},

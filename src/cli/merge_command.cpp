@@ -39,15 +39,12 @@ struct merge_options {
 
 struct shard_input {
     fs::path dir;
-    shard_spec shard;
-    std::size_t cases = 0;       // the cases this shard audited
-    json per_case_file;          // as the shard recorded it (null: none)
-    std::string per_case_digest;  // of its contents, as the audit wrote them
+    shard_header header;
     fs::path file() const { return dir / shard_state_file; }
     // The per-case file as the shard recorded it, inside its directory; nullopt: none.
     std::optional<fs::path> per_case() const {
-        if (!per_case_file.is_string()) return std::nullopt;
-        return dir / fs::path(per_case_file.get<std::string>());
+        if (!header.per_case_file) return std::nullopt;
+        return dir / fs::path(*header.per_case_file);
     }
 };
 
@@ -78,8 +75,8 @@ private:
     int depth_ = 0;
 };
 
-// A shard's state file: whole (read into memory first: parsing from a string
-// is faster than from a stream), or (`header_only`) without its "state".
+// A shard's state document: whole (read into memory first: parsing from a
+// string is faster than from a stream), or (`header_only`) without its "state".
 json read_state_file(const fs::path& file, bool header_only) {
     std::error_code error;
     if (fs::exists(file, error) && !fs::is_regular_file(file, error))  // a FIFO would block the merge
@@ -99,13 +96,8 @@ json read_state_file(const fs::path& file, bool header_only) {
             text << in.rdbuf();
             state = json::parse(std::move(text).str());
         }
-        if (state.at("format").get<std::string>() != shard_state_format)
-            throw input_error(file.string(), 0, "format",
-                              fmt::format("'{}', this rayverify reads '{}'", state.at("format").dump(),
-                                          shard_state_format));
-        check_shard_state(state, file.string(), header_only);  // every field, before any is used
         return state;
-    } catch (const json::exception& e) {
+    } catch (const json::parse_error& e) {
         throw input_error(file.string(), 0, "", fmt::format("not a shard state: {}", e.what()));
     }
 }
@@ -116,7 +108,8 @@ json read_state_file(const fs::path& file, bool header_only) {
 // order-independent: the result does not depend on which thread took which
 // shard. Memory: per thread one parsed document and one state, however many
 // shards there are. Of the malformed shards met, the first in shard order is named.
-audit_state merged_states(const std::vector<shard_input>& shards, const std::vector<audit_target>& targets) {
+audit_state merged_states(const std::vector<shard_input>& shards) {
+    const std::vector<audit_target>& targets = shards.front().header.targets;
     const std::size_t threads =
         std::clamp<std::size_t>(std::thread::hardware_concurrency(), 1, std::max<std::size_t>(shards.size(), 1));
     std::vector<audit_state> partial(threads, audit_state(targets));
@@ -126,13 +119,9 @@ audit_state merged_states(const std::vector<shard_input>& shards, const std::vec
     const auto work = [&](audit_state& mine) {
         for (std::size_t i; !failed && (i = next++) < shards.size();) {
             try {
-                const json state = read_state_file(shards[i].file(), false);
-                try {
-                    mine.merge(state_from_json(state.at("state"), targets));
-                } catch (const json::exception& e) {
-                    throw input_error(shards[i].file().string(), 0, "state",
-                                      fmt::format("a shard state is malformed: {}", e.what()));
-                }
+                const std::string file = shards[i].file().string();
+                const json document = read_state_file(file, false);
+                mine.merge(read_shard_state(document, file, read_shard_header(document, file)));
             } catch (...) {
                 failure[i] = std::current_exception();
                 failed = true;
@@ -150,23 +139,10 @@ audit_state merged_states(const std::vector<shard_input>& shards, const std::vec
     return std::move(partial[0]);
 }
 
-shard_input shard_from_header(const fs::path& dir, const json& header) {
-    shard_input input{dir, {}, 0, nullptr, {}};
-    try {
-        input.shard.index = header.at("shard").at("index").get<std::size_t>();
-        input.shard.count = header.at("shard").at("count").get<std::size_t>();
-        input.cases = header.at("shard").at("cases").get<std::size_t>();
-        input.per_case_file = header.at("per_case_file");
-        if (input.per_case_file.is_string()) input.per_case_digest = header.at("per_case_digest").get<std::string>();
-    } catch (const json::exception& e) {
-        throw input_error(input.file().string(), 0, "shard", fmt::format("not a shard state: {}", e.what()));
-    }
-    return input;
-}
-
 // The targets as merge compares them: a results file's target cites the file
 // by the path its shard spelled, which the digest of its contents stands for.
-json targets_up_to_spelling(json targets) {
+json targets_up_to_spelling(const std::vector<audit_target>& list) {
+    json targets = to_json_mapped(list);
     for (json& t : targets)
         if (t.is_object() && t.contains("citation") && t["citation"].is_string() &&
             t["citation"].get<std::string>().starts_with("results file "))
@@ -177,7 +153,8 @@ json targets_up_to_spelling(json targets) {
 // Two shards come from one audit: the same build, input (by its size and
 // fingerprint: the paths that named it may be spelled differently), command
 // (up to the spelling of paths and of the executable) and targets.
-void check_same_audit(const json& first, const fs::path& first_file, const json& other, const fs::path& other_file) {
+void check_same_audit(const shard_header& first, const fs::path& first_file, const shard_header& other,
+                      const fs::path& other_file) {
     const auto differs = [&](const char* field, const std::string& what) {
         return input_error(other_file.string(), 0, field,
                            fmt::format("differs from {}: {} (shards of different audits cannot be merged)",
@@ -186,40 +163,41 @@ void check_same_audit(const json& first, const fs::path& first_file, const json&
     const auto compare = [&](const char* field, const json& a, const json& b) {
         if (a != b) throw differs(field, fmt::format("{} vs {}", b.dump(), a.dump()));
     };
-    compare("build", first.at("build"), other.at("build"));
-    for (const char* field : {"cases", "fingerprint", "generated", "digests"})
-        compare("input", first.at("input").at(field), other.at("input").at(field));
-    if (const auto what = command_difference(first.at("command").get<std::string>(),
-                                             other.at("command").get<std::string>(), first_file.string(),
-                                             other_file.string()))
+    compare("build", first.build, other.build);
+    const auto digests = [](const shard_header& h) {
+        return json{{"results", h.input.digests.results ? json(*h.input.digests.results) : json(nullptr)},
+                    {"plugins", h.input.digests.plugins}};
+    };
+    compare("input", first.input.cases, other.input.cases);
+    compare("input", first.input.fingerprint, other.input.fingerprint);
+    compare("input", first.input.generated, other.input.generated);
+    compare("input", digests(first), digests(other));
+    if (const auto what = command_difference(first.command, other.command, first_file.string(), other_file.string()))
         throw differs("command", *what);
-    compare("targets", targets_up_to_spelling(first.at("targets")), targets_up_to_spelling(other.at("targets")));
-    const std::size_t n = first.at("shard").at("count").get<std::size_t>();
-    if (other.at("shard").at("count").get<std::size_t>() != n)
+    compare("targets", targets_up_to_spelling(first.targets), targets_up_to_spelling(other.targets));
+    if (other.shard.count != first.shard.count)
         throw input_error(other_file.string(), 0, "shard",
-                          fmt::format("shard {}/{} of a split in {}, {} is of a split in {}",
-                                      other.at("shard").at("index").get<std::size_t>(),
-                                      other.at("shard").at("count").get<std::size_t>(),
-                                      other.at("shard").at("count").get<std::size_t>(), first_file.string(), n));
+                          fmt::format("shard {} of a split in {}, {} is of a split in {}", other.shard.text(),
+                                      other.shard.count, first_file.string(), first.shard.count));
 }
 
 // Every K of the N once, each holding the cases shard K of the input has.
 void check_complete(const std::vector<shard_input>& shards, std::size_t total) {
     std::map<std::size_t, const shard_input*> by_index;
     for (const shard_input& s : shards)
-        if (const auto [at, inserted] = by_index.emplace(s.shard.index, &s); !inserted)
-            throw input_error(s.dir.string(), 0, "shard",
-                              fmt::format("shard {} given twice (also {})", s.shard.text(), at->second->dir.string()));
-    const std::size_t n = shards.front().shard.count;
+        if (const auto [at, inserted] = by_index.emplace(s.header.shard.index, &s); !inserted)
+            throw input_error(s.dir.string(), 0, "shard", fmt::format("shard {} given twice (also {})",
+                                                                      s.header.shard.text(), at->second->dir.string()));
+    const std::size_t n = shards.front().header.shard.count;
     std::string missing;
     for (std::size_t k = 1; k <= n; ++k)
         if (!by_index.count(k)) missing += fmt::format("{}{}/{}", missing.empty() ? "" : ", ", k, n);
     if (!missing.empty()) throw input_error("", 0, "shard", fmt::format("missing shard(s) {}", missing));
     for (const shard_input& s : shards)
-        if (s.cases != s.shard.size_of(total))
+        if (s.header.cases != s.header.shard.size_of(total))
             throw input_error(s.file().string(), 0, "shard",
-                              fmt::format("holds {} cases, shard {} of {} cases has {}", s.cases, s.shard.text(),
-                                          total, s.shard.size_of(total)));
+                              fmt::format("holds {} cases, shard {} of {} cases has {}", s.header.cases,
+                                          s.header.shard.text(), total, s.header.shard.size_of(total)));
 }
 
 // Per-case files are read side by side, one open file per shard.
@@ -287,22 +265,11 @@ void interleave_per_case(const std::vector<shard_input>& shards, std::size_t tot
         if (std::getline(files[k], line))
             throw input_error(names[k].string(), 0, "--per-case",
                               "has more lines than the shard has cases: it does not match its state");
-        if (digests[k].text() != shards[k].per_case_digest)
+        if (digests[k].text() != shards[k].header.per_case_digest)
             throw input_error(names[k].string(), 0, "--per-case",
                               fmt::format("its digest is {}, its shard's state records {}: not the per-case file "
                                           "that shard's audit wrote (swapped, from another run, or edited)",
-                                          digests[k].text(), shards[k].per_case_digest));
-    }
-}
-
-// The run as the report records it: its command and input as `file` spells them.
-run_context spelled_as_in(const fs::path& file) {
-    const json header = read_state_file(file, true);
-    try {
-        return {header.at("command").get<std::string>(), header.at("input").at("paths").get<std::vector<std::string>>(),
-                header.at("input").at("generated").get<std::vector<std::string>>()};
-    } catch (const json::exception& e) {
-        throw input_error(file.string(), 0, "", fmt::format("not a shard state: {}", e.what()));
+                                          digests[k].text(), shards[k].header.per_case_digest.value_or("none")));
     }
 }
 
@@ -311,34 +278,24 @@ run_context spelled_as_in(const fs::path& file) {
 // number of shards.
 int merge_audits(const merge_options& options) {
     std::vector<shard_input> shards;
-    json first;  // the first shard given, which the others are checked against
-    const fs::path first_file = fs::path(options.shards.front()) / shard_state_file;
     for (const std::string& dir : options.shards) {
         const fs::path file = fs::path(dir) / shard_state_file;
-        json header = read_state_file(file, true);
-        try {
-            if (!shards.empty()) check_same_audit(first, first_file, header, file);
-        } catch (const json::exception& e) {
-            throw input_error(file.string(), 0, "", fmt::format("not a shard state: {}", e.what()));
-        }
-        shards.push_back(shard_from_header(dir, header));
-        if (shards.size() == 1) first = std::move(header);
+        shard_header header = read_shard_header(read_state_file(file, true), file.string());
+        if (!shards.empty()) check_same_audit(shards.front().header, shards.front().file(), header, file);
+        shards.push_back({dir, std::move(header)});
     }
-    std::sort(shards.begin(), shards.end(),
-              [](const shard_input& a, const shard_input& b) { return a.shard.index < b.shard.index; });
-    std::size_t total = 0;
-    std::vector<audit_target> targets;
-    try {
-        total = first.at("input").at("cases").get<std::size_t>();
-        targets = targets_from_json(first.at("targets"));
-    } catch (const json::exception& e) {
-        throw input_error(first_file.string(), 0, "", fmt::format("not a shard state: {}", e.what()));
-    }
+    std::sort(shards.begin(), shards.end(), [](const shard_input& a, const shard_input& b) {
+        return a.header.shard.index < b.header.shard.index;
+    });
+    const std::size_t total = shards.front().header.input.cases;
     check_complete(shards, total);
 
-    const audit_state merged = merged_states(shards, targets);
+    const audit_state merged = merged_states(shards);
 
-    const run_context context = spelled_as_in(shards.front().file());  // shard 1, whatever the order given
+    // As shard 1 spelled the command and input, whatever the order given.
+    const shard_header& first = shards.front().header;
+    const run_context context{first.command, first.input.paths, first.input.generated};
+
     audit_outputs outputs;
     for (const shard_input& s : shards) {
         outputs.files.input(s.dir, "a shard directory");

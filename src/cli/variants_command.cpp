@@ -36,7 +36,7 @@ command add_variants_command(CLI::App& app) {
                         all.push_back({{"name", v.name},
                                        {"citation", v.citation},
                                        {"formula", v.formula},
-                                       {"contract", contract_json(v.promises)},
+                                       {"contract", to_json_mapped(v.promises)},
                                        {"precisions", precisions(v)}});
                         if (!v.build.empty()) all.back()["build"] = v.build;
                     }

@@ -18,24 +18,6 @@ namespace rayverify {
 
 using json = nlohmann::ordered_json;
 
-json json_number(double x) {
-    if (std::isnan(x)) return "nan";
-    if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
-    return x;
-}
-
-json optional_number(const std::optional<double>& x) { return x ? json_number(*x) : json(nullptr); }
-
-std::optional<std::optional<double>> number_from_json(const json& j) {
-    using value = std::optional<double>;
-    if (j.is_null()) return value();
-    if (j.is_number()) return value(j.get<double>());
-    if (j == "inf") return value(std::numeric_limits<double>::infinity());
-    if (j == "-inf") return value(-std::numeric_limits<double>::infinity());
-    if (j == "nan") return value(std::numeric_limits<double>::quiet_NaN());
-    return std::nullopt;
-}
-
 void write_number(json_line& out, double x) {
     if (std::isnan(x))
         out.value("nan");
@@ -99,24 +81,61 @@ json tally_json(const target_tally& t, const char* scope) {
 
 }  // namespace
 
-json library_json(const library_identity& library) {
-    json out = {{"name", library.name}, {"version", library.version}, {"source", library.source}};
-    if (!library.configuration.empty()) out["configuration"] = library.configuration;
-    return out;
+void map_json(json_io& io, precision& p) {
+    io.name(p, precision_name, precision_from_name, "float or double");
 }
 
-json contract_json(const contract& c) {
-    return {{"spec", format_contract(c)}, {"tangent_rule", std::string(c.tangent_rule)}, {"meaning", describe_contract(c)}};
+void map_json(json_io& io, verdict_kind& v) { io.name(v, verdict_name, verdict_from_name, "a verdict"); }
+
+void map_json(json_io& io, disagreement_cause& c) { io.name(c, cause_name, cause_from_name, "a cause"); }
+
+void map_json(json_io& io, invalid_reason& r) {
+    io.name(r, invalid_reason_name,
+            [](std::string_view name) -> std::optional<invalid_reason> {
+                for (int k = 0; k <= static_cast<int>(invalid_reason::bad_interval); ++k)
+                    if (name == invalid_reason_name(static_cast<invalid_reason>(k))) return static_cast<invalid_reason>(k);
+                return std::nullopt;
+            },
+            "a reason a case is invalid");
 }
 
-contract contract_from_json(const json& j) {
-    try {
-        contract c = parse_contract(j.at("spec").get<std::string>());
-        c.tangent_rule = interned_text(j.at("tangent_rule").get<std::string>());
-        return c;
-    } catch (const std::invalid_argument& e) {
-        throw json::other_error::create(501, e.what(), &j);
+void map_json(json_io& io, library_identity& library) {
+    io.field("name", library.name);
+    io.field("version", library.version);
+    io.field("source", library.source);
+    std::optional<std::string> configuration;
+    if (!library.configuration.empty()) configuration = library.configuration;
+    io.optional_field("configuration", configuration);
+    if (io.reading()) library.configuration = configuration.value_or("");
+}
+
+void map_json(json_io& io, contract& c) {
+    std::string spec = io.reading() ? "" : format_contract(c);
+    std::string tangent_rule(c.tangent_rule), meaning = io.reading() ? "" : describe_contract(c);
+    io.field("spec", spec);
+    if (io.reading()) {
+        try {
+            c = parse_contract(spec);
+        } catch (const std::invalid_argument& e) {
+            io.fail("spec", fmt::format("{}: {}", json_io::quoted(spec), e.what()));
+        }
     }
+    io.field("tangent_rule", tangent_rule);
+    io.field("meaning", meaning);
+    if (io.reading()) c.tangent_rule = interned_text(tangent_rule);
+}
+
+void map_json(json_io& io, audit_target& target) {
+    io.field("variant", target.subject.name);
+    io.field("precision", target.prec);
+    io.field("citation", target.subject.citation);
+    io.field("formula", target.subject.formula);
+    io.field("contract", target.subject.promises);
+    io.optional_field("library", target.subject.library);
+    std::optional<std::string> environment;
+    if (!target.subject.fp_environment.empty()) environment = target.subject.fp_environment;
+    io.optional_field("fp_environment", environment);
+    if (io.reading()) target.subject.fp_environment = environment.value_or("");
 }
 
 namespace {
@@ -262,13 +281,7 @@ json audit_report_json(const audit_totals& totals, const run_context& context) {
     json results = json::array();
     for (std::size_t i = 0; i < totals.targets.size(); ++i) {
         const audit_target& target = totals.targets[i];
-        json entry = {{"variant", target.subject.name},
-                      {"precision", precision_name(target.prec)},
-                      {"citation", target.subject.citation},
-                      {"formula", target.subject.formula},
-                      {"contract", contract_json(target.subject.promises)}};
-        if (target.subject.library) entry["library"] = library_json(*target.subject.library);
-        if (!target.subject.fp_environment.empty()) entry["fp_environment"] = target.subject.fp_environment;
+        json entry = to_json_mapped(target);
         entry.update(tally_json(totals.overall[i], scope));
         json families = json::object();
         for (const auto& [family, tallies] : totals.by_family) families[family] = tally_json(tallies[i], scope);

@@ -10,6 +10,7 @@
 
 #include "compare/audit.h"
 #include "compare/stability.h"
+#include "corpus/json_mapping.h"
 #include "report/json_line.h"
 
 namespace rayverify {
@@ -47,23 +48,23 @@ std::string per_case_line(const audited_case& audited, const std::vector<audit_t
 // What the p99 and median of every error statistic are (written beside them).
 extern const char* const quantile_scope;
 
-// A finite double as a JSON number, ±inf and NaN as strings ("inf", "-inf", "nan").
-nlohmann::ordered_json json_number(double x);
-// The same value written to a line.
+// The same value as json_number (corpus/json_mapping.h), written to a line.
 void write_number(json_line& out, double x);
-// json_number of a value, null for none.
-nlohmann::ordered_json optional_number(const std::optional<double>& x);
-// What json_number or optional_number wrote: a JSON number, "inf", "-inf" or
-// "nan" (the value), null (nullopt inside); nullopt outside for anything else.
-std::optional<std::optional<double>> number_from_json(const nlohmann::ordered_json& j);
 
-// A contract as report.json and shard states record it: its spec
-// (format_contract), tangent rule and meaning; and back (a spec that does not
-// parse is a json::other_error).
-nlohmann::ordered_json contract_json(const contract& c);
-contract contract_from_json(const nlohmann::ordered_json& j);
-
-// A shipped library's identity (an --engine target's) as report.json and shard states record it.
-nlohmann::ordered_json library_json(const library_identity& library);
+// A contract as report.json, `variants --json` and shard states record it:
+// its spec (format_contract), tangent rule and meaning; read back from the
+// spec (one that does not parse is an input error at "spec").
+void map_json(json_io& io, contract& c);
+// A shipped library's identity (an --engine target's).
+void map_json(json_io& io, library_identity& library);
+// A target as report.json's results and shard states name it: variant,
+// precision, citation, formula, contract, library and floating-point
+// environment when set. Read back, it describes and never runs (merge renders, it does not audit).
+void map_json(json_io& io, audit_target& target);
+void map_json(json_io& io, precision& p);
+// Verdicts, causes and reasons a case is invalid, by name.
+void map_json(json_io& io, verdict_kind& v);
+void map_json(json_io& io, disagreement_cause& c);
+void map_json(json_io& io, invalid_reason& r);
 
 }  // namespace rayverify

@@ -4,9 +4,12 @@
 // report; `rayverify merge` reads the shards' states back, merges them and
 // renders exactly the report one run over the whole input would have written.
 // Every double is stored as a hex float, so nothing is rounded on the way.
+// The file's every type has one mapping (corpus/json_mapping.h, in
+// shard_state.cpp) that the audit writes, and merge reads and checks.
 #pragma once
 
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -14,12 +17,14 @@
 #include "compare/case_examples.h"
 #include "compare/contract_lint.h"
 #include "compare/stability.h"
+#include "corpus/case_stream.h"
+#include "corpus/json_mapping.h"
 #include "report/audit_report.h"
 #include "report/stability_report.h"
 
 namespace rayverify {
 
-inline constexpr const char* shard_state_format = "rayverify-shard-state 4";
+inline constexpr const char* shard_state_format = "rayverify-shard-state 5";
 inline constexpr const char* shard_state_file = "shard.json";
 
 // Everything an audit accumulates (one per thread, one per shard).
@@ -44,24 +49,53 @@ std::vector<std::string> target_labels(const std::vector<audit_target>& targets)
 nlohmann::ordered_json audit_report_document(const audit_state& state, const audit_totals& totals,
                                              const run_context& context, unsigned threads = 1);
 
-// Targets as JSON (name, precision, citation, formula, contract) and back
-// (variants that describe, never run: merge renders, it does not audit).
-nlohmann::ordered_json targets_json(const std::vector<audit_target>& targets);
-std::vector<audit_target> targets_from_json(const nlohmann::ordered_json& j);
+// The head of a shard's state file: everything but its accumulated state,
+// which `rayverify merge` reads first and checks the shards against each other by.
+struct shard_header {
+    struct digests_record {
+        std::optional<std::string> results;  // a results file's (and its companion's) contents; none: null
+        std::vector<std::string> plugins;    // each plugin library's
+    };
+    struct input_record {
+        std::vector<std::string> paths, generated;
+        std::size_t cases = 0;  // the whole input's
+        std::string fingerprint;
+        digests_record digests;
+    };
 
-// Checks a shard's whole state document (shard.json, as `rayverify merge`
-// reads it) before anything of it is used: the type and range of every field
-// and the consistency of the figures (counts that add up over verdicts,
-// families and histogram buckets; maxima that are numbers in their
-// histogram's last bucket; case indices inside the input and the shard; a
-// per-case file inside the shard directory). Throws input_error(file, 0,
-// FIELD, problem), FIELD a path such as "state.audit.overall[0].verdicts[1]".
-// `header_only`: everything but "state" (merge reads the headers first).
-void check_shard_state(const nlohmann::ordered_json& doc, const std::string& file, bool header_only = false);
+    std::size_t schema_version = 0;
+    std::string format;
+    nlohmann::ordered_json build;  // build_json(), compared as a whole
+    std::string command;
+    input_record input;
+    shard_spec shard;
+    std::size_t cases = 0;  // the cases this shard audited ("shard.cases")
+    std::vector<audit_target> targets;
+    // The per-case file, relative to the shard directory, and the digest of its
+    // contents as the audit wrote them; both null when the shard wrote none.
+    std::optional<std::string> per_case_file, per_case_digest;
+};
 
-// The accumulated state as JSON and back. `from_json` throws
-// nlohmann::json::exception on a malformed document (the caller names the file).
-nlohmann::ordered_json state_json(const audit_state& state);
-audit_state state_from_json(const nlohmann::ordered_json& j, const std::vector<audit_target>& targets);
+// The header's one mapping: written by the audit, read and checked by merge
+// (the format first, then the type and range of every field: 1 ≤ index ≤
+// count, fingerprints and digests of 16 hex digits, a per-case file inside
+// the shard directory).
+void map_json(json_io& io, shard_header& header);
+
+// A shard's state file: the header, then "state" (last, so that merge can
+// read the headers of many shards without their states).
+nlohmann::ordered_json shard_document(const shard_header& header, const audit_state& state);
+
+// The header of a shard's state document (whole, or without "state").
+// Throws input_error(file, 0, FIELD, problem).
+shard_header read_shard_header(const nlohmann::ordered_json& doc, const std::string& file);
+
+// The state of a shard's document whose header is `header`, checked field by
+// field and for the consistency of its figures (counts that add up over
+// verdicts, families and histogram buckets; maxima in their histogram's last
+// bucket; the whole run's tallies equal to the families' merge; case indices
+// inside the input and the shard). Throws input_error(file, 0, FIELD,
+// problem), FIELD a path such as "state.audit.overall[0].verdicts[1] (false_miss)".
+audit_state read_shard_state(const nlohmann::ordered_json& doc, const std::string& file, const shard_header& header);
 
 }  // namespace rayverify

@@ -56,15 +56,15 @@ TEST_F(HuntMerge, ShardsStartFromDisjointCasesAndTheMergeKeepsTheWorstWithProven
     std::set<std::uint64_t> seeds;
     for (std::size_t k = 1; k <= 3; ++k) {
         const hunt_file shard = read_hunt_file(dir_ / fmt::format("h{}.txt", k));
-        ASSERT_EQ(shard.hunt.at("runs").size(), 1u);
-        seeds.insert(shard.hunt.at("runs").at(0).at("search_seed").get<std::uint64_t>());
+        ASSERT_EQ(shard.hunt.runs.size(), 1u);
+        seeds.insert(shard.hunt.runs.at(0).search_seed);
         ASSERT_EQ(shard.finds.size(), 1u);
         // Start case uniform-1-<index>: index = k − 1 modulo 3.
-        const std::string start = shard.finds[0].provenance.at("start").get<std::string>();
+        const std::string start = shard.finds[0].provenance.start;
         EXPECT_EQ(std::stoul(start.substr(start.rfind('-') + 1)) % 3, k - 1) << start;
-        EXPECT_EQ(shard.finds[0].provenance.at("shard"), fmt::format("{}/3", k));
-        if (find_error(shard.finds[0]) > worst) {
-            worst = find_error(shard.finds[0]);
+        EXPECT_EQ(shard.finds[0].provenance.shard.text(), fmt::format("{}/3", k));
+        if (shard.finds[0].provenance.error > worst) {
+            worst = shard.finds[0].provenance.error;
             worst_shard = k;
         }
     }
@@ -77,11 +77,11 @@ TEST_F(HuntMerge, ShardsStartFromDisjointCasesAndTheMergeKeepsTheWorstWithProven
         << merged.output;
     const hunt_file m = read_hunt_file(dir_ / "m.txt");
     ASSERT_EQ(m.finds.size(), 3u);
-    EXPECT_EQ(find_error(m.finds[0]), worst);
-    EXPECT_EQ(m.finds[0].provenance.at("shard"), fmt::format("{}/3", worst_shard));
-    EXPECT_GE(find_error(m.finds[0]), find_error(m.finds[1]));
-    EXPECT_GE(find_error(m.finds[1]), find_error(m.finds[2]));
-    EXPECT_EQ(m.hunt.at("runs").size(), 3u);
+    EXPECT_EQ(m.finds[0].provenance.error, worst);
+    EXPECT_EQ(m.finds[0].provenance.shard.text(), fmt::format("{}/3", worst_shard));
+    EXPECT_GE(m.finds[0].provenance.error, m.finds[1].provenance.error);
+    EXPECT_GE(m.finds[1].provenance.error, m.finds[2].provenance.error);
+    EXPECT_EQ(m.hunt.runs.size(), 3u);
     const std::string text = read_text(dir_ / "m.txt");
     EXPECT_NE(text.find(fmt::format("in shard {}/3 (search seed ", worst_shard)), std::string::npos) << text;
     EXPECT_NE(text.find("# merged from 3 shards"), std::string::npos) << text;
@@ -151,16 +151,29 @@ TEST_F(HuntMerge, MisclassShardsMergeWithExit1AndTakeTheShardFromTheEnvironment)
     const hunt_file m = read_hunt_file(dir_ / "m.txt");
     ASSERT_EQ(m.finds.size(), 3u);
     // Disagreements in shard order: both of shard 1, then the first of shard 2.
-    EXPECT_EQ(m.finds[0].provenance.at("shard"), "1/2");
-    EXPECT_EQ(m.finds[1].provenance.at("shard"), "1/2");
-    EXPECT_EQ(m.finds[2].provenance.at("shard"), "2/2");
-    EXPECT_LT(m.finds[0].provenance.at("evaluation").get<int>(), m.finds[1].provenance.at("evaluation").get<int>());
+    EXPECT_EQ(m.finds[0].provenance.shard.text(), "1/2");
+    EXPECT_EQ(m.finds[1].provenance.shard.text(), "1/2");
+    EXPECT_EQ(m.finds[2].provenance.shard.text(), "2/2");
+    EXPECT_LT(m.finds[0].provenance.evaluation, m.finds[1].provenance.evaluation);
     // The kept finds still disagree when audited.
     EXPECT_EQ(run_cli("audit --variant naive --precision float --corpus " + (dir_ / "m.txt").string()).exit_code, 1);
 }
 
 TEST_F(HuntMerge, AMalformedHuntFileIsAnInputErrorWithItsLine) {
     hunt_shard(1, 1);
+    {  // a field of the wrong type, named by its path on its line
+        std::string text = read_text(dir_ / "h1.txt");
+        const std::size_t at = text.find("\"found_bits\":");
+        ASSERT_NE(at, std::string::npos);
+        text.insert(at + 13, "-");
+        std::ofstream(dir_ / "bad.txt", std::ios::binary) << text;
+        const command_result r = in_dir(fmt::format("'{}' merge -o out.txt bad.txt", RAYVERIFY_CLI));
+        EXPECT_EQ(r.exit_code, 2) << r.output;
+        const auto line = 1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(at), '\n');
+        EXPECT_NE(r.output.find(fmt::format("bad.txt:{}: field 'found_bits': is -", line)), std::string::npos)
+            << r.output;
+        EXPECT_FALSE(fs::exists(dir_ / "out.txt"));
+    }
     std::string text = read_text(dir_ / "h1.txt");
     const std::size_t at = text.find("# rayverify-find {");
     ASSERT_NE(at, std::string::npos);
@@ -168,8 +181,9 @@ TEST_F(HuntMerge, AMalformedHuntFileIsAnInputErrorWithItsLine) {
     std::ofstream(dir_ / "bad.txt", std::ios::binary) << text;
     const command_result r = in_dir(fmt::format("'{}' merge -o out.txt bad.txt", RAYVERIFY_CLI));
     EXPECT_EQ(r.exit_code, 2) << r.output;
-    EXPECT_NE(r.output.find("bad.txt:"), std::string::npos) << r.output;
-    EXPECT_NE(r.output.find("field 'rayverify-find': not JSON"), std::string::npos) << r.output;
+    const auto line = 1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(at), '\n');
+    EXPECT_NE(r.output.find(fmt::format("bad.txt:{}: ", line)), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("syntax error"), std::string::npos) << r.output;
 }
 
 }  // namespace

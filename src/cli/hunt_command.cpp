@@ -185,23 +185,17 @@ int run(const hunt_command_options& given, const std::string& command_line) {
     if (program)
         fmt::print("command '{}' answered {} batches of up to {} cases\n", o.command, program->batches(), options.batch);
     hunt_file file;
-    file.hunt = {{"format", hunt_file_format},
-                 {"build", build_json()},
-                 {"command", recorded_command(command_line)},
-                 {"target", label},
-                 {"objective", o.objective},
-                 {"rounding_only", o.rounding_only},
-                 {"strategy", o.strategy},
-                 {"family", family_name},
-                 {"seed", o.seed},
-                 {"shards", shard.count},
-                 {"runs", nlohmann::ordered_json::array({{{"shard", shard.text()},
-                                                          {"search_seed", options.seed},
-                                                          {"evaluations", result.evaluations},
-                                                          {"starts", result.starts},
-                                                          {"shrink_evaluations", result.shrink_evaluations},
-                                                          {"seconds", result.seconds},
-                                                          {"disagreements", result.disagreements}}})}};
+    file.hunt.build = build_json();
+    file.hunt.command = recorded_command(command_line);
+    file.hunt.target = label;
+    file.hunt.objective = options.objective;
+    file.hunt.rounding_only = o.rounding_only;
+    file.hunt.strategy = options.strategy;
+    file.hunt.family = family_name;
+    file.hunt.seed = o.seed;
+    file.hunt.shards = shard.count;
+    file.hunt.runs = {{shard, options.seed, result.evaluations, result.starts, result.shrink_evaluations,
+                       result.seconds, result.disagreements, std::nullopt}};
     std::string id_stem = fmt::format("hunt-{}-{}-{}-{}-{}", target.subject.name, precision_name(target.prec),
                                       o.objective, o.strategy, o.seed);
     if (shard.count > 1) id_stem += fmt::format("-shard{}of{}", shard.index, shard.count);
@@ -213,18 +207,18 @@ int run(const hunt_command_options& given, const std::string& command_line) {
         entry.found = entry.shrunk;
         entry.found.id += "-found";
         entry.found.geometry = f.found;
-        entry.provenance = {{"shard", shard.text()},
-                            {"search_seed", options.seed},
-                            {"evaluation", f.evaluation},
-                            {"seconds", f.seconds},
-                            {"start", generate_case(family_name, o.seed, start_index(f.start_index)).id},
-                            {"verdict", verdict_name(f.found_eval.verdict)},
-                            {"error", hex_float(f.found_eval.error)},
-                            {"detail", f.found_eval.detail},
-                            {"found_bits", f.found_bits},
-                            {"shrunk_verdict", verdict_name(f.shrunk_eval.verdict)},
-                            {"shrunk_error", hex_float(f.shrunk_eval.error)},
-                            {"shrunk_bits", f.shrunk_bits}};
+        entry.provenance = {shard,
+                            options.seed,
+                            f.evaluation,
+                            f.seconds,
+                            generate_case(family_name, o.seed, start_index(f.start_index)).id,
+                            f.found_eval.verdict,
+                            f.found_eval.error,
+                            f.found_eval.detail,
+                            static_cast<std::size_t>(f.found_bits),
+                            f.shrunk_eval.verdict,
+                            f.shrunk_eval.error,
+                            static_cast<std::size_t>(f.shrunk_bits)};
         const auto failure = [](const hunt_evaluation& e) {
             std::string text(verdict_name(e.verdict));
             if (e.cause) text += fmt::format(" ({})", cause_name(*e.cause));
@@ -251,9 +245,7 @@ int run(const hunt_command_options& given, const std::string& command_line) {
         c.id = fmt::format("{}-disagreement", id_stem);
         c.family = "hunt_" + family_name;
         c.geometry = d->found;
-        file.hunt["runs"][0]["first_disagreement"] = {{"evaluation", d->evaluation},
-                                                      {"verdict", verdict_name(d->found_eval.verdict)},
-                                                      {"case", format_case_line(c)}};
+        file.hunt.runs[0].first_disagreement = {d->evaluation, d->found_eval.verdict, format_case_line(c)};
         fmt::print("{} of {} evaluations disagreed with the exact answer; the first ({}) at evaluation {}:\n  {}\n"
                    "  (--objective misclass hunts for them)\n",
                    result.disagreements, result.evaluations, verdict_name(d->found_eval.verdict), d->evaluation,

@@ -10,6 +10,7 @@
 #include "core/input_error.h"
 #include "corpus/case_stream.h"
 #include "corpus/corpus_io.h"
+#include "report/audit_report.h"
 #include "report/hunt_file.h"
 
 namespace rayverify::cli {
@@ -17,67 +18,60 @@ namespace rayverify::cli {
 namespace {
 
 namespace fs = std::filesystem;
-using json = nlohmann::ordered_json;
 
 struct hunt_input {
     fs::path path;
     hunt_file file;
 };
 
-shard_spec shard_of(const json& record, const fs::path& path) {
-    try {
-        return parse_shard(record.at("shard").get<std::string>());
-    } catch (const input_error& e) {
-        throw input_error(path.string(), 0, "shard", e.what());
-    }
-}
-
 // Two files come from one sharded hunt: same build, target, search and start
 // family, seed, shard count, and command up to the spelling of paths.
 void check_same_hunt(const hunt_input& first, const hunt_input& other) {
-    for (const char* field : {"build", "target", "objective", "strategy", "family", "seed", "shards"})
-        if (first.file.hunt.at(field) != other.file.hunt.at(field))
+    const auto compare = [&](const char* field, const auto& a, const auto& b) {
+        if (a != b)
             throw input_error(other.path.string(), 0, field,
                               fmt::format("differs from {}: {} vs {} (shards of different hunts cannot be merged)",
-                                          first.path.string(), other.file.hunt.at(field).dump(),
-                                          first.file.hunt.at(field).dump()));
-    if (const auto what = command_difference(first.file.hunt.at("command").get<std::string>(),
-                                             other.file.hunt.at("command").get<std::string>(), first.path.string(),
-                                             other.path.string()))
+                                          first.path.string(), to_json_mapped(b).dump(), to_json_mapped(a).dump()));
+    };
+    const hunt_record &a = first.file.hunt, &b = other.file.hunt;
+    compare("build", a.build, b.build);
+    compare("target", a.target, b.target);
+    compare("objective", a.objective, b.objective);
+    compare("strategy", a.strategy, b.strategy);
+    compare("family", a.family, b.family);
+    compare("seed", a.seed, b.seed);
+    compare("shards", a.shards, b.shards);
+    if (const auto what = command_difference(a.command, b.command, first.path.string(), other.path.string()))
         throw input_error(other.path.string(), 0, "command",
                           fmt::format("differs from {}: {} (shards of different hunts cannot be merged)",
                                       first.path.string(), *what));
 }
 
 // The runs of all files, each shard K of N exactly once, in shard order.
-json all_runs(const std::vector<hunt_input>& inputs) {
-    const std::size_t n = inputs.front().file.hunt.at("shards").get<std::size_t>();
-    std::map<std::size_t, std::pair<json, const fs::path*>> runs;
+std::vector<hunt_run> all_runs(const std::vector<hunt_input>& inputs) {
+    const std::size_t n = inputs.front().file.hunt.shards;
+    std::map<std::size_t, std::pair<const hunt_run*, const fs::path*>> runs;
     for (const hunt_input& input : inputs)
-        for (const json& run : input.file.hunt.at("runs")) {
-            const shard_spec shard = shard_of(run, input.path);
-            if (shard.count != n)
-                throw input_error(input.path.string(), 0, "shard",
-                                  fmt::format("a run of shard {}, in a hunt of {} shards", shard.text(), n));
-            const auto [at, inserted] = runs.try_emplace(shard.index, run, &input.path);
+        for (const hunt_run& run : input.file.hunt.runs) {
+            const auto [at, inserted] = runs.try_emplace(run.shard.index, &run, &input.path);
             if (!inserted)
                 throw input_error(input.path.string(), 0, "shard",
-                                  fmt::format("shard {} given twice (also in {})", shard.text(),
+                                  fmt::format("shard {} given twice (also in {})", run.shard.text(),
                                               at->second.second->string()));
         }
     std::string missing;
     for (std::size_t k = 1; k <= n; ++k)
         if (!runs.count(k)) missing += fmt::format("{}{}/{}", missing.empty() ? "" : ", ", k, n);
     if (!missing.empty()) throw input_error("", 0, "shard", fmt::format("missing hunt shard(s) {}", missing));
-    json out = json::array();
-    for (auto& [k, run] : runs) out.push_back(std::move(run.first));
+    std::vector<hunt_run> out;
+    for (const auto& [k, run] : runs) out.push_back(*run.first);
     return out;
 }
 
 // Worst first. ulp: the largest error; misclass: every find is a
 // disagreement, kept in shard order. Ties go to the lower shard, then the
 // earlier evaluation, so the result does not depend on the order of the files.
-void rank_finds(std::vector<hunt_file_find>& finds, bool ulp, const fs::path& any) {
+void rank_finds(std::vector<hunt_file_find>& finds, bool ulp) {
     struct key {
         double error;
         std::size_t shard;
@@ -85,8 +79,7 @@ void rank_finds(std::vector<hunt_file_find>& finds, bool ulp, const fs::path& an
     };
     std::vector<std::pair<key, hunt_file_find>> keyed;
     for (hunt_file_find& f : finds)
-        keyed.push_back({{ulp ? find_error(f) : 0.0, shard_of(f.provenance, any).index,
-                          f.provenance.at("evaluation").get<std::uint64_t>()},
+        keyed.push_back({{ulp ? f.provenance.error : 0.0, f.provenance.shard.index, f.provenance.evaluation},
                          std::move(f)});
     std::stable_sort(keyed.begin(), keyed.end(), [](const auto& a, const auto& b) {
         if (a.first.error != b.first.error) return a.first.error > b.first.error;
@@ -106,43 +99,34 @@ int merge_hunts(const std::vector<std::string>& files, const std::string& output
     output_file& merged_file = outputs.file(output, "-o");
     std::vector<hunt_input> inputs;
     for (const std::string& path : files) inputs.push_back({path, read_hunt_file(path)});
+    for (const hunt_input& input : inputs) check_same_hunt(inputs.front(), input);
     hunt_file merged;
-    std::size_t found = 0;
-    try {
-        for (const hunt_input& input : inputs) check_same_hunt(inputs.front(), input);
-        merged.hunt = inputs.front().file.hunt;
-        merged.hunt["runs"] = all_runs(inputs);
-        for (hunt_input& input : inputs)
-            for (hunt_file_find& f : input.file.finds) merged.finds.push_back(std::move(f));
-        found = merged.finds.size();
-        const bool ulp = merged.hunt.at("objective").get<std::string>() == "ulp";
-        rank_finds(merged.finds, ulp, inputs.front().path);
-        if (merged.finds.size() > keep) merged.finds.resize(keep);
-        render_hunt_file(merged);  // every field the file shows is there
-    } catch (const json::exception& e) {
-        throw input_error(inputs.front().path.string(), 0, "", fmt::format("a hunt file is malformed: {}", e.what()));
-    }
+    merged.hunt = inputs.front().file.hunt;
+    merged.hunt.runs = all_runs(inputs);
+    for (hunt_input& input : inputs)
+        for (hunt_file_find& f : input.file.finds) merged.finds.push_back(std::move(f));
+    const std::size_t found = merged.finds.size();
+    rank_finds(merged.finds, merged.hunt.objective == hunt_objective::ulp);
+    if (merged.finds.size() > keep) merged.finds.resize(keep);
     merged_file.stream() << render_hunt_file(merged);
 
     std::uint64_t evaluations = 0;
-    for (const json& run : merged.hunt.at("runs")) evaluations += run.at("evaluations").get<std::uint64_t>();
+    for (const hunt_run& run : merged.hunt.runs) evaluations += run.evaluations;
     fmt::print("merged {} hunt shards of {} ({} objective): {} evaluations; kept {} of {} finds\n",
-               merged.hunt.at("runs").size(), merged.hunt.at("target").get<std::string>(),
-               merged.hunt.at("objective").get<std::string>(), evaluations, merged.finds.size(), found);
+               merged.hunt.runs.size(), merged.hunt.target, hunt_objective_name(merged.hunt.objective), evaluations,
+               merged.finds.size(), found);
     std::size_t n = 0;
     for (const hunt_file_find& f : merged.finds) {
-        const json& p = f.provenance;
-        fmt::print("find {}: {}{} from shard {} (search seed {}), evaluation {}\n  {}\n", ++n,
-                   p.at("verdict").get<std::string>(),
-                   merged.hunt.at("objective") == "ulp" ? fmt::format(", {:.3g} ulp", find_error(f)) : "",
-                   p.at("shard").get<std::string>(), p.at("search_seed").get<std::uint64_t>(),
-                   p.at("evaluation").get<std::uint64_t>(), format_case_line(f.shrunk));
+        const hunt_find_provenance& p = f.provenance;
+        fmt::print("find {}: {}{} from shard {} (search seed {}), evaluation {}\n  {}\n", ++n, verdict_name(p.verdict),
+                   merged.hunt.objective == hunt_objective::ulp ? fmt::format(", {:.3g} ulp", p.error) : "",
+                   p.shard.text(), p.search_seed, p.evaluation, format_case_line(f.shrunk));
     }
     fmt::print("wrote {}\n", output);
     check_standard_output();
     outputs.commit();
-    bool disagreement = merged.hunt.at("objective") == "misclass" && !merged.finds.empty();
-    for (const json& run : merged.hunt.at("runs")) disagreement = disagreement || run.contains("first_disagreement");
+    bool disagreement = merged.hunt.objective == hunt_objective::misclass && !merged.finds.empty();
+    for (const hunt_run& run : merged.hunt.runs) disagreement = disagreement || run.first_disagreement.has_value();
     return disagreement ? exit_findings : exit_ok;
 }
 

@@ -34,6 +34,9 @@ std::vector<std::string> hunt_strategy_names() { return names_in(strategy_names)
 std::optional<hunt_strategy> hunt_strategy_from_name(std::string_view name) { return value_in(strategy_names, name); }
 std::optional<hunt_objective> hunt_objective_from_name(std::string_view name) { return value_in(objective_names, name); }
 
+std::string_view hunt_objective_name(hunt_objective o) { return name_in(objective_names, o); }
+std::string_view hunt_strategy_name(hunt_strategy s) { return name_in(strategy_names, s); }
+
 bool maximises_error(hunt_objective o) { return o != hunt_objective::misclass; }
 
 namespace {

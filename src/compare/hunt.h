@@ -44,6 +44,9 @@ enum class hunt_strategy {
 };
 
 std::optional<hunt_strategy> hunt_strategy_from_name(std::string_view name);
+// The names of an objective and a strategy, as the options and the hunt file spell them.
+std::string_view hunt_objective_name(hunt_objective o);
+std::string_view hunt_strategy_name(hunt_strategy s);
 // Every name --objective and --strategy take, in one place for the option's
 // check and the shell completion.
 std::vector<std::string> hunt_objective_names();

@@ -43,12 +43,12 @@ std::string json_io::path() const {
     return at;
 }
 
-void json_io::fail(const std::string& problem) const { throw input_error(file_ ? *file_ : "", 0, path(), problem); }
+void json_io::fail(const std::string& problem) const { throw input_error(file_ ? *file_ : "", line_, path(), problem); }
 
 void json_io::fail(std::string_view key, const std::string& problem) const {
     std::string at = path();
     if (!key.empty() && !at.empty() && key.front() != ' ' && key.front() != '[') at += '.';
-    throw input_error(file_ ? *file_ : "", 0, at + std::string(key), problem);
+    throw input_error(file_ ? *file_ : "", line_, at + std::string(key), problem);
 }
 
 std::string json_io::shown(const json& j) {
@@ -115,7 +115,7 @@ void json_io::scalar(double& v) {
     std::string text;
     scalar(text);
     try {
-        v = parse_exact_double(text, file(), 0, path());
+        v = parse_exact_double(text, file(), line_, path());
     } catch (const input_error&) {
         fail(quoted(text) + " is not a number");
     }
@@ -129,6 +129,15 @@ void json_io::scalar(std::optional<double>& v) {
     const std::optional<std::optional<double>> read = number_from_json(*in_);
     if (!read) fail("is " + shown(*in_) + R"(, expected a number, "inf", "-inf", "nan" or null)");
     v = *read;
+}
+
+void json_io::decimal(double& v) {
+    if (!reading()) {
+        *out_ = v;
+    } else {
+        if (!in_->is_number() || !std::isfinite(in_->get<double>())) fail("is " + shown(*in_) + ", expected a number");
+        v = in_->get<double>();
+    }
 }
 
 void json_io::scalar(json& v) {

@@ -52,8 +52,9 @@ public:
 
     // Reads from `in`, which came from `file`; `context` is what the
     // mappings may consult (context<T>()), e.g. a header read before the body.
-    json_io(const json& in, const std::string& file, const void* context = nullptr)
-        : in_(&in), file_(&file), context_(context) {}
+    // `line`: the line of `file` the document is on (0: the whole file).
+    json_io(const json& in, const std::string& file, const void* context = nullptr, std::size_t line = 0)
+        : in_(&in), file_(&file), context_(context), line_(line) {}
     // Writes to `out`.
     explicit json_io(json& out, const void* context = nullptr) : out_(&out), context_(context) {}
 
@@ -67,11 +68,17 @@ public:
     // Where this value is, e.g. "state.audit.overall[0]"; "" at the top.
     std::string path() const;
     const std::string& file() const { return *file_; }
+    std::size_t line() const { return line_; }
 
     // An input_error at this value (or its member `key`).
     [[noreturn]] void fail(const std::string& problem) const;
     [[noreturn]] void fail(std::string_view key, const std::string& problem) const;
 
+    // A member that is a double written as a plain JSON number (a measurement
+    // such as seconds, shown to people; it still reads back to the same double).
+    void decimal_field(const char* key, double& value) {
+        object_or_array(key, [&](json_io& child) { child.decimal(value); });
+    }
     // A member that must be there.
     template <class T>
     void field(const char* key, T& value) {
@@ -189,13 +196,15 @@ public:
 
 private:
     json_io(const json_io& parent, const char* key, const json& in)
-        : in_(&in), file_(parent.file_), context_(parent.context_), parent_(&parent), key_(key) {}
+        : in_(&in), file_(parent.file_), context_(parent.context_), line_(parent.line_), parent_(&parent), key_(key) {}
     json_io(const json_io& parent, const char* key, json& out)
-        : out_(&out), file_(parent.file_), context_(parent.context_), parent_(&parent), key_(key) {}
+        : out_(&out), file_(parent.file_), context_(parent.context_), line_(parent.line_), parent_(&parent), key_(key) {}
     json_io(const json_io& parent, std::size_t index, std::string_view label, const json& in)
-        : in_(&in), file_(parent.file_), context_(parent.context_), parent_(&parent), index_(index), label_(label) {}
+        : in_(&in), file_(parent.file_), context_(parent.context_), line_(parent.line_), parent_(&parent), index_(index),
+          label_(label) {}
     json_io(const json_io& parent, std::size_t index, std::string_view label, json& out)
-        : out_(&out), file_(parent.file_), context_(parent.context_), parent_(&parent), index_(index), label_(label) {}
+        : out_(&out), file_(parent.file_), context_(parent.context_), line_(parent.line_), parent_(&parent),
+          index_(index), label_(label) {}
 
     template <class T>
     void element(std::size_t i, T& v, std::string_view label = {}) {
@@ -227,11 +236,13 @@ private:
     void scalar(double& v);               // an exact hex float
     void scalar(std::optional<double>& v);  // a figure: json_number's spelling, or null
     void scalar(json& v);                 // any JSON, kept as it is
+    void decimal(double& v);
 
     const json* in_ = nullptr;
     json* out_ = nullptr;
     const std::string* file_ = nullptr;
     const void* context_ = nullptr;
+    std::size_t line_ = 0;
     const json_io* parent_ = nullptr;
     const char* key_ = nullptr;  // a member's key; else an element's index_ (and label_)
     std::size_t index_ = 0;
@@ -249,9 +260,10 @@ nlohmann::ordered_json to_json_mapped(const T& value, const void* context = null
 
 // `in` read through T's mapping; input_error naming `file` and the field on anything wrong.
 template <class T>
-T from_json_mapped(const nlohmann::ordered_json& in, const std::string& file, const void* context = nullptr) {
+T from_json_mapped(const nlohmann::ordered_json& in, const std::string& file, const void* context = nullptr,
+                   std::size_t line = 0) {
     T value{};
-    json_io io(in, file, context);
+    json_io io(in, file, context, line);
     io.value(value);
     return value;
 }

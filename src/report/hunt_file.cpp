@@ -8,6 +8,8 @@
 #include "core/input_error.h"
 #include "corpus/case_stream.h"
 #include "corpus/corpus_io.h"
+#include "corpus/json_input.h"
+#include "report/audit_report.h"
 
 namespace rayverify {
 
@@ -28,92 +30,148 @@ namespace {
 
 constexpr std::string_view hunt_prefix = "# rayverify-hunt ";
 constexpr std::string_view find_prefix = "# rayverify-find ";
-
-hunt_objective objective_of(const json& hunt) {
-    const std::string name = hunt.at("objective").get<std::string>();
-    const std::optional<hunt_objective> o = hunt_objective_from_name(name);
-    if (!o) throw std::invalid_argument("unknown objective '" + name + "'");
-    return *o;
-}
-
-// Under an error objective (ulp, scale_radius, scale_distance) the finds are errors found by search.
-bool ulp_objective(const json& hunt) { return maximises_error(objective_of(hunt)); }
+static_assert(hunt_prefix.size() == find_prefix.size(), "a JSON line's text starts at the same column");
 
 // "agree, 3.2 ulp" under an error objective; the verdict otherwise.
-std::string outcome(const json& hunt, const json& verdict, const json& error) {
-    return ulp_objective(hunt)
-               ? fmt::format("agree, {}", hunt_error_text(objective_of(hunt), parse_exact_double(error.get<std::string>(),
-                                                                                                "hunt file", 0, "error")))
-               : verdict.get<std::string>();
+std::string outcome(const hunt_record& hunt, verdict_kind verdict, double error) {
+    return maximises_error(hunt.objective) ? fmt::format("agree, {}", hunt_error_text(hunt.objective, error))
+                                           : std::string(verdict_name(verdict));
 }
 
-std::string hunt_summary(const json& h) {
+std::string hunt_summary(const hunt_record& h) {
     std::string text = fmt::format("# rayverify hunt: {}, objective {}{}, strategy {}, start family {} (seed {})\n",
-                                   h.at("target").get<std::string>(), h.at("objective").get<std::string>(),
-                                   h.value("rounding_only", false) ? " (rounding causes only)" : "",
-                                   h.at("strategy").get<std::string>(), h.at("family").get<std::string>(),
-                                   h.at("seed").get<std::uint64_t>());
-    text += fmt::format("# command: {}\n", h.at("command").get<std::string>());
-    const json& runs = h.at("runs");
+                                   h.target, hunt_objective_name(h.objective),
+                                   h.rounding_only ? " (rounding causes only)" : "", hunt_strategy_name(h.strategy),
+                                   h.family, h.seed);
+    text += fmt::format("# command: {}\n", h.command);
     std::uint64_t evaluations = 0, starts = 0, shrinking = 0;
     double seconds = 0;
-    for (const json& r : runs) {
-        evaluations += r.at("evaluations").get<std::uint64_t>();
-        starts += r.at("starts").get<std::uint64_t>();
-        shrinking += r.at("shrink_evaluations").get<std::uint64_t>();
-        seconds += r.at("seconds").get<double>();
+    for (const hunt_run& r : h.runs) {
+        evaluations += r.evaluations;
+        starts += r.starts;
+        shrinking += r.shrink_evaluations;
+        seconds += r.seconds;
     }
-    const std::size_t shards = h.at("shards").get<std::size_t>();
-    if (runs.size() == 1 && shards > 1)
-        text += fmt::format("# shard {} of the hunt, search seed {}\n", runs.at(0).at("shard").get<std::string>(),
-                            runs.at(0).at("search_seed").get<std::uint64_t>());
-    if (runs.size() > 1)
+    if (h.runs.size() == 1 && h.shards > 1)
+        text += fmt::format("# shard {} of the hunt, search seed {}\n", h.runs[0].shard.text(), h.runs[0].search_seed);
+    if (h.runs.size() > 1)
         text += fmt::format("# merged from {} shards, each an independent hunt with its own start cases and search "
                             "seed (listed in the rayverify-hunt line); totals over all of them:\n",
-                            runs.size());
+                            h.runs.size());
     text += fmt::format("# searched {} evaluations from {} start cases in {:.2f} s; {} shrinking evaluations\n",
                         evaluations, starts, seconds, shrinking);
-    for (const json& r : runs)
-        if (const auto d = r.find("first_disagreement"); d != r.end())
+    for (const hunt_run& r : h.runs)
+        if (const auto& d = r.first_disagreement)
             text += fmt::format("# {}{} of {} evaluations disagreed with the exact answer; the first ({}) at evaluation "
                                 "{}:\n#   {}\n",
-                                runs.size() > 1 ? "shard " + r.at("shard").get<std::string>() + ": " : "",
-                                r.at("disagreements").get<std::uint64_t>(), r.at("evaluations").get<std::uint64_t>(),
-                                d->at("verdict").get<std::string>(), d->at("evaluation").get<std::uint64_t>(),
-                                d->at("case").get<std::string>());
-    if (ulp_objective(h))
+                                h.runs.size() > 1 ? "shard " + r.shard.text() + ": " : "", r.disagreements,
+                                r.evaluations, verdict_name(d->verdict), d->evaluation, d->case_line);
+    if (maximises_error(h.objective))
         text += "# the error below is the largest FOUND BY SEARCH: a lower bound on the variant's maximum over all "
                 "inputs, not the maximum\n";
     return text;
 }
 
-std::string find_summary(const json& h, const hunt_file_find& f, std::size_t n) {
-    const json& p = f.provenance;
-    std::string what = outcome(h, p.at("verdict"), p.at("error"));
-    if (ulp_objective(h)) what += " (lower bound)";
-    std::string from = fmt::format("searching from {}", p.at("start").get<std::string>());
-    if (h.at("shards").get<std::size_t>() > 1)
-        from += fmt::format(" in shard {} (search seed {})", p.at("shard").get<std::string>(),
-                            p.at("search_seed").get<std::uint64_t>());
-    std::string text = fmt::format("# find {}: {} at evaluation {} ({:.3f} s), {}\n", n, what,
-                                   p.at("evaluation").get<std::uint64_t>(), p.at("seconds").get<double>(), from);
-    if (const std::string detail = p.at("detail").get<std::string>(); !detail.empty())
-        text += fmt::format("#   {}\n", detail);
-    text += fmt::format("#   shrunk from {} to {} significant bits, still {}\n", p.at("found_bits").get<int>(),
-                        p.at("shrunk_bits").get<int>(), outcome(h, p.at("shrunk_verdict"), p.at("shrunk_error")));
+std::string find_summary(const hunt_record& h, const hunt_file_find& f, std::size_t n) {
+    const hunt_find_provenance& p = f.provenance;
+    std::string what = outcome(h, p.verdict, p.error);
+    if (maximises_error(h.objective)) what += " (lower bound)";
+    std::string from = fmt::format("searching from {}", p.start);
+    if (h.shards > 1) from += fmt::format(" in shard {} (search seed {})", p.shard.text(), p.search_seed);
+    std::string text =
+        fmt::format("# find {}: {} at evaluation {} ({:.3f} s), {}\n", n, what, p.evaluation, p.seconds, from);
+    if (!p.detail.empty()) text += fmt::format("#   {}\n", p.detail);
+    text += fmt::format("#   shrunk from {} to {} significant bits, still {}\n", p.found_bits, p.shrunk_bits,
+                        outcome(h, p.shrunk_verdict, p.shrunk_error));
     return text;
 }
 
 }  // namespace
 
+// "K/N", as --shard spells it.
+void map_json(json_io& io, shard_spec& shard) {
+    io.name(
+        shard, [](const shard_spec& s) { return s.text(); },
+        [](std::string_view text) -> std::optional<shard_spec> {
+            try {
+                return parse_shard(text);
+            } catch (const input_error&) {
+                return std::nullopt;
+            }
+        },
+        "a shard K/N");
+}
+
+void map_json(json_io& io, hunt_objective& o) {
+    io.name(o, hunt_objective_name, hunt_objective_from_name, "an objective");
+}
+
+void map_json(json_io& io, hunt_strategy& s) { io.name(s, hunt_strategy_name, hunt_strategy_from_name, "a strategy"); }
+
+static void map_json(json_io& io, hunt_run::disagreement& d) {
+    io.field("evaluation", d.evaluation);
+    io.field("verdict", d.verdict);
+    io.field("case", d.case_line);
+}
+
+static void map_json(json_io& io, hunt_run& r) {
+    io.field("shard", r.shard);
+    io.field("search_seed", r.search_seed);
+    io.field("evaluations", r.evaluations);
+    io.field("starts", r.starts);
+    io.field("shrink_evaluations", r.shrink_evaluations);
+    io.decimal_field("seconds", r.seconds);
+    io.field("disagreements", r.disagreements);
+    io.optional_field("first_disagreement", r.first_disagreement);
+}
+
+void map_json(json_io& io, hunt_record& h) {
+    io.field("format", h.format);
+    if (io.reading() && h.format != hunt_file_format)
+        io.fail("format", fmt::format("{}: not a '{}' hunt line (written by another rayverify?)",
+                                      json_io::quoted(h.format), hunt_file_format));
+    io.field("build", h.build);
+    io.field("command", h.command);
+    io.field("target", h.target);
+    io.field("objective", h.objective);
+    io.field("rounding_only", h.rounding_only);
+    io.field("strategy", h.strategy);
+    io.field("family", h.family);
+    io.field("seed", h.seed);
+    io.field("shards", h.shards);
+    io.field("runs", h.runs);
+    if (!io.reading()) return;
+    if (h.runs.empty()) io.fail("runs", "is empty");
+    for (std::size_t i = 0; i < h.runs.size(); ++i)
+        if (h.runs[i].shard.count != h.shards)
+            io.fail(fmt::format("runs[{}].shard", i),
+                    fmt::format("is {}, a shard of a hunt of {}, not of {}", h.runs[i].shard.text(),
+                                h.runs[i].shard.count, h.shards));
+}
+
+void map_json(json_io& io, hunt_find_provenance& p) {
+    io.field("shard", p.shard);
+    io.field("search_seed", p.search_seed);
+    io.field("evaluation", p.evaluation);
+    io.decimal_field("seconds", p.seconds);
+    io.field("start", p.start);
+    io.field("verdict", p.verdict);
+    io.field("error", p.error);
+    io.field("detail", p.detail);
+    io.field("found_bits", p.found_bits);
+    io.field("shrunk_verdict", p.shrunk_verdict);
+    io.field("shrunk_error", p.shrunk_error);
+    io.field("shrunk_bits", p.shrunk_bits);
+}
+
 std::string render_hunt_file(const hunt_file& file) {
     std::string text = corpus_header_comment() + '\n' + hunt_summary(file.hunt);
-    text += fmt::format("{}{}\n", hunt_prefix, file.hunt.dump());
+    text += fmt::format("{}{}\n", hunt_prefix, to_json_mapped(file.hunt).dump());
     std::size_t n = 0;
     for (const hunt_file_find& f : file.finds) {
         ++n;
         text += find_summary(file.hunt, f, n);
-        text += fmt::format("{}{}\n", find_prefix, f.provenance.dump());
+        text += fmt::format("{}{}\n", find_prefix, to_json_mapped(f.provenance).dump());
         text += format_case_line(f.shrunk) + '\n';
         text += fmt::format("# find {} as found, before shrinking:\n", n);
         text += format_case_line(f.found) + '\n';
@@ -138,6 +196,7 @@ hunt_file read_hunt_file(const fs::path& path) {
     const std::string contents = whole.str();
 
     hunt_file file;
+    bool hunt_line_seen = false;
     std::vector<std::size_t> find_lines;
     std::istringstream lines(contents);
     std::size_t number = 0;
@@ -145,25 +204,17 @@ hunt_file read_hunt_file(const fs::path& path) {
         ++number;
         const bool hunt_line = line.starts_with(hunt_prefix), find_line = line.starts_with(find_prefix);
         if (!hunt_line && !find_line) continue;
-        json value;
-        try {
-            value = json::parse(line.substr(hunt_prefix.size()));
-        } catch (const json::exception& e) {
-            throw input_error(name, number, hunt_line ? "rayverify-hunt" : "rayverify-find",
-                              fmt::format("not JSON: {}", e.what()));
-        }
+        const json value = parse_json_input(std::string_view(line).substr(hunt_prefix.size()), name, number);
         if (hunt_line) {
-            if (!file.hunt.is_null()) throw input_error(name, number, "rayverify-hunt", "a second hunt line");
-            if (!value.is_object() || value.value("format", "") != hunt_file_format)
-                throw input_error(name, number, "format",
-                                  fmt::format("not a '{}' hunt line (written by another rayverify?)", hunt_file_format));
-            file.hunt = std::move(value);
+            if (hunt_line_seen) throw input_error(name, number, "rayverify-hunt", "a second hunt line");
+            hunt_line_seen = true;
+            file.hunt = from_json_mapped<hunt_record>(value, name, nullptr, number);
         } else {
-            file.finds.push_back({std::move(value), {}, {}});
+            file.finds.push_back({from_json_mapped<hunt_find_provenance>(value, name, nullptr, number), {}, {}});
             find_lines.push_back(number);
         }
     }
-    if (file.hunt.is_null())
+    if (!hunt_line_seen)
         throw input_error(name, 0, "rayverify-hunt", "not the output of `rayverify hunt` (no rayverify-hunt line)");
 
     // Each find's two cases follow its line: shrunk, then as found.
@@ -182,21 +233,8 @@ hunt_file read_hunt_file(const fs::path& path) {
                                                               find_lines[i]));
         }
     }
-    // Every field the file's text and the merge use is there, of its type.
-    try {
-        render_hunt_file(file);
-        for (const json& run : file.hunt.at("runs")) parse_shard(run.at("shard").get<std::string>());
-        for (const hunt_file_find& f : file.finds) parse_shard(f.provenance.at("shard").get<std::string>());
-    } catch (const json::exception& e) {
-        throw input_error(name, 0, "", fmt::format("not a hunt file: {}", e.what()));
-    } catch (const input_error& e) {  // a shard or an error that does not parse
-        throw input_error(name, 0, "", fmt::format("not a hunt file: {}", e.what()));
-    }
     return file;
 }
 
-double find_error(const hunt_file_find& find) {
-    return parse_exact_double(find.provenance.at("error").get<std::string>(), "hunt file", 0, "error");
-}
 
 }  // namespace rayverify

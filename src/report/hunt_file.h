@@ -11,33 +11,88 @@
 // evaluation, start case); a merged file merges again like a shard's.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
 #include "compare/hunt.h"
 #include "core/ray_sphere_case.h"
+#include "corpus/case_stream.h"
+#include "corpus/json_mapping.h"
 
 namespace rayverify {
 
 inline constexpr const char* hunt_file_format = "rayverify-hunt 1";
 
+// One shard's search, as the hunt line records it.
+struct hunt_run {
+    // The first evaluation whose answer disagreed with the exact one (an error
+    // objective has no error to rank it by, but it is a finding).
+    struct disagreement {
+        std::size_t evaluation = 0;
+        verdict_kind verdict = verdict_kind::agree;
+        std::string case_line;  // pasteable
+    };
+    shard_spec shard;
+    std::uint64_t search_seed = 0;
+    std::size_t evaluations = 0, starts = 0, shrink_evaluations = 0;
+    double seconds = 0;
+    std::size_t disagreements = 0;
+    std::optional<disagreement> first_disagreement;
+};
+
+// The `# rayverify-hunt {...}` line: what was searched, and each shard's run
+// (one in a shard's file, N in a merged one).
+struct hunt_record {
+    std::string format = hunt_file_format;
+    nlohmann::ordered_json build;  // build_json(), compared as a whole
+    std::string command;
+    std::string target;  // "variant/precision"
+    hunt_objective objective = hunt_objective::ulp;
+    bool rounding_only = false;
+    hunt_strategy strategy = hunt_strategy::search;
+    std::string family;
+    std::uint64_t seed = 0;
+    std::size_t shards = 1;  // N
+    std::vector<hunt_run> runs;
+};
+
+// A `# rayverify-find {...}` line: where a find came from and what it is.
+struct hunt_find_provenance {
+    shard_spec shard;
+    std::uint64_t search_seed = 0;
+    std::size_t evaluation = 0;
+    double seconds = 0;
+    std::string start;  // the start case's id
+    verdict_kind verdict = verdict_kind::agree;
+    double error = 0;
+    std::string detail;
+    std::size_t found_bits = 0;
+    verdict_kind shrunk_verdict = verdict_kind::agree;
+    double shrunk_error = 0;
+    std::size_t shrunk_bits = 0;
+};
+
 struct hunt_file_find {
-    // shard, search_seed, evaluation, seconds, start (the start case's id),
-    // verdict, error (hex float), detail, found_bits; shrunk_verdict,
-    // shrunk_error, shrunk_bits.
-    nlohmann::ordered_json provenance;
+    hunt_find_provenance provenance;
     corpus_case shrunk, found;
 };
 
 struct hunt_file {
-    // format, build, command, target, objective, strategy, family, seed,
-    // shards (N), and runs: per shard, its shard, search_seed, evaluations,
-    // starts, shrink_evaluations and seconds.
-    nlohmann::ordered_json hunt;
+    hunt_record hunt;
     std::vector<hunt_file_find> finds;
 };
+
+// The two lines' one mapping each (corpus/json_mapping.h): written by hunt
+// and merge, read and checked by merge.
+void map_json(json_io& io, hunt_record& hunt);
+void map_json(json_io& io, hunt_objective& objective);
+void map_json(json_io& io, hunt_strategy& strategy);
+void map_json(json_io& io, shard_spec& shard);  // "K/N", as --shard spells it
+void map_json(json_io& io, hunt_find_provenance& find);
 
 // The file's text: the corpus header, the hunt's summary and JSON line, then
 // per find its summary, JSON line and two case lines.
@@ -57,7 +112,5 @@ bool looks_like_hunt_file(const std::filesystem::path& path);
 // format this build does not read).
 hunt_file read_hunt_file(const std::filesystem::path& path);
 
-// The error a find's JSON records, exactly (its hex float).
-double find_error(const hunt_file_find& find);
 
 }  // namespace rayverify

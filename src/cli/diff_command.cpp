@@ -2,10 +2,12 @@
 
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include "cli/commands.h"
 #include "compare/gate.h"
 #include "core/input_error.h"
+#include "corpus/json_input.h"
 #include "report/gate_report.h"
 
 namespace rayverify::cli {
@@ -17,19 +19,11 @@ figure_table read_report(const std::string& path) {
         throw input_error(path, 0, "report", "is a directory, expected a report.json file");
     if (std::filesystem::exists(path, error) && !std::filesystem::is_regular_file(path, error))
         throw input_error(path, 0, "report", "is not a regular file (a FIFO, a device or a socket), expected a report.json file");
-    std::ifstream in(path);
+    std::ifstream in(path, std::ios::binary);
     if (!in) throw input_error(path, 0, "report", "cannot open for reading");
-    nlohmann::json report;
-    try {
-        report = nlohmann::json::parse(in);
-    } catch (const nlohmann::json::exception& e) {  // a syntax error, or a number beyond double range
-        throw input_error(path, 0, "report", fmt::format("not JSON: {}", e.what()));
-    }
-    try {
-        return figures_from_report_json(report, path);
-    } catch (const nlohmann::json::exception& e) {
-        throw input_error(path, 0, "report", fmt::format("not a report.json of rayverify audit: {}", e.what()));
-    }
+    std::stringstream text;
+    text << in.rdbuf();
+    return figures_from_report_json(parse_json_input(text.str(), path), path);
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 
 #include "core/input_error.h"
 #include "corpus/corpus_io.h"
+#include "corpus/json_mapping.h"
 
 namespace rayverify {
 namespace {
@@ -182,45 +183,79 @@ std::string render_junit(const gate_run& run, std::span<const corpus_case> corpu
                        total_tests, total_failures, suites);
 }
 
-figure_table figures_from_report_json(const nlohmann::json& report, const std::string& file) {
-    const auto bad = [&](const std::string& field, const std::string& problem) {
-        return input_error(file, 0, field, problem);
-    };
-    if (!report.is_object() || report.value("tool", "") != "rayverify audit" || !report.contains("results") ||
-        !report["results"].is_array())
-        throw bad("tool", "not a report.json written by rayverify audit --report");
-    const auto number = [&](const nlohmann::json& v, const std::string& field) -> double {
-        if (v.is_number()) return v.get<double>();
-        if (v == "inf") return std::numeric_limits<double>::infinity();
-        throw bad(field, fmt::format("expected a number, got {}", v.dump()));
-    };
+namespace {
+
+// What gate and diff read of report.json (a view: the report is written by
+// audit_report.cpp, which these mappings never write for).
+struct gated_summary {
+    std::size_t count = 0;
+    std::optional<double> max, p99;
+};
+
+struct gated_tally {
+    std::size_t cases = 0;
+    std::map<std::string, std::size_t> verdicts;
+    per_error_figure<std::optional<gated_summary>> errors;
+};
+
+struct gated_entry {
+    std::string variant, precision;
+    gated_tally all;
+    std::optional<std::map<std::string, gated_tally>> by_family;
+};
+
+void map_json(json_io& io, gated_summary& s) {
+    io.field("count", s.count);
+    if (s.count == 0) return;
+    io.field("max", s.max);
+    io.field("p99", s.p99);
+    if (io.reading() && (!s.max || !s.p99)) io.fail(s.max ? "p99" : "max", "is null, expected a number");
+}
+
+void map_json(json_io& io, gated_tally& t) {
+    io.field("cases", t.cases);
+    io.field("verdicts", t.verdicts);
+    for (const error_figure_definition& f : error_figures)
+        if (f.gated) io.optional_field(std::string(f.name).c_str(), t.errors[f.figure]);
+}
+
+void map_json(json_io& io, gated_entry& e) {
+    io.field("variant", e.variant);
+    io.field("precision", e.precision);
+    map_json(io, e.all);  // the whole run's tally is the entry's own fields
+    io.optional_field("by_family", e.by_family);
+}
+
+void add_figures(figure_table& table, const std::string& target, const std::string& family, const gated_tally& t) {
+    table[{target, family, "cases"}] = static_cast<double>(t.cases);
+    for (int k = 0; k < verdict_kind_count; ++k) {
+        const auto kind = static_cast<verdict_kind>(k);
+        const std::string name(verdict_name(kind));
+        if (const auto it = t.verdicts.find(name); is_disagreement(kind) && it != t.verdicts.end())
+            table[{target, family, name}] = static_cast<double>(it->second);
+    }
+    for (const error_figure_definition& f : error_figures) {
+        const std::optional<gated_summary>& s = t.errors[f.figure];
+        if (!f.gated || !s || s->count == 0) continue;
+        table[{target, family, std::string(f.case_name) + "_max"}] = *s->max;
+        table[{target, family, std::string(f.case_name) + "_p99"}] = *s->p99;
+    }
+}
+
+}  // namespace
+
+figure_table figures_from_report_json(const nlohmann::ordered_json& report, const std::string& file) {
+    if (!report.is_object() || report.value("tool", "") != "rayverify audit")
+        throw input_error(file, 0, "tool", "not a report.json written by rayverify audit --report");
+    json_io io(report, file);
+    std::vector<gated_entry> results;
+    io.field("results", results);
     figure_table table;
-    for (const auto& entry : report["results"]) {
-        if (!entry.contains("variant") || !entry.contains("precision"))
-            throw bad("results", "an entry without variant or precision");
-        const std::string target =
-            entry["variant"].get<std::string>() + "/" + entry["precision"].get<std::string>();
-        const auto add = [&](const std::string& family, const nlohmann::json& tally) {
-            const std::string where = target + " " + family;
-            if (!tally.contains("cases") || !tally.contains("verdicts")) throw bad(where, "no cases or verdicts");
-            table[{target, family, "cases"}] = number(tally["cases"], where + " cases");
-            for (int k = 0; k < verdict_kind_count; ++k) {
-                const auto kind = static_cast<verdict_kind>(k);
-                const std::string name(verdict_name(kind));
-                if (is_disagreement(kind) && tally["verdicts"].contains(name))
-                    table[{target, family, name}] = number(tally["verdicts"][name], where + " " + name);
-            }
-            for (const error_figure_definition& f : error_figures) {
-                const std::string json_name(f.name), figure(f.case_name);
-                if (!f.gated || !tally.contains(json_name) || tally[json_name].value("count", 0) == 0) continue;
-                const auto& s = tally[json_name];
-                table[{target, family, figure + "_max"}] = number(s["max"], where + " " + json_name);
-                table[{target, family, figure + "_p99"}] = number(s["p99"], where + " " + json_name);
-            }
-        };
-        add(std::string(all_families), entry);
-        if (entry.contains("by_family"))
-            for (const auto& [family, tally] : entry["by_family"].items()) add(family, tally);
+    for (const gated_entry& entry : results) {
+        const std::string target = entry.variant + "/" + entry.precision;
+        add_figures(table, target, std::string(all_families), entry.all);
+        if (entry.by_family)
+            for (const auto& [family, tally] : *entry.by_family) add_figures(table, target, family, tally);
     }
     return table;
 }

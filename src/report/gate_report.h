@@ -19,8 +19,9 @@ std::string render_gate_text(const gate_run& run, std::span<const corpus_case> c
 std::string render_junit(const gate_run& run, std::span<const corpus_case> corpus);
 
 // The figures of a report.json written by `rayverify audit --report`.
-// Throws input_error naming the file when it is not such a report.
-figure_table figures_from_report_json(const nlohmann::json& report, const std::string& file);
+// Throws input_error naming the file and the field (a path such as
+// "results[2].by_family.uniform.verdicts.false_miss") when it is not such a report.
+figure_table figures_from_report_json(const nlohmann::ordered_json& report, const std::string& file);
 
 // Every changed figure of `rayverify diff A B`, grouped by target and family.
 std::string render_figure_diff(const gate_result& result);

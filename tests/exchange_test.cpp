@@ -143,6 +143,15 @@ TEST(ExchangeResults, BadAnswersAreInputErrorsNamingLineAndField) {
                        exchange_format::jsonl),
               "a.jsonl:2: field 'bounds': unknown field (known: id, count, t0, t1, t0_bounds, t1_bounds, hit_point, "
               "normal)");
+    const std::string jsonl_head = "{\"rayverify\":\"results\",\"version\":1,\"precision\":\"double\",\"fingerprint\":"
+                                   "\"0123456789abcdef\"}\n";
+    EXPECT_EQ(error_of(jsonl_head + "{\"id\":\"a\",\"count\":2,\"t0\":1,\"t1\":2,\"t0_bounds\":[1,1]}\n",
+                       exchange_format::jsonl),
+              "a.jsonl:2: field 't1_bounds': missing while others of its group (t0_bounds, t1_bounds) are given (all or "
+              "none)");
+    EXPECT_EQ(error_of(jsonl_head + "{\"id\":\"a\",\"count\":2,\"t0\":1,\"t1\":2,\"hit_point\":[1,2]}\n",
+                       exchange_format::jsonl),
+              "a.jsonl:2: field 'hit_point': expected an array of 3 numbers, got [1,2]");
 }
 
 TEST(ExchangeResults, JsonLinesCarryNonFiniteValuesAsStrings) {

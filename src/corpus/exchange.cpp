@@ -12,6 +12,7 @@
 #include <cstring>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <ostream>
 #include <sstream>
@@ -69,25 +70,47 @@ constexpr std::array<std::string_view, 14> case_column_names = {
 constexpr std::size_t first_number_column = 2;  // ox
 constexpr std::size_t npy_case_columns = 12;    // ox … r, tmin, tmax
 
-// The answer columns: required, then the optional groups (each all or none).
-// t0 and t1 may be left out: an any_hit answer needs neither, a nearest_hit
-// answer no t1 (check_recorded_values says which values a contract needs).
+// The answer columns, one table for every results format: the count and the
+// two t's, then the optional groups (each all or none). A CSV and an .npy
+// name each column; JSON lines give a group as arrays (`json_keys`, each of
+// size / json_keys.size() numbers). t0 and t1 may be left out: an any_hit
+// answer needs neither, a nearest_hit answer no t1 (check_recorded_values
+// says which values a contract needs).
 constexpr std::array<std::string_view, 3> answer_t_columns = {"count", "t0", "t1"};
-constexpr std::array<std::string_view, 1> required_answer_columns = {"count"};
-constexpr std::array<std::array<std::string_view, 4>, 3> optional_groups = {{
-    {"t0_lo", "t0_hi", "t1_lo", "t1_hi"},
-    {"px", "py", "pz", ""},
-    {"nx", "ny", "nz", ""},
+constexpr std::string_view required_answer_column = "count";
+
+enum class answer_group { t_bounds, hit_point, normal };
+
+struct answer_group_columns {
+    answer_group group;
+    std::array<std::string_view, 4> columns;  // the first `size`
+    std::size_t size;
+    std::array<std::string_view, 2> json_keys;  // the first json_arrays
+    std::size_t json_arrays;
+};
+
+constexpr std::array<answer_group_columns, 3> answer_groups = {{
+    {answer_group::t_bounds, {"t0_lo", "t0_hi", "t1_lo", "t1_hi"}, 4, {"t0_bounds", "t1_bounds"}, 2},
+    {answer_group::hit_point, {"px", "py", "pz", ""}, 3, {"hit_point", ""}, 1},
+    {answer_group::normal, {"nx", "ny", "nz", ""}, 3, {"normal", ""}, 1},
 }};
+
+// The keys of an answer's JSON line: id, the t columns, each group's arrays.
+std::vector<std::string> answer_json_keys() {
+    std::vector<std::string> keys{"id"};
+    keys.insert(keys.end(), answer_t_columns.begin(), answer_t_columns.end());
+    for (const answer_group_columns& g : answer_groups)
+        for (std::size_t k = 0; k < g.json_arrays; ++k) keys.emplace_back(g.json_keys[k]);
+    return keys;
+}
 
 }  // namespace
 
 
 std::vector<std::string> answer_columns() {
     std::vector<std::string> names(answer_t_columns.begin(), answer_t_columns.end());
-    for (const auto& group : optional_groups)
-        for (std::string_view n : group)
-            if (!n.empty()) names.emplace_back(n);
+    for (const answer_group_columns& g : answer_groups)
+        names.insert(names.end(), g.columns.begin(), g.columns.begin() + static_cast<std::ptrdiff_t>(g.size));
     return names;
 }
 
@@ -489,31 +512,36 @@ public:
         }
     }
     // An optional group: every member or none.
-    template <std::size_t N>
-    std::optional<std::array<double, N>> group(const std::array<std::optional<double>, N>& values,
-                                               const std::array<std::string_view, N>& names) const {
-        const auto given = std::count_if(values.begin(), values.end(), [](const auto& v) { return v.has_value(); });
-        if (given == 0) return std::nullopt;
-        std::array<double, N> out{};
-        for (std::size_t i = 0; i < N; ++i) {
-            if (!values[i])
-                throw input_error(file_, line_, std::string(names[i]),
-                                  "missing while others of its group are given (all or none)");
-            out[i] = value(values[i], std::string(names[i]).c_str());
+    void group(const answer_group_columns& g, const std::array<std::optional<double>, 4>& values) {
+        const auto given = std::count_if(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(g.size),
+                                         [](const auto& v) { return v.has_value(); });
+        if (given == 0) return;
+        std::array<double, 4> v{};
+        for (std::size_t i = 0; i < g.size; ++i) {
+            const std::string name(g.columns[i]);
+            if (!values[i]) throw input_error(file_, line_, name, "missing while others of its group are given (all or none)");
+            v[i] = value(values[i], name.c_str());
         }
-        return out;
-    }
-    void bounds(const std::array<std::optional<double>, 4>& v) {
-        if (auto b = group(v, std::array<std::string_view, 4>{"t0_lo", "t0_hi", "t1_lo", "t1_hi"})) {
-            answer_.t0_bounds = std::array<double, 2>{(*b)[0], (*b)[1]};
-            answer_.t1_bounds = std::array<double, 2>{(*b)[2], (*b)[3]};
+        switch (g.group) {
+            case answer_group::t_bounds:
+                answer_.t0_bounds = std::array<double, 2>{v[0], v[1]};
+                answer_.t1_bounds = std::array<double, 2>{v[2], v[3]};
+                break;
+            case answer_group::hit_point: answer_.hit_point = vec3<double>{v[0], v[1], v[2]}; break;
+            case answer_group::normal: answer_.normal = vec3<double>{v[0], v[1], v[2]}; break;
         }
     }
-    void point(const std::array<std::optional<double>, 3>& v) {
-        if (auto p = group(v, std::array<std::string_view, 3>{"px", "py", "pz"})) answer_.hit_point = vec3<double>{(*p)[0], (*p)[1], (*p)[2]};
-    }
-    void normal(const std::array<std::optional<double>, 3>& v) {
-        if (auto n = group(v, std::array<std::string_view, 3>{"nx", "ny", "nz"})) answer_.normal = vec3<double>{(*n)[0], (*n)[1], (*n)[2]};
+    // Every value of an answer, from its column by name: `cell` for the t
+    // columns, `group_cell` for the optional groups' (absent: nullopt).
+    template <class Cell, class GroupCell>
+    void columns(Cell cell, GroupCell group_cell) {
+        count(cell(answer_t_columns[0]));
+        t(cell(answer_t_columns[1]), cell(answer_t_columns[2]));
+        for (const answer_group_columns& g : answer_groups) {
+            std::array<std::optional<double>, 4> values{};
+            for (std::size_t i = 0; i < g.size; ++i) values[i] = group_cell(g.columns[i]);
+            group(g, values);
+        }
     }
     const recorded_answer& answer() const { return answer_; }
 
@@ -594,7 +622,7 @@ results_file parse_csv_results(const std::string& file, std::string_view text, c
                     throw input_error(file, number, name, "unknown column (known: id, " + fmt::format("{}", fmt::join(known, ", ")) + ")");
                 if (!at.emplace(name, i).second) throw input_error(file, number, name, "column appears twice");
             }
-            for (std::string_view required : {"id", "count"})
+            for (std::string_view required : {std::string_view("id"), required_answer_column})
                 if (!at.count(std::string(required)))
                     throw input_error(file, number, std::string(required), "required column is missing from the header");
             columns.assign(cells.begin(), cells.end());
@@ -610,11 +638,7 @@ results_file parse_csv_results(const std::string& file, std::string_view text, c
             return answer_number(cells[found->second], file, number, std::string(name), r->prec);
         };
         answer_builder b(file, number, r->prec);
-        b.count(cell("count"));
-        b.t(cell("t0"), cell("t1"));
-        b.bounds({cell("t0_lo"), cell("t0_hi"), cell("t1_lo"), cell("t1_hi")});
-        b.point({cell("px"), cell("py"), cell("pz")});
-        b.normal({cell("nx"), cell("ny"), cell("nz")});
+        b.columns(cell, cell);
         add_answer(*r, std::string(cells[at.at("id")]), b.answer(), file);
     });
     if (!r) throw input_error(file, 0, "header", "empty file: expected '# rayverify results v1 ...'");
@@ -631,25 +655,40 @@ std::optional<double> json_value(const json& v, const std::string& file, std::si
     throw input_error(file, line, field, fmt::format("expected a number, got {}", v.dump()));
 }
 
-template <std::size_t N>
-std::array<std::optional<double>, N> json_array(const json& object, const char* key, const std::string& file,
-                                                std::size_t line, precision p) {
-    std::array<std::optional<double>, N> out{};
-    if (!object.contains(key) || object[key].is_null()) return out;
-    const json& v = object[key];
-    if (!v.is_array() || v.size() != N)
-        throw input_error(file, line, key, fmt::format("expected an array of {} numbers, got {}", N, v.dump()));
-    for (std::size_t i = 0; i < N; ++i) {
-        out[i] = json_value(v[i], file, line, key, p);
-        if (!out[i]) throw input_error(file, line, key, "null inside the array");
+// A group's values from an answer's JSON line: each of its arrays (absent or
+// null: the group is not given), by column name.
+std::map<std::string_view, double> json_group(const json& object, const answer_group_columns& g,
+                                              const std::string& file, std::size_t line, precision p) {
+    std::map<std::string_view, double> values;
+    const std::size_t per_array = g.size / g.json_arrays;
+    std::size_t given = 0;
+    for (std::size_t k = 0; k < g.json_arrays; ++k) {
+        const std::string key(g.json_keys[k]);
+        if (!object.contains(key) || object[key].is_null()) continue;
+        ++given;
+        const json& v = object[key];
+        if (!v.is_array() || v.size() != per_array)
+            throw input_error(file, line, key, fmt::format("expected an array of {} numbers, got {}", per_array, v.dump()));
+        for (std::size_t i = 0; i < per_array; ++i) {
+            const std::optional<double> x = json_value(v[i], file, line, key, p);
+            if (!x) throw input_error(file, line, key, "null inside the array");
+            values[g.columns[k * per_array + i]] = *x;
+        }
     }
-    return out;
+    if (given != 0 && given != g.json_arrays)
+        for (std::size_t k = 0; k < g.json_arrays; ++k)
+            if (!object.contains(std::string(g.json_keys[k])) || object[std::string(g.json_keys[k])].is_null())
+                throw input_error(file, line, std::string(g.json_keys[k]),
+                                  fmt::format("missing while others of its group ({}) are given (all or none)",
+                                              fmt::join(g.json_keys.begin(), g.json_keys.begin() +
+                                                                                 static_cast<std::ptrdiff_t>(g.json_arrays),
+                                                        ", ")));
+    return values;
 }
 
 results_file parse_jsonl_results(const std::string& file, std::string_view text, const results_scope* scope) {
     std::optional<results_file> r;
-    static const std::unordered_set<std::string> keys = {"id",        "count",     "t0",     "t1",
-                                                         "t0_bounds", "t1_bounds", "hit_point", "normal"};
+    static const std::vector<std::string> keys = answer_json_keys();
     for_each_text_line(file, text, [&](std::size_t number, std::string_view line) {
         if (line.find_first_not_of(" \t") == std::string_view::npos) return;
         json object = parse_json_input(line, file, number);
@@ -659,25 +698,21 @@ results_file parse_jsonl_results(const std::string& file, std::string_view text,
         }
         if (!object.is_object()) throw input_error(file, number, "", "expected a JSON object");
         for (const auto& [key, value] : object.items())
-            if (!keys.count(key))
-                throw input_error(file, number, key,
-                                  "unknown field (known: id, count, t0, t1, t0_bounds, t1_bounds, hit_point, normal)");
+            if (std::find(keys.begin(), keys.end(), key) == keys.end())
+                throw input_error(file, number, key, fmt::format("unknown field (known: {})", fmt::join(keys, ", ")));
         if (!object.contains("id") || !object["id"].is_string())
             throw input_error(file, number, "id", "missing, or not a string");
         const auto get = [&](const char* key) -> std::optional<double> {
             return object.contains(key) ? json_value(object[key], file, number, key, r->prec) : std::nullopt;
         };
+        std::map<std::string_view, double> group_values;
+        for (const answer_group_columns& g : answer_groups) group_values.merge(json_group(object, g, file, number, r->prec));
         answer_builder b(file, number, r->prec);
-        b.count(get("count"));
-        b.t(get("t0"), get("t1"));
-        const auto t0 = json_array<2>(object, "t0_bounds", file, number, r->prec);
-        const auto t1 = json_array<2>(object, "t1_bounds", file, number, r->prec);
-        if (t0[0].has_value() != t1[0].has_value())
-            throw input_error(file, number, t0[0] ? "t1_bounds" : "t0_bounds",
-                              "missing while the other root's bounds are given (both or none)");
-        b.bounds({t0[0], t0[1], t1[0], t1[1]});
-        b.point(json_array<3>(object, "hit_point", file, number, r->prec));
-        b.normal(json_array<3>(object, "normal", file, number, r->prec));
+        b.columns([&](std::string_view key) { return get(std::string(key).c_str()); },
+                  [&](std::string_view column) -> std::optional<double> {
+                      const auto found = group_values.find(column);
+                      return found == group_values.end() ? std::nullopt : std::optional<double>(found->second);
+                  });
         add_answer(*r, object["id"].get<std::string>(), b.answer(), file);
     });
     if (!r) throw input_error(file, 0, "rayverify", "empty file: expected the header line {\"rayverify\": \"results\", ...}");
@@ -707,9 +742,9 @@ results_file parse_npy_results(const std::string& file, std::string_view bytes, 
             throw input_error(sidecar_name, 1, "columns", fmt::format("unknown column '{}' (known: {})", name, fmt::join(known, ", ")));
         if (!at.emplace(name, i).second) throw input_error(sidecar_name, 1, "columns", fmt::format("'{}' twice", name));
     }
-    for (std::string_view required : required_answer_columns)
-        if (!at.count(std::string(required)))
-            throw input_error(sidecar_name, 1, "columns", fmt::format("required column '{}' is missing", required));
+    if (!at.count(std::string(required_answer_column)))
+        throw input_error(sidecar_name, 1, "columns",
+                          fmt::format("required column '{}' is missing", required_answer_column));
     if (at.size() != a.columns)
         throw input_error(file, 0, "shape",
                           fmt::format("{} columns, while {} names {}", a.columns, sidecar_name, at.size()));
@@ -736,11 +771,7 @@ results_file parse_npy_results(const std::string& file, std::string_view bytes, 
             return v && !std::isnan(*v) ? v : std::nullopt;
         };
         answer_builder b(file, row + 1, r.prec);
-        b.count(cell("count"));
-        b.t(cell("t0"), cell("t1"));
-        b.bounds({optional("t0_lo"), optional("t0_hi"), optional("t1_lo"), optional("t1_hi")});
-        b.point({optional("px"), optional("py"), optional("pz")});
-        b.normal({optional("nx"), optional("ny"), optional("nz")});
+        b.columns(cell, optional);
         if (ids)
             add_answer(r, (*ids)[row], b.answer(), file);
         else

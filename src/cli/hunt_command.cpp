@@ -118,7 +118,6 @@ int run(const hunt_command_options& given, const std::string& command_line) {
     // This shard's start cases: the family's cases K − 1, K − 1 + N, ...,
     // generated a block of 64 at a time, four side by side (one at a time,
     // seeding their random engines was a third of a random hunt's time).
-    const auto start_index = [&](std::uint64_t j) { return shard.index - 1 + j * shard.count; };
     constexpr std::uint64_t start_block_size = 64;
     std::vector<corpus_case> start_block;
     std::optional<std::uint64_t> start_block_first;
@@ -126,7 +125,7 @@ int run(const hunt_command_options& given, const std::string& command_line) {
         const std::uint64_t first = j - j % start_block_size;
         if (start_block_first != first) {
             std::array<std::size_t, start_block_size> indices{};
-            for (std::uint64_t k = 0; k < start_block_size; ++k) indices[k] = start_index(first + k);
+            for (std::uint64_t k = 0; k < start_block_size; ++k) indices[k] = shard.global_index(first + k);
             start_block.clear();
             append_generated_cases(family_name, o.seed, indices, start_block);
             start_block_first = first;
@@ -184,73 +183,33 @@ int run(const hunt_command_options& given, const std::string& command_line) {
 
     if (program)
         fmt::print("command '{}' answered {} batches of up to {} cases\n", o.command, program->batches(), options.batch);
-    hunt_file file;
-    file.hunt.build = build_json();
-    file.hunt.command = recorded_command(command_line);
-    file.hunt.target = label;
-    file.hunt.objective = options.objective;
-    file.hunt.rounding_only = o.rounding_only;
-    file.hunt.strategy = options.strategy;
-    file.hunt.family = family_name;
-    file.hunt.seed = o.seed;
-    file.hunt.shards = shard.count;
-    file.hunt.runs = {{shard, options.seed, result.evaluations, result.starts, result.shrink_evaluations,
-                       result.seconds, result.disagreements, std::nullopt}};
-    std::string id_stem = fmt::format("hunt-{}-{}-{}-{}-{}", target.subject.name, precision_name(target.prec),
-                                      o.objective, o.strategy, o.seed);
-    if (shard.count > 1) id_stem += fmt::format("-shard{}of{}", shard.index, shard.count);
-    for (const hunt_find& f : result.finds) {
-        hunt_file_find entry;
-        entry.shrunk.id = fmt::format("{}-{}", id_stem, file.finds.size() + 1);
-        entry.shrunk.family = "hunt_" + family_name;
-        entry.shrunk.geometry = f.shrunk;
-        entry.found = entry.shrunk;
-        entry.found.id += "-found";
-        entry.found.geometry = f.found;
-        entry.provenance = {shard,
-                            options.seed,
-                            f.evaluation,
-                            f.seconds,
-                            generate_case(family_name, o.seed, start_index(f.start_index)).id,
-                            f.found_eval.verdict,
-                            f.found_eval.error,
-                            f.found_eval.detail,
-                            static_cast<std::size_t>(f.found_bits),
-                            f.shrunk_eval.verdict,
-                            f.shrunk_eval.error,
-                            static_cast<std::size_t>(f.shrunk_bits)};
-        const auto failure = [](const hunt_evaluation& e) {
-            std::string text(verdict_name(e.verdict));
-            if (e.cause) text += fmt::format(" ({})", cause_name(*e.cause));
-            return text;
-        };
+    const hunt_file file = hunt_file_of(result, {recorded_command(command_line), &target, options, family_name, o.seed, shard});
+    const auto failure = [](const hunt_evaluation& e) {
+        std::string text(verdict_name(e.verdict));
+        if (e.cause) text += fmt::format(" ({})", cause_name(*e.cause));
+        return text;
+    };
+    for (std::size_t i = 0; i < result.finds.size(); ++i) {
+        const hunt_find& f = result.finds[i];
         const std::string what =
             ulp ? fmt::format("agree, {} (lower bound)", hunt_error_text(options.objective, f.found_eval.error))
                 : failure(f.found_eval);
         const std::string shrunk_what =
             ulp ? fmt::format("agree, {}", hunt_error_text(options.objective, f.shrunk_eval.error)) : failure(f.shrunk_eval);
-        fmt::print("find {}: {} at evaluation {} ({:.3f} s)\n", file.finds.size() + 1, what, f.evaluation, f.seconds);
+        fmt::print("find {}: {} at evaluation {} ({:.3f} s)\n", i + 1, what, f.evaluation, f.seconds);
         if (!f.found_eval.detail.empty()) fmt::print("  as found: {}\n", f.found_eval.detail);
         // The line printed is the shrunk case, and what it replays as is said under it.
         fmt::print("  shrunk ({} -> {} significant bits, still {}):\n  {}\n", f.found_bits, f.shrunk_bits,
-                   shrunk_what, format_case_line(entry.shrunk));
+                   shrunk_what, format_case_line(file.finds[i].shrunk));
         if (!f.shrunk_eval.detail.empty()) fmt::print("  replays as: {}\n", f.shrunk_eval.detail);
-        file.finds.push_back(std::move(entry));
     }
     if (result.finds.empty())
         fmt::print("{}\n", ulp ? "no agreeing answer with a nonzero error was seen" : "no disagreement found");
     // An answer that disagrees has no ULP error to maximise, but it is a finding, never a pass.
-    if (const auto& d = result.first_disagreement) {
-        corpus_case c;
-        c.id = fmt::format("{}-disagreement", id_stem);
-        c.family = "hunt_" + family_name;
-        c.geometry = d->found;
-        file.hunt.runs[0].first_disagreement = {d->evaluation, d->found_eval.verdict, format_case_line(c)};
+    if (const auto& d = file.hunt.runs[0].first_disagreement)
         fmt::print("{} of {} evaluations disagreed with the exact answer; the first ({}) at evaluation {}:\n  {}\n"
                    "  (--objective misclass hunts for them)\n",
-                   result.disagreements, result.evaluations, verdict_name(d->found_eval.verdict), d->evaluation,
-                   format_case_line(c));
-    }
+                   result.disagreements, result.evaluations, verdict_name(d->verdict), d->evaluation, d->case_line);
     finds_file.stream() << render_hunt_file(file);
     fmt::print("wrote {}\n", o.output);
     check_standard_output();

@@ -32,6 +32,8 @@ struct shard_spec {
     bool owns(std::size_t case_index) const { return case_index % count == index - 1; }
     // How many of the indices 0 … total − 1 this shard owns.
     std::size_t size_of(std::size_t total) const { return total / count + (total % count >= index ? 1 : 0); }
+    // The index in the whole input of this shard's case j (0, 1, ...): K − 1 + j·N.
+    std::size_t global_index(std::size_t j) const { return index - 1 + j * count; }
     std::string text() const;  // "K/N"
 };
 

@@ -8,6 +8,7 @@
 #include "core/input_error.h"
 #include "corpus/case_stream.h"
 #include "corpus/corpus_io.h"
+#include "corpus/generators.h"
 #include "corpus/json_input.h"
 #include "report/audit_report.h"
 
@@ -162,6 +163,46 @@ void map_json(json_io& io, hunt_find_provenance& p) {
     io.field("shrunk_verdict", p.shrunk_verdict);
     io.field("shrunk_error", p.shrunk_error);
     io.field("shrunk_bits", p.shrunk_bits);
+}
+
+hunt_file hunt_file_of(const hunt_result& result, const hunt_setting& setting) {
+    const audit_target& target = *setting.target;
+    const hunt_options& o = setting.options;
+    hunt_file file;
+    file.hunt.build = build_json();
+    file.hunt.command = setting.command;
+    file.hunt.target = target.label();
+    file.hunt.objective = o.objective;
+    file.hunt.rounding_only = o.rounding_only;
+    file.hunt.strategy = o.strategy;
+    file.hunt.family = setting.family;
+    file.hunt.seed = setting.seed;
+    file.hunt.shards = setting.shard.count;
+    file.hunt.runs = {{setting.shard, o.seed, result.evaluations, result.starts, result.shrink_evaluations,
+                       result.seconds, result.disagreements, std::nullopt}};
+    std::string id_stem = fmt::format("hunt-{}-{}-{}-{}-{}", target.subject.name, precision_name(target.prec),
+                                      hunt_objective_name(o.objective), hunt_strategy_name(o.strategy), setting.seed);
+    if (setting.shard.count > 1) id_stem += fmt::format("-shard{}of{}", setting.shard.index, setting.shard.count);
+    const auto hunt_case = [&](std::string id, const ray_sphere<double>& geometry) {
+        corpus_case c;
+        c.id = std::move(id);
+        c.family = "hunt_" + setting.family;
+        c.geometry = geometry;
+        return c;
+    };
+    for (const hunt_find& f : result.finds) {
+        const std::string id = fmt::format("{}-{}", id_stem, file.finds.size() + 1);
+        file.finds.push_back({{setting.shard, o.seed, f.evaluation, f.seconds,
+                               generate_case(setting.family, setting.seed, setting.shard.global_index(f.start_index)).id, f.found_eval.verdict,
+                               f.found_eval.error, f.found_eval.detail, static_cast<std::size_t>(f.found_bits),
+                               f.shrunk_eval.verdict, f.shrunk_eval.error, static_cast<std::size_t>(f.shrunk_bits)},
+                              hunt_case(id, f.shrunk),
+                              hunt_case(id + "-found", f.found)});
+    }
+    if (const auto& d = result.first_disagreement)
+        file.hunt.runs[0].first_disagreement = {d->evaluation, d->found_eval.verdict,
+                                                format_case_line(hunt_case(id_stem + "-disagreement", d->found))};
+    return file;
 }
 
 std::string render_hunt_file(const hunt_file& file) {

@@ -94,6 +94,23 @@ void map_json(json_io& io, hunt_strategy& strategy);
 void map_json(json_io& io, shard_spec& shard);  // "K/N", as --shard spells it
 void map_json(json_io& io, hunt_find_provenance& find);
 
+// What a hunt was asked, beside its result, that its file records.
+struct hunt_setting {
+    std::string command;  // as recorded_command spells it
+    const audit_target* target = nullptr;
+    hunt_options options;       // options.seed: this shard's search seed
+    std::string family;         // the start cases' generator family
+    std::uint64_t seed = 0;     // the family's seed (--seed)
+    shard_spec shard;
+};
+
+// The file of one hunt (one shard's): its record, with build_json(), and per
+// find its provenance and two cases, the shrunk one id'd
+// "hunt-VARIANT-PRECISION-OBJECTIVE-STRATEGY-SEED[-shardKofN]-K" and the one
+// as found the same with "-found"; the run's first disagreement, if any, as a
+// pasteable line.
+hunt_file hunt_file_of(const hunt_result& result, const hunt_setting& setting);
+
 // The file's text: the corpus header, the hunt's summary and JSON line, then
 // per find its summary, JSON line and two case lines.
 std::string render_hunt_file(const hunt_file& file);

@@ -316,7 +316,7 @@ TEST(Gate, CliUpdateThenGateThenRegressionWithJunitAndDiff) {
     EXPECT_NE(r.output.find("better naive/float far_sphere: false_miss 48 → 45\n"), std::string::npos) << r.output;
     r = run_cli("diff " + a_json.string() + " " + baseline);
     EXPECT_EQ(r.exit_code, 2) << r.output;
-    EXPECT_NE(r.output.find(baseline + ":1: parse error"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find(baseline + ":1: not valid JSON: syntax error"), std::string::npos) << r.output;
     fs::remove_all(dir);
 }
 

@@ -1,7 +1,8 @@
-// One mapping per format (corpus/json_mapping.h): what a mapping writes reads
-// back to the same value and the same JSON, and what is wrong in a document is
-// named by its path; a shard's state file, written by an audit, reads back
-// and writes again byte for byte.
+// JSON from an input: the one parser (corpus/json_input.h) names the line and
+// field of what is wrong and keeps each value's line; one mapping per format
+// (corpus/json_mapping.h): what a mapping writes reads back to the same value
+// and the same JSON, and what is wrong in a document is named by its path; a
+// shard's state file, written by an audit, reads back and writes again byte for byte.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -15,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/input_error.h"
+#include "corpus/json_input.h"
 #include "corpus/json_mapping.h"
 #include "report/shard_state.h"
 #include "support/process.h"
@@ -156,6 +158,51 @@ TEST(JsonMapping, EveryWrongValueIsNamedByItsPath) {
     without_name.erase("name");
     EXPECT_EQ(read_error(without_name), "doc.json: field 'name': is missing");
     EXPECT_EQ(read_error(json::array()), "doc.json: is not a JSON object");
+}
+
+// The error parsing `text` (a document starting on line 3 of "f.json") gives; "" when it parses.
+std::string parse_error_of(std::string_view text) {
+    try {
+        (void)rayverify::parse_json_input(text, "f.json", 3);
+        return "";
+    } catch (const input_error& e) {
+        return e.what();
+    }
+}
+
+TEST(JsonInput, EachValuesLineIsKeptByItsPath) {
+    // Worked by hand: a number is read one character past its end (here a
+    // line break), a string's line is its own, an object's where it opens.
+    const std::string text = "\xEF\xBB\xBF{\n  \"a\": 1\n  ,\"b\": [\n    true,\n    {\"c\": \"x\"}, 2.5],\n  \"d\": null\n}\n";
+    const rayverify::located_json j = rayverify::parse_located_json_input(text, "f.json", 10);
+    EXPECT_EQ(j.document["b"][1]["c"], "x");
+    EXPECT_EQ(j.lines.at(""), 10u);
+    EXPECT_EQ(j.lines.at("a"), 11u);
+    EXPECT_EQ(j.lines.at("b"), 12u);
+    EXPECT_EQ(j.lines.at("b[0]"), 13u);
+    EXPECT_EQ(j.lines.at("b[1]"), 14u);
+    EXPECT_EQ(j.lines.at("b[1].c"), 14u);
+    EXPECT_EQ(j.lines.at("b[2]"), 14u);
+    EXPECT_EQ(j.lines.at("d"), 15u);
+    EXPECT_EQ(j.line_of("b[1].c.missing"), 14u);  // the nearest value that has a line
+    EXPECT_EQ(j.line_of("nowhere"), 10u);
+}
+
+TEST(JsonInput, WhatIsNotJsonIsNamedByLineAndField) {
+    EXPECT_EQ(parse_error_of("{\"a\": [1,\n 2,\n x]}"),
+              "f.json:5: field 'a[2]': not valid JSON: syntax error while parsing value - invalid literal; last read: "
+              "'2,<U+000A> x'");
+    EXPECT_EQ(parse_error_of("{\"a\": 1,\n\"a\": 2}"), "f.json:3: field 'a': the key \"a\" is given twice in one object");
+    EXPECT_EQ(parse_error_of("{\"a\": 1e400}"), "f.json:3: field 'a': number overflow parsing '1e400'");
+    EXPECT_EQ(parse_error_of(std::string(65, '[') + std::string(65, ']')), "f.json:3: nested more than 64 levels deep");
+    EXPECT_EQ(parse_error_of(std::string(64, '[') + std::string(64, ']')), "");
+    // With lines kept, a duplicate key is named on its own line.
+    try {
+        (void)rayverify::parse_located_json_input("{\"a\": 1,\n\"a\": 2}", "f.json", 3);
+        ADD_FAILURE() << "a duplicate key parsed";
+    } catch (const input_error& e) {
+        EXPECT_STREQ(e.what(), "f.json:4: field 'a': the key \"a\" is given twice in one object");
+    }
 }
 
 // A shard's state as the audit writes it is what its mapping writes again

@@ -20,6 +20,7 @@
 
 #include "core/input_error.h"
 #include "corpus/corpus_io.h"
+#include "corpus/json_input.h"
 #include "intersectors/pbrt_v4_sphere.h"
 #include "oracle/oracle.h"
 
@@ -32,149 +33,10 @@ using scene_json = nlohmann::json;
 // parsed tree takes several times the text's memory.
 constexpr std::uintmax_t max_scene_file_bytes = std::uintmax_t{16} << 20;
 
-// ---------------------------------------------------------------------------
-// Where each field is. nlohmann-json reports positions only for syntax
-// errors, so after it has accepted the text this walks the (now known valid)
-// JSON once and records the line on which each value starts, keyed by the
-// field path printed in messages ("spheres[2].radius"). It also finds what
-// nlohmann-json accepts silently: a key given twice in one object (the last
-// one would win).
-class field_lines {
-public:
-    explicit field_lines(const std::string& text) : text_(text) {
-        for (std::size_t i = 0; i < text_.size(); ++i)
-            if (text_[i] == '\n') newlines_.push_back(i);
-        std::size_t i = text_.starts_with("\xEF\xBB\xBF") ? 3 : 0;  // nlohmann-json skips a byte order mark
-        scan_value(i, "");
-    }
-
-    // The line of `path`, or of its nearest enclosing field that has one.
-    std::size_t line_of(std::string path) const {
-        while (true) {
-            if (auto it = lines_.find(path); it != lines_.end()) return it->second;
-            if (path.empty()) return 0;
-            const std::size_t cut = path.find_last_of(".[");
-            path = cut == std::string::npos ? std::string() : path.substr(0, cut);
-        }
-    }
-
-    // The first key that repeats one before it in its object: its path and line.
-    const std::optional<std::pair<std::string, std::size_t>>& duplicate() const { return duplicate_; }
-
-private:
-    std::size_t line_at(std::size_t byte) const {
-        return static_cast<std::size_t>(std::upper_bound(newlines_.begin(), newlines_.end(), byte) -
-                                        newlines_.begin()) +
-               1;
-    }
-    void skip_space(std::size_t& i) const {
-        while (i < text_.size() && std::isspace(static_cast<unsigned char>(text_[i]))) ++i;
-    }
-    std::string scan_string(std::size_t& i) const {  // at the opening quote
-        const std::size_t start = i;
-        bool escaped = false;
-        for (++i; i < text_.size() && text_[i] != '"'; ++i) {
-            if (text_[i] == '\\') {
-                escaped = true;
-                ++i;
-            }
-        }
-        ++i;
-        const std::string quoted = text_.substr(start, i - start);
-        // Escapes decoded as the parser decodes them ("radi\u0075s" is "radius").
-        if (escaped) return scene_json::parse(quoted).get<std::string>();
-        return quoted.substr(1, quoted.size() - 2);
-    }
-    void scan_value(std::size_t& i, const std::string& path) {
-        skip_space(i);
-        if (i >= text_.size()) return;
-        lines_.emplace(path, line_at(i));
-        const char open = text_[i];
-        if (open == '{' || open == '[') {
-            ++i;
-            std::set<std::string> keys;
-            for (std::size_t index = 0;; ++index) {
-                skip_space(i);
-                if (i >= text_.size() || text_[i] == '}' || text_[i] == ']') break;
-                std::string child;
-                if (open == '{') {
-                    const std::size_t line = line_at(i);
-                    const std::string key = scan_string(i);
-                    child = path.empty() ? key : path + "." + key;
-                    if (!keys.insert(key).second && !duplicate_) duplicate_.emplace(child, line);
-                    skip_space(i);
-                    ++i;  // ':'
-                } else {
-                    child = path + "[" + std::to_string(index) + "]";
-                }
-                scan_value(i, child);
-                skip_space(i);
-                if (i < text_.size() && text_[i] == ',') ++i;
-            }
-            ++i;
-        } else if (open == '"') {
-            scan_string(i);
-        } else {
-            while (i < text_.size() && text_[i] != ',' && text_[i] != '}' && text_[i] != ']' &&
-                   !std::isspace(static_cast<unsigned char>(text_[i])))
-                ++i;
-        }
-    }
-
-    const std::string& text_;
-    std::vector<std::size_t> newlines_;
-    std::map<std::string, std::size_t> lines_;
-    std::optional<std::pair<std::string, std::size_t>> duplicate_;
-};
-
-// nlohmann-json's own DOM builder, except that an error keeps the byte where
-// it happened: json::parse throws a number beyond the double range ("1e999")
-// as out_of_range, which carries no position.
-class located_dom_parser : public nlohmann::detail::json_sax_dom_parser<scene_json> {
-public:
-    explicit located_dom_parser(scene_json& result) : json_sax_dom_parser(result, false) {}
-
-    template <class Exception>
-    bool parse_error(std::size_t byte, const std::string& /*token*/, const Exception& e) {
-        std::string what = e.what();
-        // "[json.exception.parse_error.101] parse error at line 1, column 2: syntax error ...":
-        // the line is ours to print.
-        if (const auto at = what.find("syntax error"); at != std::string::npos) what = what.substr(at);
-        else if (const auto end = what.find("] "); end != std::string::npos) what = what.substr(end + 2);
-        error.emplace(byte, std::move(what));
-        return false;
-    }
-
-    std::optional<std::pair<std::size_t, std::string>> error;  // byte, message
-};
-
-// The line of the first bracket nested deeper than `limit`, or 0. Checked
-// before parsing, since field_lines recurses once per level: a file of a
-// million '[' would overflow the stack. A scene nests four levels deep.
-std::size_t too_deep(const std::string& text, std::size_t limit) {
-    std::size_t depth = 0, line = 1;
-    bool in_string = false;
-    for (std::size_t i = 0; i < text.size(); ++i) {
-        const char c = text[i];
-        if (c == '\n') ++line;
-        if (in_string) {
-            if (c == '\\') ++i;
-            else if (c == '"') in_string = false;
-        } else if (c == '"') {
-            in_string = true;
-        } else if (c == '[' || c == '{') {
-            if (++depth > limit) return line;
-        } else if ((c == ']' || c == '}') && depth > 0) {
-            --depth;
-        }
-    }
-    return 0;
-}
-
 // Reads typed fields, throwing input_error(file, line, path, problem).
 class reader {
 public:
-    reader(std::string file, const field_lines& lines) : file_(std::move(file)), lines_(lines) {}
+    reader(std::string file, const located_json& lines) : file_(std::move(file)), lines_(lines) {}
 
     [[noreturn]] void fail(const std::string& path, const std::string& problem) const {
         throw input_error(file_, lines_.line_of(path), printable(path, non_ascii_bytes::keep),
@@ -278,7 +140,7 @@ public:
 
 private:
     std::string file_;
-    const field_lines& lines_;
+    const located_json& lines_;
 };
 
 ray_query read_query(const reader& in, const scene_json& j, const std::string& path) {
@@ -501,22 +363,12 @@ scene parse_scene(const std::string& text, const std::filesystem::path& file) {
     const std::string name = file.string();
     if (text.find_first_not_of(" \t\r\n") == std::string::npos)
         throw input_error(name, 0, "", "empty file: a scene is a JSON object (corpus/scenes/README.md)");
-    constexpr std::size_t max_depth = 64;
-    if (const std::size_t line = too_deep(text, max_depth))
-        throw input_error(name, line, "", fmt::format("not a scene: JSON nested more than {} levels deep", max_depth));
-    scene_json root;
-    located_dom_parser parser(root);
-    if (!scene_json::sax_parse(text, &parser) || parser.error) {
-        const auto& [at, what] = parser.error.value_or(std::pair<std::size_t, std::string>{0, "unknown error"});
-        const std::size_t byte = at == 0 ? 0 : std::min<std::size_t>(at - 1, text.size());
-        const std::size_t line = 1 + static_cast<std::size_t>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(byte), '\n'));
-        throw input_error(name, line, "", "not valid JSON: " + printable(what));
-    }
-    const field_lines lines(text);
-    const reader in(name, lines);
-    if (const auto& twice = lines.duplicate())
-        throw input_error(name, twice->second, printable(twice->first, non_ascii_bytes::keep),
-                          "given twice in one object");
+    // Parsed by the one reader of JSON input: a syntax error, a duplicate key,
+    // a number beyond double range or a nesting too deep is refused with its
+    // line and field, and every value's line is kept for the checks below.
+    const located_json parsed = parse_located_json_input(text, name);
+    const scene_json root = parsed.document;
+    const reader in(name, parsed);
 
     scene s;
     s.file = file;

@@ -10,7 +10,6 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <sstream>
 #include <thread>
 
 #include "cli/app.h"
@@ -48,60 +47,6 @@ struct shard_input {
     }
 };
 
-// Builds a document up to the top-level key "state" and stops there: the
-// audit writes "state" last, after everything the consistency checks read,
-// so a header costs a few kilobytes of parsing whatever the state's size.
-class header_reader : public nlohmann::json_sax<json> {
-public:
-    explicit header_reader(json& document) : dom_(document) {}
-    bool null() override { return dom_.null(); }
-    bool boolean(bool value) override { return dom_.boolean(value); }
-    bool number_integer(number_integer_t value) override { return dom_.number_integer(value); }
-    bool number_unsigned(number_unsigned_t value) override { return dom_.number_unsigned(value); }
-    bool number_float(number_float_t value, const string_t& text) override { return dom_.number_float(value, text); }
-    bool string(string_t& value) override { return dom_.string(value); }
-    bool binary(binary_t& value) override { return dom_.binary(value); }
-    bool start_object(std::size_t n) override { return ++depth_, dom_.start_object(n); }
-    bool key(string_t& value) override { return !(depth_ == 1 && value == "state") && dom_.key(value); }
-    bool end_object() override { return --depth_, dom_.end_object(); }
-    bool start_array(std::size_t n) override { return ++depth_, dom_.start_array(n); }
-    bool end_array() override { return --depth_, dom_.end_array(); }
-    bool parse_error(std::size_t position, const std::string& token, const nlohmann::detail::exception& e) override {
-        return dom_.parse_error(position, token, e);
-    }
-
-private:
-    nlohmann::detail::json_sax_dom_parser<json> dom_;  // what json::parse builds with (nlohmann 3.11)
-    int depth_ = 0;
-};
-
-// A shard's state document: whole (read into memory first: parsing from a
-// string is faster than from a stream), or (`header_only`) without its "state".
-json read_state_file(const fs::path& file, bool header_only) {
-    std::error_code error;
-    if (fs::exists(file, error) && !fs::is_regular_file(file, error))  // a FIFO would block the merge
-        throw input_error(file.string(), 0, "",
-                          "is not a regular file (a FIFO, a device or a socket): a shard's state is a file");
-    std::ifstream in(file, std::ios::binary);
-    if (!in)
-        throw input_error(file.string(), 0, "",
-                          "cannot open: not the report directory of a `rayverify audit --shard K/N --report DIR` run");
-    try {
-        json state;
-        if (header_only) {
-            header_reader reader(state);
-            json::sax_parse(in, &reader);
-        } else {
-            std::ostringstream text;
-            text << in.rdbuf();
-            state = json::parse(std::move(text).str());
-        }
-        return state;
-    } catch (const json::parse_error& e) {
-        throw input_error(file.string(), 0, "", fmt::format("not a shard state: {}", e.what()));
-    }
-}
-
 // The shards' states merged. Parsing them is nearly all of a merge's time, so
 // every hardware thread takes shards in turn, parses each and merges it into
 // a state of its own; those are merged at the end. Merging is exact and
@@ -120,7 +65,7 @@ audit_state merged_states(const std::vector<shard_input>& shards) {
         for (std::size_t i; !failed && (i = next++) < shards.size();) {
             try {
                 const std::string file = shards[i].file().string();
-                const json document = read_state_file(file, false);
+                const json document = read_shard_document(file, false);
                 mine.merge(read_shard_state(document, file, read_shard_header(document, file)));
             } catch (...) {
                 failure[i] = std::current_exception();
@@ -280,7 +225,7 @@ int merge_audits(const merge_options& options) {
     std::vector<shard_input> shards;
     for (const std::string& dir : options.shards) {
         const fs::path file = fs::path(dir) / shard_state_file;
-        shard_header header = read_shard_header(read_state_file(file, true), file.string());
+        shard_header header = read_shard_header(read_shard_document(file, true), file.string());
         if (!shards.empty()) check_same_audit(shards.front().header, shards.front().file(), header, file);
         shards.push_back({dir, std::move(header)});
     }

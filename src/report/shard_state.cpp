@@ -5,11 +5,14 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <limits>
 #include <optional>
 #include <string_view>
 
 #include "corpus/case_stream.h"
+#include "core/input_error.h"
 #include "corpus/corpus_io.h"
 #include "report/audit_report.h"
 #include "report/case_list.h"
@@ -496,6 +499,63 @@ void map_json(json_io& io, shard_header& h) {
     if (!h.per_case_digest) io.fail("per_case_digest", "is null, but the shard wrote a per-case file");
     check_fingerprint_text(io, "per_case_digest", *h.per_case_digest);
 }
+
+namespace {
+
+// Builds a document up to the top-level key "state" and stops there: the
+// audit writes "state" last, after everything the consistency checks read,
+// so a header costs a few kilobytes of parsing whatever the state's size.
+class header_reader : public nlohmann::json_sax<json> {
+public:
+    explicit header_reader(json& document) : dom_(document) {}
+    bool null() override { return dom_.null(); }
+    bool boolean(bool value) override { return dom_.boolean(value); }
+    bool number_integer(number_integer_t value) override { return dom_.number_integer(value); }
+    bool number_unsigned(number_unsigned_t value) override { return dom_.number_unsigned(value); }
+    bool number_float(number_float_t value, const string_t& text) override { return dom_.number_float(value, text); }
+    bool string(string_t& value) override { return dom_.string(value); }
+    bool binary(binary_t& value) override { return dom_.binary(value); }
+    bool start_object(std::size_t n) override { return ++depth_, dom_.start_object(n); }
+    bool key(string_t& value) override { return !(depth_ == 1 && value == "state") && dom_.key(value); }
+    bool end_object() override { return --depth_, dom_.end_object(); }
+    bool start_array(std::size_t n) override { return ++depth_, dom_.start_array(n); }
+    bool end_array() override { return --depth_, dom_.end_array(); }
+    bool parse_error(std::size_t position, const std::string& token, const nlohmann::detail::exception& e) override {
+        return dom_.parse_error(position, token, e);
+    }
+
+private:
+    nlohmann::detail::json_sax_dom_parser<json> dom_;  // what json::parse builds with (nlohmann 3.11)
+    int depth_ = 0;
+};
+
+}  // namespace
+
+json read_shard_document(const std::filesystem::path& file, bool header_only) {
+    std::error_code error;
+    if (std::filesystem::exists(file, error) && !std::filesystem::is_regular_file(file, error))  // a FIFO would block the merge
+        throw input_error(file.string(), 0, "",
+                          "is not a regular file (a FIFO, a device or a socket): a shard's state is a file");
+    std::ifstream in(file, std::ios::binary);
+    if (!in)
+        throw input_error(file.string(), 0, "",
+                          "cannot open: not the report directory of a `rayverify audit --shard K/N --report DIR` run");
+    try {
+        json state;
+        if (header_only) {
+            header_reader reader(state);
+            json::sax_parse(in, &reader);
+        } else {
+            std::ostringstream text;
+            text << in.rdbuf();
+            state = json::parse(std::move(text).str());
+        }
+        return state;
+    } catch (const json::parse_error& e) {
+        throw input_error(file.string(), 0, "", fmt::format("not a shard state: {}", e.what()));
+    }
+}
+
 
 json shard_document(const shard_header& header, const audit_state& state) {
     json doc = to_json_mapped(header);

@@ -8,6 +8,7 @@
 // shard_state.cpp) that the audit writes, and merge reads and checks.
 #pragma once
 
+#include <filesystem>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -85,6 +86,12 @@ void map_json(json_io& io, shard_header& header);
 // A shard's state file: the header, then "state" (last, so that merge can
 // read the headers of many shards without their states).
 nlohmann::ordered_json shard_document(const shard_header& header, const audit_state& state);
+
+// A shard's state file parsed: whole (read into memory first: parsing from a
+// string is faster than from a stream), or (`header_only`) up to its "state",
+// which is not read. Throws input_error naming the file when it cannot be
+// read or is not JSON (a FIFO or a device is refused before it is opened).
+nlohmann::ordered_json read_shard_document(const std::filesystem::path& file, bool header_only);
 
 // The header of a shard's state document (whole, or without "state").
 // Throws input_error(file, 0, FIELD, problem).

@@ -359,40 +359,29 @@ std::string scene_ray::id() const {
     return s;
 }
 
-scene parse_scene(const std::string& text, const std::filesystem::path& file) {
-    const std::string name = file.string();
-    if (text.find_first_not_of(" \t\r\n") == std::string::npos)
-        throw input_error(name, 0, "", "empty file: a scene is a JSON object (corpus/scenes/README.md)");
-    // Parsed by the one reader of JSON input: a syntax error, a duplicate key,
-    // a number beyond double range or a nesting too deep is refused with its
-    // line and field, and every value's line is kept for the checks below.
-    const located_json parsed = parse_located_json_input(text, name);
-    const scene_json root = parsed.document;
-    const reader in(name, parsed);
+namespace {
 
-    scene s;
-    s.file = file;
-    s.name = file.stem().string();
-    in.object(root, "", {"comment", "precision", "normalise_directions", "spheres", "camera", "lights", "rays",
-                         "pixels"});
-    if (const scene_json* v = in.optional(root, "comment")) s.comment = in.string(*v, "comment");
-    s.prec = in.choice(in.required(root, "", "precision"), "precision", every_precision, precision_name);
-    if (const scene_json* v = in.optional(root, "normalise_directions"))
-        s.normalise_directions = in.boolean(*v, "normalise_directions");
-    // Every point the generator computes (origins, hit points, lights) must be
-    // finite in the scene's precision: refused at the field that reaches too far.
-    const double limit = scene_limit(s.prec);
-    const auto within_limit = [&](double reach, const std::string& path, const std::string& what) {
+// How far a scene may reach in its precision: every point the generator
+// computes (origins, hit points, lights) must be finite there, refused at the
+// field that reaches too far.
+struct scene_bounds {
+    const reader& in;
+    precision prec;
+    double limit;
+
+    void within_limit(double reach, const std::string& path, const std::string& what) const {
         if (!(reach <= limit))
             in.fail(path, fmt::format("{} reaches {:g} from the origin; a {} scene must lie within ±{:g} (an eighth "
                                       "of its range), so that every ray it casts stays finite",
-                                      what, reach, precision_name(s.prec), limit));
-    };
-    const auto finite_in_precision = [&](double value, const std::string& path) {
-        if (!std::isfinite(in_precision(value, s.prec))) in.fail(path, "overflows the scene's precision");
-    };
+                                      what, reach, precision_name(prec), limit));
+    }
+    void finite_in_precision(double value, const std::string& path) const {
+        if (!std::isfinite(in_precision(value, prec))) in.fail(path, "overflows the scene's precision");
+    }
+};
 
-    // Spheres.
+// "spheres": each named once, finite in the precision, within reach.
+void read_spheres(const reader& in, const scene_json& root, const scene_bounds& bounds, scene& s) {
     const scene_json& spheres = in.required(root, "", "spheres");
     if (!spheres.is_array() || spheres.empty()) in.fail("spheres", "must be a non-empty array of spheres");
     std::set<std::string> names;
@@ -407,15 +396,17 @@ scene parse_scene(const std::string& text, const std::filesystem::path& file) {
         if (!names.insert(sphere.name).second) in.fail(p + ".name", "names another sphere too: \"" + sphere.name + "\"");
         sphere.centre = in.vector(in.required(spheres[i], p, "centre"), p + ".centre");
         sphere.radius = in.number_at_least(in.required(spheres[i], p, "radius"), p + ".radius", 0, "≥ 0");
-        const vec3<double> c = in_precision(sphere.centre, s.prec);
+        const vec3<double> c = in_precision(sphere.centre, bounds.prec);
         if (!std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z))
             in.fail(p + ".centre", "overflows the scene's precision");
-        if (!std::isfinite(in_precision(sphere.radius, s.prec))) in.fail(p + ".radius", "overflows the scene's precision");
-        within_limit(reach_of(sphere.centre) + sphere.radius, p, "the sphere (|centre| + radius)");
+        if (!std::isfinite(in_precision(sphere.radius, bounds.prec))) in.fail(p + ".radius", "overflows the scene's precision");
+        bounds.within_limit(reach_of(sphere.centre) + sphere.radius, p, "the sphere (|centre| + radius)");
         s.spheres.push_back(sphere);
     }
+}
 
-    // Camera.
+// "camera": its projection and frame, and every pixel's ray finite.
+void read_camera(const reader& in, const scene_json& root, const scene_bounds& bounds, scene& s) {
     const scene_json& camera = in.required(root, "", "camera");
     in.object(camera, "camera", {"projection", "position", "look_at", "up", "fov_degrees", "view_height", "resolution"});
     scene_camera& cam = s.camera;
@@ -442,20 +433,22 @@ scene parse_scene(const std::string& text, const std::filesystem::path& file) {
         in.fail("camera.resolution", "must be [width, height] in pixels");
     cam.width = static_cast<int>(in.integer(resolution[0], "camera.resolution[0]", 1, 4096));
     cam.height = static_cast<int>(in.integer(resolution[1], "camera.resolution[1]", 1, 4096));
-    within_limit(reach_of(cam.position), "camera.position", "the camera");
-    within_limit(reach_of(cam.look_at), "camera.look_at", "the point looked at");
+    bounds.within_limit(reach_of(cam.position), "camera.position", "the camera");
+    bounds.within_limit(reach_of(cam.look_at), "camera.look_at", "the point looked at");
     if (is_zero(frame_of(cam).u)) in.fail("camera.up", "must not be parallel to the view direction");
     // Every other pixel's ray lies between the corners'.
     for (const int x : {0, cam.width - 1})
         for (const int y : {0, cam.height - 1}) {
             const scene_ray corner = primary_ray(s, x, y);
             const char* field = cam.kind == projection::orthographic ? "camera.view_height" : "camera";
-            within_limit(reach_of(corner.origin), field, fmt::format("the ray of pixel ({}, {}) starts at a point that", x, y));
+            bounds.within_limit(reach_of(corner.origin), field, fmt::format("the ray of pixel ({}, {}) starts at a point that", x, y));
             if (!is_finite(corner.direction))
                 in.fail("camera", fmt::format("the ray of pixel ({}, {}) has a non-finite direction", x, y));
         }
+}
 
-    // Lights.
+// "lights": each named once, within reach.
+void read_lights(const reader& in, const scene_json& root, const scene_bounds& bounds, scene& s) {
     if (const scene_json* lights = in.optional(root, "lights")) {
         if (!lights->is_array()) in.fail("lights", "must be an array of lights");
         std::set<std::string> light_names;
@@ -470,12 +463,14 @@ scene parse_scene(const std::string& text, const std::filesystem::path& file) {
             if (!light_names.insert(light.name).second)
                 in.fail(p + ".name", "names another light too: \"" + light.name + "\"");
             light.position = in.vector(in.required((*lights)[i], p, "position"), p + ".position");
-            within_limit(reach_of(light.position), p + ".position", "the light");
+            bounds.within_limit(reach_of(light.position), p + ".position", "the light");
             s.lights.push_back(light);
         }
     }
+}
 
-    // Ray kinds and their queries.
+// "rays": the kinds cast, each with its query and spawn settings.
+void read_rays(const reader& in, const scene_json& root, scene& s) {
     if (const scene_json* rays = in.optional(root, "rays")) {
         in.object(*rays, "rays", {"primary", "shadow", "secondary"});
         if (const scene_json* p = in.optional(*rays, "primary")) {
@@ -504,35 +499,70 @@ scene parse_scene(const std::string& text, const std::filesystem::path& file) {
             s.secondary_spawn = read_spawn(in, *p, "rays.secondary");
         }
     }
+}
 
-    // Spawned origins: a hit point (within its sphere's reach) moved by the offset.
+// Spawned origins: a hit point (within its sphere's reach) moved by the offset.
+void check_spawned_origins(const scene_bounds& bounds, const scene& s) {
     double sphere_reach = 0;
     for (const scene_sphere& sphere : s.spheres)
         sphere_reach = std::max(sphere_reach, reach_of(sphere.centre) + sphere.radius);
-    finite_in_precision(s.primary_tmin, "rays.primary.tmin");
+    bounds.finite_in_precision(s.primary_tmin, "rays.primary.tmin");
     const auto check_spawn = [&](const ray_kind_settings& kind, const spawn_settings& spawn, const std::string& path) {
         if (!kind.enabled) return;
-        within_limit(sphere_reach + spawn.absolute + spawn.relative * 2 * sphere_reach, path + ".offset",
+        bounds.within_limit(sphere_reach + spawn.absolute + spawn.relative * 2 * sphere_reach, path + ".offset",
                      "an origin spawned on a sphere and offset");
-        finite_in_precision(spawn.tmin, path + ".tmin");
+        bounds.finite_in_precision(spawn.tmin, path + ".tmin");
     };
     check_spawn(s.shadow, s.shadow_spawn, "rays.shadow");
     check_spawn(s.secondary, s.secondary_spawn, "rays.secondary");
+}
 
-    // Pixels.
+// "pixels": "all", or a sample of {"count": N, "seed": S}.
+void read_pixels(const reader& in, const scene_json& root, scene& s) {
     if (const scene_json* pixels = in.optional(root, "pixels")) {
         if (pixels->is_string()) {
             if (pixels->get<std::string>() != "all") in.fail("pixels", "must be \"all\" or {\"count\": N, \"seed\": S}");
         } else {
             in.object(*pixels, "pixels", {"count", "seed"});
             s.sample.all = false;
-            const long long total = static_cast<long long>(cam.width) * cam.height;
+            const long long total = static_cast<long long>(s.camera.width) * s.camera.height;
             s.sample.count = static_cast<std::size_t>(
                 in.integer(in.required(*pixels, "pixels", "count"), "pixels.count", 1, total));
             s.sample.seed = static_cast<std::uint64_t>(
                 in.integer(in.required(*pixels, "pixels", "seed"), "pixels.seed", 0, std::numeric_limits<long long>::max()));
         }
     }
+}
+
+}  // namespace
+
+scene parse_scene(const std::string& text, const std::filesystem::path& file) {
+    const std::string name = file.string();
+    if (text.find_first_not_of(" \t\r\n") == std::string::npos)
+        throw input_error(name, 0, "", "empty file: a scene is a JSON object (corpus/scenes/README.md)");
+    // Parsed by the one reader of JSON input: a syntax error, a duplicate key,
+    // a number beyond double range or a nesting too deep is refused with its
+    // line and field, and every value's line is kept for the checks below.
+    const located_json parsed = parse_located_json_input(text, name);
+    const scene_json root = parsed.document;
+    const reader in(name, parsed);
+
+    scene s;
+    s.file = file;
+    s.name = file.stem().string();
+    in.object(root, "", {"comment", "precision", "normalise_directions", "spheres", "camera", "lights", "rays",
+                         "pixels"});
+    if (const scene_json* v = in.optional(root, "comment")) s.comment = in.string(*v, "comment");
+    s.prec = in.choice(in.required(root, "", "precision"), "precision", every_precision, precision_name);
+    if (const scene_json* v = in.optional(root, "normalise_directions"))
+        s.normalise_directions = in.boolean(*v, "normalise_directions");
+    const scene_bounds bounds{in, s.prec, scene_limit(s.prec)};
+    read_spheres(in, root, bounds, s);
+    read_camera(in, root, bounds, s);
+    read_lights(in, root, bounds, s);
+    read_rays(in, root, s);
+    check_spawned_origins(bounds, s);
+    read_pixels(in, root, s);
     return s;
 }
 

@@ -24,6 +24,7 @@
 #include "report/audit_pass.h"
 #include "report/audit_report.h"
 #include "report/audit_timing_report.h"
+#include "report/bench_report.h"
 #include "report/benchmark_json.h"
 #include "report/markdown_report.h"
 #include "report/stability_report.h"
@@ -33,7 +34,6 @@ namespace {
 
 using json = nlohmann::ordered_json;
 
-constexpr const char* reference_label = "naive/double";
 
 struct bench_options {
     std::vector<std::string> corpus;
@@ -53,40 +53,6 @@ struct bench_options {
     std::size_t sweep = 5000;
 };
 
-// The totals of targets [first, first + count), as if audited alone.
-audit_totals slice(const audit_totals& all, std::size_t first, std::size_t count) {
-    audit_totals out = all;
-    const auto cut = [&](auto& v) { v = {v.begin() + first, v.begin() + first + count}; };
-    cut(out.targets);
-    cut(out.overall);
-    for (auto& [family, tallies] : out.by_family) cut(tallies);
-    return out;
-}
-
-// Accuracy and stability of `targets` over `cases` (one oracle pass).
-struct accuracy_run {
-    audit_totals totals;
-    stability_totals stability;
-    json points;
-};
-
-accuracy_run audit_with_stability(const std::vector<corpus_case>& cases, const std::vector<audit_target>& targets,
-                                  const std::vector<std::string>& labels, unsigned threads) {
-    stability_accumulator stability(targets);
-    case_points points(targets, labels);
-    std::size_t index = 0;
-    const auto on_case = [&](const audited_case& c) {
-        stability.add(c, index);
-        points.add(c, index++);
-    };
-    accuracy_run run;
-    // on_case sees the cases in corpus order whatever the thread count: the same figures.
-    run.totals = run_audit(cases, targets, on_case, {}, threads);
-    run.stability = stability.finish();
-    run.points = points.to_json();
-    return run;
-}
-
 // The timings' progress line (the harness calls back through a plain function).
 terminal::progress* timing_line = nullptr;
 void progress(std::size_t done, std::size_t total) {
@@ -102,77 +68,108 @@ struct timing_progress {
     ~timing_progress() { timing_line = nullptr; }
 };
 
-// robust_sphere.h's target: at most this many naive/double tests per test,
-// on these families, measured in the same run.
-constexpr double robust_target_ratio = 2;
-constexpr const char* robust_target_families[] = {"uniform", "far_sphere"};
+// What bench audits and times: float and double as audited, then long double
+// on double inputs. Plugins are audited and timed beside every built-in
+// variant (or the --variant ones), so the plot places them among the known forms.
+struct bench_targets {
+    std::vector<audit_target> all;
+    std::vector<std::string> labels;  // aligned with all
+    std::size_t audited = 0;          // all[0, audited): float and double; the rest long double
+    std::vector<audit_target> plugins, programs;
+};
 
-// robust_sphere.h's figures: per family, the share of cases its fast path
-// left to the exact path, and its cost against naive/double beside the
-// target. Printed, and returned for report.json.
-json robust_figures(const std::vector<bench::timing_row>& rows,
-                    const std::map<std::string, std::vector<corpus_case>>& by_family) {
-    std::vector<std::string> labels;
-    for (const char* name : bench::robust_variant_names)
-        for (const std::string& prec : precision_names()) labels.push_back(std::string(name) + "/" + prec);
-    const auto timed = [&](const std::string& label) {
-        return std::any_of(rows.begin(), rows.end(), [&](const bench::timing_row& r) { return r.label() == label; });
-    };
-    if (std::none_of(labels.begin(), labels.end(), timed)) return nullptr;
-
-    const std::vector<bench::robust_fallback_row> fallbacks = bench::robust_fallbacks(by_family);
-    fmt::print("\nrobust_sphere.h: cases its static filter left to the double-word stage + the exact path "
-               "(refined + exact / valid cases), per family\n");
-    fmt::print("{:<22}", "family");
-    for (const std::string& l : labels) fmt::print(" {:>24}", l);
-    fmt::print("\n");
-    json fallback_json = json::array();
-    for (const auto& [family, cases] : by_family) {
-        fmt::print("{:<22}", family);
-        for (const bench::robust_fallback_row& r : fallbacks) {
-            if (r.family != family) continue;
-            fmt::print(" {:>24}", fmt::format("{} + {}/{}", r.refined, r.exact, r.cases));
-            fallback_json.push_back({{"family", r.family}, {"variant", r.variant}, {"precision", r.precision},
-                                     {"cases", r.cases}, {"refined", r.refined}, {"exact_path", r.exact}});
-        }
-        fmt::print("\n");
+bench_targets choose_targets(const bench_options& options, const std::vector<corpus_case>& cases,
+                             const std::vector<std::string>& judged_precisions, bool with_long_double) {
+    bench_targets chosen;
+    std::vector<audit_target>& targets = chosen.all;
+    targets =
+        judged_precisions.empty() ? std::vector<audit_target>{} : select_targets(options.variants, judged_precisions);
+    chosen.plugins =
+        (options.plugins.empty() && options.engines.empty()) || judged_precisions.empty()
+            ? std::vector<audit_target>{}
+            : select_targets({}, options.plugins, judged_precisions, options.isolation, options.engines);
+    targets.insert(targets.end(), chosen.plugins.begin(), chosen.plugins.end());
+    // An engine's library run as a program is audited beside the others but
+    // not timed: bench times functions called in this process.
+    results_options programs;
+    programs.engines = options.engines;
+    chosen.programs =
+        judged_precisions.empty() ? std::vector<audit_target>{}
+                                  : outside_targets(programs, judged_precisions, [&](const case_sink& add) {
+                                        for (const corpus_case& c : cases) add(c);
+                                        return fingerprint_of(cases);
+                                    });
+    targets.insert(targets.end(), chosen.programs.begin(), chosen.programs.end());
+    for (const audit_target& t : targets) chosen.labels.push_back(t.label());
+    chosen.audited = targets.size();
+    for (const variant& v : with_long_double ? bench::long_double_variants() : std::vector<variant>{}) {
+        if (!options.variants.empty() &&
+            std::find(options.variants.begin(), options.variants.end(), v.name) == options.variants.end())
+            continue;
+        targets.push_back({v, precision::binary64});
+        chosen.labels.push_back(v.name + "/long double");
     }
+    return chosen;
+}
 
-    std::map<std::string, double> naive;  // family → naive/double median
-    for (const bench::timing_row& r : rows)
-        if (r.label() == reference_label) naive[r.family] = r.median;
-    fmt::print("\nrobust_sphere.h against its target: ns per test / naive/double's, this run (target ≤ {:g} on "
-               "uniform and far_sphere)\n",
-               robust_target_ratio);
-    fmt::print("{:<22}", "family");
-    for (const std::string& l : labels) fmt::print(" {:>24}", l);
-    fmt::print("\n");
-    json target_json = json::array();
-    for (const char* family : robust_target_families) {
-        if (!naive.count(family) || naive[family] <= 0) continue;
-        fmt::print("{:<22}", family);
-        for (const std::string& label : labels) {
-            const auto row = std::find_if(rows.begin(), rows.end(), [&](const bench::timing_row& r) {
-                return r.label() == label && r.family == family;
-            });
-            if (row == rows.end()) {
-                fmt::print(" {:>24}", "-");
-                continue;
-            }
-            const double ratio = row->median / naive[family];
-            const bool met = bench::target_met(ratio, robust_target_ratio, bench::target_direction::at_most);
-            fmt::print(" {:>24}", fmt::format("{:.2f} ({})", ratio, met ? "met" : "missed"));
-            target_json.push_back({{"family", family}, {"variant", row->variant}, {"precision", row->precision},
-                                   {"ratio_to_naive_double", ratio}, {"met", met}});
-        }
-        fmt::print("\n");
+bench::timing_options timing_of(const bench_options& options, const std::vector<audit_target>& plugins,
+                                const std::vector<std::string>& timed_precisions) {
+    bench::timing_options timing;
+    timing.variants = options.variants;
+    for (const audit_target& t : plugins)
+        if (timing.plugins.empty() || timing.plugins.back().name != t.subject.name) timing.plugins.push_back(t.subject);
+    timing.repetitions = options.repetitions;
+    timing.min_time_s = options.min_time;
+    timing.precisions = timed_precisions;
+    return timing;
+}
+
+// Run time, per family; the ratios' reference, naive/double, timed in the
+// same run whatever --precision leaves out.
+std::vector<bench::timing_row> time_targets(const std::map<std::string, std::vector<corpus_case>>& by_family,
+                                            const bench::timing_options& timing, bool double_timed) {
+    terminal::progress line("bench", "timings");
+    const timing_progress shown(line);
+    std::vector<bench::timing_row> rows = bench::time_variants(by_family, timing, progress);
+    if (!double_timed) {
+        bench::timing_options reference = timing;
+        reference.variants = {"naive"};
+        reference.plugins.clear();
+        reference.precisions = {"double"};
+        reference.include_oracle = false;
+        const std::vector<bench::timing_row> extra = bench::time_variants(by_family, reference, progress);
+        rows.insert(rows.end(), extra.begin(), extra.end());
     }
-    return {{"description", "robust_sphere.h (variants robust, robust_nearest, robust_any_hit, robust_bounded, "
-                            "robust_bounded_nearest): cases its static filter left to the double-word stage and "
-                            "to the exact path per family, and ns per test against naive/double in this run"},
-            {"target_ratio", robust_target_ratio},
-            {"exact_path", fallback_json},
-            {"against_target", target_json}};
+    line.finish();
+    return rows;
+}
+
+// What the timing table's rows are: the engine ports timed here, with how
+// they were compiled; libraries as shipped; programs audited and not timed.
+std::string target_notes(const json& timing_section, const bench_targets& targets) {
+    std::string text;
+    std::vector<std::string> ports_timed;
+    for (const json& r : timing_section["overall"]) {
+        const std::string name = r["variant"].get<std::string>();
+        const variant* v = find_builtin_variant(name);
+        if (v != nullptr && !v->build.empty() &&
+            std::find(ports_timed.begin(), ports_timed.end(), name) == ports_timed.end())
+            ports_timed.push_back(name);
+    }
+    if (!ports_timed.empty())
+        text += fmt::format("engine ports ({}): timed as rayverify compiles them (the build below) and called through their "
+                   "function; tools/port_build_benchmark.sh times them as their engines' Release builds compile "
+                   "the same code (-O3, vectoriser on; docs/bench.md)\n",
+                   fmt::join(ports_timed, ", "));
+    for (const audit_target& t : targets.plugins)
+        if (t.subject.library)
+            text += fmt::format("{}: {} {} as shipped ({}): its time includes the library's own call overhead (see "
+                       "docs/engines.md)\n",
+                       t.label(), t.subject.library->name, t.subject.library->version, t.subject.library->source);
+    for (const audit_target& t : targets.programs)
+        text += fmt::format("{}: {} {} ({}) audited, not timed: it runs as a node program answering through a pipe\n",
+                   t.label(), t.subject.library->name, t.subject.library->version, t.subject.library->source);
+    return text;
 }
 
 // bench --oracle: the exact oracles' cost per case against the naive double
@@ -245,105 +242,31 @@ int run(const bench_options& options, const std::string& command_line) {
     output_file* benchmark_file =
         options.benchmark_json.empty() ? nullptr : &outputs.file(options.benchmark_json, "--benchmark-json");
 
-    // Accuracy: float and double as audited, then long double on double
-    // inputs. Plugins are audited and timed beside every built-in variant
-    // (or the --variant ones), so the plot places them among the known forms.
-    std::vector<audit_target> targets =
-        judged_precisions.empty() ? std::vector<audit_target>{} : select_targets(options.variants, judged_precisions);
-    const std::vector<audit_target> plugin_targets =
-        (options.plugins.empty() && options.engines.empty()) || judged_precisions.empty()
-            ? std::vector<audit_target>{}
-            : select_targets({}, options.plugins, judged_precisions, options.isolation, options.engines);
-    targets.insert(targets.end(), plugin_targets.begin(), plugin_targets.end());
-    // An engine's library run as a program is audited beside the others but
-    // not timed: bench times functions called in this process.
-    results_options programs;
-    programs.engines = options.engines;
-    const std::vector<audit_target> program_targets =
-        judged_precisions.empty() ? std::vector<audit_target>{}
-                                  : outside_targets(programs, judged_precisions, [&](const case_sink& add) {
-                                        for (const corpus_case& c : cases) add(c);
-                                        return fingerprint_of(cases);
-                                    });
-    targets.insert(targets.end(), program_targets.begin(), program_targets.end());
-    std::vector<std::string> labels;
-    for (const audit_target& t : targets) labels.push_back(t.label());
-    const std::size_t audited = targets.size();
-    for (const variant& v : with_long_double ? bench::long_double_variants() : std::vector<variant>{}) {
-        if (!options.variants.empty() &&
-            std::find(options.variants.begin(), options.variants.end(), v.name) == options.variants.end())
-            continue;
-        targets.push_back({v, precision::binary64});
-        labels.push_back(v.name + "/long double");
-    }
-    std::vector<std::string> precision_labels;
-    for (const std::string& l : labels) precision_labels.push_back(l.substr(l.find('/') + 1));
+    const bench_targets chosen_targets = choose_targets(options, cases, judged_precisions, with_long_double);
+    const std::vector<audit_target>& targets = chosen_targets.all;
+    const std::vector<std::string>& labels = chosen_targets.labels;
+    const std::size_t audited = chosen_targets.audited;
+    bench_accuracy accuracy;
+    accuracy.audited = audited;
+    for (const std::string& l : labels) accuracy.precision_labels.push_back(l.substr(l.find('/') + 1));
     if (isatty(STDERR_FILENO)) terminal::note(fmt::format("bench: auditing {} cases", cases.size()));
     const unsigned threads = audit_threads(
         targets, options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency()));
-    const accuracy_run accuracy = audit_with_stability(cases, targets, labels, threads);
+    accuracy.run = audit_with_stability(cases, targets, labels, threads);
 
     // Run time, per family.
     std::map<std::string, std::vector<corpus_case>> by_family;
     for (const corpus_case& c : cases) by_family[family_key(c)].push_back(c);
-    bench::timing_options timing;
-    timing.variants = options.variants;
-    for (const audit_target& t : plugin_targets)
-        if (timing.plugins.empty() || timing.plugins.back().name != t.subject.name)
-            timing.plugins.push_back(t.subject);
-    timing.repetitions = options.repetitions;
-    timing.min_time_s = options.min_time;
-    timing.precisions = timed_precisions;
-    terminal::progress line("bench", "timings");
-    const timing_progress shown(line);
-    std::vector<bench::timing_row> rows = bench::time_variants(by_family, timing, progress);
-    if (!chosen("double")) {
-        // The ratios' reference, naive/double, timed in the same run whatever --precision leaves out.
-        bench::timing_options reference = timing;
-        reference.variants = {"naive"};
-        reference.plugins.clear();
-        reference.precisions = {"double"};
-        reference.include_oracle = false;
-        const std::vector<bench::timing_row> extra = bench::time_variants(by_family, reference, progress);
-        rows.insert(rows.end(), extra.begin(), extra.end());
-    }
-    line.finish();
-    const json timing_section = timing_json(rows, timing, reference_label);
+    const bench::timing_options timing = timing_of(options, chosen_targets.plugins, timed_precisions);
+    const std::vector<bench::timing_row> rows = time_targets(by_family, timing, chosen("double"));
+    const json timing_section = timing_json(rows, timing, bench_reference_label);
     if (benchmark_file != nullptr)
         benchmark_file->stream() << benchmark_json(rows, current_benchmark_context(command_line)).dump(2) << '\n';
 
-    fmt::print("{:<26} {:<12} {:>12} {:>10}\n", "variant", "precision", "ns/test", "ratio");
-    for (const json& r : timing_section["overall"])
-        fmt::print("{:<26} {:<12} {:>12.2f} {:>10}\n", r["variant"].get<std::string>(),
-                   r["precision"].get<std::string>(), r["ns_per_test"].get<double>(),
-                   r["ratio_to_reference"].is_null() ? std::string("-")
-                                                     : fmt::format("{:.2f}", r["ratio_to_reference"].get<double>()));
-    fmt::print("{} cases; ns per ray–sphere test, CPU time, median of {} repetitions per family, case-weighted; "
-               "ratio to {} in this run.\n",
-               cases.size(), options.repetitions, reference_label);
-    // The engine ports timed here, named, with how they were compiled.
-    std::vector<std::string> ports_timed;
-    for (const json& r : timing_section["overall"]) {
-        const std::string name = r["variant"].get<std::string>();
-        const variant* v = find_builtin_variant(name);
-        if (v != nullptr && !v->build.empty() &&
-            std::find(ports_timed.begin(), ports_timed.end(), name) == ports_timed.end())
-            ports_timed.push_back(name);
-    }
-    if (!ports_timed.empty())
-        fmt::print("engine ports ({}): timed as rayverify compiles them (the build below) and called through their "
-                   "function; tools/port_build_benchmark.sh times them as their engines' Release builds compile "
-                   "the same code (-O3, vectoriser on; docs/bench.md)\n",
-                   fmt::join(ports_timed, ", "));
-    for (const audit_target& t : plugin_targets)
-        if (t.subject.library)
-            fmt::print("{}: {} {} as shipped ({}): its time includes the library's own call overhead (see "
-                       "docs/engines.md)\n",
-                       t.label(), t.subject.library->name, t.subject.library->version, t.subject.library->source);
-    for (const audit_target& t : program_targets)
-        fmt::print("{}: {} {} ({}) audited, not timed: it runs as a node program answering through a pipe\n",
-                   t.label(), t.subject.library->name, t.subject.library->version, t.subject.library->source);
-    const json robust = robust_figures(rows, by_family);
+    fmt::print("{}", timing_table_text(timing_section, cases.size(), options.repetitions));
+    fmt::print("{}", target_notes(timing_section, chosen_targets));
+    const robust_sphere_figures robust = robust_figures(rows, by_family);
+    fmt::print("{}", robust.text);
     fmt::print("build: {}; CPU: {}\n", build_summary(), bench::cpu_model());
     if (!bundle) {
         check_standard_output();
@@ -354,35 +277,16 @@ int run(const bench_options& options, const std::string& command_line) {
     // The report: the audit's sections for float and double, then ours.
     run_context context{command_line, {}, {}};
     for (const auto& p : paths) context.corpus_paths.push_back(p.string());
-    json report = audit_report_json(slice(accuracy.totals, 0, audited), context);
-    report["tool"] = "rayverify bench";
-    report["machine"] = {{"cpu", bench::cpu_model()}, {"hardware_threads", std::thread::hardware_concurrency()}};
-    if (with_long_double) {
-        json long_double = audit_report_json(slice(accuracy.totals, audited, targets.size() - audited), context);
-        for (json& r : long_double["results"]) r["precision"] = "long double";
-        report["long_double"] = {{"description", "x87 80-bit long double arithmetic on the double inputs, roots "
-                                                 "rounded to double, judged against the exact roots of the double "
-                                                 "inputs"},
-                                 {"results", long_double["results"]}};
-    }
-    report["stability"] = stability_json(accuracy.totals, accuracy.stability, precision_labels);
-    report["timing"] = timing_section;
-    if (!robust.is_null()) report["robust_sphere"] = robust;
-    report["case_points"] = accuracy.points;
-
+    std::optional<far_sphere_sweep_run> sweep;
     if (options.sweep > 0) {
-        const std::vector<corpus_case> sweep = bench::far_sphere_sweep(options.sweep, 2);
+        constexpr std::uint64_t sweep_seed = 2;
+        const std::vector<corpus_case> sweep_cases = bench::far_sphere_sweep(options.sweep, sweep_seed);
         const std::vector<audit_target> sweep_targets(targets.begin(), targets.begin() + static_cast<long>(audited));
         const std::vector<std::string> sweep_labels(labels.begin(), labels.begin() + static_cast<long>(audited));
-        const accuracy_run far = audit_with_stability(sweep, sweep_targets, sweep_labels, threads);
-        report["far_sphere_sweep"] = {
-            {"description", fmt::format("{} far_sphere cases (rayverify corpus generate --family far_sphere --count {} "
-                                        "--seed 2), grouped by decade of |o - c| / r; every maximum is over this "
-                                        "finite sample",
-                                        sweep.size(), sweep.size())},
-            {"results", audit_report_json(far.totals, context)["results"]},
-            {"case_points", far.points}};
+        sweep = far_sphere_sweep_run{sweep_cases.size(), sweep_seed,
+                                     audit_with_stability(sweep_cases, sweep_targets, sweep_labels, threads)};
     }
+    json report = bench_report_document(accuracy, context, timing_section, robust.json, sweep);
     const plot_outcome plots = bundle->write(std::move(report), true);
     fmt::print("report: {}\nplots: {}\n", (bundle->dir() / "report.json").string(), plots.message);
     check_standard_output();

@@ -1,0 +1,161 @@
+#include "report/bench_report.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <thread>
+
+#include "bench/robust_fallback.h"
+#include "report/stability_report.h"
+
+namespace rayverify {
+
+using json = nlohmann::ordered_json;
+
+audit_totals slice(const audit_totals& all, std::size_t first, std::size_t count) {
+    audit_totals out = all;
+    const auto cut = [&](auto& v) { v = {v.begin() + first, v.begin() + first + count}; };
+    cut(out.targets);
+    cut(out.overall);
+    for (auto& [family, tallies] : out.by_family) cut(tallies);
+    return out;
+}
+
+accuracy_run audit_with_stability(const std::vector<corpus_case>& cases, const std::vector<audit_target>& targets,
+                                  const std::vector<std::string>& labels, unsigned threads) {
+    stability_accumulator stability(targets);
+    case_points points(targets, labels);
+    std::size_t index = 0;
+    const auto on_case = [&](const audited_case& c) {
+        stability.add(c, index);
+        points.add(c, index++);
+    };
+    accuracy_run run;
+    // on_case sees the cases in corpus order whatever the thread count: the same figures.
+    run.totals = run_audit(cases, targets, on_case, {}, threads);
+    run.stability = stability.finish();
+    run.points = points.to_json();
+    return run;
+}
+
+namespace {
+
+// robust_sphere.h's target: at most this many naive/double tests per test,
+// on these families, measured in the same run.
+constexpr double robust_target_ratio = 2;
+constexpr const char* robust_target_families[] = {"uniform", "far_sphere"};
+
+}  // namespace
+
+robust_sphere_figures robust_figures(const std::vector<bench::timing_row>& rows,
+                                     const std::map<std::string, std::vector<corpus_case>>& by_family) {
+    std::vector<std::string> labels;
+    for (const char* name : bench::robust_variant_names)
+        for (const precision prec : every_precision) labels.push_back(std::string(name) + "/" + precision_name(prec));
+    const auto timed = [&](const std::string& label) {
+        return std::any_of(rows.begin(), rows.end(), [&](const bench::timing_row& r) { return r.label() == label; });
+    };
+    if (std::none_of(labels.begin(), labels.end(), timed)) return {nullptr, ""};
+    std::string text;
+
+    const std::vector<bench::robust_fallback_row> fallbacks = bench::robust_fallbacks(by_family);
+    text += fmt::format("\nrobust_sphere.h: cases its static filter left to the double-word stage + the exact path "
+               "(refined + exact / valid cases), per family\n");
+    text += fmt::format("{:<22}", "family");
+    for (const std::string& l : labels) text += fmt::format(" {:>24}", l);
+    text += fmt::format("\n");
+    json fallback_json = json::array();
+    for (const auto& [family, cases] : by_family) {
+        text += fmt::format("{:<22}", family);
+        for (const bench::robust_fallback_row& r : fallbacks) {
+            if (r.family != family) continue;
+            text += fmt::format(" {:>24}", fmt::format("{} + {}/{}", r.refined, r.exact, r.cases));
+            fallback_json.push_back({{"family", r.family}, {"variant", r.variant}, {"precision", r.precision},
+                                     {"cases", r.cases}, {"refined", r.refined}, {"exact_path", r.exact}});
+        }
+        text += fmt::format("\n");
+    }
+
+    std::map<std::string, double> naive;  // family → naive/double median
+    for (const bench::timing_row& r : rows)
+        if (r.label() == bench_reference_label) naive[r.family] = r.median;
+    text += fmt::format("\nrobust_sphere.h against its target: ns per test / naive/double's, this run (target ≤ {:g} on "
+               "uniform and far_sphere)\n",
+               robust_target_ratio);
+    text += fmt::format("{:<22}", "family");
+    for (const std::string& l : labels) text += fmt::format(" {:>24}", l);
+    text += fmt::format("\n");
+    json target_json = json::array();
+    for (const char* family : robust_target_families) {
+        if (!naive.count(family) || naive[family] <= 0) continue;
+        text += fmt::format("{:<22}", family);
+        for (const std::string& label : labels) {
+            const auto row = std::find_if(rows.begin(), rows.end(), [&](const bench::timing_row& r) {
+                return r.label() == label && r.family == family;
+            });
+            if (row == rows.end()) {
+                text += fmt::format(" {:>24}", "-");
+                continue;
+            }
+            const double ratio = row->median / naive[family];
+            const bool met = bench::target_met(ratio, robust_target_ratio, bench::target_direction::at_most);
+            text += fmt::format(" {:>24}", fmt::format("{:.2f} ({})", ratio, met ? "met" : "missed"));
+            target_json.push_back({{"family", family}, {"variant", row->variant}, {"precision", row->precision},
+                                   {"ratio_to_naive_double", ratio}, {"met", met}});
+        }
+        text += fmt::format("\n");
+    }
+    return {{{"description", "robust_sphere.h (variants robust, robust_nearest, robust_any_hit, robust_bounded, "
+                            "robust_bounded_nearest): cases its static filter left to the double-word stage and "
+                            "to the exact path per family, and ns per test against naive/double in this run"},
+            {"target_ratio", robust_target_ratio},
+            {"exact_path", fallback_json},
+            {"against_target", target_json}},
+            text};
+}
+
+
+std::string timing_table_text(const json& timing_section, std::size_t cases, int repetitions) {
+    std::string text = fmt::format("{:<26} {:<12} {:>12} {:>10}\n", "variant", "precision", "ns/test", "ratio");
+    for (const json& r : timing_section["overall"])
+        text += fmt::format("{:<26} {:<12} {:>12.2f} {:>10}\n", r["variant"].get<std::string>(),
+                            r["precision"].get<std::string>(), r["ns_per_test"].get<double>(),
+                            r["ratio_to_reference"].is_null() ? std::string("-")
+                                                              : fmt::format("{:.2f}", r["ratio_to_reference"].get<double>()));
+    text += fmt::format("{} cases; ns per ray–sphere test, CPU time, median of {} repetitions per family, "
+                        "case-weighted; ratio to {} in this run.\n",
+                        cases, repetitions, bench_reference_label);
+    return text;
+}
+
+json bench_report_document(const bench_accuracy& accuracy, const run_context& context, const json& timing_section,
+                           const json& robust, const std::optional<far_sphere_sweep_run>& sweep) {
+    const accuracy_run& all = accuracy.run;
+    const std::size_t audited = accuracy.audited, targets = all.totals.targets.size();
+    json report = audit_report_json(slice(all.totals, 0, audited), context);
+    report["tool"] = "rayverify bench";
+    report["machine"] = {{"cpu", bench::cpu_model()}, {"hardware_threads", std::thread::hardware_concurrency()}};
+    if (audited < targets) {
+        json long_double = audit_report_json(slice(all.totals, audited, targets - audited), context);
+        for (json& r : long_double["results"]) r["precision"] = "long double";
+        report["long_double"] = {{"description", "x87 80-bit long double arithmetic on the double inputs, roots "
+                                                 "rounded to double, judged against the exact roots of the double "
+                                                 "inputs"},
+                                 {"results", long_double["results"]}};
+    }
+    report["stability"] = stability_json(all.totals, all.stability, accuracy.precision_labels);
+    report["timing"] = timing_section;
+    if (!robust.is_null()) report["robust_sphere"] = robust;
+    report["case_points"] = all.points;
+    if (sweep)
+        report["far_sphere_sweep"] = {
+            {"description", fmt::format("{} far_sphere cases (rayverify corpus generate --family far_sphere --count {} "
+                                        "--seed {}), grouped by decade of |o - c| / r; every maximum is over this "
+                                        "finite sample",
+                                        sweep->cases, sweep->cases, sweep->seed)},
+            {"results", audit_report_json(sweep->run.totals, context)["results"]},
+            {"case_points", sweep->run.points}};
+    return report;
+}
+
+}  // namespace rayverify

@@ -21,7 +21,6 @@ constexpr name_table<range_source, 4> range_source_names{{{range_source::ray, "r
                                                           {range_source::interval, "interval"},
                                                           {range_source::tmax_only, "tmax_only"},
                                                           {range_source::segment, "segment"}}};
-constexpr name_table<end_kind, 2> end_kind_names{{{end_kind::open, "open"}, {end_kind::closed, "closed"}}};
 constexpr name_table<inside_rule, 3> inside_rule_names{
     {{inside_rule::far_root, "far_root"}, {inside_rule::clamp, "clamp"}, {inside_rule::miss, "miss"}}};
 constexpr name_table<answer_kind, 2> answer_kind_names{{{answer_kind::t, "t"}, {answer_kind::point, "point"}}};
@@ -64,7 +63,6 @@ std::optional<query_kind> query_kind_from_name(std::string_view name) { return v
 std::optional<range_source> range_source_from_name(std::string_view name) {
     return value_in(range_source_names, name);
 }
-std::optional<end_kind> end_kind_from_name(std::string_view name) { return value_in(end_kind_names, name); }
 std::optional<inside_rule> inside_rule_from_name(std::string_view name) { return value_in(inside_rule_names, name); }
 std::optional<answer_kind> answer_kind_from_name(std::string_view name) { return value_in(answer_kind_names, name); }
 std::optional<point_bound> point_bound_from_name(std::string_view name) { return value_in(point_bound_names, name); }

@@ -118,7 +118,6 @@ std::string_view point_bound_name(point_bound b);
 // The value named `name`; nullopt for an unknown name.
 std::optional<query_kind> query_kind_from_name(std::string_view name);
 std::optional<range_source> range_source_from_name(std::string_view name);
-std::optional<end_kind> end_kind_from_name(std::string_view name);
 std::optional<inside_rule> inside_rule_from_name(std::string_view name);
 std::optional<answer_kind> answer_kind_from_name(std::string_view name);
 std::optional<point_bound> point_bound_from_name(std::string_view name);

@@ -63,12 +63,9 @@ public:
     const Context* context() const {
         return static_cast<const Context*>(context_);
     }
-    // The value being read (reading only).
-    const json& node() const { return *in_; }
     // Where this value is, e.g. "state.audit.overall[0]"; "" at the top.
     std::string path() const;
     const std::string& file() const { return *file_; }
-    std::size_t line() const { return line_; }
 
     // An input_error at this value (or its member `key`).
     [[noreturn]] void fail(const std::string& problem) const;

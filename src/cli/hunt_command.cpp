@@ -116,8 +116,8 @@ int run(const hunt_command_options& given, const std::string& command_line) {
     options.shrink = !o.no_shrink;
     const std::string family_name(family->name);
     // This shard's start cases: the family's cases K − 1, K − 1 + N, ...,
-    // generated a block of 64 at a time, four side by side (one at a time,
-    // seeding their random engines was a third of a random hunt's time).
+    // generated a block of 64 at a time, four side by side (seeding a random
+    // engine per case is a large part of a random hunt's time).
     constexpr std::uint64_t start_block_size = 64;
     std::vector<corpus_case> start_block;
     std::optional<std::uint64_t> start_block_first;

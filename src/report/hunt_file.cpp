@@ -109,7 +109,7 @@ void map_json(json_io& io, hunt_objective& o) {
 
 void map_json(json_io& io, hunt_strategy& s) { io.name(s, hunt_strategy_name, hunt_strategy_from_name, "a strategy"); }
 
-static void map_json(json_io& io, hunt_run::disagreement& d) {
+static void map_json(json_io& io, hunt_disagreement& d) {
     io.field("evaluation", d.evaluation);
     io.field("verdict", d.verdict);
     io.field("case", d.case_line);

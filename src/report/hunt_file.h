@@ -27,21 +27,22 @@ namespace rayverify {
 
 inline constexpr const char* hunt_file_format = "rayverify-hunt 1";
 
+// The first evaluation of a run whose answer disagreed with the exact one (an
+// error objective has no error to rank it by, but it is a finding).
+struct hunt_disagreement {
+    std::size_t evaluation = 0;
+    verdict_kind verdict = verdict_kind::agree;
+    std::string case_line;  // pasteable
+};
+
 // One shard's search, as the hunt line records it.
 struct hunt_run {
-    // The first evaluation whose answer disagreed with the exact one (an error
-    // objective has no error to rank it by, but it is a finding).
-    struct disagreement {
-        std::size_t evaluation = 0;
-        verdict_kind verdict = verdict_kind::agree;
-        std::string case_line;  // pasteable
-    };
     shard_spec shard;
     std::uint64_t search_seed = 0;
     std::size_t evaluations = 0, starts = 0, shrink_evaluations = 0;
     double seconds = 0;
     std::size_t disagreements = 0;
-    std::optional<disagreement> first_disagreement;
+    std::optional<hunt_disagreement> first_disagreement;
 };
 
 // The `# rayverify-hunt {...}` line: what was searched, and each shard's run

@@ -53,9 +53,9 @@ json audit_report_document(const audit_state& state, const audit_totals& totals,
 namespace {
 
 // A histogram's buckets as one string, "key:count,Δkey:count,...", each key
-// after the first as its distance from the one before: one JSON value instead
-// of two arrays and two numbers per bucket, which made parsing the states
-// nearly all of a merge's time.
+// after the first as its distance from the one before: one JSON value per
+// histogram, not two arrays and two numbers per bucket (parsing the states is
+// most of a merge's time).
 std::string buckets_text(const error_summary::histogram_map& buckets) {
     std::string text;
     std::uint64_t previous = 0;

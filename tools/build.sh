@@ -5,20 +5,28 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 build_dir=build
-# CMake's default is Release; the development build keeps RelWithDebInfo (-O2 -g):
-# the figures and timings in docs/ and the gate baseline were measured with it,
-# and a crash in a test or a plugin gets a readable backtrace.
-cmake_args=(-DCMAKE_BUILD_TYPE=RelWithDebInfo)
+# CMake's default is Release; the development build keeps RelWithDebInfo's -O2
+# (the figures and timings in docs/ and the gate baseline were measured with it)
+# with line tables only (-g1): a crash in a test or a plugin still gets a
+# backtrace with files and lines, and debug information never changes the code
+# GCC generates. Full debug information (-g) is copied into every test
+# executable that links the library: it made the build more than twice the
+# size and filled a CI machine's disk (docs/testing.md).
+cmake_args=(-DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O2 -g1 -DNDEBUG"
+            "-DCMAKE_C_FLAGS_RELWITHDEBINFO=-O2 -g1 -DNDEBUG")
 if [ "${1:-}" = "--sanitize" ]; then
   build_dir=build-sanitize
-  # Line tables (-g1) are all a sanitizer's report needs; full debug info
-  # costs compile and link time on every test file. -O1, as the sanitizers'
-  # own documentation suggests: every check stays (fewer are optimised away),
-  # and with both sanitizers on, -O2 took about twice as long to compile
-  # (128 s against 73 s for the report layer, 45 s against 25 s for one test).
-  cmake_args+=(-DRAYVERIFY_SANITIZE=ON "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG"
-               "-DCMAKE_C_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG")
+  # Line tables (-g1) are all a sanitizer's report needs. -O1, as the
+  # sanitizers' own documentation suggests: every check stays (fewer are
+  # optimised away), and it compiles in about half -O2's time (docs/testing.md).
+  cmake_args=(-DCMAKE_BUILD_TYPE=RelWithDebInfo -DRAYVERIFY_SANITIZE=ON "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG"
+              "-DCMAKE_C_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG")
 fi
+
+# Ninja schedules the whole build as one graph (Make's recursive makefiles
+# wait at each directory's targets); a build directory made before keeps the
+# generator it was made with.
+[ -f "$build_dir/CMakeCache.txt" ] || cmake_args+=(-G Ninja)
 
 tools/setup.sh
 cmake -S . -B "$build_dir" "${cmake_args[@]}" >/dev/null

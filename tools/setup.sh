@@ -9,19 +9,18 @@
 set -euo pipefail
 
 packages=(
-  g++ cmake make               # toolchain
+  g++ cmake make ninja-build   # toolchain (tools/build.sh builds with Ninja)
   lld                          # LLVM's linker: links the test executables in under half GNU ld's time
   ccache                       # a compiler cache: CMakeLists.txt uses it where it is installed
   libcgal-dev libgmp-dev libmpfr-dev libboost-dev   # exact oracle (CGAL 5.5 is header-only)
   libgtest-dev                 # tests
   libcli11-dev nlohmann-json3-dev libfmt-dev        # CLI, JSON reports, formatting
   libbenchmark-dev python3-matplotlib               # rayverify bench (Google Benchmark), report plots
-  python3-jsonschema           # tests: every JSON output against docs/schema/
   zsh groff-base               # tests: the generated zsh completion and man page are well formed
   libpng-dev                   # rayverify render (PNG images)
   parallel                     # GNU parallel: the docs/scaling_out.md recipe a test runs
   python3-numpy nodejs         # tests: intersectors in NumPy and JavaScript audited through results files
-  python3-jsonschema           # tests: exported cases and answers checked against docs/schema
+  python3-jsonschema           # tests: every JSON output, exported case and answer against docs/schema/
   clang-14                     # tests: robust_sphere.h compiled for a GPU in CUDA mode, without the CUDA SDK
   # the engines' libraries audited as shipped (rayverify engines; docs/engines.md)
   libembree-dev libbullet-dev libode-dev libirrlicht-dev libopenscenegraph-dev

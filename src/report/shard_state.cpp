@@ -113,19 +113,26 @@ void check_fingerprint_text(const json_io& io, std::string_view key, const std::
     if (!is_fingerprint_text(text)) io.fail(key, fmt::format("{} is not 16 hex digits", json_io::quoted(text)));
 }
 
-// The first value where two documents differ, as a path below `at` ("" when equal).
-std::optional<std::string> first_difference(const json& a, const json& b, const std::string& at) {
-    if (a.type() != b.type() || (!a.is_structured() && a != b)) return at;
+// The first value where two documents differ: its path below `at` and the
+// value in each (null where a document lacks it).
+struct json_difference {
+    std::string path;
+    const json *in_a, *in_b;
+};
+
+std::optional<json_difference> first_difference(const json& a, const json& b, const std::string& at) {
+    if (a.type() != b.type() || (!a.is_structured() && a != b)) return json_difference{at, &a, &b};
     if (a.is_array()) {
-        if (a.size() != b.size()) return at;
+        if (a.size() != b.size()) return json_difference{at, &a, &b};
         for (std::size_t i = 0; i < a.size(); ++i)
             if (auto d = first_difference(a[i], b[i], fmt::format("{}[{}]", at, i))) return d;
     } else if (a.is_object()) {
         for (const auto& [key, value] : a.items()) {
-            if (!b.contains(key)) return at + "." + key;
-            if (auto d = first_difference(value, b[key], at + "." + key)) return d;
+            const auto in_b = b.find(key);
+            if (in_b == b.end()) return json_difference{at + "." + key, &value, nullptr};
+            if (auto d = first_difference(value, *in_b, at + "." + key)) return d;
         }
-        if (a.size() != b.size()) return at;
+        if (a.size() != b.size()) return json_difference{at, &a, &b};
     }
     return std::nullopt;
 }
@@ -278,16 +285,9 @@ void map_per_target(json_io& io, const std::vector<audit_target>& targets,
     }
     if (by_family.size() != families.size()) io.fail("by_family", "lacks a family of state.audit.cases_by_family");
     const json stored = to_json_mapped(overall), merged = to_json_mapped(merged_over_families(by_family, targets.size()));
-    if (const auto at = first_difference(stored, merged, "overall")) {
-        const json::json_pointer pointer = [&] {
-            std::string p;  // "overall[1].x.y" as "/1/x/y"
-            for (const char c : at->substr(std::string("overall").size())) p += c == '[' || c == '.' ? '/' : c;
-            std::erase(p, ']');
-            return json::json_pointer(p);
-        }();
-        io.fail(*at, fmt::format("is {}, but the families' figures merge to {}",
-                                 stored.contains(pointer) ? json_io::shown(stored[pointer]) : "absent",
-                                 merged.contains(pointer) ? json_io::shown(merged[pointer]) : "absent"));
+    if (const auto d = first_difference(stored, merged, "overall")) {
+        const auto shown = [](const json* value) -> std::string { return value != nullptr ? json_io::shown(*value) : "absent"; };
+        io.fail(d->path, fmt::format("is {}, but the families' figures merge to {}", shown(d->in_a), shown(d->in_b)));
     }
 }
 
@@ -446,7 +446,7 @@ static void map_json(json_io& io, audit_state& state) {
         io.fail("contract_lint", fmt::format("has {} entries, expected {}", state.lint.tallies.size(), targets.size()));
 }
 
-static void map_json(json_io& io, shard_header::digests_record& d) {
+void map_json(json_io& io, shard_header::digests_record& d) {
     io.nullable_field("results", d.results);
     io.field("plugins", d.plugins);
     if (!io.reading()) return;

@@ -77,6 +77,9 @@ struct shard_header {
     std::optional<std::string> per_case_file, per_case_digest;
 };
 
+// The input's digests' mapping (also what merge compares two shards' digests by).
+void map_json(json_io& io, shard_header::digests_record& digests);
+
 // The header's one mapping: written by the audit, read and checked by merge
 // (the format first, then the type and range of every field: 1 ≤ index ≤
 // count, fingerprints and digests of 16 hex digits, a per-case file inside

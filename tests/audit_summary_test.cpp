@@ -72,8 +72,8 @@ TEST(AuditSummary, OneLinePerFamilyNamingItsBestAndWorstMember) {
 
 TEST(AuditSummary, CommandPrintsTheSummaryAndWritesTheSameReport) {
     namespace fs = std::filesystem;
-    const fs::path dir = fs::temp_directory_path() / "rayverify_audit_summary_test";
-    fs::remove_all(dir);
+    const test_support::scratch_directory dir_scratch("rayverify_audit_summary_test");
+    const fs::path& dir = dir_scratch.path();
     const std::string corpus = std::string(RAYVERIFY_CORPUS_DIR) + "/far_sphere.txt";
     const auto full = test_support::run_cli("audit --corpus " + corpus + " --report " + (dir / "a").string());
     const auto brief = test_support::run_cli("audit --summary --corpus " + corpus + " --report " + (dir / "b").string());
@@ -88,7 +88,6 @@ TEST(AuditSummary, CommandPrintsTheSummaryAndWritesTheSameReport) {
     EXPECT_EQ(brief.output.find("med_ulp"), std::string::npos) << "not the full table";
     EXPECT_EQ(test_support::read_text(dir / "a" / "report.json"), test_support::read_text(dir / "b" / "report.json"))
         << "--summary changes what is printed, not the report";
-    fs::remove_all(dir);
 }
 
 }  // namespace

@@ -18,20 +18,13 @@ using namespace rayverify::test_support;
 
 class Cli : public testing::Test {
 protected:
-    void SetUp() override {
-        dir_ = fs::temp_directory_path() /
-               ("rayverify_cli_test_" + std::string(testing::UnitTest::GetInstance()->current_test_info()->name()));
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
-    }
-    void TearDown() override { fs::remove_all(dir_); }
-
     fs::path write(const std::string& name, const std::string& contents) {
         const fs::path p = dir_ / name;
         std::ofstream(p) << contents;
         return p;
     }
-    fs::path dir_;
+    scratch_directory scratch_{"rayverify_cli_test"};
+    const fs::path dir_ = scratch_.path();
 };
 
 // Unit sphere at the origin; exact roots 4 and 6 along +z from z = −5.

@@ -18,9 +18,11 @@
 #include <vector>
 
 #include "corpus/case_stream.h"
+#include "support/process.h"
 
 using namespace rayverify;
 namespace fs = std::filesystem;
+using test_support::scratch_directory;
 
 namespace {
 
@@ -81,14 +83,6 @@ void expect_same_case(const corpus_case& a, const corpus_case& b) {
 // Each test gets its own directory, removed afterwards.
 class CorpusFiles : public ::testing::Test {
 protected:
-    void SetUp() override {
-        const auto stamp = std::chrono::steady_clock::now().time_since_epoch().count();
-        dir_ = fs::temp_directory_path() /
-               fmt::format("rayverify_corpus_io_test_{}_{}", stamp, std::random_device{}());
-        fs::create_directories(dir_);
-    }
-    void TearDown() override { fs::remove_all(dir_); }
-
     fs::path write(const std::string& name, const std::string& contents) {
         const fs::path path = dir_ / name;
         std::ofstream(path, std::ios::binary) << contents;
@@ -104,7 +98,8 @@ protected:
         return fmt::format("{}:{}", (dir_ / name).string(), line);
     }
 
-    fs::path dir_;
+    scratch_directory scratch_{"rayverify_corpus_io_test"};
+    const fs::path dir_ = scratch_.path();
 };
 
 const std::string unit_case = "0 0 -5 0 0 1 0 0 0 1";  // the ten numbers of a simple hit

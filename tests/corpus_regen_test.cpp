@@ -23,14 +23,8 @@ void write_text(const fs::path& p, const std::string& text) { std::ofstream(p, s
 
 class Regen : public testing::Test {
 protected:
-    void SetUp() override {
-        dir_ = fs::temp_directory_path() /
-               ("rayverify_regen_test_" + std::string(testing::UnitTest::GetInstance()->current_test_info()->name()));
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
-    }
-    void TearDown() override { fs::remove_all(dir_); }
-    fs::path dir_;
+    scratch_directory scratch_{"rayverify_regen_test"};
+    const fs::path dir_ = scratch_.path();
 };
 
 TEST_F(Regen, ShippedCorpusMatchesItsManifest) {

@@ -13,33 +13,24 @@
 #include <sstream>
 #include <string>
 
+#include "support/process.h"
+
 namespace {
 
 namespace fs = std::filesystem;
 
-std::string read_bytes(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
+using rayverify::test_support::read_text;
+using rayverify::test_support::scratch_directory;
 
 class Determinism : public testing::Test {
 protected:
-    void SetUp() override {
-        dir_ = fs::temp_directory_path() /
-               fmt::format("rayverify_determinism_{}_{}", getpid(), std::random_device{}());
-        fs::create_directories(dir_);
-    }
-    void TearDown() override { fs::remove_all(dir_); }
-
     // Runs `rayverify <arguments>` in dir_ (same paths every time, so the
     // recorded command line is the same); returns the exit code, stdout in `out`.
     int run(const std::string& arguments, std::string& out) {
         const std::string command =
             fmt::format("cd '{}' && '{}' {} >stdout.txt 2>/dev/null", dir_.string(), RAYVERIFY_CLI, arguments);
         const int status = std::system(command.c_str());
-        out = read_bytes(dir_ / "stdout.txt");
+        out = read_text(dir_ / "stdout.txt");
         fs::remove(dir_ / "stdout.txt");
         return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
     }
@@ -52,7 +43,8 @@ protected:
         fs::rename(dir_ / "rep", dir_ / name / "rep");
     }
 
-    fs::path dir_;
+    scratch_directory scratch_{"rayverify_determinism"};
+    const fs::path dir_ = scratch_.path();
 };
 
 // The whole shipped corpus, every variant: stdout and every per-case line,
@@ -62,10 +54,10 @@ TEST_F(Determinism, AuditOfTheShippedCorpusIsByteIdenticalAcrossRuns) {
     std::string first_out, second_out;
     const int first = run(arguments + " --threads 1", first_out);
     ASSERT_NE(first, 2) << first_out;
-    const std::string first_cases = read_bytes(dir_ / "cases.jsonl");
+    const std::string first_cases = read_text(dir_ / "cases.jsonl");
     fs::remove(dir_ / "cases.jsonl");
     const int second = run(arguments + " --threads 2", second_out);
-    const std::string second_cases = read_bytes(dir_ / "cases.jsonl");
+    const std::string second_cases = read_text(dir_ / "cases.jsonl");
 
     EXPECT_EQ(first, second);
     EXPECT_EQ(first_out, second_out) << "stdout differs between runs";
@@ -79,7 +71,7 @@ TEST_F(Determinism, GeneratedCorpusAndItsReportAreByteIdentical) {
     std::string out;
     for (const char* name : {"a.txt", "b.txt"})
         ASSERT_EQ(run(fmt::format("corpus generate --family near_tangent --count 300 --seed 11 -o {}", name), out), 0);
-    EXPECT_EQ(read_bytes(dir_ / "a.txt"), read_bytes(dir_ / "b.txt"));
+    EXPECT_EQ(read_text(dir_ / "a.txt"), read_text(dir_ / "b.txt"));
 
     std::string first_out, second_out;
     run("audit --corpus a.txt --report rep --per-case cases.jsonl --threads 2", first_out);
@@ -91,7 +83,7 @@ TEST_F(Determinism, GeneratedCorpusAndItsReportAreByteIdentical) {
     for (const auto& entry : fs::recursive_directory_iterator(dir_ / "first")) {
         if (!entry.is_regular_file()) continue;
         const fs::path file = fs::relative(entry.path(), dir_ / "first");
-        const std::string a = read_bytes(entry.path()), b = read_bytes(dir_ / "second" / file);
+        const std::string a = read_text(entry.path()), b = read_text(dir_ / "second" / file);
         EXPECT_FALSE(a.empty()) << file;
         EXPECT_TRUE(a == b) << file << " differs between runs (" << a.size() << " vs " << b.size() << " bytes)";
         ++compared;
@@ -115,7 +107,7 @@ TEST_F(Determinism, AuditIsByteIdenticalWhateverTheThreadCount) {
     for (int threads = 2; threads <= 3; ++threads) {
         EXPECT_EQ(outputs[0], outputs[threads - 1]) << "stdout differs with " << threads << " threads";
         for (const char* file : {"cases.jsonl", "rep/report.json", "rep/report.md", "rep/summary.txt"}) {
-            const std::string a = read_bytes(dir_ / "t1" / file), b = read_bytes(dir_ / fmt::format("t{}", threads) / file);
+            const std::string a = read_text(dir_ / "t1" / file), b = read_text(dir_ / fmt::format("t{}", threads) / file);
             EXPECT_FALSE(a.empty()) << file;
             EXPECT_TRUE(a == b) << file << " differs between 1 and " << threads << " threads";
         }

@@ -253,9 +253,8 @@ TEST(ExchangeResults, RecordedAnswersAreJudgedExactlyAsTheVariantThatComputedThe
 // carry is an input error naming the answer, its line and the columns.
 TEST(ExchangeResults, OutputsBesideTAreJudgedAndTheContractsOutputsRequired) {
     using test_support::run_cli;
-    const fs::path dir = fs::temp_directory_path() / "rayverify_exchange_outputs";
-    fs::remove_all(dir);
-    fs::create_directories(dir);
+    const test_support::scratch_directory dir_scratch("rayverify_exchange_outputs");
+    const fs::path& dir = dir_scratch.path();
     // Two cases with roots t* = 4 and 6: o = (0, 0, -5), d = (0, 0, 1), a unit sphere at (x, 0, 0).
     std::ofstream(dir / "two.txt") << "sound hand 0 0 -5 0 0 1 0 0 0 1 - -\n"
                                       "loose hand 3 0 -5 0 0 1 3 0 0 1 - -\n";
@@ -294,7 +293,6 @@ TEST(ExchangeResults, OutputsBesideTAreJudgedAndTheContractsOutputsRequired) {
     EXPECT_NE(lacking.output.find("answers.csv:4: field 'nx ny nz'"), std::string::npos) << lacking.output;
     EXPECT_NE(lacking.output.find("answer 'loose' is a hit without"), std::string::npos) << lacking.output;
     EXPECT_FALSE(fs::exists(dir / "cases.jsonl")) << "a refused results file leaves no output";
-    fs::remove_all(dir);
 }
 
 // An absent t0 or t1 has one meaning or is refused, never judged: count 1
@@ -346,9 +344,8 @@ TEST(ExchangeResults, AbsentValuesHaveOneMeaningOrAreInputErrors) {
 // without its t0 is exit 2 with no report.
 TEST(ExchangeResults, ATangentsRootWrittenOnceAgrees) {
     using test_support::run_cli;
-    const fs::path dir = fs::temp_directory_path() / "rayverify_exchange_absent";
-    fs::remove_all(dir);
-    fs::create_directories(dir);
+    const test_support::scratch_directory dir_scratch("rayverify_exchange_absent");
+    const fs::path& dir = dir_scratch.path();
     // A tangent at t* = 5 and two roots 4, 6.
     std::ofstream(dir / "two.txt") << "tan hand 1 0 -5 0 0 1 0 0 0 1 - -\n"
                                       "two hand 0 0 -5 0 0 1 0 0 0 1 - -\n";
@@ -372,14 +369,12 @@ TEST(ExchangeResults, ATangentsRootWrittenOnceAgrees) {
     EXPECT_NE(missing.output.find("answers.csv:4: field 't1': missing: answer 'two' has count 2"), std::string::npos)
         << missing.output;
     EXPECT_FALSE(fs::exists(dir / "report" / "report.json")) << "a refused results file leaves no report";
-    fs::remove_all(dir);
 }
 
 TEST(ExchangeResults, ResultsThatDoNotMatchTheExportAreRefusedWithNoReport) {
     using test_support::run_cli;
-    const fs::path dir = fs::temp_directory_path() / "rayverify_exchange_cli";
-    fs::remove_all(dir);
-    fs::create_directories(dir);
+    const test_support::scratch_directory dir_scratch("rayverify_exchange_cli");
+    const fs::path& dir = dir_scratch.path();
     const std::string cases = (dir / "cases.csv").string();
     ASSERT_EQ(run_cli("corpus export --generate uniform:5 -o " + cases).exit_code, 0);
     const std::string text = test_support::read_text(cases);
@@ -403,7 +398,6 @@ TEST(ExchangeResults, ResultsThatDoNotMatchTheExportAreRefusedWithNoReport) {
     const auto ok = audit(answers + "uniform-1-000004,0,,\n", "--generate uniform:5");
     EXPECT_NE(ok.exit_code, 2) << ok.output;
     EXPECT_TRUE(fs::exists(dir / "report" / "report.json")) << ok.output;
-    fs::remove_all(dir);
 }
 
 }  // namespace

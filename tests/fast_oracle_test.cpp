@@ -222,35 +222,15 @@ TEST(FastOracleCorpus, IdenticalToReferenceOnEveryShippedFile) {
 // ---------------------------------------------------------------------------
 // Random regimes.
 
+using test_support::aimed_uniform_case;
 using test_support::integer_case;
+using test_support::near_tangent_case;
+using test_support::on_surface_case;
+using test_support::scaled;
 using test_support::tie_case;
 using test_support::uniform;
 using test_support::uniform_point;
 using test_support::unit_vector;
-
-// Uniform: o, c in [−10, 10]³, r in [0.1, 5], d of any length aimed near the sphere.
-ray_sphere<double> uniform_case(std::mt19937_64& rng) {
-    const vec3<double> o = uniform_point(rng, 10), c = uniform_point(rng, 10);
-    const double r = uniform(rng, 0.1, 5);
-    const vec3<double> target = c + (2 * r * uniform(rng, 0, 1)) * unit_vector(rng);
-    const double length = std::ldexp(uniform(rng, 0.5, 1), static_cast<int>(rng() % 9) - 4);
-    return {o, length * (target - o), c, r};
-}
-
-// Near-tangent: a ray through a point at distance r(1 + ε) from c along a
-// direction perpendicular to the offset, ε = ±2^−k, k in [8, 60].
-ray_sphere<double> near_tangent_case(std::mt19937_64& rng) {
-    const vec3<double> c = uniform_point(rng, 10);
-    const double r = uniform(rng, 0.1, 5);
-    const vec3<double> n = unit_vector(rng);
-    vec3<double> d = unit_vector(rng);
-    const double along = d.x * n.x + d.y * n.y + d.z * n.z;
-    d = d - along * n;  // ⊥ n
-    const double eps = std::ldexp((rng() & 1) ? 1.0 : -1.0, -static_cast<int>(8 + rng() % 53));
-    const vec3<double> touch = c + (r * (1 + eps)) * n;
-    const vec3<double> o = touch - uniform(rng, 1, 20) * d;
-    return {o, d, c, r};
-}
 
 // Far sphere: c at distance 10^k (k in [2, 20]) from o, r = distance · 10^−j.
 ray_sphere<double> far_case(std::mt19937_64& rng) {
@@ -266,32 +246,15 @@ ray_sphere<double> far_case(std::mt19937_64& rng) {
 // s, s′ spread across and beyond the filter's range [2^−80, 2^80] (and into
 // float's overflow range).
 ray_sphere<double> exponent_case(std::mt19937_64& rng) {
-    ray_sphere<double> g = uniform_case(rng);
+    ray_sphere<double> g = aimed_uniform_case(rng);
     const int s = static_cast<int>(rng() % 2) == 0 ? static_cast<int>(rng() % 201) - 100
                                                    : static_cast<int>(rng() % 1901) - 950;
     const int sd = static_cast<int>(rng() % 181) - 90;
-    const auto scale = [](vec3<double> v, int k) {
-        return vec3<double>{std::ldexp(v.x, k), std::ldexp(v.y, k), std::ldexp(v.z, k)};
-    };
-    g.origin = scale(g.origin, s);
-    g.centre = scale(g.centre, s);
+    g.origin = scaled(g.origin, s);
+    g.centre = scaled(g.centre, s);
     g.radius = std::ldexp(g.radius, s);
-    g.direction = scale(g.direction, sd);
+    g.direction = scaled(g.direction, sd);
     return g;
-}
-
-// Origin on the surface exactly: o = c + r·(3/5, 4/5, 0) permuted and
-// signed, with r a multiple of 5 so every coordinate is exact (C = 0: a root is 0).
-ray_sphere<double> surface_case(std::mt19937_64& rng) {
-    const double unit = std::ldexp(1.0, static_cast<int>(rng() % 41) - 20);
-    const double r = 5 * unit * static_cast<double>(1 + rng() % 1000);
-    const vec3<double> c{std::round(uniform(rng, -1e3, 1e3)) * unit, std::round(uniform(rng, -1e3, 1e3)) * unit,
-                         std::round(uniform(rng, -1e3, 1e3)) * unit};
-    double offset[3] = {(rng() & 1 ? 3 : -3) * r / 5, (rng() & 1 ? 4 : -4) * r / 5, 0};
-    std::shuffle(offset, offset + 3, rng);
-    const vec3<double> o{c.x + offset[0], c.y + offset[1], c.z + offset[2]};
-    const vec3<double> d = uniform_point(rng, 2);
-    return {o, d, c, r};
 }
 
 struct regime {
@@ -300,11 +263,11 @@ struct regime {
 };
 
 const regime regimes[] = {
-    {"uniform", uniform_case},
+    {"uniform", aimed_uniform_case},
     {"near_tangent", near_tangent_case},
     {"far", far_case},
     {"exponents", exponent_case},
-    {"surface", surface_case},
+    {"surface", on_surface_case},
     {"integers", integer_case},
     {"tie_binary64", [](std::mt19937_64& rng) { return tie_case(rng, 53); }},
     {"tie_binary32", [](std::mt19937_64& rng) { return tie_case(rng, 24); }},
@@ -368,7 +331,7 @@ TEST(FastOracleStage, FilterSettlesUniformCases) {
     std::mt19937_64 rng(11);
     int filter = 0;
     const int n = 2000;
-    for (int i = 0; i < n; ++i) filter += solve_exact(uniform_case(rng), precision::binary64).stage == oracle_stage::filter;
+    for (int i = 0; i < n; ++i) filter += solve_exact(aimed_uniform_case(rng), precision::binary64).stage == oracle_stage::filter;
     EXPECT_GE(filter, n * 99 / 100) << filter << " of " << n;
 }
 
@@ -382,7 +345,7 @@ TEST(FastOracleStage, RefinedEnclosuresSettleDoubleUlpErrorsOfUniformCases) {
     std::size_t queries = 0;
     std::uint64_t exact_queries = 0, refined_queries = 0;
     for (int i = 0; i < 1000; ++i) {
-        const ray_sphere<double> g = uniform_case(rng);
+        const ray_sphere<double> g = aimed_uniform_case(rng);
         const exact_solution fast = solve_exact(g, precision::binary64);
         if (fast.cls != line_class::two_hit || !fast.nearest_in_front) continue;
         const exact_solution reference = solve_exact_reference(g, precision::binary64);

@@ -251,9 +251,8 @@ TEST(Gate, ATargetThatScoredNoCaseFailsTheAuditAndTheGate) {
 }
 
 TEST(Gate, CliUpdateThenGateThenRegressionWithJunitAndDiff) {
-    const fs::path dir = fs::temp_directory_path() / "rayverify_gate_cli";
-    fs::remove_all(dir);
-    fs::create_directories(dir);
+    const test_support::scratch_directory dir_scratch("rayverify_gate_cli");
+    const fs::path& dir = dir_scratch.path();
     const std::string corpus = std::string(" --corpus ") + RAYVERIFY_CORPUS_DIR + "/far_sphere.txt --corpus " +
                                RAYVERIFY_CORPUS_DIR + "/uniform.txt";
     const std::string baseline = (dir / "baseline.txt").string();
@@ -317,7 +316,6 @@ TEST(Gate, CliUpdateThenGateThenRegressionWithJunitAndDiff) {
     r = run_cli("diff " + a_json.string() + " " + baseline);
     EXPECT_EQ(r.exit_code, 2) << r.output;
     EXPECT_NE(r.output.find(baseline + ":1: not valid JSON: syntax error"), std::string::npos) << r.output;
-    fs::remove_all(dir);
 }
 
 // What .ci/run does: our own variants on the shipped corpus against the committed baseline.
@@ -331,9 +329,8 @@ TEST(Gate, OwnVariantsPassTheCommittedBaseline) {
 // as a plugin with docs/gate.md's command, audited, baselined; then the naive
 // discriminant goes in and the gate fails.
 TEST(Gate, EndToEndUserPluginBaselineThenNaiveDiscriminantFails) {
-    const fs::path user = fs::temp_directory_path() / "rayverify_gate_user";
-    fs::remove_all(user);
-    fs::create_directories(user);
+    const test_support::scratch_directory user_scratch("rayverify_gate_user");
+    const fs::path& user = user_scratch.path();
     const fs::path source = user / "mine.c";
     const std::string original = read_text(std::string(RAYVERIFY_SOURCE_DIR) + "/examples/plugin_rtg/rtg_sphere.c");
     std::ofstream(source) << original;
@@ -365,7 +362,6 @@ TEST(Gate, EndToEndUserPluginBaselineThenNaiveDiscriminantFails) {
     EXPECT_NE(r.output.find("WORSE  rtg_sphere/double far_sphere: false_miss 0 → "), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("gate: FAILED"), std::string::npos) << r.output;
     EXPECT_NE(read_text(user / "junit.xml").find("<failure"), std::string::npos);
-    fs::remove_all(user);
 }
 
 }  // namespace

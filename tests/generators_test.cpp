@@ -15,6 +15,7 @@
 #include <set>
 #include <string>
 
+#include "core/hash.h"
 #include "core/input_error.h"
 #include "corpus/mersenne_twister.h"
 #include "oracle/oracle.h"
@@ -37,17 +38,13 @@ bool same_case(const corpus_case& a, const corpus_case& b) {
 
 // FNV-1a over the ids and input bits of a batch: a fingerprint of the output.
 std::uint64_t fingerprint(const std::vector<corpus_case>& cases) {
-    std::uint64_t h = 0xcbf29ce484222325ULL;
-    auto mix = [&h](std::uint64_t byte) {
-        h ^= byte;
-        h *= 0x100000001b3ULL;
-    };
+    fnv1a_digest digest;
     for (const corpus_case& c : cases) {
-        for (const char ch : c.id) mix(static_cast<unsigned char>(ch));
+        digest.add(c.id);
         for (const std::uint64_t word : bits_of(c.geometry))
-            for (int i = 0; i < 64; i += 8) mix((word >> i) & 0xff);
+            for (int i = 0; i < 64; i += 8) digest.add(std::string(1, static_cast<char>((word >> i) & 0xff)));
     }
-    return h;
+    return digest.value();
 }
 
 // Each input survives rounding to float. Component by component through a

@@ -32,35 +32,15 @@
 #include "corpus/case_stream.h"
 #include "corpus/corpus_io.h"
 #include "corpus/exchange.h"
+#include "support/process.h"
 #include "support/results_program.h"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-std::string read_text(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
-// A fresh directory under the system temporary directory, removed on destruction.
-struct scratch_dir {
-    fs::path path;
-    explicit scratch_dir(const std::string& tag) {
-        path = fs::temp_directory_path() /
-               fmt::format("rayverify_hostile_{}_{}_{}", tag, getpid(), std::random_device{}());
-        fs::create_directories(path);
-    }
-    ~scratch_dir() {
-        std::error_code ignored;
-        fs::permissions(path, fs::perms::owner_all, fs::perm_options::add, ignored);
-        for (const auto& entry : fs::recursive_directory_iterator(path, ignored))
-            fs::permissions(entry.path(), fs::perms::owner_all, fs::perm_options::add, ignored);
-        fs::remove_all(path, ignored);
-    }
-};
+using rayverify::test_support::read_text;
+using rayverify::test_support::scratch_directory;
 
 struct run_result {
     int exit_code = -1;
@@ -85,18 +65,18 @@ struct run_result {
 // command does (relative), with stdout and stderr captured apart.
 run_result run_in(const fs::path& cwd, const std::string& arguments, bool unprivileged = false,
                   const std::string& environment = "") {
-    scratch_dir logs("logs");
+    scratch_directory logs("rayverify_hostile_logs");
     // Root reads a mode-000 file anyway; run as nobody to see what a user sees.
     const std::string prefix =
         unprivileged && geteuid() == 0 ? "setpriv --reuid=65534 --regid=65534 --clear-groups " : "";
     const std::string command =
         fmt::format("cd '{}' && {} {}'{}' {} >'{}' 2>'{}'", cwd.string(), environment, prefix, RAYVERIFY_CLI,
-                    arguments, (logs.path / "out").string(), (logs.path / "err").string());
+                    arguments, (logs.path() / "out").string(), (logs.path() / "err").string());
     const int status = std::system(command.c_str());
     run_result r;
     r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = read_text(logs.path / "out");
-    r.err = read_text(logs.path / "err");
+    r.out = read_text(logs.path() / "out");
+    r.err = read_text(logs.path() / "err");
     return r;
 }
 
@@ -925,15 +905,15 @@ struct row_outcome {
 };
 
 row_outcome run_row(const bad_input& row, const std::string& extra_arguments = "") {
-    scratch_dir dir("row");
-    for (const auto& [name, contents] : row.files) std::ofstream(dir.path / name, std::ios::binary) << contents;
-    if (row.prepare) row.prepare(dir.path);
+    scratch_directory dir("rayverify_hostile_row");
+    for (const auto& [name, contents] : row.files) std::ofstream(dir.path() / name, std::ios::binary) << contents;
+    if (row.prepare) row.prepare(dir.path());
     row_outcome o;
-    o.before = listing(dir.path);
+    o.before = listing(dir.path());
     const std::string arguments = row.command.substr(std::string("rayverify ").size()) + extra_arguments;
-    o.result = run_in(dir.path, arguments, row.unprivileged, row.environment);
-    o.after = listing(dir.path);
-    for (const auto& [name, contents] : row.files) o.contents_after.push_back(read_text(dir.path / name));
+    o.result = run_in(dir.path(), arguments, row.unprivileged, row.environment);
+    o.after = listing(dir.path());
+    for (const auto& [name, contents] : row.files) o.contents_after.push_back(read_text(dir.path() / name));
     return o;
 }
 
@@ -1002,14 +982,14 @@ TEST(BadInput, AuditWithOutputsWritesNothingOnAnyBadCorpus) {
 // case as a corpus line that explain reads back as the same case (it used to
 // print a line of 13 fields).
 TEST(BadInput, CsvWithTminOnlyExplainsAsALineThatReadsBack) {
-    scratch_dir dir("tmin");
-    std::ofstream(dir.path / "half.csv") << "id,ox,oy,oz,dx,dy,dz,cx,cy,cz,r,tmin\nhalf,0,0,-5,0,0,1,0,0,0,1,5\n";
+    scratch_directory dir("rayverify_hostile_tmin");
+    std::ofstream(dir.path() / "half.csv") << "id,ox,oy,oz,dx,dy,dz,cx,cy,cz,r,tmin\nhalf,0,0,-5,0,0,1,0,0,0,1,5\n";
     // One variant that agrees here (exit 0): the line is what matters, not the verdicts.
-    const run_result first = run_in(dir.path, "explain --case half --corpus half.csv --precision double --variant naive");
+    const run_result first = run_in(dir.path(), "explain --case half --corpus half.csv --precision double --variant naive");
     ASSERT_EQ(first.exit_code, 0) << first.err;
     const std::string line = first.answer("corpus line: ").substr(std::string("corpus line: ").size());
     EXPECT_EQ(line, "half - 0x0p+0 0x0p+0 -0x1.4p+2 0x0p+0 0x0p+0 0x1p+0 0x0p+0 0x0p+0 0x0p+0 0x1p+0 0x1.4p+2 -");
-    const run_result again = run_in(dir.path, "explain \"" + line + "\" --precision double --variant naive");
+    const run_result again = run_in(dir.path(), "explain \"" + line + "\" --precision double --variant naive");
     ASSERT_EQ(again.exit_code, 0) << again.err;
     EXPECT_EQ(again.out, first.out);
 }
@@ -1061,16 +1041,16 @@ TEST(BadInput, DocumentedTableIsWhatTheToolAnswers) {
 // A larger corpus of ordinary lines is read whole and quickly; the limit is
 // far above what the shipped families produce.
 TEST(LargeInput, ManyThousandLinesReadInBoundedTime) {
-    scratch_dir dir("large");
+    scratch_directory dir("rayverify_hostile_large");
     std::string text;
     for (int i = 0; i < 40000; ++i)
         text += fmt::format("c{} far 0x1.9caf561af412ep+28 -0x1.e44e4bde22242p+27 -0x1.eb3bc9645ddcep+28 "
                             "-0x1.341ee24486583p-1 0x1.69983663db4bep-2 0x1.6ec458382440fp-1 0x1.2841e1100c488p-1 "
                             "-0x1.789da90131056p-1 -0x1.a8782c9b166fp-3 0x1.aee8db0b40b16p+0\n",
                             i);
-    std::ofstream(dir.path / "large.txt") << text;
+    std::ofstream(dir.path() / "large.txt") << text;
     const auto start = std::chrono::steady_clock::now();
-    const auto cases = rayverify::read_corpus_file(dir.path / "large.txt");
+    const auto cases = rayverify::read_corpus_file(dir.path() / "large.txt");
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     EXPECT_EQ(cases.size(), 40000u);
     EXPECT_LT(seconds, 10.0) << text.size() << " bytes";
@@ -1085,23 +1065,23 @@ std::size_t peak_rss() {
 
 // A 2 GB file: refused by its size before a byte is read.
 TEST(LongSweepLargeInput, TwoGigabyteFileIsRefusedAtOnce) {
-    scratch_dir dir("2g");
-    std::ofstream(dir.path / "2g.txt") << good;
-    fs::resize_file(dir.path / "2g.txt", std::uintmax_t{2} << 30);  // sparse: no disk used
+    scratch_directory dir("rayverify_hostile_2g");
+    std::ofstream(dir.path() / "2g.txt") << good;
+    fs::resize_file(dir.path() / "2g.txt", std::uintmax_t{2} << 30);  // sparse: no disk used
     const auto start = std::chrono::steady_clock::now();
-    const run_result r = run_in(dir.path, "audit --corpus 2g.txt --report rep --per-case cases.jsonl");
+    const run_result r = run_in(dir.path(), "audit --corpus 2g.txt --report rep --per-case cases.jsonl");
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     EXPECT_EQ(r.exit_code, 2);
     EXPECT_EQ(r.answer(""), "rayverify: error: 2g.txt: is 2147483648 bytes, over the 64 MiB limit for one "
                             "corpus file; split it into several files");
     EXPECT_LT(seconds, 5.0);
-    EXPECT_EQ(listing(dir.path), std::set<std::string>{"2g.txt"});
+    EXPECT_EQ(listing(dir.path()), std::set<std::string>{"2g.txt"});
 }
 
 // The worst case the limit lets through: a file just under 64 MiB of the
 // shortest possible lines (~2.4 million cases). Bounded time and memory.
 TEST(LongSweepLargeInput, LargestAcceptedFileOfShortLines) {
-    scratch_dir dir("64m");
+    scratch_directory dir("rayverify_hostile_64m");
     std::string text;
     text.reserve(rayverify::max_corpus_file_bytes);
     for (std::size_t i = 0;; ++i) {
@@ -1109,11 +1089,11 @@ TEST(LongSweepLargeInput, LargestAcceptedFileOfShortLines) {
         if (text.size() + line.size() > rayverify::max_corpus_file_bytes) break;
         text += line;
     }
-    std::ofstream(dir.path / "short.txt") << text;
+    std::ofstream(dir.path() / "short.txt") << text;
     const std::size_t text_bytes = text.size();
     std::string().swap(text);
     const auto start = std::chrono::steady_clock::now();
-    const auto cases = rayverify::read_corpus_file(dir.path / "short.txt");
+    const auto cases = rayverify::read_corpus_file(dir.path() / "short.txt");
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::printf("read %zu bytes, %zu cases in %.1f s, peak RSS %.0f MB\n", text_bytes, cases.size(), seconds,
                 static_cast<double>(peak_rss()) / 1e6);

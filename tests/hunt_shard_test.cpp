@@ -31,11 +31,6 @@ TEST(HuntShards, SearchSeedsAreDistinctPerShardAndTheSeedItselfUnsharded) {
 
 class HuntMerge : public testing::Test {
 protected:
-    void SetUp() override {
-        dir_ = fs::temp_directory_path() / fmt::format("rayverify_hunt_shards_{}_{}", getpid(), std::random_device{}());
-        fs::create_directories(dir_);
-    }
-    void TearDown() override { fs::remove_all(dir_); }
     command_result in_dir(const std::string& command) {
         return run_shell(fmt::format("cd '{}' && {}", dir_.string(), command));
     }
@@ -46,7 +41,8 @@ protected:
                                RAYVERIFY_CLI, k, n, extra, k));
         ASSERT_NE(r.exit_code, 2) << r.output;
     }
-    fs::path dir_;
+    scratch_directory scratch_{"rayverify_hunt_shards"};
+    const fs::path dir_ = scratch_.path();
 };
 
 TEST_F(HuntMerge, ShardsStartFromDisjointCasesAndTheMergeKeepsTheWorstWithProvenance) {

@@ -66,9 +66,8 @@ TEST(MarkdownReport, NoDisagreementHeadlineAndSummaryIsTheTopOfTheReport) {
 }
 
 TEST(MarkdownReport, SummaryMdFromTheCommandMatchesReportAndIsAllOrNothing) {
-    const fs::path dir = fs::temp_directory_path() / "rayverify_markdown_report_test";
-    fs::remove_all(dir);
-    fs::create_directories(dir);
+    const test_support::scratch_directory dir_scratch("rayverify_markdown_report_test");
+    const fs::path& dir = dir_scratch.path();
     const std::string corpus = std::string(RAYVERIFY_CORPUS_DIR) + "/far_sphere.txt";
     const auto run = run_cli("audit --corpus " + corpus + " --variant hearn_baker_any_hit --plots --report " +
                              (dir / "rep").string() + " --summary-md " + (dir / "step.md").string());
@@ -90,7 +89,6 @@ TEST(MarkdownReport, SummaryMdFromTheCommandMatchesReportAndIsAllOrNothing) {
                              (dir / "bad.md").string());
     EXPECT_EQ(bad.exit_code, 2);
     EXPECT_FALSE(fs::exists(dir / "bad.md"));
-    fs::remove_all(dir);
 }
 
 }  // namespace

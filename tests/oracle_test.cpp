@@ -22,6 +22,7 @@
 #include "core/vec3.h"
 #include "oracle/mpfr_reference.h"
 #include "oracle/oracle.h"
+#include "support/random_geometry.h"
 
 namespace rayverify {
 
@@ -33,6 +34,8 @@ void PrintTo(const vec3<double>& v, std::ostream* out) {
 namespace {
 
 using enum root_index;
+using test_support::scaled;
+using test_support::uniform;
 
 constexpr double inf = std::numeric_limits<double>::infinity();
 constexpr double nan = std::numeric_limits<double>::quiet_NaN();
@@ -75,10 +78,6 @@ double next_down(precision p, double x) {
     if (p == precision::binary32)
         return std::nextafter(static_cast<float>(x), -std::numeric_limits<float>::infinity());
     return std::nextafter(x, -inf);
-}
-
-vec3<double> scaled(vec3<double> v, int k) {
-    return {std::ldexp(v.x, k), std::ldexp(v.y, k), std::ldexp(v.z, k)};
 }
 
 // Signed permutation of the axes: coordinate i of the result is sign[i] times
@@ -126,9 +125,6 @@ ray_sphere<double> random_rotations_345(ray_sphere<double> g, std::mt19937_64& r
 
 long uniform_int(std::mt19937_64& rng, long lo, long hi) {
     return std::uniform_int_distribution<long>(lo, hi)(rng);
-}
-double uniform(std::mt19937_64& rng, double lo, double hi) {
-    return std::uniform_real_distribution<double>(lo, hi)(rng);
 }
 
 // An integer Pythagorean quadruple x² + y² + z² = n² (Euler's parametrisation).

@@ -28,6 +28,7 @@ namespace fs = std::filesystem;
 using rayverify::test_support::read_text;
 using rayverify::test_support::run_cli;
 using rayverify::test_support::run_shell;
+using rayverify::test_support::scratch_directory;
 
 const std::string corpus = RAYVERIFY_CORPUS_DIR;
 const std::string examples = std::string(RAYVERIFY_SOURCE_DIR) + "/examples/other_languages";
@@ -38,16 +39,10 @@ const std::string naive_contract = "query=line_roots,reports_tangent=yes";
 
 class OtherLanguages : public ::testing::Test {
 protected:
-    void SetUp() override {
-        dir_ = fs::temp_directory_path() /
-               ("rayverify_other_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
-    }
-    void TearDown() override { fs::remove_all(dir_); }
     std::string at(const std::string& name) const { return (dir_ / name).string(); }
 
-    fs::path dir_;
+    scratch_directory scratch_{"rayverify_other"};
+    const fs::path dir_ = scratch_.path();
 };
 
 // The summary table's row of `name` in `precision`, without the name: the figures.

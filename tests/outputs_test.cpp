@@ -37,15 +37,10 @@ using rayverify::input_error;
 using rayverify::run_outputs;
 using rayverify::test_support::read_text;
 using rayverify::test_support::run_shell;
+using rayverify::test_support::scratch_directory;
 
 class Outputs : public ::testing::Test {
 protected:
-    void SetUp() override {
-        dir_ = fs::temp_directory_path() / fmt::format("rayverify_outputs_test_{}_{}", getpid(), std::random_device{}());
-        fs::create_directories(dir_);
-    }
-    void TearDown() override { fs::remove_all(dir_); }
-
     // Every name under the directory, hidden ones included, with "/" after a directory's.
     std::set<std::string> listing(const fs::path& dir) const {
         std::set<std::string> names;
@@ -65,7 +60,8 @@ protected:
         return run_shell(fmt::format("cd '{}' && {} '{}' {}", dir_.string(), shell_prefix, RAYVERIFY_CLI, arguments));
     }
 
-    fs::path dir_;
+    scratch_directory scratch_{"rayverify_outputs_test"};
+    const fs::path dir_ = scratch_.path();
 };
 
 std::string message_of(const std::function<void()>& f) {

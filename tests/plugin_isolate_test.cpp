@@ -33,14 +33,6 @@ const std::string good = RAYVERIFY_EXAMPLE_PLUGIN;
 // A scratch directory of the test's own, removed at the end.
 class PluginIsolate : public ::testing::Test {
 protected:
-    void SetUp() override {
-        dir_ = fs::temp_directory_path() /
-               ("rayverify_isolate_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
-    }
-    void TearDown() override { fs::remove_all(dir_); }
-
     // Two good cases, then one with radius r on line 3.
     fs::path corpus_with_radius(const std::string& r) const {
         const fs::path file = dir_ / "cases.txt";
@@ -50,7 +42,8 @@ protected:
         return file;
     }
 
-    fs::path dir_;
+    scratch_directory scratch_{"rayverify_isolate"};
+    const fs::path dir_ = scratch_.path();
 };
 
 TEST_F(PluginIsolate, CrashIsAnErrorNamingTheCaseWithItsCorpusLineAndLeavesNoOutput) {

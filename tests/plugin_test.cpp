@@ -123,8 +123,8 @@ TEST(Plugin, GarbageAnswersAreVerdictsCaseByCase) {
 }
 
 TEST(Plugin, UnusableLibrariesAreInputErrorsNamingTheFile) {
-    const fs::path dir = fs::temp_directory_path() / "rayverify_plugin_test";
-    fs::create_directories(dir);
+    const test_support::scratch_directory dir_scratch("rayverify_plugin_test");
+    const fs::path& dir = dir_scratch.path();
     const fs::path not_a_library = dir / "libnot.so";
     std::ofstream(not_a_library) << "not an ELF file\n";
 
@@ -140,11 +140,11 @@ TEST(Plugin, UnusableLibrariesAreInputErrorsNamingTheFile) {
               std::string::npos);
     EXPECT_NE(load_error(RAYVERIFY_FIXTURE_PLUGIN_BAD_NAME).find("name 'two words' must be one token"),
               std::string::npos);
-    fs::remove_all(dir);
 }
 
 TEST(Plugin, CliAuditAndExplainAcceptPlugins) {
-    const fs::path corpus = fs::temp_directory_path() / "rayverify_plugin_cli.txt";
+    const test_support::scratch_directory dir("rayverify_plugin_cli");
+    const fs::path corpus = dir / "cases.txt";
     std::ofstream(corpus) << "count3 - 0 0 -5 0 0 1 0 0 0 1\nright - 3 0 -5 0 0 1 3 0 0 1\n";
     const command_result audit = run_cli("audit --plugin " + std::string(RAYVERIFY_FIXTURE_PLUGIN_GARBAGE) +
                                      " --corpus " + corpus.string());

@@ -159,8 +159,8 @@ TEST(Recommend, ImpossibleBudgetFindsNoWinner) {
 }
 
 TEST(RecommendCli, PrintsTheDecisionAndExitsOneWhenNothingFits) {
-    const std::filesystem::path dir = std::filesystem::temp_directory_path() / "rayverify_recommend_test";
-    std::filesystem::create_directories(dir);
+    const test_support::scratch_directory dir_scratch("rayverify_recommend_test");
+    const std::filesystem::path& dir = dir_scratch.path();
     const std::filesystem::path file = dir / "far.json";
     { std::ofstream(file) << far_spheres; }
     const auto ok = run_cli("recommend --scene " + file.string() + " --repetitions 2 --min-time 0.001");

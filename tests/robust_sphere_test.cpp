@@ -647,9 +647,8 @@ TEST(RobustSphereExpansions, SumsAndProductsReachTheirCapacityAndNoMore) {
 TEST(RobustSphereVendored, HeaderAloneWithFmaContractionGivesTheSameAnswers) {
     if (!__builtin_cpu_supports("fma")) GTEST_SKIP() << "this CPU has no FMA to run an -mfma build on";
     namespace fs = std::filesystem;
-    const fs::path dir = fs::temp_directory_path() / ("rayverify_vendored_" + std::to_string(::getpid()));
-    fs::remove_all(dir);
-    fs::create_directories(dir);
+    const test_support::scratch_directory dir_scratch("rayverify_vendored");
+    const fs::path& dir = dir_scratch.path();
     const fs::path source(RAYVERIFY_SOURCE_DIR);
     fs::copy_file(source / "src/intersectors/robust_sphere.h", dir / "robust_sphere.h");
     fs::copy_file(source / "tests/robust_vendored/answers.h", dir / "answers.h");
@@ -692,7 +691,6 @@ TEST(RobustSphereVendored, HeaderAloneWithFmaContractionGivesTheSameAnswers) {
         if (i % 2 == 0) std::getline(lines, c);
         EXPECT_EQ(g, w) << (i % 2 ? "double" : "float") << " case " << i / 2 << " (seed " << seed - 4 << "): " << c;
     }
-    fs::remove_all(dir);
 }
 
 }  // namespace

@@ -39,11 +39,6 @@ std::string replaced(std::string text, const std::string& from, const std::strin
 
 class ScalingOut : public testing::Test {
 protected:
-    void SetUp() override {
-        dir_ = fs::temp_directory_path() / fmt::format("rayverify_scaling_{}_{}", getpid(), std::random_device{}());
-        fs::create_directories(dir_);
-    }
-    void TearDown() override { fs::remove_all(dir_); }
     // A shell command in the temporary directory, finding `rayverify` on the PATH as the page does.
     command_result in_dir(const std::string& command) {
         const std::string path = fs::path(RAYVERIFY_CLI).parent_path().string();
@@ -56,7 +51,8 @@ protected:
             EXPECT_TRUE(x == y) << (a / file) << " and " << (b / file) << " differ";
         }
     }
-    fs::path dir_;
+    scratch_directory scratch_{"rayverify_scaling"};
+    const fs::path dir_ = scratch_.path();
 };
 
 TEST_F(ScalingOut, TheGnuParallelRecipeMergesIntoTheSingleRun) {

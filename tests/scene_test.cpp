@@ -57,13 +57,6 @@ std::string replaced(std::string text, const std::string& from, const std::strin
     return text;
 }
 
-fs::path temp_dir(const std::string& name) {
-    const fs::path dir = fs::temp_directory_path() / ("rayverify_scene_test_" + name);
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
-
 fs::path write_file(const fs::path& path, const std::string& text) {
     std::ofstream(path, std::ios::binary) << text;
     return path;
@@ -466,7 +459,8 @@ bool is_png_of_size(const fs::path& p, unsigned w, unsigned h) {
 }
 
 TEST(SceneCli, AuditSceneReportsOnlyWhatEachQueryNeeds) {
-    const fs::path dir = temp_dir("audit");
+    const test_support::scratch_directory dir_scratch("rayverify_scene_test_audit");
+    const fs::path& dir = dir_scratch.path();
     const fs::path file = write_file(dir / "small.json", small_scene);
     const auto r = run_cli("audit --scene " + file.string() + " --variant naive --variant hearn_baker --report " +
                            (dir / "out").string());
@@ -486,7 +480,8 @@ TEST(SceneCli, AuditSceneReportsOnlyWhatEachQueryNeeds) {
 }
 
 TEST(SceneCli, BadSceneExitsTwoNamingTheFieldAndWritesNothing) {
-    const fs::path dir = temp_dir("bad");
+    const test_support::scratch_directory dir_scratch("rayverify_scene_test_bad");
+    const fs::path& dir = dir_scratch.path();
     const fs::path file = write_file(dir / "bad.json", replaced(small_scene, "\"radius\": 1},\n    {\"name\": \"far\"",
                                                                "\"radius\": -2},\n    {\"name\": \"far\""));
     const auto audit = run_cli("audit --scene " + file.string() + " --report " + (dir / "report").string());
@@ -501,7 +496,8 @@ TEST(SceneCli, BadSceneExitsTwoNamingTheFieldAndWritesNothing) {
 }
 
 TEST(SceneCli, RenderWritesExactVariantAndDifferencePngsWithLegend) {
-    const fs::path dir = temp_dir("render");
+    const test_support::scratch_directory dir_scratch("rayverify_scene_test_render");
+    const fs::path& dir = dir_scratch.path();
     const fs::path file = write_file(dir / "small.json", small_scene);
     const auto r = run_cli("render --scene " + file.string() + " --variant naive -o " + (dir / "img").string());
     EXPECT_EQ(r.exit_code, 1) << r.output;

@@ -108,15 +108,11 @@ TEST(ErrorSummary, InfinityAndZeroAreExact) {
 
 class ShardMerge : public testing::Test {
 protected:
-    void SetUp() override {
-        dir_ = fs::temp_directory_path() / fmt::format("rayverify_shards_{}_{}", getpid(), std::random_device{}());
-        fs::create_directories(dir_);
-    }
-    void TearDown() override { fs::remove_all(dir_); }
     command_result in_dir(const std::string& command) {
         return run_shell(fmt::format("cd '{}' && {}", dir_.string(), command));
     }
-    fs::path dir_;
+    scratch_directory scratch_{"rayverify_shards"};
+    const fs::path dir_ = scratch_.path();
 };
 
 // Shards through xargs -P, merged, equal the single run byte for byte: every

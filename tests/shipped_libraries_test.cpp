@@ -29,17 +29,11 @@ const std::string js_engines = std::string(RAYVERIFY_SOURCE_DIR) + "/engines/js"
 
 class ShippedLibraries : public ::testing::Test {
 protected:
-    void SetUp() override {
-        dir_ = fs::temp_directory_path() /
-               ("rayverify_shipped_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
-    }
-    void TearDown() override { fs::remove_all(dir_); }
     std::string at(const std::string& name) const { return (dir_ / name).string(); }
     void write(const std::string& name, const std::string& text) const { std::ofstream(at(name)) << text; }
 
-    fs::path dir_;
+    scratch_directory scratch_{"rayverify_shipped"};
+    const fs::path dir_ = scratch_.path();
 };
 
 // The summary table's row of `name`, without the name, one space between figures.

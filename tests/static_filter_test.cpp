@@ -40,22 +40,15 @@ std::string describe(const ray_sphere<double>& g) {
 
 bool same_bits(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
 
+using test_support::aimed_uniform_case;
 using test_support::integer_case;
+using test_support::near_tangent_case;
+using test_support::on_surface_case;
+using test_support::scaled;
 using test_support::tie_case;
 using test_support::uniform;
 using test_support::uniform_point;
 using test_support::unit_vector;
-
-vec3<double> scaled(vec3<double> v, int k) { return {std::ldexp(v.x, k), std::ldexp(v.y, k), std::ldexp(v.z, k)}; }
-
-// o, c in [−10, 10]³, r in [0.1, 5], d of length 2^[−4, 4] aimed within 2r of c.
-ray_sphere<double> uniform_case(std::mt19937_64& rng) {
-    const vec3<double> o = uniform_point(rng, 10), c = uniform_point(rng, 10);
-    const double r = uniform(rng, 0.1, 5);
-    const vec3<double> target = c + (2 * r * uniform(rng, 0, 1)) * unit_vector(rng);
-    const double length = std::ldexp(uniform(rng, 0.5, 1), static_cast<int>(rng() % 9) - 4);
-    return {o, length * (target - o), c, r};
-}
 
 // Distance/radius 10 to 10^15, origin or centre near 0, d unit or not.
 ray_sphere<double> far_case(std::mt19937_64& rng) {
@@ -70,29 +63,6 @@ ray_sphere<double> far_case(std::mt19937_64& rng) {
     vec3<double> d = target - o;
     const double norm = std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
     return {o, (length / norm) * d, c, r};
-}
-
-// A line through a point at distance r(1 + ε) from c, ⊥ to the offset: ε = ±2^−k, k in [8, 60].
-ray_sphere<double> near_tangent_case(std::mt19937_64& rng) {
-    const vec3<double> c = uniform_point(rng, 10);
-    const double r = uniform(rng, 0.1, 5);
-    const vec3<double> n = unit_vector(rng);
-    vec3<double> d = unit_vector(rng);
-    d = d - (d.x * n.x + d.y * n.y + d.z * n.z) * n;
-    const double eps = std::ldexp((rng() & 1) ? 1.0 : -1.0, -static_cast<int>(8 + rng() % 53));
-    const vec3<double> touch = c + (r * (1 + eps)) * n;
-    return {touch - uniform(rng, 1, 20) * d, d, c, r};
-}
-
-// Origin exactly on the sphere (C = 0): o = c + r·(±3/5, ±4/5, 0) permuted, r a multiple of 5.
-ray_sphere<double> on_surface_case(std::mt19937_64& rng) {
-    const double unit = std::ldexp(1.0, static_cast<int>(rng() % 41) - 20);
-    const double r = 5 * unit * static_cast<double>(1 + rng() % 1000);
-    const vec3<double> c{std::round(uniform(rng, -1e3, 1e3)) * unit, std::round(uniform(rng, -1e3, 1e3)) * unit,
-                         std::round(uniform(rng, -1e3, 1e3)) * unit};
-    double offset[3] = {(rng() & 1 ? 3 : -3) * r / 5, (rng() & 1 ? 4 : -4) * r / 5, 0};
-    std::shuffle(offset, offset + 3, rng);
-    return {{c.x + offset[0], c.y + offset[1], c.z + offset[2]}, uniform_point(rng, 2), c, r};
 }
 
 // Origin within r·2^−k of the surface, inside or out (C cancels): k in [1, 60].
@@ -117,7 +87,7 @@ ray_sphere<double> zero_b_case(std::mt19937_64& rng) {
 // A uniform or far case with positions scaled by 2^s and d by 2^s′, s and s′
 // in [−110, 110]: across and beyond the filter range [2^−80, 2^80].
 ray_sphere<double> magnitude_case(std::mt19937_64& rng) {
-    ray_sphere<double> g = (rng() & 1) ? uniform_case(rng) : far_case(rng);
+    ray_sphere<double> g = (rng() & 1) ? aimed_uniform_case(rng) : far_case(rng);
     const int s = static_cast<int>(rng() % 221) - 110, sd = static_cast<int>(rng() % 221) - 110;
     g.origin = scaled(g.origin, s);
     g.centre = scaled(g.centre, s);
@@ -132,7 +102,7 @@ struct regime {
 };
 
 const regime regimes[] = {
-    {"uniform", uniform_case},
+    {"uniform", aimed_uniform_case},
     {"far", far_case},
     {"near_tangent", near_tangent_case},
     {"on_surface", on_surface_case},
@@ -250,7 +220,7 @@ TEST(StaticFilter, SettlesOrdinaryCasesAndDeclinesStiffOnes) {
     std::mt19937_64 rng(5);
     int certified = 0;
     oracle_internal::filtered_case out;
-    for (int i = 0; i < 2000; ++i) certified += oracle_internal::static_filter_case(uniform_case(rng), precision::binary64, out);
+    for (int i = 0; i < 2000; ++i) certified += oracle_internal::static_filter_case(aimed_uniform_case(rng), precision::binary64, out);
     EXPECT_GE(certified, 1990) << certified << " of 2000";
     const auto certifies = [](const ray_sphere<double>& g, precision p = precision::binary64) {
         oracle_internal::filtered_case out;

@@ -57,28 +57,27 @@ std::string per_case_location(const std::filesystem::path& per_case, const std::
     return relative.generic_string();
 }
 
-// 16 hex digits of the files' contents, one after the other (64-bit FNV-1a), read in pieces.
+// The digest of the files' contents, one after the other, read in pieces.
 std::string files_digest(const std::vector<std::filesystem::path>& paths, const std::string& option) {
-    std::uint64_t hash = 0xcbf29ce484222325ULL;
+    fnv1a_digest digest;
     std::array<char, 1 << 16> buffer{};
     for (const std::filesystem::path& path : paths) {
         std::ifstream in(path, std::ios::binary);
         if (!in) throw input_error(path.string(), 0, option, "cannot open for reading");
         while (in.read(buffer.data(), buffer.size()) || in.gcount() > 0) {
-            for (std::streamsize i = 0; i < in.gcount(); ++i)
-                hash = (hash ^ static_cast<unsigned char>(buffer[static_cast<std::size_t>(i)])) * 0x100000001b3ULL;
+            digest.add(buffer.data(), static_cast<std::size_t>(in.gcount()));
             if (!in) break;
         }
-        hash = (hash ^ 0xff) * 0x100000001b3ULL;  // where one file ends
+        digest.add("\xff");  // where one file ends
     }
-    return fmt::format("{:016x}", hash);
+    return digest.text();
 }
 
 // A stream that passes everything to `out` and digests it on the way.
 class digesting_buffer : public std::streambuf {
 public:
     explicit digesting_buffer(std::ostream& out) : out_(out) {}
-    const content_digest& digest() const { return digest_; }
+    const fnv1a_digest& digest() const { return digest_; }
 
 protected:
     int_type overflow(int_type c) override {
@@ -95,7 +94,7 @@ protected:
 
 private:
     std::ostream& out_;
-    content_digest digest_;
+    fnv1a_digest digest_;
 };
 
 // What decides a shard's result besides its cases (whose fingerprint the
@@ -247,8 +246,6 @@ shard_spec chosen_shard(const std::string& text, const char* command) {
     if (text.starts_with("auto")) fmt::print(stderr, "{}: {}\n", command, resolved.origin);
     return resolved.shard;
 }
-
-std::string content_digest::text() const { return fmt::format("{:016x}", hash_); }
 
 std::string recorded_command(const std::string& command_line) {
     // Options that choose where the outputs go or how the work is spread or

@@ -281,19 +281,6 @@ int publish_audit(const audit_totals& totals, const std::optional<nlohmann::orde
                   audit_outputs& outputs, bool plots, const audit_presentation& presentation = {},
                   const std::string& hints = {});
 
-// 64-bit FNV-1a of bytes added piece by piece, as 16 hex digits: the digest
-// a shard records of its per-case file, and merge checks.
-class content_digest {
-public:
-    void add(std::string_view bytes) {
-        for (const char c : bytes) hash_ = (hash_ ^ static_cast<unsigned char>(c)) * 0x100000001b3ULL;
-    }
-    std::string text() const;
-
-private:
-    std::uint64_t hash_ = 0xcbf29ce484222325ULL;
-};
-
 // Files a command reads (corpus files and directories, plugins, a baseline,
 // a scene), declared as inputs of its run so that no output overwrites them;
 // a directory among them is a corpus directory.

@@ -191,7 +191,7 @@ void interleave_per_case(const std::vector<shard_input>& shards, std::size_t tot
         if (!files.back()) throw input_error(path.string(), 0, "--per-case", "cannot open the shard's per-case file");
         names.push_back(path);
     }
-    std::vector<content_digest> digests(files.size());
+    std::vector<fnv1a_digest> digests(files.size());
     std::string line;
     for (std::size_t i = 0; i < total; ++i) {
         const std::size_t k = i % shards.size();

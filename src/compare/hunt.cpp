@@ -14,6 +14,7 @@
 
 #include "core/case_in_progress.h"
 #include "core/float_bits.h"
+#include "core/hash.h"
 #include "core/name_table.h"
 
 namespace rayverify {
@@ -43,18 +44,11 @@ namespace {
 
 constexpr std::uint64_t golden_gamma = 0x9e3779b97f4a7c15ULL;
 
-// splitmix64's output function: a bijection of the 64-bit integers.
-std::uint64_t splitmix64_mix(std::uint64_t z) {
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return z ^ (z >> 31);
-}
-
 // splitmix64: the hunter's own generator (no std distributions).
 class hunt_random {
 public:
     explicit hunt_random(std::uint64_t seed) : state_(seed ^ 0x5eed0fa11b0c5e1fULL) {}
-    std::uint64_t next() { return splitmix64_mix(state_ += golden_gamma); }
+    std::uint64_t next() { return splitmix64_finalise(state_ += golden_gamma); }
     // Uniform on [0, n) (n small: the bias of the modulo is below 2^-50).
     std::uint64_t below(std::uint64_t n) { return next() % n; }
     bool coin() { return (next() >> 63) != 0; }
@@ -559,7 +553,7 @@ int significant_bits(const ray_sphere<double>& g) {
 
 std::uint64_t shard_search_seed(std::uint64_t seed, std::size_t shard_index, std::size_t shard_count) {
     if (shard_count == 1) return seed;
-    return splitmix64_mix(seed + golden_gamma * shard_index);
+    return splitmix64_finalise(seed + golden_gamma * shard_index);
 }
 
 hunt_result hunt(const audit_target& target, const hunt_start& start, const hunt_options& options,

@@ -16,19 +16,6 @@ namespace rayverify {
 
 namespace fs = std::filesystem;
 
-namespace {
-
-// 64 bits of an id: FNV-1a, then splitmix64's finaliser to spread the bits (the table uses the low ones).
-std::uint64_t id_hash(const std::string& id) {
-    std::uint64_t h = 0xcbf29ce484222325ULL;
-    for (const char c : id) h = (h ^ static_cast<unsigned char>(c)) * 0x100000001b3ULL;
-    h = (h ^ (h >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    h = (h ^ (h >> 27)) * 0x94d049bb133111ebULL;
-    return h ^ (h >> 31);
-}
-
-}  // namespace
-
 std::string shard_spec::text() const { return fmt::format("{}/{}", index, count); }
 
 shard_spec parse_shard(std::string_view text) {
@@ -92,28 +79,23 @@ case_stream::case_stream(std::vector<generate_spec> specs, shard_spec shard, std
     }
 }
 
-void case_fingerprint::mix(const void* bytes, std::size_t n) {
-    const auto* p = static_cast<const unsigned char*>(bytes);
-    for (std::size_t i = 0; i < n; ++i) hash_ = (hash_ ^ p[i]) * 0x100000001b3ULL;
-}
-
-void case_fingerprint::add_text(std::string_view text) { mix(text.data(), text.size()); }
+void case_fingerprint::add_text(std::string_view text) { digest_.add(text); }
 
 void case_fingerprint::add(const corpus_case& c) {
-    mix(c.id.data(), c.id.size() + 1);
-    mix(c.family.data(), c.family.size() + 1);
+    digest_.add(c.id.data(), c.id.size() + 1);
+    digest_.add(c.family.data(), c.family.size() + 1);
     const double inputs[10] = {c.geometry.origin.x,    c.geometry.origin.y,    c.geometry.origin.z,
                                c.geometry.direction.x, c.geometry.direction.y, c.geometry.direction.z,
                                c.geometry.centre.x,    c.geometry.centre.y,    c.geometry.centre.z,
                                c.geometry.radius};
-    mix(inputs, sizeof inputs);
+    digest_.add(inputs, sizeof inputs);
     for (const std::optional<double>& bound : {c.tmin, c.tmax}) {
         const std::uint64_t bits = bound ? std::bit_cast<std::uint64_t>(*bound) : 0x7ff8dead0000beefULL;
-        mix(&bits, sizeof bits);
+        digest_.add(&bits, sizeof bits);
     }
 }
 
-std::string case_fingerprint::text() const { return fmt::format("{:016x}", hash_); }
+std::string case_fingerprint::text() const { return digest_.text(); }
 
 bool case_stream::next(std::vector<corpus_case>& cases, std::vector<std::size_t>& indices) {
     return generated_ ? next_generated(cases, indices) : next_from_files(cases, indices);

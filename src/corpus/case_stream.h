@@ -14,6 +14,7 @@
 #include <optional>
 #include <vector>
 
+#include "core/hash.h"
 #include "core/ray_sphere_case.h"
 #include "corpus/corpus_io.h"
 
@@ -52,7 +53,7 @@ struct generate_spec {
 // input_error (field "--generate") for a malformed spec or an unknown family.
 generate_spec parse_generate_spec(std::string_view text);
 
-// 16 hex digits identifying an input: FNV-1a over every case in order (id,
+// 16 hex digits identifying an input: FNV-1a (core/hash.h) over every case in order (id,
 // family, the ten inputs and the interval, as their bytes), or over texts
 // that name it (a generated family and its version).
 class case_fingerprint {
@@ -62,8 +63,7 @@ public:
     std::string text() const;
 
 private:
-    void mix(const void* bytes, std::size_t n);
-    std::uint64_t hash_ = 0xcbf29ce484222325ULL;
+    fnv1a_digest digest_;
 };
 
 // Whether text is written as case_fingerprint::text() writes a fingerprint or

@@ -19,6 +19,7 @@
 #include <stdexcept>
 #include <sys/stat.h>
 
+#include "core/hash.h"
 #include "core/input_error.h"
 #include "core/name_table.h"
 #include "corpus/case_stream.h"
@@ -56,11 +57,11 @@ fs::path sidecar_of(const fs::path& npy) {
 }
 
 std::string exchange_fingerprint(std::string_view input_fingerprint, precision p) {
-    std::uint64_t hash = 0xcbf29ce484222325ULL;
+    fnv1a_digest digest;
     for (std::string_view part : {std::string_view("rayverify-exchange-v1;"), input_fingerprint,
                                   std::string_view(";"), std::string_view(precision_name(p))})
-        for (char c : part) hash = (hash ^ static_cast<unsigned char>(c)) * 0x100000001b3ULL;
-    return fmt::format("{:016x}", hash);
+        digest.add(part);
+    return digest.text();
 }
 
 namespace {

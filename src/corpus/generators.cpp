@@ -11,6 +11,7 @@
 #include <string>
 #include <utility>
 
+#include "core/hash.h"
 #include "core/input_error.h"
 #include "core/spelling.h"
 #include "corpus/mersenne_twister.h"
@@ -24,21 +25,8 @@ using v3 = vec3<double>;
 // ---------------------------------------------------------------------------
 // Randomness: raw mt19937_64 outputs (corpus/mersenne_twister.h), converted by hand.
 
-std::uint64_t splitmix64(std::uint64_t x) {
-    std::uint64_t z = x + 0x9e3779b97f4a7c15ULL;
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return z ^ (z >> 31);
-}
-
-std::uint64_t fnv1a(std::string_view s) {
-    std::uint64_t h = 0xcbf29ce484222325ULL;
-    for (const char ch : s) {
-        h ^= static_cast<unsigned char>(ch);
-        h *= 0x100000001b3ULL;
-    }
-    return h;
-}
+// splitmix64: the golden-ratio step, then the finaliser.
+std::uint64_t splitmix64(std::uint64_t x) { return splitmix64_finalise(x + 0x9e3779b97f4a7c15ULL); }
 
 class random_source {
 public:

@@ -7,6 +7,7 @@
 #include <iterator>
 #include <map>
 
+#include "core/hash.h"
 #include "report/audit_report.h"
 
 namespace rayverify {
@@ -142,16 +143,6 @@ void write_stability_measures(json_line& out, const case_stability& s) {
 
 case_points::case_points(std::vector<audit_target> targets, std::vector<std::string> labels)
     : targets_(std::move(targets)), labels_(std::move(labels)) {}
-
-// FNV-1a, then the splitmix64 finaliser so that ids differing in their last
-// characters spread over the whole range.
-std::uint64_t case_points::id_hash(const std::string& id) {
-    std::uint64_t h = 0xcbf29ce484222325ULL;
-    for (unsigned char ch : id) h = (h ^ ch) * 0x100000001b3ULL;
-    h = (h ^ (h >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    h = (h ^ (h >> 27)) * 0x94d049bb133111ebULL;
-    return h ^ (h >> 31);
-}
 
 void case_points::insert(const std::string& family, const sample_key& key, row r) {
     auto& kept = sample_[family];

@@ -57,7 +57,6 @@ public:
     void merge(const case_points& other);
     nlohmann::ordered_json to_json() const;
 
-    static std::uint64_t id_hash(const std::string& id);
     const std::map<std::string, std::map<sample_key, row>>& sample() const { return sample_; }
 
 private:

@@ -5,7 +5,9 @@
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <filesystem>
@@ -42,25 +44,39 @@ inline std::string read_text(const std::filesystem::path& p) {
     return s.str();
 }
 
-// A fresh directory under the system's temporary directory named after
-// `stem` and the running GoogleTest test, removed again on destruction.
+// A fresh directory under the system's temporary directory, named after
+// `stem`, the running GoogleTest test and this process, and removed with
+// everything in it on destruction (permissions a test took away are given back
+// first). Every test that writes files writes them in one.
 class scratch_directory {
 public:
     explicit scratch_directory(const std::string& stem)
-        : path_(std::filesystem::temp_directory_path() /
-                (stem + "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name())) {
+        : path_(std::filesystem::temp_directory_path() / (stem + "_" + test_name() + "_" + std::to_string(::getpid()))) {
         std::filesystem::remove_all(path_);
         std::filesystem::create_directories(path_);
     }
     ~scratch_directory() {
+        namespace fs = std::filesystem;
         std::error_code ignored;
-        std::filesystem::remove_all(path_, ignored);
+        fs::permissions(path_, fs::perms::owner_all, fs::perm_options::add, ignored);
+        for (const auto& entry : fs::recursive_directory_iterator(path_, ignored))
+            fs::permissions(entry.path(), fs::perms::owner_all, fs::perm_options::add, ignored);
+        fs::remove_all(path_, ignored);
     }
     scratch_directory(const scratch_directory&) = delete;
     scratch_directory& operator=(const scratch_directory&) = delete;
     const std::filesystem::path& path() const { return path_; }
+    std::filesystem::path operator/(const std::filesystem::path& name) const { return path_ / name; }
 
 private:
+    // The running test's name, one path component ("Name/0" of a parameterised test as "Name_0").
+    static std::string test_name() {
+        const ::testing::TestInfo* info = ::testing::UnitTest::GetInstance()->current_test_info();
+        std::string name = info != nullptr ? info->name() : "outside_a_test";
+        std::replace(name.begin(), name.end(), '/', '_');
+        return name;
+    }
+
     std::filesystem::path path_;
 };
 

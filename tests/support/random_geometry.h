@@ -1,8 +1,11 @@
-// Random geometry for the oracle's property tests (fast_oracle_test,
-// static_filter_test): the primitives their regimes are drawn from, the small-
-// integer regime, and the case whose near root lies exactly on a rounding midpoint.
+// Random geometry for the oracle's property tests (oracle_test,
+// fast_oracle_test, static_filter_test): the primitives their regimes are
+// drawn from and the regimes more than one of them draws: aimed uniform cases,
+// near tangents, origins exactly on the surface, small integers, and the case
+// whose near root lies exactly on a rounding midpoint.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <random>
@@ -29,6 +32,43 @@ inline vec3<double> unit_vector(std::mt19937_64& rng) {
 // A point uniform in [−half, half]³.
 inline vec3<double> uniform_point(std::mt19937_64& rng, double half) {
     return {uniform(rng, -half, half), uniform(rng, -half, half), uniform(rng, -half, half)};
+}
+
+// v·2^k, exact (short of overflow and underflow).
+inline vec3<double> scaled(vec3<double> v, int k) { return {std::ldexp(v.x, k), std::ldexp(v.y, k), std::ldexp(v.z, k)}; }
+
+// Uniform: o, c in [−10, 10]³, r in [0.1, 5], d of length 2^[−4, 4] aimed within 2r of c.
+inline ray_sphere<double> aimed_uniform_case(std::mt19937_64& rng) {
+    const vec3<double> o = uniform_point(rng, 10), c = uniform_point(rng, 10);
+    const double r = uniform(rng, 0.1, 5);
+    const vec3<double> target = c + (2 * r * uniform(rng, 0, 1)) * unit_vector(rng);
+    const double length = std::ldexp(uniform(rng, 0.5, 1), static_cast<int>(rng() % 9) - 4);
+    return {o, length * (target - o), c, r};
+}
+
+// Near-tangent: a line through a point at distance r(1 + ε) from c, ⊥ to the
+// offset, ε = ±2^−k, k in [8, 60].
+inline ray_sphere<double> near_tangent_case(std::mt19937_64& rng) {
+    const vec3<double> c = uniform_point(rng, 10);
+    const double r = uniform(rng, 0.1, 5);
+    const vec3<double> n = unit_vector(rng);
+    vec3<double> d = unit_vector(rng);
+    d = d - (d.x * n.x + d.y * n.y + d.z * n.z) * n;
+    const double eps = std::ldexp((rng() & 1) ? 1.0 : -1.0, -static_cast<int>(8 + rng() % 53));
+    const vec3<double> touch = c + (r * (1 + eps)) * n;
+    return {touch - uniform(rng, 1, 20) * d, d, c, r};
+}
+
+// Origin exactly on the sphere (C = 0: a root is 0): o = c + r·(±3/5, ±4/5, 0)
+// permuted, r a multiple of 5 so that every coordinate is exact.
+inline ray_sphere<double> on_surface_case(std::mt19937_64& rng) {
+    const double unit = std::ldexp(1.0, static_cast<int>(rng() % 41) - 20);
+    const double r = 5 * unit * static_cast<double>(1 + rng() % 1000);
+    const vec3<double> c{std::round(uniform(rng, -1e3, 1e3)) * unit, std::round(uniform(rng, -1e3, 1e3)) * unit,
+                         std::round(uniform(rng, -1e3, 1e3)) * unit};
+    double offset[3] = {(rng() & 1 ? 3 : -3) * r / 5, (rng() & 1 ? 4 : -4) * r / 5, 0};
+    std::shuffle(offset, offset + 3, rng);
+    return {{c.x + offset[0], c.y + offset[1], c.z + offset[2]}, uniform_point(rng, 2), c, r};
 }
 
 // Small integers: exact roots, tangents, ties, zero components, all frequent.

@@ -168,13 +168,14 @@ TEST_F(Cli, CorpusGenerateIsDeterministicAndReadable) {
 
 // bench --precision times and audits only the chosen precisions, with
 // naive/double (the ratios' reference) timed in the same run; --threads runs
-// the accuracy audit on more threads without changing a figure.
+// the accuracy audit on more threads without changing a figure; --seed
+// chooses the far-sphere sweep's cases and nothing else.
 TEST_F(Cli, BenchPrecisionChoosesTheRowsAndThreadsChangeNoFigure) {
     const std::string corpus = std::string(RAYVERIFY_CORPUS_DIR) + "/uniform.txt";
-    const auto bench = [&](const std::string& threads, const std::string& dir) {
+    const auto bench = [&](const std::string& threads, const std::string& dir, const std::string& extra = "") {
         return run_cli("bench --corpus " + corpus + " --variant naive --variant hearn_baker --precision float "
                        "--repetitions 1 --min-time 0.001 --sweep 200 --threads " + threads + " --report " +
-                       (dir_ / dir).string());
+                       (dir_ / dir).string() + extra);
     };
     const command_result one = bench("1", "one"), two = bench("2", "two");
     ASSERT_EQ(one.exit_code, 0) << one.output;
@@ -194,6 +195,15 @@ TEST_F(Cli, BenchPrecisionChoosesTheRowsAndThreadsChangeNoFigure) {
     EXPECT_EQ(a["results"], b["results"]);
     EXPECT_EQ(a["stability"], b["stability"]);
     EXPECT_EQ(a["far_sphere_sweep"]["results"], b["far_sphere_sweep"]["results"]);
+    const command_result seeded = bench("1", "seven", " --seed 7");
+    ASSERT_EQ(seeded.exit_code, 0) << seeded.output;
+    const nlohmann::json c = report("seven");
+    EXPECT_NE(a["far_sphere_sweep"]["description"].get<std::string>().find("--seed 2)"), std::string::npos)
+        << a["far_sphere_sweep"]["description"];
+    EXPECT_NE(c["far_sphere_sweep"]["description"].get<std::string>().find("--seed 7)"), std::string::npos)
+        << c["far_sphere_sweep"]["description"];
+    EXPECT_NE(c["far_sphere_sweep"]["case_points"], a["far_sphere_sweep"]["case_points"]);
+    EXPECT_EQ(c["results"], a["results"]) << "the seed is the sweep's alone";
     const command_result oracle = run_cli("bench --oracle --precision float");
     EXPECT_EQ(oracle.exit_code, 2) << oracle.output;
 }

@@ -237,8 +237,10 @@ def plot_error_vs_condition(report, directory):
         ax.grid(True, alpha=0.3)
     fig.supxlabel("κ, condition number of the nearest root (log)")
     fig.supylabel("nearest-root error, ulp (log)")
-    handles = [plt.Line2D([], [], color="black", lw=1, label="κ·u: what a backward-stable formula stays below"),
-               plt.Line2D([], [], color="black", lw=1, ls=":", label="16·κ·u")]
+    # A relative error of κ·u is κ/2 to κ ulps (an ulp is u to 2u of the value): the line is drawn at κ ulps.
+    handles = [plt.Line2D([], [], color="black", lw=1,
+                          label="κ ulps (a relative error of κ·u, to a factor 2): what a backward-stable formula stays near"),
+               plt.Line2D([], [], color="black", lw=1, ls=":", label="16·κ ulps")]
     fig.legend(handles=handles, loc="upper center", ncol=2, bbox_to_anchor=(0.5, 0.985), frameon=False, fontsize=12)
     fig.suptitle("Error against condition number (agreeing cases of the plot sample with finite κ)", y=1.0)
     # Margins in inches, whatever the number of rows: the x label below, title and legend above.

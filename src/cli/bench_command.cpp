@@ -51,6 +51,7 @@ struct bench_options {
     int repetitions = 9;
     double min_time = 0.01;
     std::size_t sweep = 5000;
+    std::uint64_t seed = 2;  // the far-sphere sweep's
 };
 
 // The timings' progress line (the harness calls back through a plain function).
@@ -279,11 +280,10 @@ int run(const bench_options& options, const std::string& command_line) {
     for (const auto& p : paths) context.corpus_paths.push_back(p.string());
     std::optional<far_sphere_sweep_run> sweep;
     if (options.sweep > 0) {
-        constexpr std::uint64_t sweep_seed = 2;
-        const std::vector<corpus_case> sweep_cases = bench::far_sphere_sweep(options.sweep, sweep_seed);
+        const std::vector<corpus_case> sweep_cases = bench::far_sphere_sweep(options.sweep, options.seed);
         const std::vector<audit_target> sweep_targets(targets.begin(), targets.begin() + static_cast<long>(audited));
         const std::vector<std::string> sweep_labels(labels.begin(), labels.begin() + static_cast<long>(audited));
-        sweep = far_sphere_sweep_run{sweep_cases.size(), sweep_seed,
+        sweep = far_sphere_sweep_run{sweep_cases.size(), options.seed,
                                      audit_with_stability(sweep_cases, sweep_targets, sweep_labels, threads)};
     }
     json report = bench_report_document(accuracy, context, timing_section, robust.json, sweep);
@@ -344,6 +344,10 @@ command add_bench_command(CLI::App& app, const std::string& command_line) {
         ->check(finite_number(0, 3600, true));
     sub->add_option("--sweep", options->sweep, "Far-sphere sweep cases for the report (default 5000; 0: none)")
         ->check(whole_number(0, 100000000));
+    sub->add_option("--seed", options->seed,
+                    "Seed of the far-sphere sweep's cases, as `corpus generate --family far_sphere --seed` takes it; "
+                    "the report and far_sphere.png name it (default 2)")
+        ->check(whole_number(0));
     return {sub, [options, command_line] { return run(*options, command_line); }};
 }
 

@@ -275,25 +275,43 @@ def plot_far_sphere(report, directory):
     precisions = [p for p in ("float", "double") if any(v + "/" + p in source["targets"] for v in variants)]
     fig, axes = plt.subplots(3, len(precisions), figsize=(8 * len(precisions), 11), sharex=True, squeeze=False,
                              gridspec_kw={"height_ratios": [3, 3, 1.3]})
+
+    def binned(variant, precision):
+        """Per bin: the worst nearest-root error, the misclassified share and the scored cases; None if not run."""
+        t = source["targets"].get(variant + "/" + precision)
+        if not t:
+            return None
+        worst, rate, n = [], [], []
+        for d in bins:
+            idx = [i for i in keep if math.floor(math.log10(number(ratio[i]))) == d and t["verdict"][i] not in UNSCORED]
+            errors = [number(t["near_ulp"][i]) for i in idx if t["near_ulp"][i] is not None]
+            errors = [e for e in errors if math.isfinite(e)]
+            worst.append(max(errors) if errors else None)
+            rate.append(sum(1 for i in idx if t["verdict"][i] in MISCLASS) / len(idx) if idx else None)
+            n.append(len(idx))
+        return worst, rate, n
+
+    lines = {(v, p): binned(v, p) for v in present for p in precisions}
+    # An audited variant not drawn whose lines are a drawn one's, in every column, is named in that one's
+    # label ("naive = half_b"); the others not drawn are listed under the legend.
+    same_as = {v: [o for o in present if o not in variants
+                   and all(lines[(o, p)] == lines[(v, p)] for p in precisions)] for v in variants}
+    named = {o for others in same_as.values() for o in others}
+    not_drawn = [v for v in present if v not in variants and v not in named]
+
+    def label(variant):
+        return " = ".join([variant] + same_as[variant])
+
     for column, precision in enumerate(precisions):
         counts, has_error = None, False
         for variant in variants:
-            t = source["targets"].get(variant + "/" + precision)
-            if not t:
+            if lines[(variant, precision)] is None:
                 continue
-            worst, rate, n = [], [], []
-            for d in bins:
-                idx = [i for i in keep if math.floor(math.log10(number(ratio[i]))) == d
-                       and t["verdict"][i] not in UNSCORED]
-                errors = [number(t["near_ulp"][i]) for i in idx if t["near_ulp"][i] is not None]
-                errors = [e for e in errors if math.isfinite(e)]
-                worst.append(max(errors) if errors else None)
-                rate.append(sum(1 for i in idx if t["verdict"][i] in MISCLASS) / len(idx) if idx else None)
-                n.append(len(idx))
+            worst, rate, n = lines[(variant, precision)]
             counts = counts or n
             has_error = has_error or any(w is not None for w in worst)
             # naive is drawn dashed on top: stable_roots and fma_discriminant share its C and often its line.
-            style = dict(color=colour(variant), label=variant, ms=5, marker="o",
+            style = dict(color=colour(variant), label=label(variant), ms=5, marker="o",
                          ls="--" if variant == "naive" else "-", lw=2.4 if variant == "naive" else 1.4,
                          zorder=4 if variant == "naive" else 3)
             axes[0][column].plot(xs, [w if w is None else max(w, 1e-3) for w in worst], **style)
@@ -335,8 +353,11 @@ def plot_far_sphere(report, directory):
             axes[row][column].grid(True, alpha=0.3)
     shown = [v for v in variants if any(v + "/" + p in source["targets"] for p in ("float", "double"))]
     fig.legend(handles=[plt.Line2D([], [], color=colour(v), marker="o", ls="--" if v == "naive" else "-",
-                                   lw=2.4 if v == "naive" else 1.4, label=v) for v in shown],
+                                   lw=2.4 if v == "naive" else 1.4, label=label(v)) for v in shown],
                loc="upper center", ncol=min(len(shown), 9), bbox_to_anchor=(0.5, 0.965), frameon=False)
+    if not_drawn:
+        fig.text(0.5, -0.005, "audited, not drawn: " + ", ".join(not_drawn), ha="center", va="top", fontsize=9,
+                 color="dimgrey", wrap=True)
     fig.suptitle("Far spheres (Ray Tracing Gems ch. 7): " + what, fontsize=11)
     # Room above the panels for the legend's rows (nine entries a row).
     legend_rows = (len(shown) + 8) // 9

@@ -38,6 +38,9 @@ def colour(variant):
     if variant in VARIANT_COLOURS:
         return VARIANT_COLOURS[variant]
     return EXTRA_ASSIGNED.setdefault(variant, EXTRA_COLOURS[len(EXTRA_ASSIGNED) % len(EXTRA_COLOURS)])
+# The case families' colours in the condition plot (matplotlib's tab10 then Dark2: distinct from each other).
+FAMILY_COLOURS = ["#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22",
+                  "#17becf", "#1b9e77", "#d95f02", "#7570b3", "#e7298a", "#66a61e", "#e6ab02"]
 PRECISION_MARKERS = {"float": "o", "double": "s", "long double": "D", "exact": "*"}
 # The wrong-class and the unscored verdicts: rayverify passes them
 # (--misclassifications, --unscored) from its one verdict table
@@ -145,6 +148,10 @@ def plot_accuracy_vs_time(report, directory):
               ("double and long double: max nearest-root error (ulp of double)", ("double", "long double"), "ulp"),
               ("all precisions: misclassified share of scored cases", ("float", "double", "long double"), "rate")]
     fig, axes = plt.subplots(1, 3, figsize=(18, 6.8))
+    # The time axis fits the formulas; the exact oracles, ten to a thousand times slower, sit at its right
+    # edge with their time written beside them.
+    formula_times = [timing[(v, p)] for v, p, _ in entries]
+    right_edge = max(formula_times) * 1.6 if formula_times else None
     for ax, (title, precisions, kind) in zip(axes, panels):
         chosen = [(v, p, e) for v, p, e in entries if p in precisions]
         rootless = sorted({v for v, p, e in chosen if kind == "ulp" and e["near_root_ulp"].get("count", 0) == 0})
@@ -164,12 +171,18 @@ def plot_accuracy_vs_time(report, directory):
         # The exact answers cost time and have no error: on the floor.
         for x, label, marker in exact:
             points.append((x, axis.floor))
-            ax.scatter(x, axis.floor, color="black", marker=marker, s=170, zorder=3)
+            beyond = right_edge is not None and x > right_edge
+            ax.scatter(right_edge / 1.15 if beyond else x, axis.floor, color="black", marker=marker, s=170, zorder=3)
+            if beyond:
+                ax.annotate("{:,.0f} ns →".format(x), (right_edge / 1.15, axis.floor), xytext=(10, 14),
+                            textcoords="offset points", ha="right", fontsize=9)
         front = pareto(points)
         ax.plot([points[i][0] for i in front], [points[i][1] for i in front], "k--", lw=1, zorder=2,
                 label="Pareto front (time, error)")
         axis.apply(ax)
         ax.set_xscale("log")
+        if right_edge is not None:
+            ax.set_xlim(min(formula_times) / 1.6, right_edge)
         ax.set_xlabel("ns per ray–sphere test (CPU, median; log)")
         if rootless:
             ax.text(0.98, 0.87, "not drawn (no root returned):\n" + "\n".join(rootless), transform=ax.transAxes,
@@ -212,16 +225,20 @@ def plot_error_vs_condition(report, directory):
         return
     fig, axes = panel_grid(len(targets), 4, 4.2, 3.6)
     floor, top = 1e-3, 5e17
+    # Points coloured by the case's family, the same colour in every panel.
+    families = list(dict.fromkeys(points["family"]))
+    family_colour = {f: FAMILY_COLOURS[i % len(FAMILY_COLOURS)] for i, f in enumerate(families)}
     for ax, (label, t) in zip(axes.flat, targets):
         kappa = points["condition"]["float" if t["precision_of_inputs"] == "float" else "double"]
-        xs, ys = [], []
-        for k, u in zip(kappa, t["near_ulp"]):
+        xs, ys, colours = [], [], []
+        for k, u, f in zip(kappa, t["near_ulp"], points["family"]):
             k, u = number(k), number(u)
             if k is None or u is None or not math.isfinite(k) or not math.isfinite(u):
                 continue
             xs.append(min(max(k, 1.0), top))
             ys.append(min(max(u, floor), top))
-        ax.scatter(xs, ys, s=5, alpha=0.5, color=colour(t["variant"]))
+            colours.append(family_colour[f])
+        ax.scatter(xs, ys, s=5, alpha=0.5, color=colours)
         line = [1, 1e18]
         ax.plot(line, line, "k-", lw=1)
         ax.plot(line, [16 * x for x in line], "k:", lw=1)
@@ -242,6 +259,9 @@ def plot_error_vs_condition(report, directory):
                           label="κ ulps (a relative error of κ·u, to a factor 2): what a backward-stable formula stays near"),
                plt.Line2D([], [], color="black", lw=1, ls=":", label="16·κ ulps")]
     fig.legend(handles=handles, loc="upper center", ncol=2, bbox_to_anchor=(0.5, 0.985), frameon=False, fontsize=12)
+    fig.legend(handles=[plt.Line2D([], [], color=family_colour[f], marker="o", ls="", ms=6, label=f) for f in families],
+               loc="upper center", ncol=min(len(families), 8), bbox_to_anchor=(0.5, 0.0), frameon=False,
+               title="the case's family")
     fig.suptitle("Error against condition number (agreeing cases of the plot sample with finite κ)", y=1.0)
     # Margins in inches, whatever the number of rows: the x label below, title and legend above.
     height = fig.get_figheight()

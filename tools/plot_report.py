@@ -225,6 +225,7 @@ def plot_error_vs_condition(report, directory):
         return
     fig, axes = panel_grid(len(targets), 4, 4.2, 3.6)
     floor, top = 1e-3, 5e17
+    infinite_kappa_at, strip_from = 1e21, 10 ** 19.5
     # Points coloured by the case's family, the same colour in every panel.
     families = list(dict.fromkeys(points["family"]))
     family_colour = {f: FAMILY_COLOURS[i % len(FAMILY_COLOURS)] for i, f in enumerate(families)}
@@ -233,20 +234,23 @@ def plot_error_vs_condition(report, directory):
         xs, ys, colours = [], [], []
         for k, u, f in zip(kappa, t["near_ulp"], points["family"]):
             k, u = number(k), number(u)
-            if k is None or u is None or not math.isfinite(k) or not math.isfinite(u):
+            if k is None or u is None or math.isnan(k) or not math.isfinite(u):
                 continue
-            xs.append(min(max(k, 1.0), top))
+            # κ = ∞ (a tangent's double root, or a root exactly 0: no relative error is small) in a strip of its own.
+            xs.append(infinite_kappa_at if math.isinf(k) else min(max(k, 1.0), top))
             ys.append(min(max(u, floor), top))
             colours.append(family_colour[f])
         ax.scatter(xs, ys, s=5, alpha=0.5, color=colours)
         line = [1, 1e18]
         ax.plot(line, line, "k-", lw=1)
         ax.plot(line, [16 * x for x in line], "k:", lw=1)
+        ax.axvspan(strip_from, 1e22, color="0.92", zorder=0)
         ax.set_xscale("log")
         ax.set_yscale("log")
-        ax.set_xlim(1, 1e18)
+        ax.set_xlim(1, 1e22)
         ax.set_ylim(floor / 3, 3e18)
-        ax.set_xticks([1, 1e6, 1e12, 1e18])
+        ax.set_xticks([1, 1e6, 1e12, 1e18, infinite_kappa_at])
+        ax.set_xticklabels(["1", "$10^6$", "$10^{12}$", "$10^{18}$", "∞"])
         ax.set_yticks([floor, 1, 1e6, 1e12, top])
         ax.set_yticklabels(["0", "1", "$10^6$", "$10^{12}$", "≥5e17"])
         ax.minorticks_off()
@@ -262,7 +266,8 @@ def plot_error_vs_condition(report, directory):
     fig.legend(handles=[plt.Line2D([], [], color=family_colour[f], marker="o", ls="", ms=6, label=f) for f in families],
                loc="upper center", ncol=min(len(families), 8), bbox_to_anchor=(0.5, 0.0), frameon=False,
                title="the case's family")
-    fig.suptitle("Error against condition number (agreeing cases of the plot sample with finite κ)", y=1.0)
+    fig.suptitle("Error against condition number (agreeing cases of the plot sample; "
+                 "the grey strip: κ = ∞, a tangent or a root exactly 0)", y=1.0)
     # Margins in inches, whatever the number of rows: the x label below, title and legend above.
     height = fig.get_figheight()
     fig.tight_layout(rect=(0.01, 0.35 / height, 1, 1 - 0.9 / height))

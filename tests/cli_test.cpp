@@ -195,6 +195,44 @@ TEST_F(Cli, BenchPrecisionChoosesTheRowsAndThreadsChangeNoFigure) {
     EXPECT_EQ(a["results"], b["results"]);
     EXPECT_EQ(a["stability"], b["stability"]);
     EXPECT_EQ(a["far_sphere_sweep"]["results"], b["far_sphere_sweep"]["results"]);
+    // bench.csv: a row per timing row, in its order, its figures report.json's.
+    std::istringstream csv(read_text(dir_ / "one" / "bench.csv"));
+    std::string header, line;
+    ASSERT_TRUE(std::getline(csv, header));
+    EXPECT_TRUE(header.starts_with("variant,precision,family,cases_timed,ns_per_test_median,")) << header;
+    EXPECT_NE(header.find(",false_hit,"), std::string::npos) << header;
+    EXPECT_NE(header.find(",near_root_ulp_max,"), std::string::npos) << header;
+    const auto column = [&](const std::string& name) {
+        std::istringstream names(header);
+        std::string n;
+        for (std::size_t i = 0; std::getline(names, n, ','); ++i)
+            if (n == name) return i;
+        ADD_FAILURE() << "no column " << name;
+        return std::size_t{0};
+    };
+    const auto field = [](const std::string& row, std::size_t i) {
+        std::istringstream fields(row);
+        std::string f;
+        for (std::size_t k = 0; k <= i; ++k) std::getline(fields, f, ',');
+        return f;
+    };
+    std::size_t rows = 0;
+    for (; std::getline(csv, line); ++rows) {
+        ASSERT_LT(rows, a["timing"]["rows"].size()) << line;
+        const nlohmann::json& timed = a["timing"]["rows"][rows];
+        EXPECT_EQ(field(line, 0) + "/" + field(line, 1) + "/" + field(line, 2),
+                  timed["variant"].get<std::string>() + "/" + timed["precision"].get<std::string>() + "/" +
+                      timed["family"].get<std::string>());
+        EXPECT_EQ(std::stod(field(line, column("ns_per_test_median"))), timed["ns_per_test"]["median"].get<double>());
+        if (timed["variant"] == "naive" && timed["precision"] == "float") {
+            const nlohmann::json& audited = a["results"][0]["by_family"]["uniform"];
+            ASSERT_EQ(a["results"][0]["variant"], "naive");
+            EXPECT_EQ(field(line, column("false_hit")), audited["verdicts"]["false_hit"].dump()) << line;
+            EXPECT_EQ(std::stod(field(line, column("near_root_ulp_max"))),
+                      audited["near_root_ulp"]["max"].get<double>()) << line;
+        }
+    }
+    EXPECT_EQ(rows, a["timing"]["rows"].size());
     const command_result seeded = bench("1", "seven", " --seed 7");
     ASSERT_EQ(seeded.exit_code, 0) << seeded.output;
     const nlohmann::json c = report("seven");

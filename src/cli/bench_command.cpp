@@ -240,6 +240,8 @@ int run(const bench_options& options, const std::string& command_line) {
     declare_inputs(outputs, {options.plugins.begin(), options.plugins.end()}, "--plugin");
     std::optional<report_bundle> bundle;
     if (!options.report_dir.empty()) bundle.emplace(outputs, options.report_dir, "--report");
+    output_file* table_csv =
+        bundle ? &outputs.file(bundle->dir() / "bench.csv", "--report") : nullptr;  // report.json's figures as a table
     output_file* benchmark_file =
         options.benchmark_json.empty() ? nullptr : &outputs.file(options.benchmark_json, "--benchmark-json");
 
@@ -287,6 +289,7 @@ int run(const bench_options& options, const std::string& command_line) {
                                      audit_with_stability(sweep_cases, sweep_targets, sweep_labels, threads)};
     }
     json report = bench_report_document(accuracy, context, timing_section, robust.json, sweep);
+    table_csv->stream() << bench_table_csv(report);
     const plot_outcome plots = bundle->write(std::move(report), true);
     fmt::print("report: {}\nplots: {}\n", (bundle->dir() / "report.json").string(), plots.message);
     check_standard_output();

@@ -1,11 +1,13 @@
 #include "report/bench_report.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <thread>
 
 #include "bench/robust_fallback.h"
+#include "compare/error_figures.h"
 #include "report/stability_report.h"
 
 namespace rayverify {
@@ -156,6 +158,81 @@ json bench_report_document(const bench_accuracy& accuracy, const run_context& co
             {"results", audit_report_json(sweep->run.totals, context)["results"]},
             {"case_points", sweep->run.points}};
     return report;
+}
+
+namespace {
+
+// A JSON value as a CSV field: numbers in their shortest round-trip decimal, strings as themselves
+// (quoted where they hold a comma, a quote or a line break), null and absent as nothing.
+std::string csv_field(const json* value) {
+    if (value == nullptr || value->is_null()) return "";
+    if (value->is_number_integer() || value->is_number_unsigned()) return value->dump();
+    if (value->is_number_float()) return fmt::format("{}", value->get<double>());
+    const std::string text = value->is_string() ? value->get<std::string>() : value->dump();
+    if (text.find_first_of(",\"\r\n") == std::string::npos) return text;
+    std::string quoted = "\"";
+    for (const char c : text) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
+    return quoted + "\"";
+}
+
+const json* member(const json* object, const std::string& key) {
+    if (object == nullptr || !object->is_object()) return nullptr;
+    const auto at = object->find(key);
+    return at == object->end() ? nullptr : &*at;
+}
+
+}  // namespace
+
+std::string bench_table_csv(const json& report) {
+    // The audited targets' sections by "variant/precision": float and double, then long double.
+    std::map<std::string, const json*> audited;
+    const auto add = [&](const json* results) {
+        if (results == nullptr) return;
+        for (const json& r : *results)
+            audited[r["variant"].get<std::string>() + "/" + r["precision"].get<std::string>()] = &r;
+    };
+    add(member(&report, "results"));
+    add(member(member(&report, "long_double"), "results"));
+
+    std::vector<std::string> header{"variant", "precision", "family", "cases_timed", "ns_per_test_median",
+                                    "ns_per_test_min", "ns_per_test_max", "repetitions", "ratio_to_reference",
+                                    "cases_scored"};
+    for (int k = 0; k < verdict_kind_count; ++k) header.emplace_back(verdict_name(static_cast<verdict_kind>(k)));
+    static constexpr const char* statistics[] = {"count", "max", "p99", "median"};
+    for (const error_figure_definition& figure : error_figures)
+        for (const char* statistic : statistics) header.push_back(fmt::format("{}_{}", figure.name, statistic));
+    std::string out = fmt::format("{}\n", fmt::join(header, ","));
+
+    for (const json& row : report["timing"]["rows"]) {
+        const std::string variant = row["variant"], precision = row["precision"], family = row["family"];
+        const json& ns = row["ns_per_test"];
+        std::vector<std::string> fields{csv_field(&row["variant"]), csv_field(&row["precision"]),
+                                        csv_field(&row["family"]), csv_field(&row["cases"]),
+                                        csv_field(member(&ns, "median")), csv_field(member(&ns, "min")),
+                                        csv_field(member(&ns, "max")),
+                                        std::to_string(member(&ns, "repetitions") ? ns["repetitions"].size() : 0),
+                                        csv_field(member(&row, "ratio_to_reference"))};
+        const auto found = audited.find(variant + "/" + precision);
+        const json* section = found == audited.end() ? nullptr : member(member(found->second, "by_family"), family);
+        const json* verdicts = member(section, "verdicts");
+        if (verdicts == nullptr) {
+            fields.emplace_back("");
+        } else {
+            std::size_t scored = 0;
+            for (int k = 0; k < verdict_kind_count; ++k)
+                if (const json* n = member(verdicts, std::string(verdict_name(static_cast<verdict_kind>(k)))))
+                    if (is_scored(static_cast<verdict_kind>(k))) scored += n->get<std::size_t>();
+            fields.push_back(std::to_string(scored));
+        }
+        for (int k = 0; k < verdict_kind_count; ++k)
+            fields.push_back(csv_field(member(verdicts, std::string(verdict_name(static_cast<verdict_kind>(k))))));
+        for (const error_figure_definition& figure : error_figures) {
+            const json* tally = member(section, std::string(figure.name));
+            for (const char* statistic : statistics) fields.push_back(csv_field(member(tally, statistic)));
+        }
+        out += fmt::format("{}\n", fmt::join(fields, ","));
+    }
+    return out;
 }
 
 }  // namespace rayverify

@@ -69,4 +69,15 @@ nlohmann::ordered_json bench_report_document(const bench_accuracy& accuracy, con
                                              const nlohmann::ordered_json& robust,
                                              const std::optional<far_sphere_sweep_run>& sweep);
 
+// bench.csv: bench's figures as one table, a row per target and family timed
+// (the timing's rows, in their order): variant, precision, family, cases
+// timed; the CPU time per test as the repetitions' median, minimum and
+// maximum, their count and the ratio to the reference; then, where the
+// target was audited, the scored cases, a column per verdict and, per error
+// figure, its count, max, p99 and median (the columns report.json's
+// by_family holds). Numbers as the shortest decimal that reads back to the
+// same double (`inf`, `nan`); a figure with no value, or a target not audited
+// (the exact oracles), is an empty field.
+std::string bench_table_csv(const nlohmann::ordered_json& report);
+
 }  // namespace rayverify

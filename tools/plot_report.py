@@ -148,8 +148,8 @@ def plot_accuracy_vs_time(report, directory):
               ("double and long double: max nearest-root error (ulp of double)", ("double", "long double"), "ulp"),
               ("all precisions: misclassified share of scored cases", ("float", "double", "long double"), "rate")]
     fig, axes = plt.subplots(1, 3, figsize=(18, 6.8))
-    # The time axis fits the formulas; the exact oracles, ten to a thousand times slower, sit at its right
-    # edge with their time written beside them.
+    # The time axis fits the formulas; an exact oracle slower than all of them by more than its margin sits at
+    # its right edge with its time written beside it.
     formula_times = [timing[(v, p)] for v, p, _ in entries]
     right_edge = max(formula_times) * 1.6 if formula_times else None
     for ax, (title, precisions, kind) in zip(axes, panels):
@@ -172,9 +172,10 @@ def plot_accuracy_vs_time(report, directory):
         for x, label, marker in exact:
             points.append((x, axis.floor))
             beyond = right_edge is not None and x > right_edge
-            ax.scatter(right_edge / 1.15 if beyond else x, axis.floor, color="black", marker=marker, s=170, zorder=3)
+            drawn_at = right_edge / 1.15 if beyond else x
+            ax.scatter(drawn_at, axis.floor, color="black", marker=marker, s=170, zorder=3)
             if beyond:
-                ax.annotate("{:,.0f} ns →".format(x), (right_edge / 1.15, axis.floor), xytext=(10, 14),
+                ax.annotate("{:,.0f} ns →".format(x), (drawn_at, axis.floor), xytext=(10, 14),
                             textcoords="offset points", ha="right", fontsize=9)
         front = pareto(points)
         ax.plot([points[i][0] for i in front], [points[i][1] for i in front], "k--", lw=1, zorder=2,
@@ -225,7 +226,8 @@ def plot_error_vs_condition(report, directory):
         return
     fig, axes = panel_grid(len(targets), 4, 4.2, 3.6)
     floor, top = 1e-3, 5e17
-    infinite_kappa_at, strip_from = 1e21, 10 ** 19.5
+    # κ = ∞ is drawn at 10^21, in a strip from 10^19.5 to the axis's end.
+    infinite_kappa_at, strip_from, x_end = 1e21, 10 ** 19.5, 1e22
     # Points coloured by the case's family, the same colour in every panel.
     families = list(dict.fromkeys(points["family"]))
     family_colour = {f: FAMILY_COLOURS[i % len(FAMILY_COLOURS)] for i, f in enumerate(families)}
@@ -244,10 +246,10 @@ def plot_error_vs_condition(report, directory):
         line = [1, 1e18]
         ax.plot(line, line, "k-", lw=1)
         ax.plot(line, [16 * x for x in line], "k:", lw=1)
-        ax.axvspan(strip_from, 1e22, color="0.92", zorder=0)
+        ax.axvspan(strip_from, x_end, color="0.92", zorder=0)
         ax.set_xscale("log")
         ax.set_yscale("log")
-        ax.set_xlim(1, 1e22)
+        ax.set_xlim(1, x_end)
         ax.set_ylim(floor / 3, 3e18)
         ax.set_xticks([1, 1e6, 1e12, 1e18, infinite_kappa_at])
         ax.set_xticklabels(["1", "$10^6$", "$10^{12}$", "$10^{18}$", "∞"])

@@ -192,6 +192,13 @@ std::string invalid_reasons_text(const invalid_case& c) {
 
 }  // namespace
 
+std::size_t scored_in(const json& verdicts) {
+    std::size_t n = 0;
+    for (const auto& [name, count] : verdicts.items())
+        if (const auto kind = verdict_from_name(name); kind && is_scored(*kind)) n += count.get<std::size_t>();
+    return n;
+}
+
 std::string render_summary_table(const audit_totals& totals) {
     std::string out;
     std::size_t name_width = 7;

@@ -37,6 +37,10 @@ std::string render_summary_table(const audit_totals& totals);
 // The machine-readable report (report.json).
 nlohmann::ordered_json audit_report_json(const audit_totals& totals, const run_context& context);
 
+// The scored cases of a "verdicts" object of report.json (a target's, or one
+// family's): the counts of the verdicts the verdict table scores.
+std::size_t scored_in(const nlohmann::ordered_json& verdicts);
+
 // One line of --per-case output (no trailing newline): the case, its exact
 // answers, every target's result and the case's stability measures, written
 // field by field (report/json_line.h) as nlohmann would dump the same object.

@@ -215,15 +215,7 @@ std::string bench_table_csv(const json& report) {
         const auto found = audited.find(variant + "/" + precision);
         const json* section = found == audited.end() ? nullptr : member(member(found->second, "by_family"), family);
         const json* verdicts = member(section, "verdicts");
-        if (verdicts == nullptr) {
-            fields.emplace_back("");
-        } else {
-            std::size_t scored = 0;
-            for (int k = 0; k < verdict_kind_count; ++k)
-                if (const json* n = member(verdicts, std::string(verdict_name(static_cast<verdict_kind>(k)))))
-                    if (is_scored(static_cast<verdict_kind>(k))) scored += n->get<std::size_t>();
-            fields.push_back(std::to_string(scored));
-        }
+        fields.push_back(verdicts == nullptr ? "" : std::to_string(scored_in(*verdicts)));
         for (int k = 0; k < verdict_kind_count; ++k)
             fields.push_back(csv_field(member(verdicts, std::string(verdict_name(static_cast<verdict_kind>(k))))));
         for (const error_figure_definition& figure : error_figures) {

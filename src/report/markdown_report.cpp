@@ -44,13 +44,6 @@ std::size_t misclassified(const json& verdicts) {
     return n;
 }
 
-std::size_t scored(const json& entry) {
-    std::size_t n = 0;
-    for (const auto& [name, count] : entry["verdicts"].items())
-        if (const auto kind = verdict_from_name(name); kind && is_scored(*kind)) n += count.get<std::size_t>();
-    return n;
-}
-
 // What each plot shows, as its image's alt text.
 std::string plot_title(const std::string& file) {
     static const std::map<std::string, std::string> titles = {
@@ -68,7 +61,7 @@ void accuracy_table(std::string& out, const json& results, const std::string& ti
            "p99 ulp | median ulp |\n";
     out += "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
     for (const json& r : results) {
-        const std::size_t n = scored(r), mis = misclassified(r["verdicts"]);
+        const std::size_t n = scored_in(r["verdicts"]), mis = misclassified(r["verdicts"]);
         const json& u = r["near_root_ulp"];
         out += fmt::format("| {} | {} | {} | {} | {} | {} ({}) | {} | {} | {} | {} |\n", r["variant"].get<std::string>(),
                            r["precision"].get<std::string>(), n, r["verdicts"]["agree"].get<std::size_t>(),
@@ -221,7 +214,7 @@ void sweep_table(std::string& out, const json& sweep) {
         out += fmt::format("| {} |", decade);
         for (const json& r : results) {
             const json& f = r["by_family"][decade];
-            out += fmt::format(" {}/{} |", misclassified(f["verdicts"]), scored(f));
+            out += fmt::format(" {}/{} |", misclassified(f["verdicts"]), scored_in(f["verdicts"]));
         }
         out += "\n";
     }
@@ -273,7 +266,7 @@ void compact_table(std::string& out, const json& report) {
                 continue;
             }
             const json& r = *it->second;
-            const std::size_t wrong = r["disagreements"].get<std::size_t>(), n = scored(r);
+            const std::size_t wrong = r["disagreements"].get<std::size_t>(), n = scored_in(r["verdicts"]);
             out += fmt::format(" {} ({}) | {} |", wrong, percent(wrong, n),
                                number(r["near_root_ulp"].value("max", json())));
         }

@@ -27,15 +27,16 @@ int max_exponent(std::initializer_list<double> values) {
     return e == std::numeric_limits<int>::min() ? 0 : e;
 }
 
-// κ of root t (scaled coordinates), see stability.h.
-double condition_of(dword t, const dd3& f, const dd3& o, const dd3& d, const dd3& c, dword r, dword sqrt_discriminant) {
+// κ's numerator Σ_k |p_k|·(|o_k| + |c_k| + |t|·|d_k|) + r² for root t (scaled
+// coordinates), see conditioning.h: κ = it / (√Δ′·|t|), κ·|t| = it / √Δ′.
+double condition_numerator(dword t, const dd3& f, const dd3& o, const dd3& d, const dd3& c, dword r) {
     double numerator = dw_value(r * r);
     const double abs_t = std::fabs(dw_value(t));
     for (int k = 0; k < 3; ++k) {
         const double p = std::fabs(dw_value(f[k] + t * d[k]));
         numerator += p * (std::fabs(dw_value(o[k])) + std::fabs(dw_value(c[k])) + abs_t * std::fabs(dw_value(d[k])));
     }
-    return numerator / (dw_value(sqrt_discriminant) * abs_t);
+    return numerator;
 }
 
 }  // namespace
@@ -93,6 +94,7 @@ stability_measures measure_stability(const ray_sphere<double>& input, precision 
     if (m.cls == line_class::miss) return m;
     if (m.cls == line_class::tangent) {
         m.near_condition = m.far_condition = infinity;
+        m.near_absolute_condition = m.far_absolute_condition = infinity;
         m.near_root = std::ldexp(dw_value(-b_prime / a), position_exponent - direction_exponent);
         return m;
     }
@@ -103,12 +105,20 @@ stability_measures measure_stability(const ray_sphere<double>& input, precision 
     if (dw_value(t_near) > dw_value(t_far)) std::swap(t_near, t_far);
     m.near_root = std::ldexp(dw_value(t_near), position_exponent - direction_exponent);
     const bool resolved = dw_value(discriminant) > 0;  // dd resolves Δ′ (else κ is beyond its reach)
+    // κ·|t| in the inputs' own units: t scales by 2^(position − direction exponent).
+    const auto absolute_kappa = [&](dword t) {
+        if (!resolved) return infinity;
+        return std::ldexp(condition_numerator(t, f, o, d, c, r) / dw_value(sqrt_discriminant),
+                          position_exponent - direction_exponent);
+    };
     const auto kappa = [&](dword t, int sign) {
         if (sign == 0 || !resolved) return infinity;
-        return condition_of(t, f, o, d, c, r, sqrt_discriminant);
+        return condition_numerator(t, f, o, d, c, r) / (dw_value(sqrt_discriminant) * std::fabs(dw_value(t)));
     };
     m.near_condition = kappa(t_near, exact.near_root.sign);
     m.far_condition = kappa(t_far, exact.far_root.sign);
+    m.near_absolute_condition = absolute_kappa(t_near);
+    m.far_absolute_condition = absolute_kappa(t_far);
     return m;
 }
 

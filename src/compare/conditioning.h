@@ -51,6 +51,10 @@ struct stability_measures {
     line_class cls = line_class::miss;   // exact class (from the oracle)
     // κ of the near and far roots; nullopt for a miss; +inf for a tangent or a zero root.
     std::optional<double> near_condition, far_condition;
+    // The absolute condition κ·|t| of each root (how far relative input
+    // perturbations of size 1 move t): finite at a root exactly at 0, where
+    // κ is not; +inf for a tangent; nullopt for a miss.
+    std::optional<double> near_absolute_condition, far_absolute_condition;
     double tangency_distance = 0;        // ρ = |Δ′| / (b′² + |aC|)
     double tangency_margin = 0;          // |Δ′| / (u·M); +inf when M = 0
     double discriminant_sign = 0;        // sign of Δ′ (exact)

@@ -19,6 +19,7 @@ namespace rayverify {
 enum class error_figure : std::size_t {
     near_root_ulp,         // |t − t*| / ulp(t*) of the near (or only) root
     far_root_ulp,          // the same of the far root (line_roots)
+    near_root_scaled_ulp,  // near_root_ulp, a root exactly at 0 in ulps of r/|d| instead
     near_root_bits,        // Herbie bits of the near root
     hit_point_ulp,         // the hit point's worst coordinate, in ulps
     scale_error_radius,    // |t − t*|·|d| / r, the largest over the returned roots
@@ -40,6 +41,8 @@ inline constexpr std::array error_figures{
                             [](const case_score& s) { return s.near_ulp; }},
     error_figure_definition{error_figure::far_root_ulp, "far_root_ulp", "far_ulp", true,
                             [](const case_score& s) { return s.far_ulp; }},
+    error_figure_definition{error_figure::near_root_scaled_ulp, "near_root_scaled_ulp", "near_scaled_ulp", false,
+                            [](const case_score& s) { return s.near_scaled_ulp; }},
     error_figure_definition{error_figure::near_root_bits, "near_root_bits", "near_bits", false,
                             [](const case_score& s) { return s.near_bits; }},
     error_figure_definition{error_figure::hit_point_ulp, "hit_point_ulp", "hit_point_ulp", false,

@@ -474,6 +474,10 @@ case_score judge_verdict(const contract& promises, const variant_output& out, co
                 measure_value(exact.prec, j.start, t[j.slot], ulp, bits);
         }
     if (measure == figure_request::root_errors::bracketed) s.root_ulp_bracket = bracket_root_errors(judged, t, exact);
+    if (measure != figure_request::root_errors::none)
+        for (const judged_value& j : judged)
+            if (j.root && exact.root(*j.root).sign == 0 && std::isfinite(t[j.slot]))
+                s.zero_root_error = std::max(s.zero_root_error.value_or(0.0), std::fabs(t[j.slot]));
     // 2. non_finite: a NaN among the values judged (any_hit: one the renderer looked at).
     for (int i = 0; i < values; ++i)
         if (std::isnan(t[i])) return fail(verdict_kind::non_finite, both());
@@ -726,6 +730,20 @@ scale_errors measure_scale_errors(const judged_list& judged, const double (&t)[2
     return out;
 }
 
+// |t| in ulps of r/|d| (the radius measured along the ray, the length scale a
+// formula works at) in precision p: the error of a value judged against a
+// root exactly at 0, whose own ulp is the smallest subnormal. The ulp is that
+// of the binade holding r/|d| (2^(max(E, emin) − p + 1) for 2^E ≤ r/|d| < 2^(E+1)).
+double zero_root_error_in_radius_ulps(double t, const ray_sphere<double>& input, precision p) {
+    const scaled along = scaled::of(input.radius) / euclidean_length(input.direction);
+    if (along.m == 0 || !std::isfinite(along.m)) return std::numeric_limits<double>::infinity();
+    int k = 0;
+    std::frexp(along.m, &k);
+    const int binade = along.e + k - 1;  // E above
+    const int min_binade = with_precision(p, []<class T>(std::type_identity<T>) { return std::numeric_limits<T>::min_exponent - 1; });
+    return (scaled::of(t) / scaled{1.0, std::max(binade, min_binade) - significand_bits(p) + 1}).value();
+}
+
 // The t bounds an answer gives beside its roots (outputs t_bounds): the
 // widest in ULPs of the precision, and the first that leaves out the exact
 // value it stands for, said in words.
@@ -816,6 +834,10 @@ std::optional<std::string> measure_outputs(const contract& promises, const varia
                                            bool with_scale_errors, case_score& s) {
     const judged_list judged = judged_values(promises.query, exact, want);
     const double t[2] = {output.roots.t0, output.roots.t1};
+    s.near_scaled_ulp = s.near_ulp;
+    for (const judged_value& j : judged)
+        if (j.slot == 0 && j.root && exact.root(*j.root).sign == 0 && s.near_ulp)
+            s.near_scaled_ulp = zero_root_error_in_radius_ulps(t[0], input, exact.prec);
     if (with_scale_errors) {
         const scale_errors scale = measure_scale_errors(judged, t, exact, input);
         s.scale_error_radius = scale.radius;
@@ -832,21 +854,48 @@ std::optional<std::string> measure_outputs(const contract& promises, const varia
     return unsound;
 }
 
+// A root within the backward error of an end of the range: relative input
+// perturbations of γ·u move a root by up to γ·u·κ·|t| (conditioning.h), so
+// a root that close to an end may lie on either side of it for a
+// backward-stable formula. A root exactly at an end (a root exactly at 0 on a
+// ray starting at 0: a self-hit) always is, whichever of the two roots it is.
+bool root_at_range_end_within_backward_error(const case_frame& frame, const t_range& range) {
+    const stability_measures& m = frame.stability();
+    const exact_solution& exact = frame.exact();
+    if (exact.cls == line_class::miss) return false;
+    const double u = std::ldexp(1.0, -significand_bits(frame.prec()));
+    for (const root_index k : {root_index::near_root, root_index::far_root}) {
+        const std::optional<double>& absolute_condition =
+            k == root_index::near_root ? m.near_absolute_condition : m.far_absolute_condition;
+        const exact_root& root = exact.root(k);
+        for (const double end : {range.lower, range.upper}) {
+            if (!std::isfinite(end)) continue;
+            if (end == 0 && root.sign == 0) return true;
+            if (absolute_condition && std::fabs(root.rounded - end) <= conditioning_gamma * u * *absolute_condition)
+                return true;
+        }
+    }
+    return false;
+}
+
 // The rounding cause: conditioning-limited when the case is within the
 // backward error of the other answer (conditioning.h): a class verdict when the
-// tangency margin is ≤ γ; a root or side verdict also when γ·u·κ ≥ 1.
+// tangency margin is ≤ γ; a root or side verdict also when γ·u·κ ≥ 1; either
+// when a root lies within its backward error of an end of the range (above).
 // Non-finite and malformed outputs are always algorithmic.
-disagreement_cause rounding_cause(verdict_kind k, const case_frame& frame) {
+disagreement_cause rounding_cause(verdict_kind k, const case_frame& frame, const t_range& range) {
     const stability_measures& m = frame.stability();
     if (!m.valid) return disagreement_cause::algorithmic;
     const bool ambiguous_class = m.tangency_margin <= conditioning_gamma;
+    const auto limited_by = [](bool ambiguous) {
+        return ambiguous ? disagreement_cause::conditioning_limited : disagreement_cause::algorithmic;
+    };
     if (is_misclassification(k))
-        return ambiguous_class ? disagreement_cause::conditioning_limited : disagreement_cause::algorithmic;
+        return limited_by(ambiguous_class || root_at_range_end_within_backward_error(frame, range));
     if (k == verdict_kind::wrong_root || k == verdict_kind::wrong_side || k == verdict_kind::wrong_sphere) {
         const double u = std::ldexp(1.0, -significand_bits(frame.prec()));
         const bool ambiguous_root = m.near_condition && conditioning_gamma * u * *m.near_condition >= 1;
-        return ambiguous_class || ambiguous_root ? disagreement_cause::conditioning_limited
-                                                 : disagreement_cause::algorithmic;
+        return limited_by(ambiguous_class || ambiguous_root || root_at_range_end_within_backward_error(frame, range));
     }
     return disagreement_cause::algorithmic;
 }
@@ -870,7 +919,7 @@ disagreement_cause cause_of(const contract& promises, const variant_output& outp
             if (designed.verdict == verdict_kind::agree) return disagreement_cause::unit_direction;
         }
     }
-    return rounding_cause(k, frame);
+    return rounding_cause(k, frame, range);
 }
 
 }  // namespace

@@ -187,6 +187,14 @@ struct case_score {
     // |t − t*| / ulp(t*) and Herbie bits log2(1 + ulps between t and RN(t*)).
     // Present when both exist and t is finite.
     std::optional<double> near_ulp, far_ulp, near_bits, far_bits;
+    // |t| of a returned value judged against a root exactly at 0 (whose ulp
+    // is the smallest subnormal, so its ULP error says little): the larger of
+    // two. Set when the root errors are measured.
+    std::optional<double> zero_root_error;
+    // near_ulp, except that a near value judged against a root exactly at 0
+    // is counted in ulps of r/|d| (the radius along the ray) instead of ulps
+    // of 0: a figure a zero root cannot blow up (agree).
+    std::optional<double> near_scaled_ulp;
     // Error of the hit point per coordinate, in ulps (agree, and a hit).
     std::optional<std::array<double, 3>> hit_point_ulp;
     // The largest of |t − t*|·|d|/r and of |t − t*|·|d|/|o − c| over the

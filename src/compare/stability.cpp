@@ -40,6 +40,22 @@ void stability_samples::merge(const stability_samples& other) {
     well_conditioned_above += other.well_conditioned_above;
 }
 
+std::optional<double> excess_over_line(const case_score& score, const stability_measures& m,
+                                       const exact_solution& exact, precision prec) {
+    std::optional<double> excess;
+    if (score.near_ulp && m.near_condition && std::isfinite(*m.near_condition))
+        excess = *score.near_ulp / std::max(*m.near_condition, 1.0);
+    if (score.zero_root_error) {
+        const std::optional<double>& absolute_condition =
+            exact.near_root.sign == 0 ? m.near_absolute_condition : m.far_absolute_condition;
+        if (absolute_condition && std::isfinite(*absolute_condition) && *absolute_condition > 0) {
+            const double u = std::ldexp(1.0, -significand_bits(prec));
+            excess = std::max(excess.value_or(0.0), *score.zero_root_error / (u * *absolute_condition));
+        }
+    }
+    return excess;
+}
+
 stability_accumulator::stability_accumulator(std::vector<audit_target> t) : targets(std::move(t)) {}
 
 void stability_accumulator::add(const audited_case& c, std::size_t index) {
@@ -62,14 +78,15 @@ void stability_accumulator::add(const audited_case& c, std::size_t index) {
             if (*cause == disagreement_cause::algorithmic) ++b.algorithmic;
             if (is_by_design(*cause)) ++b.by_design;
         }
-        if (score.verdict != verdict_kind::agree || !score.near_ulp) continue;
-        figures_.push(out.near_ulp[bucket], *score.near_ulp);
-        if (!m.near_condition || std::isinf(*m.near_condition)) continue;
-        const double excess = *score.near_ulp / std::max(*m.near_condition, 1.0);
-        figures_.push(out.excess, excess);
-        const bool above = !(excess <= stability_factor);
+        if (score.verdict != verdict_kind::agree) continue;
+        if (score.near_ulp) figures_.push(out.near_ulp[bucket], *score.near_ulp);
+        const std::optional<double> excess =
+            excess_over_line(score, m, c.exact_for(targets[t].prec), targets[t].prec);
+        if (!excess) continue;
+        figures_.push(out.excess, *excess);
+        const bool above = !(*excess <= stability_factor);
         out.above_line += above;
-        if (*m.near_condition < 1e3) {
+        if (m.near_condition && *m.near_condition < 1e3) {
             ++out.well_conditioned;
             out.well_conditioned_above += above;
         }

@@ -34,6 +34,14 @@ std::string condition_bucket_label(int bucket);
 // called stable.
 inline constexpr double stability_factor = 16;
 
+// One agreeing answer's error over the reference line (nullopt where none is
+// judged): its near root's ulps / max(κ, 1) where κ is finite; at a root
+// exactly at 0, where κ is not, |t| / (u·κ·|t|), the same line in absolute
+// terms (κ·|t| is finite there; the finite-κ form equals it up to
+// ulp(t*)/(u·|t*|) ∈ (1, 2]); the larger of the two where both apply.
+std::optional<double> excess_over_line(const case_score& score, const stability_measures& m,
+                                       const exact_solution& exact, precision prec);
+
 // Per target and condition bucket.
 struct bucket_tally {
     std::size_t cases = 0;          // scored cases (neither invalid nor outside the contract)
@@ -48,8 +56,8 @@ struct bucket_tally {
 struct stability_tally {
     std::array<bucket_tally, condition_bucket_count> buckets{};
     bucket_tally all;  // every bucket together
-    // Against the reference line, over agreeing cases with finite κ:
-    // excess = near-root ulps / max(κ, 1).
+    // Against the reference line, over agreeing cases with finite κ or a
+    // root exactly at 0 (excess_over_line).
     std::size_t judged = 0;
     std::size_t above_line = 0;        // excess > stability_factor
     std::size_t well_conditioned = 0;  // judged cases with κ < 10^3

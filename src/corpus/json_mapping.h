@@ -159,6 +159,21 @@ public:
             scalar(v);
         }
     }
+    // A mapped value or null (std::optional<double> is a figure: scalar's).
+    template <class T>
+        requires json_mapped<T>
+    void value(std::optional<T>& v) {
+        if (!reading()) {
+            if (v)
+                map_json(*this, *v);
+            else
+                *out_ = nullptr;
+        } else if (in_->is_null()) {
+            v.reset();
+        } else {
+            map_json(*this, v.emplace());
+        }
+    }
     template <class T>
     void value(std::vector<T>& values) {
         if (!reading()) {

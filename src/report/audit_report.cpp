@@ -86,8 +86,8 @@ void map_json(json_io& io, precision& p) {
 }
 
 void map_json(json_io& io, verdict_kind& v) { io.name(v, verdict_name, verdict_from_name, "a verdict"); }
-
 void map_json(json_io& io, disagreement_cause& c) { io.name(c, cause_name, cause_from_name, "a cause"); }
+
 
 void map_json(json_io& io, invalid_reason& r) {
     io.name(r, invalid_reason_name,
@@ -265,6 +265,9 @@ json audit_report_json(const audit_totals& totals, const run_context& context) {
         {"ulp", "for 2^e <= |x| < 2^(e+1): ulp(x) = 2^(max(e, emin) - p + 1); p = 24, emin = -126 (float); "
                 "p = 53, emin = -1022 (double); ulp(0) = smallest subnormal"},
         {"ulp_error", "|t - t*| / ulp(t*), t* the exact root of the inputs the variant received"},
+        {"near_root_scaled_ulp", "ulp_error of the near root, except that where t* is exactly 0 (whose ulp is the "
+                                 "smallest subnormal) it is |t| / ulp(r / |d|), the error in ulps of the radius "
+                                 "measured along the ray: the scale the formula works at"},
         {"bits", "log2(1 + number of representable values between t and RN(t*))"},
         {"scale_error_radius", "max over the returned roots of |t - t*|·|d| / r: the error in units of the radius"},
         {"agree_far", "agreeing cases whose scale_error_radius is at least 2^-10 (about 0.1% of the radius): the "

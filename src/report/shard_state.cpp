@@ -345,6 +345,7 @@ void map_json(json_io& io, case_point_record& p) {
     io.field("kappa_double", p.row.kappa_double);
     io.field("verdict", p.row.verdict);
     io.field("near_ulp", p.row.near_ulp);
+    io.field("cause", p.row.cause);
     if (!io.reading()) return;
     p.key.second = p.row.index;
     check_family(io, "family_key", p.family_key.empty() ? "-" : p.family_key);  // the audit counts it as "-"
@@ -354,6 +355,8 @@ void map_json(json_io& io, case_point_record& p) {
         io.fail("verdict", fmt::format("has {} entries, expected {}", p.row.verdict.size(), targets));
     if (p.row.near_ulp.size() != targets)
         io.fail("near_ulp", fmt::format("has {} entries, expected {}", p.row.near_ulp.size(), targets));
+    if (p.row.cause.size() != targets)
+        io.fail("cause", fmt::format("has {} entries, expected {}", p.row.cause.size(), targets));
 }
 
 // A case kept to open (compare/case_examples.h), as the state keeps it: the

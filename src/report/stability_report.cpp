@@ -172,10 +172,12 @@ void case_points::add(const audited_case& c, std::size_t index) {
     if (s.at_double && s.at_double->valid) r.ratio = s.at_double->distance_ratio;
     r.verdict.reserve(targets_.size());
     r.near_ulp.reserve(targets_.size());
+    r.cause.reserve(targets_.size());
     for (std::size_t t = 0; t < targets_.size(); ++t) {
         const case_score& score = c.outcomes[t].score;
         r.verdict.push_back(score.verdict);
         r.near_ulp.push_back(score.verdict == verdict_kind::agree ? score.near_ulp : std::nullopt);
+        r.cause.push_back(score.cause);
     }
     insert(c.source->family, key, std::move(r));
 }
@@ -192,7 +194,8 @@ json case_points::to_json() const {
         for (const auto& [key, r] : kept) rows.push_back(&r);
     std::sort(rows.begin(), rows.end(), [](const row* a, const row* b) { return a->index < b->index; });
     json family = json::array(), ratio = json::array(), kappa_float = json::array(), kappa_double = json::array();
-    std::vector<json> verdict(targets_.size(), json::array()), near_ulp(targets_.size(), json::array());
+    std::vector<json> verdict(targets_.size(), json::array()), near_ulp(targets_.size(), json::array()),
+        cause(targets_.size(), json::array());
     for (const row* r : rows) {
         family.push_back(r->family);
         ratio.push_back(optional_number(r->ratio));
@@ -201,6 +204,7 @@ json case_points::to_json() const {
         for (std::size_t t = 0; t < targets_.size(); ++t) {
             verdict[t].push_back(verdict_name(r->verdict[t]));
             near_ulp[t].push_back(optional_number(r->near_ulp[t]));
+            cause[t].push_back(r->cause[t] ? json(cause_name(*r->cause[t])) : json());
         }
     }
     json targets = json::object();
@@ -208,7 +212,8 @@ json case_points::to_json() const {
         targets[labels_[t]] = {{"variant", targets_[t].subject.name},
                                {"precision_of_inputs", precision_name(targets_[t].prec)},
                                {"verdict", verdict[t]},
-                               {"near_ulp", near_ulp[t]}};
+                               {"near_ulp", near_ulp[t]},
+                               {"cause", cause[t]}};
     return {{"cases", rows.size()},
             {"sample", fmt::format("per family, the {} cases with the smallest hash of their id (every case of a "
                                    "smaller family), in input order",

@@ -29,7 +29,8 @@ nlohmann::ordered_json stability_json(const audit_totals& totals, const stabilit
 void write_stability_measures(json_line& out, const case_stability& s);
 
 // Column-oriented per-case values for the plots: family, distance ratio,
-// κ at float and double, and per target label the verdict and near-root ulps.
+// κ at float and double, and per target label the verdict, near-root ulps
+// and a disagreement's cause.
 // A bounded, deterministic sample: per family, the `per_family` cases with the
 // smallest hash of their id (ties: smallest global index), listed in input
 // order; every case when a family has no more. Mergeable like the
@@ -46,6 +47,7 @@ public:
         std::optional<double> ratio, kappa_float, kappa_double;  // absent: null in the report
         std::vector<verdict_kind> verdict;                       // aligned with the targets
         std::vector<std::optional<double>> near_ulp;             // an agreeing target's near-root ulps
+        std::vector<std::optional<disagreement_cause>> cause;    // a disagreeing target's cause
     };
     using sample_key = std::pair<std::uint64_t, std::size_t>;  // (hash of id, global index)
 

@@ -63,6 +63,85 @@ TEST(Stability, ZeroRootHasInfiniteCondition) {
     EXPECT_EQ(condition_bucket(m), condition_decades);
 }
 
+// The same case's absolute conditions κ·|t|, finite at the zero root: for
+// t = 0, p = f = (−3, 0, 0): (|p_x|·(|o_x| + |c_x|) + r²)/√Δ′ = (3·7 + 9)/3 = 10;
+// for t = 6, p = (3, 0, 0): (3·(2 + 5 + 6) + 9)/3 = 16 = κ·t.
+TEST(Stability, ZeroRootHasAFiniteAbsoluteCondition) {
+    const stability_measures m = measure(make({2, 0, 0}, {1, 0, 0}, {5, 0, 0}, 3));
+    ASSERT_TRUE(m.near_absolute_condition && m.far_absolute_condition);
+    EXPECT_NEAR(*m.near_absolute_condition, 10.0, 1e-13);
+    EXPECT_NEAR(*m.far_absolute_condition, 16.0, 1e-13);
+    // Scaling positions by 2^30 scales t, and κ·|t| with it.
+    const stability_measures scaled = measure(make({0x1p30 * 2, 0, 0}, {1, 0, 0}, {0x1p30 * 5, 0, 0}, 0x1p30 * 3));
+    EXPECT_NEAR(*scaled.far_absolute_condition, 0x1p30 * 16.0, 1e-3);
+}
+
+// An agreeing answer at a root exactly at 0 is held to the line in absolute
+// terms: |t| / (u·κ·|t|), here 10·u·0.5 / (u·10) = 0.5, though its ulps are of 0.
+TEST(Stability, AZeroRootsAnswerIsJudgedAgainstTheLineInAbsoluteTerms) {
+    const ray_sphere<double> g = make({2, 0, 0}, {1, 0, 0}, {5, 0, 0}, 3);
+    const exact_solution exact = solve_exact(g, precision::binary64);
+    case_score score;
+    score.zero_root_error = 5 * std::ldexp(1.0, -53);
+    score.near_ulp = score.zero_root_error.value() / std::numeric_limits<double>::denorm_min();
+    const std::optional<double> excess = excess_over_line(score, measure(g), exact, precision::binary64);
+    ASSERT_TRUE(excess);
+    EXPECT_NEAR(*excess, 0.5, 1e-12);
+    // Far above: a self-hit t = 1e-6 is 10^9 times the line.
+    score.zero_root_error = 1e-6;
+    EXPECT_GT(*excess_over_line(score, measure(g), exact, precision::binary64), 1e8);
+}
+
+// near_root_scaled_ulp counts a zero root's error in ulps of r/|d| = 3
+// (binade 1: ulp 2^-51), where near_root_ulp counts ulps of 0 (2^-1074).
+TEST(Stability, AZeroRootsErrorIsCountedInUlpsOfTheRadiusAlongTheRay) {
+    const contract closed{.query = query_kind::nearest_hit, .lower_end = end_kind::closed};
+    const ray_sphere<double> g = make({2, 0, 0}, {1, 0, 0}, {5, 0, 0}, 3);
+    variant_output out;
+    out.roots = {1, 0x1p-50, 0};
+    const case_score s = judge_output(closed, out, solve_exact(g, precision::binary64),
+                                      range_of(closed, std::nullopt, std::nullopt), g);
+    EXPECT_EQ(s.verdict, verdict_kind::agree);
+    ASSERT_TRUE(s.near_scaled_ulp && s.near_ulp);
+    EXPECT_EQ(*s.near_scaled_ulp, 2.0);
+    EXPECT_EQ(*s.near_ulp, inf);  // 2^-50 / 2^-1074 overflows
+    // In float the ulp of 3 is 2^-22; a direction of length 2 halves r/|d| to 1.5 (binade 0: 2^-23).
+    const ray_sphere<double> slow = make({2, 0, 0}, {2, 0, 0}, {5, 0, 0}, 3);
+    out.roots = {1, 0x1p-20f, 0};
+    const case_score f = judge_output(closed, out, solve_exact(slow, precision::binary32),
+                                      range_of(closed, std::nullopt, std::nullopt), slow);
+    ASSERT_TRUE(f.near_scaled_ulp);
+    EXPECT_EQ(*f.near_scaled_ulp, 8.0);
+}
+
+// A self-hit (a ray from a point exactly on the sphere answered by a tiny
+// positive t standing for the root at 0) gets one cause whichever root is 0:
+// entering (roots 0 and 6: wrong_side) and leaving (roots −6 and 0: a false
+// hit) are both within the backward error of the range's end at 0.
+TEST(Stability, ASelfHitHasOneCauseWhicheverRootIsZero) {
+    const contract nearest{.query = query_kind::nearest_hit};
+    const auto judged = [&](const ray_sphere<double>& g) {
+        variant_output out;
+        out.roots = {1, 1e-17, 0};
+        return judge_output(nearest, out, solve_exact(g, precision::binary64), range_of(nearest, std::nullopt, std::nullopt), g);
+    };
+    const case_score entering = judged(make({2, 0, 0}, {1, 0, 0}, {5, 0, 0}, 3));
+    const case_score leaving = judged(make({8, 0, 0}, {1, 0, 0}, {5, 0, 0}, 3));
+    EXPECT_EQ(entering.verdict, verdict_kind::wrong_side);
+    EXPECT_EQ(leaving.verdict, verdict_kind::false_hit);
+    EXPECT_EQ(entering.cause, disagreement_cause::conditioning_limited);
+    EXPECT_EQ(leaving.cause, disagreement_cause::conditioning_limited);
+    // Where no root is near an end (roots 2 and 8), the far root answered for
+    // the near one is algorithmic: a stable formula tells them apart.
+    variant_output far_root;
+    far_root.roots = {1, 8, 0};
+    const ray_sphere<double> g = make({0, 0, 0}, {1, 0, 0}, {5, 0, 0}, 3);
+    const case_score wrong = judge_output(nearest, far_root, solve_exact(g, precision::binary64),
+                                          range_of(nearest, std::nullopt, std::nullopt), g);
+    EXPECT_EQ(wrong.verdict, verdict_kind::wrong_root);
+    EXPECT_EQ(wrong.cause, disagreement_cause::algorithmic);
+}
+
 // An exact tangent (Δ′ = 0) is a double root: κ = ∞, distance to tangency 0,
 // and any wrong class is conditioning-limited.
 TEST(Stability, TangentIsInfinitelyIllConditioned) {

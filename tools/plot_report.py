@@ -203,6 +203,10 @@ def plot_accuracy_vs_time(report, directory):
     save(fig, directory, "accuracy_vs_time.png")
 
 
+# A disagreement's marker in the condition plot: the two rounding causes apart, every cause by design as one.
+CAUSE_MARKERS = {"conditioning_limited": "x", "algorithmic": "+", "by design": "d"}
+
+
 def root_targets(points):
     """The targets with at least one nearest-root error (any-hit variants return no root)."""
     return [(label, t) for label, t in points["targets"].items() if any(u is not None for u in t["near_ulp"])]
@@ -226,6 +230,8 @@ def plot_error_vs_condition(report, directory):
         return
     fig, axes = panel_grid(len(targets), 4, 4.2, 3.6)
     floor, top = 1e-3, 5e17
+    # Disagreeing cases in a band above the errors, marked by their cause.
+    band_at, band_from = 1e21, 10 ** 19.5
     # κ = ∞ is drawn at 10^21, in a strip from 10^19.5 to the axis's end.
     infinite_kappa_at, strip_from, x_end = 1e21, 10 ** 19.5, 1e22
     # Points coloured by the case's family, the same colour in every panel.
@@ -233,30 +239,49 @@ def plot_error_vs_condition(report, directory):
     family_colour = {f: FAMILY_COLOURS[i % len(FAMILY_COLOURS)] for i, f in enumerate(families)}
     for ax, (label, t) in zip(axes.flat, targets):
         kappa = points["condition"]["float" if t["precision_of_inputs"] == "float" else "double"]
-        xs, ys, colours = [], [], []
-        for k, u, f in zip(kappa, t["near_ulp"], points["family"]):
-            k, u = number(k), number(u)
-            if k is None or u is None or math.isnan(k) or not math.isfinite(u):
+        causes = t.get("cause", [None] * len(kappa))
+        drawn = {marker: ([], [], []) for marker in CAUSE_MARKERS.values()}
+        agreeing = 0
+        for k, u, f, v, cause in zip(kappa, t["near_ulp"], points["family"], t["verdict"], causes):
+            k = number(k)
+            if k is None or math.isnan(k):
                 continue
             # κ = ∞ (a tangent's double root, or a root exactly 0: no relative error is small) in a strip of its own.
-            xs.append(infinite_kappa_at if math.isinf(k) else min(max(k, 1.0), top))
-            ys.append(min(max(u, floor), top))
+            x = infinite_kappa_at if math.isinf(k) else min(max(k, 1.0), top)
+            if v == "agree":
+                u = number(u)
+                if u is None or math.isnan(u):
+                    continue
+                y = min(max(u, floor), top)  # an error of a root exactly 0 counts ulps of 0: often the ceiling
+                agreeing += 1
+                marker = "o"
+            elif cause is not None:
+                y, marker = band_at, CAUSE_MARKERS.get(cause, CAUSE_MARKERS["by design"])
+            else:
+                continue
+            xs, ys, colours = drawn.setdefault(marker, ([], [], []))
+            xs.append(x)
+            ys.append(y)
             colours.append(family_colour[f])
-        ax.scatter(xs, ys, s=5, alpha=0.5, color=colours)
+        for marker, (xs, ys, colours) in drawn.items():
+            if xs:
+                ax.scatter(xs, ys, s=5 if marker == "o" else 14, alpha=0.5, color=colours, marker=marker,
+                           linewidths=0.8)
         line = [1, 1e18]
         ax.plot(line, line, "k-", lw=1)
         ax.plot(line, [16 * x for x in line], "k:", lw=1)
         ax.axvspan(strip_from, x_end, color="0.92", zorder=0)
+        ax.axhspan(band_from, 1e22, color="0.92", zorder=0)
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.set_xlim(1, x_end)
-        ax.set_ylim(floor / 3, 3e18)
+        ax.set_ylim(floor / 3, 1e22)
         ax.set_xticks([1, 1e6, 1e12, 1e18, infinite_kappa_at])
         ax.set_xticklabels(["1", "$10^6$", "$10^{12}$", "$10^{18}$", "∞"])
-        ax.set_yticks([floor, 1, 1e6, 1e12, top])
-        ax.set_yticklabels(["0", "1", "$10^6$", "$10^{12}$", "≥5e17"])
+        ax.set_yticks([floor, 1, 1e6, 1e12, top, band_at])
+        ax.set_yticklabels(["0", "1", "$10^6$", "$10^{12}$", "≥5e17", "wrong"])
         ax.minorticks_off()
-        ax.set_title("%s (%d cases)" % (label, len(xs)))
+        ax.set_title("%s (%d agree)" % (label, agreeing))
         ax.grid(True, alpha=0.3)
     fig.supxlabel("κ, condition number of the nearest root (log)")
     fig.supylabel("nearest-root error, ulp (log)")
@@ -264,12 +289,14 @@ def plot_error_vs_condition(report, directory):
     handles = [plt.Line2D([], [], color="black", lw=1,
                           label="κ ulps (a relative error of κ·u, to a factor 2): what a backward-stable formula stays near"),
                plt.Line2D([], [], color="black", lw=1, ls=":", label="16·κ ulps")]
-    fig.legend(handles=handles, loc="upper center", ncol=2, bbox_to_anchor=(0.5, 0.985), frameon=False, fontsize=12)
+    handles += [plt.Line2D([], [], color="black", marker=m, ls="", ms=6, label="wrong: " + c.replace("_", " "))
+                for c, m in CAUSE_MARKERS.items()]
+    fig.legend(handles=handles, loc="upper center", ncol=3, bbox_to_anchor=(0.5, 0.985), frameon=False, fontsize=12)
     fig.legend(handles=[plt.Line2D([], [], color=family_colour[f], marker="o", ls="", ms=6, label=f) for f in families],
                loc="upper center", ncol=min(len(families), 8), bbox_to_anchor=(0.5, 0.0), frameon=False,
                title="the case's family")
-    fig.suptitle("Error against condition number (agreeing cases of the plot sample; "
-                 "the grey strip: κ = ∞, a tangent or a root exactly 0)", y=1.0)
+    fig.suptitle("Error against condition number (the plot sample: agreeing cases by their error, wrong ones in the "
+                 "top band by cause; the grey strip: κ = ∞, a tangent or a root exactly 0)", y=1.0)
     # Margins in inches, whatever the number of rows: the x label below, title and legend above.
     height = fig.get_figheight()
     fig.tight_layout(rect=(0.01, 0.35 / height, 1, 1 - 0.9 / height))

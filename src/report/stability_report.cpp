@@ -88,13 +88,16 @@ json stability_json(const audit_totals& totals, const stability_totals& stabilit
         {"conditioning_limited",
          "a wrong class with tangency_margin <= 8 (relative input perturbations of 8u, the backward error of a "
          "stable evaluation, can flip the sign of D'); a wrong root, side or sphere with margin <= 8 or "
-         "8 u kappa >= 1; non-finite and malformed outputs are always algorithmic"},
+         "8 u kappa >= 1; either when a root lies within 8 u kappa |t| of a finite end of the range (a root "
+         "exactly at 0 on a ray from 0, a self-hit, whichever root it is); non-finite and malformed outputs are "
+         "always algorithmic"},
         {"by_design",
          "disagreements the formula makes by design, decided exactly: clamp, contract_semantics, unit_direction, "
          "tangent_threshold, line_not_ray (see the verdict causes)"},
         {"reference_line",
          "a backward-stable algorithm's near-root error is about kappa ulps or less (relative error kappa u); "
-         "excess = near-root ulps / max(kappa, 1) over agreeing cases with finite kappa; above_line counts excess > 16; "
+         "excess = near-root ulps / max(kappa, 1) over agreeing cases with finite kappa, and |t| / (u kappa |t|) "
+         "at a root exactly 0 (kappa |t| is finite there; the larger where both apply); above_line counts excess > 16; "
          "stable = no case above the line; well_conditioned = kappa < 1e3"},
         {"buckets", "cases by decade of kappa; 'inf' = tangent or zero root, 'miss' = no real root"}};
     json results = json::array();

@@ -142,6 +142,28 @@ TEST(Bench, OracleTimingTimesEveryRoute) {
     }
 }
 
+// The median's interval from order statistics, by hand: with 9 repetitions,
+// x_(2) and x_(8) cover the median with 1 − 2·(C(9,0) + C(9,1))/2^9 = 0.9609375
+// (x_(3), x_(7) would cover 0.8203125, short of 95%); with 5, no pair reaches
+// 95%: the minimum and maximum, 1 − 2/32 = 0.9375; with 20, x_(6) and x_(15)
+// (1 − 2·P(B(20, ½) ≤ 5) = 0.9586105346679688).
+TEST(Bench, MedianIntervalIsTheOrderStatisticsThatCoverIt) {
+    const bench::median_interval nine = bench::median_confidence_interval({9, 1, 8, 2, 7, 3, 6, 4, 5});
+    EXPECT_EQ(nine.low, 2);
+    EXPECT_EQ(nine.high, 8);
+    EXPECT_DOUBLE_EQ(nine.confidence, 0.9609375);
+    const bench::median_interval five = bench::median_confidence_interval({5, 4, 3, 2, 1});
+    EXPECT_EQ(five.low, 1);
+    EXPECT_EQ(five.high, 5);
+    EXPECT_DOUBLE_EQ(five.confidence, 0.9375);
+    std::vector<double> twenty;
+    for (int i = 20; i >= 1; --i) twenty.push_back(i);
+    const bench::median_interval t = bench::median_confidence_interval(twenty);
+    EXPECT_EQ(t.low, 6);
+    EXPECT_EQ(t.high, 15);
+    EXPECT_NEAR(t.confidence, 0.9586105346679688, 1e-15);
+}
+
 TEST(Bench, MedianAndSweep) {
     EXPECT_EQ(median_of({3, 1, 2}), 2);
     EXPECT_EQ(median_of({4, 1, 2, 3}), 2.5);

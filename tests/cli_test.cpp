@@ -217,13 +217,22 @@ TEST_F(Cli, BenchPrecisionChoosesTheRowsAndThreadsChangeNoFigure) {
         return f;
     };
     std::size_t rows = 0;
-    for (; std::getline(csv, line); ++rows) {
-        ASSERT_LT(rows, a["timing"]["rows"].size()) << line;
+    for (; rows < a["timing"]["rows"].size() && std::getline(csv, line); ++rows) {
         const nlohmann::json& timed = a["timing"]["rows"][rows];
         EXPECT_EQ(field(line, 0) + "/" + field(line, 1) + "/" + field(line, 2),
                   timed["variant"].get<std::string>() + "/" + timed["precision"].get<std::string>() + "/" +
                       timed["family"].get<std::string>());
         EXPECT_EQ(std::stod(field(line, column("ns_per_test_median"))), timed["ns_per_test"]["median"].get<double>());
+        // The median's interval holds the median; with fewer than 6 repetitions it is the minimum and
+        // maximum, whose coverage is 1 − 2·2^-n (n = 1 here: 0).
+        const double low = std::stod(field(line, column("ns_per_test_median_low"))),
+                     high = std::stod(field(line, column("ns_per_test_median_high")));
+        EXPECT_LE(low, timed["ns_per_test"]["median"].get<double>());
+        EXPECT_GE(high, timed["ns_per_test"]["median"].get<double>());
+        const auto repetitions = static_cast<int>(std::stoul(field(line, column("repetitions"))));
+        ASSERT_LT(repetitions, 6);
+        EXPECT_EQ(std::stod(field(line, column("median_interval_confidence"))), 1 - 2 * std::ldexp(1.0, -repetitions))
+            << line;
         if (timed["variant"] == "naive" && timed["precision"] == "float") {
             const nlohmann::json& audited = a["results"][0]["by_family"]["uniform"];
             ASSERT_EQ(a["results"][0]["variant"], "naive");
@@ -233,6 +242,20 @@ TEST_F(Cli, BenchPrecisionChoosesTheRowsAndThreadsChangeNoFigure) {
         }
     }
     EXPECT_EQ(rows, a["timing"]["rows"].size());
+    // Then a row per target over every family: timing.overall's time, results' verdicts and figures.
+    std::size_t overall = 0;
+    for (; std::getline(csv, line); ++overall) {
+        ASSERT_LT(overall, a["timing"]["overall"].size()) << line;
+        const nlohmann::json& timed = a["timing"]["overall"][overall];
+        EXPECT_EQ(field(line, 2), "(all)") << line;
+        EXPECT_EQ(field(line, 0) + "/" + field(line, 1),
+                  timed["variant"].get<std::string>() + "/" + timed["precision"].get<std::string>());
+        EXPECT_EQ(std::stod(field(line, column("ns_per_test_median"))), timed["ns_per_test"].get<double>());
+        if (timed["variant"] == "naive" && timed["precision"] == "float")
+            EXPECT_EQ(std::stod(field(line, column("near_root_ulp_max"))),
+                      a["results"][0]["near_root_ulp"]["max"].get<double>()) << line;
+    }
+    EXPECT_EQ(overall, a["timing"]["overall"].size());
     const command_result seeded = bench("1", "seven", " --seed 7");
     ASSERT_EQ(seeded.exit_code, 0) << seeded.output;
     const nlohmann::json c = report("seven");

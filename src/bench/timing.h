@@ -9,6 +9,8 @@
 // at least `min_time_s`, and repeats; we keep every repetition's CPU time.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -79,6 +81,41 @@ timing_row time_pass(timing_row row, const std::function<double()>& one_pass, co
 
 // Median of a sample (mean of the two middle values for an even count); 0 for empty.
 double median_of(std::vector<double> values);
+
+// A distribution-free confidence interval for the median of the distribution
+// the repetitions are drawn from (independent, identically distributed): the
+// order statistics x_(k) and x_(n+1−k) with the largest k whose coverage
+// 1 − 2·P(Binomial(n, 1/2) ≤ k − 1) is at least `wanted`; with too few
+// repetitions for that (n < 6 at 0.95), the minimum and maximum with the
+// coverage they have. `confidence` is the coverage of the interval given.
+struct median_interval {
+    double low = 0, high = 0, confidence = 0;
+};
+inline median_interval median_confidence_interval(std::vector<double> values, double wanted = 0.95) {
+    median_interval out;
+    if (values.empty()) return out;
+    std::sort(values.begin(), values.end());
+    const std::size_t n = values.size();
+    // below[k] = P(Binomial(n, 1/2) <= k), summed in doubles: n is a repetition count.
+    std::vector<double> below(n + 1);
+    double term = std::ldexp(1.0, -static_cast<int>(n)), sum = 0;  // C(n, 0) / 2^n
+    for (std::size_t k = 0; k <= n; ++k) {
+        sum += term;
+        below[k] = sum;
+        term = term * static_cast<double>(n - k) / static_cast<double>(k + 1);
+    }
+    std::size_t chosen = 1;
+    out.confidence = 1 - 2 * below[0];
+    for (std::size_t k = 2; 2 * k <= n + 1; ++k) {
+        const double coverage = 1 - 2 * below[k - 1];
+        if (coverage < wanted) break;
+        chosen = k;
+        out.confidence = coverage;
+    }
+    out.low = values[chosen - 1];
+    out.high = values[n - chosen];
+    return out;
+}
 
 // The CPU model from /proc/cpuinfo ("unknown" when unreadable).
 std::string cpu_model();

@@ -194,8 +194,18 @@ std::string bench_table_csv(const json& report) {
     add(member(&report, "results"));
     add(member(member(&report, "long_double"), "results"));
 
-    std::vector<std::string> header{"variant", "precision", "family", "cases_timed", "ns_per_test_median",
-                                    "ns_per_test_min", "ns_per_test_max", "repetitions", "ratio_to_reference",
+    std::vector<std::string> header{"variant",
+                                    "precision",
+                                    "family",
+                                    "cases_timed",
+                                    "ns_per_test_median",
+                                    "ns_per_test_median_low",
+                                    "ns_per_test_median_high",
+                                    "median_interval_confidence",
+                                    "ns_per_test_min",
+                                    "ns_per_test_max",
+                                    "repetitions",
+                                    "ratio_to_reference",
                                     "cases_scored"};
     for (int k = 0; k < verdict_kind_count; ++k) header.emplace_back(verdict_name(static_cast<verdict_kind>(k)));
     static constexpr const char* statistics[] = {"count", "max", "p99", "median"};
@@ -203,17 +213,8 @@ std::string bench_table_csv(const json& report) {
         for (const char* statistic : statistics) header.push_back(fmt::format("{}_{}", figure.name, statistic));
     std::string out = fmt::format("{}\n", fmt::join(header, ","));
 
-    for (const json& row : report["timing"]["rows"]) {
-        const std::string variant = row["variant"], precision = row["precision"], family = row["family"];
-        const json& ns = row["ns_per_test"];
-        std::vector<std::string> fields{csv_field(&row["variant"]), csv_field(&row["precision"]),
-                                        csv_field(&row["family"]), csv_field(&row["cases"]),
-                                        csv_field(member(&ns, "median")), csv_field(member(&ns, "min")),
-                                        csv_field(member(&ns, "max")),
-                                        std::to_string(member(&ns, "repetitions") ? ns["repetitions"].size() : 0),
-                                        csv_field(member(&row, "ratio_to_reference"))};
-        const auto found = audited.find(variant + "/" + precision);
-        const json* section = found == audited.end() ? nullptr : member(member(found->second, "by_family"), family);
+    // The verdict and figure columns of one audited section (empty fields where there is none).
+    const auto audit_fields = [&](std::vector<std::string>& fields, const json* section) {
         const json* verdicts = member(section, "verdicts");
         fields.push_back(verdicts == nullptr ? "" : std::to_string(scored_in(*verdicts)));
         for (int k = 0; k < verdict_kind_count; ++k)
@@ -223,6 +224,32 @@ std::string bench_table_csv(const json& report) {
             for (const char* statistic : statistics) fields.push_back(csv_field(member(tally, statistic)));
         }
         out += fmt::format("{}\n", fmt::join(fields, ","));
+    };
+    const auto audited_section = [&](const std::string& variant, const std::string& precision) -> const json* {
+        const auto found = audited.find(variant + "/" + precision);
+        return found == audited.end() ? nullptr : found->second;
+    };
+    for (const json& row : report["timing"]["rows"]) {
+        const std::string variant = row["variant"], precision = row["precision"], family = row["family"];
+        const json& ns = row["ns_per_test"];
+        const json* interval = member(&ns, "median_interval");
+        std::vector<std::string> fields{csv_field(&row["variant"]), csv_field(&row["precision"]),
+                                        csv_field(&row["family"]), csv_field(&row["cases"]),
+                                        csv_field(member(&ns, "median")), csv_field(member(interval, "low")),
+                                        csv_field(member(interval, "high")), csv_field(member(interval, "confidence")),
+                                        csv_field(member(&ns, "min")), csv_field(member(&ns, "max")),
+                                        std::to_string(member(&ns, "repetitions") ? ns["repetitions"].size() : 0),
+                                        csv_field(member(&row, "ratio_to_reference"))};
+        audit_fields(fields, member(member(audited_section(variant, precision), "by_family"), family));
+    }
+    // Then a row per target over every family (report.json's timing.overall and results): the
+    // case-weighted mean of the families' medians, its ratio, and the whole corpus's verdicts and figures.
+    for (const json& row : report["timing"]["overall"]) {
+        std::vector<std::string> fields{csv_field(&row["variant"]), csv_field(&row["precision"]),
+                                        std::string(bench_all_families), csv_field(&row["cases"]),
+                                        csv_field(member(&row, "ns_per_test")), "", "", "", "", "", "",
+                                        csv_field(member(&row, "ratio_to_reference"))};
+        audit_fields(fields, audited_section(row["variant"], row["precision"]));
     }
     return out;
 }

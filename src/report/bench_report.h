@@ -71,13 +71,18 @@ nlohmann::ordered_json bench_report_document(const bench_accuracy& accuracy, con
 
 // bench.csv: bench's figures as one table, a row per target and family timed
 // (the timing's rows, in their order): variant, precision, family, cases
-// timed; the CPU time per test as the repetitions' median, minimum and
+// timed; the CPU time per test as the repetitions' median, the median's
+// distribution-free confidence interval and its confidence, the minimum and
 // maximum, their count and the ratio to the reference; then, where the
 // target was audited, the scored cases, a column per verdict and, per error
 // figure, its count, max, p99 and median (the columns report.json's
-// by_family holds). Numbers as the shortest decimal that reads back to the
-// same double (`inf`, `nan`); a figure with no value, or a target not audited
+// by_family holds). Then a row per target whose family is
+// `bench_all_families`: the whole corpus (timing.overall's case-weighted
+// time and ratio, results' verdicts and figures; no interval, minimum or
+// maximum). Numbers as the shortest decimal that reads back to the same
+// double (`inf`, `nan`); a figure with no value, or a target not audited
 // (the exact oracles), is an empty field.
+inline constexpr std::string_view bench_all_families = "(all)";
 std::string bench_table_csv(const nlohmann::ordered_json& report);
 
 }  // namespace rayverify

@@ -227,6 +227,16 @@ json case_points::to_json() const {
             {"targets", targets}};
 }
 
+namespace {
+
+// The repetitions' distribution-free confidence interval for the median (bench/timing.h).
+json median_interval_json(const std::vector<double>& repetitions) {
+    const bench::median_interval i = bench::median_confidence_interval(repetitions);
+    return {{"low", i.low}, {"high", i.high}, {"confidence", i.confidence}};
+}
+
+}  // namespace
+
 json timing_json(const std::vector<bench::timing_row>& rows, const bench::timing_options& options,
                  const std::string& reference_label) {
     std::map<std::string, double> reference;  // family → reference median
@@ -266,6 +276,7 @@ json timing_json(const std::vector<bench::timing_row>& rows, const bench::timing
                          {"family", r.family},
                          {"cases", r.cases},
                          {"ns_per_test", {{"median", r.median}, {"min", r.min}, {"max", r.max},
+                                          {"median_interval", median_interval_json(r.ns_per_test)},
                                           {"repetitions", r.ns_per_test}}},
                          {"real_ns_per_test_median", r.real_median},
                          {"ratio_to_reference", ratio},

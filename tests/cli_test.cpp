@@ -8,6 +8,7 @@
 #include <set>
 #include <sstream>
 
+#include "compare/judge.h"
 #include "intersectors/registry.h"
 #include "support/process.h"
 
@@ -15,6 +16,8 @@ namespace {
 
 namespace fs = std::filesystem;
 using namespace rayverify::test_support;
+using rayverify::is_misclassification, rayverify::is_scored, rayverify::verdict_kind, rayverify::verdict_kind_count,
+    rayverify::verdict_name;
 
 class Cli : public testing::Test {
 protected:
@@ -251,9 +254,10 @@ TEST_F(Cli, BenchPrecisionChoosesTheRowsAndThreadsChangeNoFigure) {
         EXPECT_EQ(field(line, 0) + "/" + field(line, 1),
                   timed["variant"].get<std::string>() + "/" + timed["precision"].get<std::string>());
         EXPECT_EQ(std::stod(field(line, column("ns_per_test_median"))), timed["ns_per_test"].get<double>());
-        if (timed["variant"] == "naive" && timed["precision"] == "float")
+        if (timed["variant"] == "naive" && timed["precision"] == "float") {
             EXPECT_EQ(std::stod(field(line, column("near_root_ulp_max"))),
                       a["results"][0]["near_root_ulp"]["max"].get<double>()) << line;
+        }
     }
     EXPECT_EQ(overall, a["timing"]["overall"].size());
     const command_result seeded = bench("1", "seven", " --seed 7");
@@ -267,6 +271,58 @@ TEST_F(Cli, BenchPrecisionChoosesTheRowsAndThreadsChangeNoFigure) {
     EXPECT_EQ(c["results"], a["results"]) << "the seed is the sweep's alone";
     const command_result oracle = run_cli("bench --oracle --precision float");
     EXPECT_EQ(oracle.exit_code, 2) << oracle.output;
+}
+
+// The plots as a paper wants them: --plot-format and --error-measure reach the
+// plot script; an unknown measure is an input error before any work; and
+// bench.csv round-trips into the plot script: the accuracy-against-time
+// plot drawn from it has the points of the plot drawn from report.json.
+TEST_F(Cli, BenchPlotsTakeFormatsAndAMeasureAndDrawTheSameFromTheCsv) {
+    const std::string corpus = std::string(RAYVERIFY_CORPUS_DIR) + "/on_surface.txt";
+    const std::filesystem::path dir = dir_ / "paper";
+    const command_result drawn =
+        run_cli("bench --corpus " + corpus + " --variant naive --variant wald_origin_shift --repetitions 1 "
+                "--min-time 0.001 --sweep 100 --plot-format svg --plot-format pdf --error-measure "
+                "scale_error_radius:p99 --report " + dir.string());
+    ASSERT_EQ(drawn.exit_code, 0) << drawn.output;
+    EXPECT_TRUE(std::filesystem::exists(dir / "accuracy_vs_time.svg")) << drawn.output;
+    EXPECT_TRUE(std::filesystem::exists(dir / "error_vs_condition.pdf")) << drawn.output;
+    EXPECT_FALSE(std::filesystem::exists(dir / "accuracy_vs_time.png"));
+    const command_result unknown = run_cli("bench --corpus " + corpus + " --error-measure near_root_ulp:p50 --report " +
+                                           (dir_ / "unknown").string());
+    EXPECT_EQ(unknown.exit_code, 2) << unknown.output;
+    EXPECT_NE(unknown.output.find("--error-measure"), std::string::npos) << unknown.output;
+    EXPECT_FALSE(std::filesystem::exists(dir_ / "unknown"));
+
+    const auto names_where = [](auto holds) {
+        std::string names;
+        for (int k = 0; k < verdict_kind_count; ++k)
+            if (holds(static_cast<verdict_kind>(k)))
+                names += (names.empty() ? "" : ",") + std::string(verdict_name(static_cast<verdict_kind>(k)));
+        return names;
+    };
+    const std::string script = "/usr/bin/python3 " + std::string(RAYVERIFY_SOURCE_DIR) + "/tools/plot_report.py ",
+                      lists = " --misclassifications " + names_where(is_misclassification) + " --unscored " +
+                              names_where([](verdict_kind k) { return !is_scored(k); }) + " --verdicts " +
+                              names_where([](verdict_kind) { return true; }) + " --error-measure near_root_ulp:max";
+    std::filesystem::create_directories(dir / "from_csv");
+    const command_result from_csv = run_shell(script + (dir / "from_csv").string() + lists + " --from-csv " +
+                                                (dir / "bench.csv").string() + " --points " +
+                                                (dir / "csv_points.json").string());
+    ASSERT_EQ(from_csv.exit_code, 0) << from_csv.output;
+    const command_result from_json =
+        run_shell(script + dir.string() + lists + " --points " + (dir / "json_points.json").string());
+    ASSERT_EQ(from_json.exit_code, 0) << from_json.output;
+    const auto sorted_points = [](const std::filesystem::path& file) {
+        std::vector<std::string> points;
+        const nlohmann::json drawn = nlohmann::json::parse(std::ifstream(file));
+        for (const auto& p : drawn["points"]) points.push_back(p.dump());
+        std::sort(points.begin(), points.end());
+        return points;
+    };
+    const std::vector<std::string> csv_points = sorted_points(dir / "csv_points.json");
+    EXPECT_GE(csv_points.size(), 6u);  // naive and wald_origin_shift in three precisions, two panels each
+    EXPECT_EQ(csv_points, sorted_points(dir / "json_points.json"));
 }
 
 // bench --audit: the whole audit's cost per case-target for each family and

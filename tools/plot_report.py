@@ -3,10 +3,25 @@
 
 Run by `rayverify audit --report DIR` and `rayverify bench --report DIR` with
 Debian's /usr/bin/python3 (package python3-matplotlib). Prints "wrote NAME"
-for every PNG written; each is written to NAME.tmp.png and renamed, so a
-failure leaves no partial image. Plots whose data the report lacks (run time
+for every image written; each is written to a temporary name and renamed, so
+a failure leaves no partial image. Plots whose data the report lacks (run time
 in an audit report, the far-sphere sweep) are skipped.
+
+  plot_report.py DIR --misclassifications NAMES --unscored NAMES
+                 [--format png,svg,pdf] [--error-measure FIGURE:STATISTIC]
+                 [--from-csv bench.csv] [--points FILE]
+
+--format: the image formats, each plot once per format (default png).
+--error-measure: the error the accuracy-against-time plot draws: an error
+  figure of report.json (near_root_scaled_ulp, near_root_ulp,
+  scale_error_radius, near_root_bits, ...) and max, p99 or median (default
+  near_root_scaled_ulp:max, which a root exactly at 0 cannot blow up).
+--from-csv: draw the accuracy-against-time plot from bench.csv (its "(all)"
+  rows) instead of report.json, into DIR.
+--points: also write the accuracy-against-time plot's points as JSON.
 """
+import argparse
+import csv
 import json
 import math
 import os
@@ -47,17 +62,25 @@ PRECISION_MARKERS = {"float": "o", "double": "s", "long double": "D", "exact": "
 # (src/compare/judge.cpp), so that this script keeps no list.
 MISCLASS = ()
 UNSCORED = ()
+VERDICTS = ()  # every verdict name (--verdicts), for reading bench.csv
 DPI = 100
 plt.rcParams.update({"font.size": 11, "axes.titlesize": 11, "legend.fontsize": 10})
 
 
+FORMATS = ("png",)  # --format
+
+
 def save(fig, directory, name):
-    path = os.path.join(directory, name)
-    temporary = path + ".tmp.png"
-    fig.savefig(temporary, dpi=DPI, bbox_inches="tight")
+    """Writes NAME (a .png name) once per --format: NAME.png, NAME.svg, NAME.pdf."""
+    stem = os.path.splitext(name)[0]
+    for extension in FORMATS:
+        written = stem + "." + extension
+        path = os.path.join(directory, written)
+        temporary = path + ".tmp." + extension
+        fig.savefig(temporary, dpi=DPI, bbox_inches="tight", format=extension)
+        os.replace(temporary, path)
+        print("wrote " + written)
     plt.close(fig)
-    os.replace(temporary, path)
-    print("wrote " + name)
 
 
 def number(x):
@@ -136,7 +159,25 @@ class LogAxis:
         ax.minorticks_off()
 
 
-def plot_accuracy_vs_time(report, directory):
+def measure_words(figure, statistic, precision_words):
+    """The axis words for FIGURE:STATISTIC: its unit read from the figure's name."""
+    if figure.endswith("_ulp"):
+        unit = "ulp of " + precision_words
+    elif figure.endswith("_bits"):
+        unit = "bits"
+    elif figure == "scale_error_radius":
+        unit = "radii"
+    else:
+        unit = figure
+    return "%s %s (%s)" % (statistic, figure, unit)
+
+
+def plot_accuracy_vs_time(report, directory, measure=("near_root_scaled_ulp", "max"), points_file=None):
+    figure, statistic = measure
+    figures = sorted({k for _, _, e in accuracy_entries(report) for k, v in e.items() if isinstance(v, dict) and "count" in v})
+    if figures and figure not in figures:
+        sys.exit("plot_report.py: --error-measure: '%s' is not an error figure of this report (%s)"
+                 % (figure, ", ".join(figures)))
     timing = {(r["variant"], r["precision"]): r["ns_per_test"] for r in report["timing"]["overall"]}
     entries = [(v, p, e) for v, p, e in accuracy_entries(report) if (v, p) in timing]
     exact = [(x, label, marker) for x, label, marker in
@@ -144,9 +185,11 @@ def plot_accuracy_vs_time(report, directory):
               (timing.get(("exact_reference", "exact")), "exact reference (no filter)", "P")] if x]
     # A float ulp is 2^29 double ulps: each precision has its own panel and front.
     # Long double roots are rounded to double and judged in double ulps.
-    panels = [("float: max nearest-root error (ulp of float)", ("float",), "ulp"),
-              ("double and long double: max nearest-root error (ulp of double)", ("double", "long double"), "ulp"),
+    panels = [("float: " + measure_words(figure, statistic, "float"), ("float",), "ulp"),
+              ("double and long double: " + measure_words(figure, statistic, "double"), ("double", "long double"),
+               "ulp"),
               ("all precisions: misclassified share of scored cases", ("float", "double", "long double"), "rate")]
+    drawn_points = []
     fig, axes = plt.subplots(1, 3, figsize=(18, 6.8))
     # The time axis fits the formulas; an exact oracle slower than all of them by more than its margin sits at
     # its right edge with its time written beside it.
@@ -154,10 +197,10 @@ def plot_accuracy_vs_time(report, directory):
     right_edge = max(formula_times) * 1.6 if formula_times else None
     for ax, (title, precisions, kind) in zip(axes, panels):
         chosen = [(v, p, e) for v, p, e in entries if p in precisions]
-        rootless = sorted({v for v, p, e in chosen if kind == "ulp" and e["near_root_ulp"].get("count", 0) == 0})
+        rootless = sorted({v for v, p, e in chosen if kind == "ulp" and e.get(figure, {}).get("count", 0) == 0})
         chosen = [(v, p, e) for v, p, e in chosen if v not in rootless]
         if kind == "ulp":
-            values = [number(e["near_root_ulp"].get("max")) for _, _, e in chosen]
+            values = [number(e[figure].get(statistic)) for _, _, e in chosen]
             axis = LogAxis(values + [0.0], "0 (exact)", "inf")
         else:
             values = [misclassification_rate(e) for _, _, e in chosen]
@@ -168,6 +211,9 @@ def plot_accuracy_vs_time(report, directory):
             points.append((x, axis.y(y)))
             ax.scatter(x, axis.y(y), color=colour(variant), marker=PRECISION_MARKERS[precision],
                        s=70, edgecolors="black", linewidths=0.5, zorder=3)
+            drawn_points.append({"panel": kind if kind == "rate" else precisions[0], "variant": variant,
+                                 "precision": precision, "ns_per_test": x,
+                                 "value": y if y is None or math.isfinite(y) else str(y)})
         # The exact answers cost time and have no error: on the floor.
         for x, label, marker in exact:
             points.append((x, axis.floor))
@@ -197,10 +243,40 @@ def plot_accuracy_vs_time(report, directory):
                 for p in ("float", "double", "long double")]
     handles += [plt.Line2D([], [], color="black", marker=marker, ls="", ms=12, label=label) for _, label, marker in exact]
     fig.legend(handles=handles, loc="upper center", ncol=6, bbox_to_anchor=(0.5, 0.0))
-    fig.suptitle("Accuracy against run time (%s cases; lower left is better; maxima over this finite corpus, "
-                 "not bounds)" % report["corpus"]["cases"])
+    fig.suptitle("Accuracy against run time (%s cases; lower left is better; %s over this finite corpus%s)"
+                 % (report["corpus"]["cases"], statistic, ", not bounds" if statistic == "max" else ""))
     fig.tight_layout()
     save(fig, directory, "accuracy_vs_time.png")
+    if points_file:
+        with open(points_file, "w") as f:
+            json.dump({"error_measure": figure + ":" + statistic, "points": drawn_points}, f, indent=1)
+
+
+def report_from_csv(path):
+    """The parts of report.json the accuracy-against-time plot reads, from bench.csv's "(all)" rows."""
+    results, overall, cases = [], [], 0
+    with open(path, newline="") as f:
+        for row in csv.DictReader(f):
+            if row["family"] != "(all)":
+                continue
+            value = lambda column: None if row[column] == "" else float(row[column])  # noqa: E731
+            overall.append({"variant": row["variant"], "precision": row["precision"],
+                            "ns_per_test": value("ns_per_test_median")})
+            cases = max(cases, int(row["cases_timed"]))
+            if row["cases_scored"] == "":
+                continue  # timed, not audited: an exact oracle
+            verdicts = {name: int(row[name]) for name in VERDICTS if row[name] != ""}
+            entry = {"variant": row["variant"], "precision": row["precision"], "cases": sum(verdicts.values()),
+                     "verdicts": verdicts}
+            for column in row:
+                if column.endswith("_count") and row[column] != "":
+                    name = column[:-len("_count")]
+                    entry[name] = {"count": int(row[column])}
+                    for statistic in ("max", "p99", "median"):
+                        if row.get(name + "_" + statistic, "") != "":
+                            entry[name][statistic] = value(name + "_" + statistic)
+            results.append(entry)
+    return {"timing": {"overall": overall}, "results": results, "corpus": {"cases": cases}}
 
 
 # A disagreement's marker in the condition plot: the two rounding causes apart, every cause by design as one.
@@ -461,17 +537,39 @@ def plot_histograms(report, directory):
 
 
 def main():
-    global MISCLASS, UNSCORED
-    args = sys.argv[1:]
-    if len(args) != 5 or args[1] != "--misclassifications" or args[3] != "--unscored":
-        sys.exit("usage: plot_report.py REPORT_DIR --misclassifications NAME,NAME,... --unscored NAME,NAME,...")
-    MISCLASS = tuple(args[2].split(","))
-    UNSCORED = tuple(args[4].split(","))
-    directory = args[0]
+    global MISCLASS, UNSCORED, VERDICTS, FORMATS
+    parser = argparse.ArgumentParser(description="Draw the rayverify report plots.")
+    parser.add_argument("directory")
+    parser.add_argument("--misclassifications", required=True)
+    parser.add_argument("--unscored", required=True)
+    parser.add_argument("--verdicts", default="", help="every verdict name (for --from-csv)")
+    parser.add_argument("--format", default="png")
+    parser.add_argument("--error-measure", default="near_root_scaled_ulp:max")
+    parser.add_argument("--from-csv")
+    parser.add_argument("--points")
+    args = parser.parse_args()
+    MISCLASS = tuple(args.misclassifications.split(","))
+    UNSCORED = tuple(args.unscored.split(","))
+    VERDICTS = tuple(v for v in args.verdicts.split(",") if v)
+    FORMATS = tuple(args.format.split(","))
+    for extension in FORMATS:
+        if extension not in ("png", "svg", "pdf"):
+            sys.exit("plot_report.py: --format: '%s' is not png, svg or pdf" % extension)
+    figure, _, statistic = args.error_measure.partition(":")
+    if statistic not in ("max", "p99", "median"):
+        sys.exit("plot_report.py: --error-measure: '%s' is not FIGURE:max, FIGURE:p99 or FIGURE:median"
+                 % args.error_measure)
+    measure = (figure, statistic)
+    directory = args.directory
+    if args.from_csv:
+        if not VERDICTS:
+            sys.exit("plot_report.py: --from-csv needs --verdicts")
+        plot_accuracy_vs_time(report_from_csv(args.from_csv), directory, measure, args.points)
+        return
     with open(os.path.join(directory, "report.json")) as f:
         report = json.load(f)
     if "timing" in report:
-        plot_accuracy_vs_time(report, directory)
+        plot_accuracy_vs_time(report, directory, measure, args.points)
     if "case_points" in report:
         plot_error_vs_condition(report, directory)
         plot_far_sphere(report, directory)

@@ -52,6 +52,8 @@ struct bench_options {
     double min_time = 0.01;
     std::size_t sweep = 5000;
     std::uint64_t seed = 2;  // the far-sphere sweep's
+    std::vector<std::string> plot_formats;  // png, svg, pdf; empty: png
+    std::string error_measure;              // FIGURE:STATISTIC; empty: the plot script's default
 };
 
 // The timings' progress line (the harness calls back through a plain function).
@@ -209,6 +211,10 @@ int run(const bench_options& options, const std::string& command_line) {
     if (options.oracle && !options.precisions.empty())
         throw input_error("", 0, "--precision", "times the variants: not with --oracle (the oracle is exact)");
     if (options.oracle) return run_oracle_timing(cases, options);
+    if ((!options.plot_formats.empty() || !options.error_measure.empty()) && options.report_dir.empty())
+        throw input_error("", 0, options.plot_formats.empty() ? "--error-measure" : "--plot-format",
+                          "chooses how the report's plots are drawn: add --report DIR");
+    const plot_choices plots_chosen = plot_choices_of(options.plot_formats, options.error_measure);
     if (options.audit && (!options.benchmark_json.empty() || !options.precisions.empty() || !options.report_dir.empty()))
         throw input_error("", 0, "--audit",
                           fmt::format("times the audit of the {} textbook variants: not with --benchmark-json, "
@@ -290,7 +296,7 @@ int run(const bench_options& options, const std::string& command_line) {
     }
     json report = bench_report_document(accuracy, context, timing_section, robust.json, sweep);
     table_csv->stream() << bench_table_csv(report);
-    const plot_outcome plots = bundle->write(std::move(report), true);
+    const plot_outcome plots = bundle->write(std::move(report), true, plots_chosen);
     fmt::print("report: {}\nplots: {}\n", (bundle->dir() / "report.json").string(), plots.message);
     check_standard_output();
     outputs.commit();
@@ -347,6 +353,12 @@ command add_bench_command(CLI::App& app, const std::string& command_line) {
         ->check(finite_number(0, 3600, true));
     sub->add_option("--sweep", options->sweep, "Far-sphere sweep cases for the report (default 5000; 0: none)")
         ->check(whole_number(0, 100000000));
+    sub->add_option("--plot-format", options->plot_formats,
+                    "With --report: draw each plot as png, svg or pdf (repeatable; default png)");
+    sub->add_option("--error-measure", options->error_measure,
+                    "With --report: the error the accuracy-against-time plot draws, FIGURE:STATISTIC: an error "
+                    "figure of report.json and max, p99 or median (default near_root_scaled_ulp:max: a root "
+                    "exactly at 0 counted in ulps of r/|d|, so that it cannot blow up the figure)");
     sub->add_option("--seed", options->seed,
                     "Seed of the far-sphere sweep's cases, as `corpus generate --family far_sphere --seed` takes it; "
                     "the report and far_sphere.png name it (default 2)")

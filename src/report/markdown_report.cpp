@@ -1,6 +1,7 @@
 #include "report/markdown_report.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <array>
@@ -9,6 +10,7 @@
 #include <map>
 #include <memory>
 
+#include "compare/error_figures.h"
 #include "compare/judge.h"
 #include "compare/stability.h"
 #include "report/stability_report.h"
@@ -401,7 +403,35 @@ std::string render_markdown(const json& report) {
     return out;
 }
 
-plot_outcome render_plots(const std::filesystem::path& dir) {
+plot_choices plot_choices_of(const std::vector<std::string>& formats, const std::string& error_measure) {
+    plot_choices choices;
+    if (!formats.empty()) choices.formats.clear();
+    for (const std::string& format : formats) {
+        if (format != "png" && format != "svg" && format != "pdf")
+            throw input_error("", 0, "--plot-format", fmt::format("'{}' is not png, svg or pdf", printable(format)));
+        if (std::find(choices.formats.begin(), choices.formats.end(), format) == choices.formats.end())
+            choices.formats.push_back(format);
+    }
+    if (error_measure.empty()) return choices;
+    const auto colon = error_measure.find(':');
+    const std::string figure = error_measure.substr(0, colon),
+                      statistic = colon == std::string::npos ? "" : error_measure.substr(colon + 1);
+    const bool known = std::any_of(error_figures.begin(), error_figures.end(),
+                                   [&](const error_figure_definition& f) { return f.name == figure; });
+    if (!known) {
+        std::vector<std::string_view> names;
+        for (const error_figure_definition& f : error_figures) names.push_back(f.name);
+        throw input_error("", 0, "--error-measure",
+                          fmt::format("'{}' is not an error figure ({})", printable(figure), fmt::join(names, ", ")));
+    }
+    if (statistic != "max" && statistic != "p99" && statistic != "median")
+        throw input_error("", 0, "--error-measure",
+                          fmt::format("'{}' is not FIGURE:max, FIGURE:p99 or FIGURE:median", printable(error_measure)));
+    choices.error_measure = error_measure;
+    return choices;
+}
+
+plot_outcome render_plots(const std::filesystem::path& dir, const plot_choices& choices) {
     plot_outcome outcome;
     const std::string python = RAYVERIFY_PLOT_PYTHON, script = data_file("plot_report.py", RAYVERIFY_PLOT_SCRIPT).string();
     if (!std::filesystem::exists(python)) {
@@ -423,8 +453,10 @@ plot_outcome render_plots(const std::filesystem::path& dir) {
         return names;
     };
     const std::string command = fmt::format(
-        "'{}' '{}' '{}' --misclassifications {} --unscored {} 2>&1", python, script, dir.string(),
-        names_where(is_misclassification), names_where([](verdict_kind k) { return !is_scored(k); }));
+        "'{}' '{}' '{}' --misclassifications {} --unscored {} --verdicts {} --format {} --error-measure {} 2>&1",
+        python, script, dir.string(), names_where(is_misclassification),
+        names_where([](verdict_kind k) { return !is_scored(k); }), names_where([](verdict_kind) { return true; }),
+        fmt::join(choices.formats, ","), choices.error_measure);
     std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), pclose);
     if (!pipe) {
         outcome.message = "cannot run " + script;
@@ -469,7 +501,7 @@ report_bundle::report_bundle(run_outputs& outputs, const std::filesystem::path& 
       json_(outputs.file(dir / "report.json", option)),
       markdown_(outputs.file(dir / "report.md", option)) {}
 
-plot_outcome report_bundle::write(json report, bool draw) {
+plot_outcome report_bundle::write(json report, bool draw, const plot_choices& choices) {
     plot_outcome plots;
     if (draw) {
         const std::filesystem::path stage = outputs_.staging_directory(dir_);
@@ -478,7 +510,7 @@ plot_outcome report_bundle::write(json report, bool draw) {
             copy << report.dump(2) << '\n';
             if (!copy.flush()) throw input_error((stage / "report.json").string(), 0, option_, "cannot write");
         }
-        plots = render_plots(stage);
+        plots = render_plots(stage, choices);
         for (const std::string& file : plots.files) {
             if (std::filesystem::path(file).filename() != file)
                 throw input_error(RAYVERIFY_PLOT_SCRIPT, 0, "", "wrote a file outside its directory: " + file);

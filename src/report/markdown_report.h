@@ -30,9 +30,21 @@ struct plot_outcome {
     std::vector<std::string> files;  // PNG names written in the report directory
 };
 
+// How the plots are drawn: the image formats (png, svg, pdf; each plot once
+// per format) and the accuracy-against-time plot's error measure,
+// FIGURE:STATISTIC (an error figure's name and max, p99 or median).
+struct plot_choices {
+    std::vector<std::string> formats{"png"};
+    std::string error_measure = "near_root_scaled_ulp:max";
+};
+// The choices from the command line's --plot-format and --error-measure
+// (empty: the defaults); an unknown format, figure or statistic is an
+// input_error naming the option.
+plot_choices plot_choices_of(const std::vector<std::string>& formats, const std::string& error_measure);
+
 // Runs the plotting script on dir/report.json; never throws for a missing
 // python or matplotlib (the outcome says so).
-plot_outcome render_plots(const std::filesystem::path& dir);
+plot_outcome render_plots(const std::filesystem::path& dir, const plot_choices& choices = {});
 
 // A report directory's report.json, report.md and plots, as outputs of one
 // run: the directory and both files are declared when this is constructed
@@ -45,7 +57,7 @@ public:
     report_bundle(run_outputs& outputs, const std::filesystem::path& dir, const std::string& option);
     // report.json (with report["plots"] added) and report.md, after the plots
     // when `draw` (drawing takes seconds). Returns the plot outcome.
-    plot_outcome write(nlohmann::ordered_json report, bool draw);
+    plot_outcome write(nlohmann::ordered_json report, bool draw, const plot_choices& choices = {});
     const std::filesystem::path& dir() const { return dir_; }
 
 private:

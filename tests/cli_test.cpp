@@ -288,6 +288,17 @@ TEST_F(Cli, BenchPlotsTakeFormatsAndAMeasureAndDrawTheSameFromTheCsv) {
     EXPECT_TRUE(std::filesystem::exists(dir / "accuracy_vs_time.svg")) << drawn.output;
     EXPECT_TRUE(std::filesystem::exists(dir / "error_vs_condition.pdf")) << drawn.output;
     EXPECT_FALSE(std::filesystem::exists(dir / "accuracy_vs_time.png"));
+    // The machine and the inputs, recorded: the corpus file by size and digest.
+    const nlohmann::json report = nlohmann::json::parse(std::ifstream(dir / "report.json"));
+    EXPECT_FALSE(report["machine"]["kernel"].get<std::string>().empty()) << report["machine"].dump();
+    EXPECT_TRUE(report["machine"]["cpu_flags"].is_array());
+    EXPECT_TRUE(report["machine"]["load_average"].is_null() || report["machine"]["load_average"].size() == 3);
+    ASSERT_EQ(report["input_files"].size(), 1u) << report["input_files"].dump();
+    EXPECT_EQ(report["input_files"][0]["role"], "corpus");
+    EXPECT_EQ(report["input_files"][0]["bytes"].get<std::uintmax_t>(), std::filesystem::file_size(corpus));
+    EXPECT_EQ(report["input_files"][0]["digest"].get<std::string>().size(), 16u);
+    EXPECT_NE(read_text(dir / "report.md").find("digest " + report["input_files"][0]["digest"].get<std::string>()),
+              std::string::npos);
     const command_result unknown = run_cli("bench --corpus " + corpus + " --error-measure near_root_ulp:p50 --report " +
                                            (dir_ / "unknown").string());
     EXPECT_EQ(unknown.exit_code, 2) << unknown.output;

@@ -1,6 +1,7 @@
 #include "bench/timing.h"
 
 #include <benchmark/benchmark.h>
+#include <sys/utsname.h>
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -8,6 +9,8 @@
 #include <fstream>
 #include <functional>
 #include <optional>
+#include <sstream>
+#include <thread>
 #include <utility>
 
 #include "bench/collecting_reporter.h"
@@ -121,6 +124,40 @@ std::string cpu_model() {
             if (colon != std::string::npos) return line.substr(line.find_first_not_of(" \t", colon + 1));
         }
     return "unknown";
+}
+
+machine_record read_machine_record() {
+    machine_record m;
+    m.cpu = cpu_model();
+    m.hardware_threads = std::thread::hardware_concurrency();
+    std::ifstream cpuinfo("/proc/cpuinfo");
+    const auto value_of = [](const std::string& line) {
+        const auto colon = line.find(':');
+        if (colon == std::string::npos) return std::string();
+        const auto start = line.find_first_not_of(" \t", colon + 1);
+        return start == std::string::npos ? std::string() : line.substr(start);
+    };
+    bool flags_read = false;
+    for (std::string line; std::getline(cpuinfo, line);) {
+        if (line.empty()) break;  // the first processor's block is enough
+        if (line.rfind("cpu MHz", 0) == 0) {
+            const std::string text = value_of(line);
+            char* end = nullptr;
+            const double mhz = std::strtod(text.c_str(), &end);
+            if (end != text.c_str() && mhz > 0) m.cpu_mhz = mhz;
+        } else if (!flags_read && (line.rfind("flags", 0) == 0 || line.rfind("Features", 0) == 0)) {
+            std::istringstream words(value_of(line));
+            for (std::string w; words >> w;) m.cpu_flags.push_back(w);
+            flags_read = true;
+        }
+    }
+    std::ifstream max_frequency("/sys/devices/system/cpu/cpu0/cpufreq/cpuinfo_max_freq");
+    if (double khz = 0; max_frequency >> khz && khz > 0) m.cpu_max_mhz = khz / 1000;
+    std::ifstream load("/proc/loadavg");
+    if (std::array<double, 3> l{}; load >> l[0] >> l[1] >> l[2]) m.load_average = l;
+    utsname name{};
+    if (uname(&name) == 0) m.kernel = fmt::format("{} {} {}", name.sysname, name.release, name.machine);
+    return m;
 }
 
 std::vector<timing_row> time_variants(const std::map<std::string, std::vector<corpus_case>>& cases_by_family,

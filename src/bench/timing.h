@@ -12,7 +12,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <array>
 #include <cstdint>
+#include <optional>
 #include <functional>
 #include <map>
 #include <string>
@@ -119,5 +121,21 @@ inline median_interval median_confidence_interval(std::vector<double> values, do
 
 // The CPU model from /proc/cpuinfo ("unknown" when unreadable).
 std::string cpu_model();
+
+// The machine a run's timings were taken on, as far as Linux shows it to an
+// unprivileged process: the CPU's model and feature flags (/proc/cpuinfo), its
+// clock (the current and the maximum MHz, where /proc/cpuinfo or cpufreq gives
+// them; a VM often shows neither truthfully), the load average when read
+// (/proc/loadavg: other work on the machine while timing), the kernel
+// (uname) and the hardware threads. Absent values stay empty.
+struct machine_record {
+    std::string cpu;
+    std::vector<std::string> cpu_flags;
+    std::optional<double> cpu_mhz, cpu_max_mhz;
+    std::optional<std::array<double, 3>> load_average;  // 1, 5 and 15 minutes
+    std::string kernel;
+    unsigned hardware_threads = 0;
+};
+machine_record read_machine_record();
 
 }  // namespace rayverify::bench

@@ -57,22 +57,6 @@ std::string per_case_location(const std::filesystem::path& per_case, const std::
     return relative.generic_string();
 }
 
-// The digest of the files' contents, one after the other, read in pieces.
-std::string files_digest(const std::vector<std::filesystem::path>& paths, const std::string& option) {
-    fnv1a_digest digest;
-    std::array<char, 1 << 16> buffer{};
-    for (const std::filesystem::path& path : paths) {
-        std::ifstream in(path, std::ios::binary);
-        if (!in) throw input_error(path.string(), 0, option, "cannot open for reading");
-        while (in.read(buffer.data(), buffer.size()) || in.gcount() > 0) {
-            digest.add(buffer.data(), static_cast<std::size_t>(in.gcount()));
-            if (!in) break;
-        }
-        digest.add("\xff");  // where one file ends
-    }
-    return digest.text();
-}
-
 // A stream that passes everything to `out` and digests it on the way.
 class digesting_buffer : public std::streambuf {
 public:
@@ -240,6 +224,22 @@ int run(const audit_options& options, const std::string& command_line) {
 }
 
 }  // namespace
+
+std::string files_digest(const std::vector<std::filesystem::path>& paths, const std::string& option) {
+    fnv1a_digest digest;
+    std::array<char, 1 << 16> buffer{};
+    for (const std::filesystem::path& path : paths) {
+        std::ifstream in(path, std::ios::binary);
+        if (!in) throw input_error(path.string(), 0, option, "cannot open for reading");
+        while (in.read(buffer.data(), buffer.size()) || in.gcount() > 0) {
+            digest.add(buffer.data(), static_cast<std::size_t>(in.gcount()));
+            if (!in) break;
+        }
+        digest.add("\xff");  // where one file ends
+    }
+    return digest.text();
+}
+
 
 shard_spec chosen_shard(const std::string& text, const char* command) {
     const resolved_shard resolved = resolve_shard(text, process_environment());

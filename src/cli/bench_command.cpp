@@ -175,6 +175,23 @@ std::string target_notes(const json& timing_section, const bench_targets& target
     return text;
 }
 
+// The corpus files read and the plugins given, each by path, size and digest.
+json input_files_json(const corpus_reading& reading, const std::vector<std::string>& plugins) {
+    json files = json::array();
+    const auto add = [&](const std::filesystem::path& path, const char* role, const std::string& option) {
+        std::error_code error;
+        const auto bytes = std::filesystem::file_size(path, error);
+        files.push_back({{"role", role},
+                         {"path", path.string()},
+                         {"bytes", error ? json() : json(bytes)},
+                         {"digest", files_digest({path}, option)}});
+    };
+    for (const corpus_reading::argument_tally& a : reading.arguments)
+        for (const std::filesystem::path& file : a.argument.files) add(file, "corpus", "--corpus");
+    for (const std::string& plugin : plugins) add(plugin, "plugin", "--plugin");
+    return files;
+}
+
 // bench --oracle: the exact oracles' cost per case against the naive double
 // intersector, per family, with the filter's fallback rates and the oracle's cost targets.
 int run_oracle_timing(const std::vector<corpus_case>& cases, const bench_options& options) {
@@ -263,7 +280,10 @@ int run(const bench_options& options, const std::string& command_line) {
         targets, options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency()));
     accuracy.run = audit_with_stability(cases, targets, labels, threads);
 
-    // Run time, per family.
+    // Run time, per family, on the machine as recorded when the timings begin.
+    bench_provenance provenance;
+    provenance.machine = bench::read_machine_record();
+    provenance.input_files = input_files_json(reading, options.plugins);
     std::map<std::string, std::vector<corpus_case>> by_family;
     for (const corpus_case& c : cases) by_family[family_key(c)].push_back(c);
     const bench::timing_options timing = timing_of(options, chosen_targets.plugins, timed_precisions);
@@ -294,7 +314,7 @@ int run(const bench_options& options, const std::string& command_line) {
         sweep = far_sphere_sweep_run{sweep_cases.size(), options.seed,
                                      audit_with_stability(sweep_cases, sweep_targets, sweep_labels, threads)};
     }
-    json report = bench_report_document(accuracy, context, timing_section, robust.json, sweep);
+    json report = bench_report_document(accuracy, context, timing_section, robust.json, sweep, provenance);
     table_csv->stream() << bench_table_csv(report);
     const plot_outcome plots = bundle->write(std::move(report), true, plots_chosen);
     fmt::print("report: {}\nplots: {}\n", (bundle->dir() / "report.json").string(), plots.message);

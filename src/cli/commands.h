@@ -285,5 +285,8 @@ int publish_audit(const audit_totals& totals, const std::optional<nlohmann::orde
 // a scene), declared as inputs of its run so that no output overwrites them;
 // a directory among them is a corpus directory.
 void declare_inputs(run_outputs& outputs, const std::vector<std::filesystem::path>& paths, const std::string& option);
+// The digest (core/hash.h) of the files' contents, one after the other, read
+// in pieces; a file that cannot be read is an input_error naming `option`.
+std::string files_digest(const std::vector<std::filesystem::path>& paths, const std::string& option);
 
 }  // namespace rayverify::cli

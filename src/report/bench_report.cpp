@@ -131,12 +131,22 @@ std::string timing_table_text(const json& timing_section, std::size_t cases, int
 }
 
 json bench_report_document(const bench_accuracy& accuracy, const run_context& context, const json& timing_section,
-                           const json& robust, const std::optional<far_sphere_sweep_run>& sweep) {
+                           const json& robust, const std::optional<far_sphere_sweep_run>& sweep,
+                           const bench_provenance& provenance) {
     const accuracy_run& all = accuracy.run;
     const std::size_t audited = accuracy.audited, targets = all.totals.targets.size();
     json report = audit_report_json(slice(all.totals, 0, audited), context);
     report["tool"] = "rayverify bench";
-    report["machine"] = {{"cpu", bench::cpu_model()}, {"hardware_threads", std::thread::hardware_concurrency()}};
+    const bench::machine_record& m = provenance.machine;
+    report["machine"] = {{"cpu", m.cpu},
+                         {"hardware_threads", m.hardware_threads},
+                         {"cpu_flags", m.cpu_flags},
+                         {"cpu_mhz", optional_number(m.cpu_mhz)},
+                         {"cpu_max_mhz", optional_number(m.cpu_max_mhz)},
+                         {"load_average", m.load_average ? json(*m.load_average) : json()},
+                         {"kernel", m.kernel},
+                         {"when", "read as the timings began"}};
+    report["input_files"] = provenance.input_files;
     if (audited < targets) {
         json long_double = audit_report_json(slice(all.totals, audited, targets - audited), context);
         for (json& r : long_double["results"]) r["precision"] = "long double";

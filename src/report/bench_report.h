@@ -61,13 +61,22 @@ robust_sphere_figures robust_figures(const std::vector<bench::timing_row>& rows,
 // The timing table bench prints: per target, ns per test and the ratio to the reference.
 std::string timing_table_text(const nlohmann::ordered_json& timing_section, std::size_t cases, int repetitions);
 
+// Where a bench run's figures come from besides its build: the machine as the
+// timings began, and the input files (corpus files and plugins) by path, size
+// and digest (core/hash.h), so that a table in a paper names exactly what was run.
+struct bench_provenance {
+    bench::machine_record machine;
+    nlohmann::ordered_json input_files = nlohmann::ordered_json::array();
+};
+
 // bench's report.json: the audit's sections (float and double, then long
-// double), stability, timing, robust_sphere.h's figures, the plots' sample
-// and the sweep.
+// double), stability, timing, robust_sphere.h's figures, the plots' sample,
+// the sweep, the machine and the input files.
 nlohmann::ordered_json bench_report_document(const bench_accuracy& accuracy, const run_context& context,
                                              const nlohmann::ordered_json& timing_section,
                                              const nlohmann::ordered_json& robust,
-                                             const std::optional<far_sphere_sweep_run>& sweep);
+                                             const std::optional<far_sphere_sweep_run>& sweep,
+                                             const bench_provenance& provenance);
 
 // bench.csv: bench's figures as one table, a row per target and family timed
 // (the timing's rows, in their order): variant, precision, family, cases

@@ -26,6 +26,40 @@ using json = nlohmann::ordered_json;
 
 namespace {
 
+// The machine and input files of a bench report, as "How this report was
+// made" lists them: the CPU with its clock and the feature flags that decide
+// floating-point code (the whole list is in report.json), the load as the
+// timings began, the kernel; each input file's digest.
+std::string machine_lines(const json& report) {
+    const json& m = report["machine"];
+    std::string out = fmt::format("- CPU: {}", m["cpu"].get<std::string>());
+    if (m.contains("cpu_mhz") && m["cpu_mhz"].is_number()) out += fmt::format(", {:.0f} MHz", m["cpu_mhz"].get<double>());
+    if (m.contains("cpu_max_mhz") && m["cpu_max_mhz"].is_number())
+        out += fmt::format(" (maximum {:.0f} MHz)", m["cpu_max_mhz"].get<double>());
+    out += fmt::format(", {} hardware threads", m["hardware_threads"].get<std::size_t>());
+    static constexpr std::string_view floating_point_flags[] = {"sse2",    "sse4_1",  "sse4_2",   "avx",  "avx2",
+                                                                 "fma",     "f16c",    "avx512f",  "avx512dq",
+                                                                 "avx512vl", "asimd",  "fphp"};
+    std::vector<std::string> present;
+    if (m.contains("cpu_flags"))
+        for (const std::string_view flag : floating_point_flags)
+            for (const json& f : m["cpu_flags"])
+                if (f.get<std::string>() == flag) present.emplace_back(flag);
+    if (!present.empty()) out += fmt::format("; floating-point features: {}", fmt::join(present, " "));
+    out += "\n";
+    if (m.contains("load_average") && m["load_average"].is_array())
+        out += fmt::format("- load average as the timings began: {} (1, 5, 15 minutes)\n",
+                           fmt::join(m["load_average"].get<std::vector<double>>(), ", "));
+    if (m.contains("kernel")) out += fmt::format("- kernel: {}\n", m["kernel"].get<std::string>());
+    if (report.contains("input_files"))
+        for (const json& f : report["input_files"])
+            out += fmt::format("- {} file: `{}`, {} bytes, digest {}\n", f["role"].get<std::string>(),
+                               f["path"].get<std::string>(), f["bytes"].is_number() ? f["bytes"].dump() : "?",
+                               f["digest"].get<std::string>());
+    return out;
+}
+
+
 std::string number(const json& x) {
     if (x.is_null()) return "-";
     if (x.is_string()) return x.get<std::string>();
@@ -364,7 +398,7 @@ std::string render_markdown(const json& report) {
                        "program, whose build is its own): {} `{}` [{}], rayverify {}\n",
                        build["compiler"].get<std::string>(), build["flags"].get<std::string>(), build["build_type"].get<std::string>(),
                        build["rayverify_version"].get<std::string>());
-    if (report.contains("machine")) run += fmt::format("- CPU: {}\n", report["machine"]["cpu"].get<std::string>());
+    if (report.contains("machine")) run += machine_lines(report);
     if (report.contains("results")) {
         // Each library audited as shipped once, with the set-up it ran (Embree's kernel).
         std::vector<std::string> named;

@@ -283,8 +283,17 @@ TEST_F(Cli, BenchPlotsTakeFormatsAndAMeasureAndDrawTheSameFromTheCsv) {
     const command_result drawn =
         run_cli("bench --corpus " + corpus + " --variant naive --variant wald_origin_shift --repetitions 1 "
                 "--min-time 0.001 --sweep 100 --plot-format svg --plot-format pdf --error-measure "
-                "scale_error_radius:p99 --report " + dir.string());
+                "scale_error_radius:p99 --report " + dir.string() + " --per-case " + (dir_ / "cases.jsonl").string());
     ASSERT_EQ(drawn.exit_code, 0) << drawn.output;
+    // --per-case: a line per case with every float and double target, as audit --per-case writes them.
+    std::istringstream lines(read_text(dir_ / "cases.jsonl"));
+    std::size_t lined = 0;
+    for (std::string line; std::getline(lines, line); ++lined) {
+        const nlohmann::json c = nlohmann::json::parse(line);
+        EXPECT_TRUE(c["results"].contains("wald_origin_shift/double")) << line;
+        EXPECT_EQ(c["results"].size(), 4u) << line;  // two variants in float and double
+    }
+    EXPECT_EQ(lined, 500u);
     EXPECT_TRUE(std::filesystem::exists(dir / "accuracy_vs_time.svg")) << drawn.output;
     EXPECT_TRUE(std::filesystem::exists(dir / "error_vs_condition.pdf")) << drawn.output;
     EXPECT_FALSE(std::filesystem::exists(dir / "accuracy_vs_time.png"));

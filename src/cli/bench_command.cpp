@@ -48,6 +48,7 @@ struct bench_options {
     bool audit = false;
     std::string report_dir;
     std::string benchmark_json;  // Google Benchmark's JSON format
+    std::string per_case_file;   // the accuracy audit's per-case lines (float and double targets)
     int repetitions = 9;
     double min_time = 0.01;
     std::size_t sweep = 5000;
@@ -227,6 +228,8 @@ int run(const bench_options& options, const std::string& command_line) {
         throw input_error("", 0, "--benchmark-json", "times the variants: not with --oracle");
     if (options.oracle && !options.precisions.empty())
         throw input_error("", 0, "--precision", "times the variants: not with --oracle (the oracle is exact)");
+    if ((options.oracle || options.audit) && !options.per_case_file.empty())
+        throw input_error("", 0, "--per-case", "writes the accuracy audit's lines: not with --oracle or --audit");
     if (options.oracle) return run_oracle_timing(cases, options);
     if ((!options.plot_formats.empty() || !options.error_measure.empty()) && options.report_dir.empty())
         throw input_error("", 0, options.plot_formats.empty() ? "--error-measure" : "--plot-format",
@@ -265,6 +268,8 @@ int run(const bench_options& options, const std::string& command_line) {
     if (!options.report_dir.empty()) bundle.emplace(outputs, options.report_dir, "--report");
     output_file* table_csv =
         bundle ? &outputs.file(bundle->dir() / "bench.csv", "--report") : nullptr;  // report.json's figures as a table
+    output_file* per_case_file =
+        options.per_case_file.empty() ? nullptr : &outputs.file(options.per_case_file, "--per-case");
     output_file* benchmark_file =
         options.benchmark_json.empty() ? nullptr : &outputs.file(options.benchmark_json, "--benchmark-json");
 
@@ -278,7 +283,8 @@ int run(const bench_options& options, const std::string& command_line) {
     if (isatty(STDERR_FILENO)) terminal::note(fmt::format("bench: auditing {} cases", cases.size()));
     const unsigned threads = audit_threads(
         targets, options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency()));
-    accuracy.run = audit_with_stability(cases, targets, labels, threads);
+    accuracy.run = audit_with_stability(cases, targets, labels, threads,
+                                        per_case_file ? &per_case_file->stream() : nullptr, audited);
 
     // Run time, per family, on the machine as recorded when the timings begin.
     bench_provenance provenance;
@@ -364,6 +370,9 @@ command add_bench_command(CLI::App& app, const std::string& command_line) {
                     "any number). The timings always run on one thread")
         ->check(whole_number(1, 4096));
     sub->add_option("--report", options->report_dir, "Directory for report.json, report.md and the PNG plots");
+    sub->add_option("--per-case", options->per_case_file,
+                    "Write the accuracy audit's per-case JSON lines (as audit --per-case: every float and double "
+                    "target; long double is summarised, not lined) to this file");
     sub->add_option("--benchmark-json", options->benchmark_json,
                     "Also write the timings in Google Benchmark's JSON format (mean, median, stddev, cv per "
                     "benchmark; readable by its compare.py)");

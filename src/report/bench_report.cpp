@@ -24,13 +24,20 @@ audit_totals slice(const audit_totals& all, std::size_t first, std::size_t count
 }
 
 accuracy_run audit_with_stability(const std::vector<corpus_case>& cases, const std::vector<audit_target>& targets,
-                                  const std::vector<std::string>& labels, unsigned threads) {
+                                  const std::vector<std::string>& labels, unsigned threads, std::ostream* per_case,
+                                  std::size_t per_case_targets) {
     stability_accumulator stability(targets);
     case_points points(targets, labels);
+    const std::vector<audit_target> lined(targets.begin(),
+                                          targets.begin() + static_cast<long>(std::min(per_case_targets, targets.size())));
+    std::string line;
     std::size_t index = 0;
     const auto on_case = [&](const audited_case& c) {
         stability.add(c, index);
         points.add(c, index++);
+        if (per_case == nullptr) return;
+        line = per_case_line(c, lined, std::move(line));
+        *per_case << line << '\n';
     };
     accuracy_run run;
     // on_case sees the cases in corpus order whatever the thread count: the same figures.

@@ -29,8 +29,13 @@ struct accuracy_run {
     nlohmann::ordered_json points;  // the plots' sample (case_points)
 };
 
+// The audit and its stability of `cases` on `threads` threads; with
+// `per_case`, each case's per-case line (report/audit_report.h) for the first
+// `per_case_targets` targets (bench's float and double ones: the long double
+// targets share their labels), in corpus order.
 accuracy_run audit_with_stability(const std::vector<corpus_case>& cases, const std::vector<audit_target>& targets,
-                                  const std::vector<std::string>& labels, unsigned threads);
+                                  const std::vector<std::string>& labels, unsigned threads,
+                                  std::ostream* per_case = nullptr, std::size_t per_case_targets = 0);
 
 // bench's audit: the first `audited` targets in float and double, the rest
 // (if any) the long double forms; each target's precision as its rows say it.

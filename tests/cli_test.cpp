@@ -322,11 +322,11 @@ TEST_F(Cli, BenchPlotsTakeFormatsAndAMeasureAndDrawTheSameFromTheCsv) {
         return names;
     };
     const std::string script = "/usr/bin/python3 " + std::string(RAYVERIFY_SOURCE_DIR) + "/tools/plot_report.py ",
-                      lists = " --misclassifications " + names_where(is_misclassification) + " --unscored " +
-                              names_where([](verdict_kind k) { return !is_scored(k); }) + " --verdicts " +
-                              names_where([](verdict_kind) { return true; }) + " --error-measure near_root_ulp:max";
+                      measure = " --error-measure near_root_ulp:max",
+                      lists = measure + " --misclassifications " + names_where(is_misclassification) +
+                              " --unscored " + names_where([](verdict_kind k) { return !is_scored(k); });
     std::filesystem::create_directories(dir / "from_csv");
-    const command_result from_csv = run_shell(script + (dir / "from_csv").string() + lists + " --from-csv " +
+    const command_result from_csv = run_shell(script + (dir / "from_csv").string() + measure + " --from-csv " +
                                                 (dir / "bench.csv").string() + " --points " +
                                                 (dir / "csv_points.json").string());
     ASSERT_EQ(from_csv.exit_code, 0) << from_csv.output;

@@ -8,8 +8,8 @@ a failure leaves no partial image. Plots whose data the report lacks (run time
 in an audit report, the far-sphere sweep) are skipped.
 
   plot_report.py DIR --misclassifications NAMES --unscored NAMES
-                 [--format png,svg,pdf] [--error-measure FIGURE:STATISTIC]
-                 [--from-csv bench.csv] [--points FILE]
+                 [--format png,svg,pdf] [--error-measure FIGURE:STATISTIC] [--points FILE]
+  plot_report.py DIR --from-csv bench.csv [--format ...] [--error-measure ...] [--points FILE]
 
 --format: the image formats, each plot once per format (default png).
 --error-measure: the error the accuracy-against-time plot draws: an error
@@ -17,7 +17,8 @@ in an audit report, the far-sphere sweep) are skipped.
   scale_error_radius, near_root_bits, ...) and max, p99 or median (default
   near_root_scaled_ulp:max, which a root exactly at 0 cannot blow up).
 --from-csv: draw the accuracy-against-time plot from bench.csv (its "(all)"
-  rows) instead of report.json, into DIR.
+  rows: time, misclassified and scored cases, error figures) instead of
+  report.json, into DIR; the verdict lists are not needed.
 --points: also write the accuracy-against-time plot's points as JSON.
 """
 import argparse
@@ -62,7 +63,6 @@ PRECISION_MARKERS = {"float": "o", "double": "s", "long double": "D", "exact": "
 # (src/compare/judge.cpp), so that this script keeps no list.
 MISCLASS = ()
 UNSCORED = ()
-VERDICTS = ()  # every verdict name (--verdicts), for reading bench.csv
 DPI = 100
 plt.rcParams.update({"font.size": 11, "axes.titlesize": 11, "legend.fontsize": 10})
 
@@ -97,6 +97,8 @@ def scored(entry):
 
 
 def misclassification_rate(entry):
+    if "misclassified" in entry:  # read from bench.csv, which counts them
+        return entry["misclassified"] / entry["cases_scored"] if entry["cases_scored"] else 0.0
     n = scored(entry)
     return sum(entry["verdicts"].get(k, 0) for k in MISCLASS) / n if n else 0.0
 
@@ -265,9 +267,8 @@ def report_from_csv(path):
             cases = max(cases, int(row["cases_timed"]))
             if row["cases_scored"] == "":
                 continue  # timed, not audited: an exact oracle
-            verdicts = {name: int(row[name]) for name in VERDICTS if row[name] != ""}
-            entry = {"variant": row["variant"], "precision": row["precision"], "cases": sum(verdicts.values()),
-                     "verdicts": verdicts}
+            entry = {"variant": row["variant"], "precision": row["precision"],
+                     "cases_scored": int(row["cases_scored"]), "misclassified": int(row["misclassified"])}
             for column in row:
                 if column.endswith("_count") and row[column] != "":
                     name = column[:-len("_count")]
@@ -537,20 +538,20 @@ def plot_histograms(report, directory):
 
 
 def main():
-    global MISCLASS, UNSCORED, VERDICTS, FORMATS
+    global MISCLASS, UNSCORED, FORMATS
     parser = argparse.ArgumentParser(description="Draw the rayverify report plots.")
     parser.add_argument("directory")
-    parser.add_argument("--misclassifications", required=True)
-    parser.add_argument("--unscored", required=True)
-    parser.add_argument("--verdicts", default="", help="every verdict name (for --from-csv)")
+    parser.add_argument("--misclassifications", default="", help="the wrong-class verdicts (not with --from-csv)")
+    parser.add_argument("--unscored", default="", help="the verdicts not scored (not with --from-csv)")
     parser.add_argument("--format", default="png")
     parser.add_argument("--error-measure", default="near_root_scaled_ulp:max")
     parser.add_argument("--from-csv")
     parser.add_argument("--points")
     args = parser.parse_args()
-    MISCLASS = tuple(args.misclassifications.split(","))
-    UNSCORED = tuple(args.unscored.split(","))
-    VERDICTS = tuple(v for v in args.verdicts.split(",") if v)
+    MISCLASS = tuple(v for v in args.misclassifications.split(",") if v)
+    UNSCORED = tuple(v for v in args.unscored.split(",") if v)
+    if not args.from_csv and not (MISCLASS and UNSCORED):
+        sys.exit("plot_report.py: --misclassifications and --unscored are needed to draw from report.json")
     FORMATS = tuple(args.format.split(","))
     for extension in FORMATS:
         if extension not in ("png", "svg", "pdf"):
@@ -562,8 +563,6 @@ def main():
     measure = (figure, statistic)
     directory = args.directory
     if args.from_csv:
-        if not VERDICTS:
-            sys.exit("plot_report.py: --from-csv needs --verdicts")
         plot_accuracy_vs_time(report_from_csv(args.from_csv), directory, measure, args.points)
         return
     with open(os.path.join(directory, "report.json")) as f:

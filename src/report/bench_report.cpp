@@ -223,7 +223,8 @@ std::string bench_table_csv(const json& report) {
                                     "ns_per_test_max",
                                     "repetitions",
                                     "ratio_to_reference",
-                                    "cases_scored"};
+                                    "cases_scored",
+                                    "misclassified"};
     for (int k = 0; k < verdict_kind_count; ++k) header.emplace_back(verdict_name(static_cast<verdict_kind>(k)));
     static constexpr const char* statistics[] = {"count", "max", "p99", "median"};
     for (const error_figure_definition& figure : error_figures)
@@ -234,6 +235,12 @@ std::string bench_table_csv(const json& report) {
     const auto audit_fields = [&](std::vector<std::string>& fields, const json* section) {
         const json* verdicts = member(section, "verdicts");
         fields.push_back(verdicts == nullptr ? "" : std::to_string(scored_in(*verdicts)));
+        std::size_t misclassified = 0;
+        for (int k = 0; k < verdict_kind_count; ++k)
+            if (const json* n = member(verdicts, std::string(verdict_name(static_cast<verdict_kind>(k))));
+                n != nullptr && is_misclassification(static_cast<verdict_kind>(k)))
+                misclassified += n->get<std::size_t>();
+        fields.push_back(verdicts == nullptr ? "" : std::to_string(misclassified));
         for (int k = 0; k < verdict_kind_count; ++k)
             fields.push_back(csv_field(member(verdicts, std::string(verdict_name(static_cast<verdict_kind>(k))))));
         for (const error_figure_definition& figure : error_figures) {

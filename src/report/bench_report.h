@@ -88,7 +88,8 @@ nlohmann::ordered_json bench_report_document(const bench_accuracy& accuracy, con
 // timed; the CPU time per test as the repetitions' median, the median's
 // distribution-free confidence interval and its confidence, the minimum and
 // maximum, their count and the ratio to the reference; then, where the
-// target was audited, the scored cases, a column per verdict and, per error
+// target was audited, the scored cases, those given the wrong class, a column
+// per verdict and, per error
 // figure, its count, max, p99 and median (the columns report.json's
 // by_family holds). Then a row per target whose family is
 // `bench_all_families`: the whole corpus (timing.overall's case-weighted

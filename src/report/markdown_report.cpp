@@ -487,10 +487,10 @@ plot_outcome render_plots(const std::filesystem::path& dir, const plot_choices& 
         return names;
     };
     const std::string command = fmt::format(
-        "'{}' '{}' '{}' --misclassifications {} --unscored {} --verdicts {} --format {} --error-measure {} 2>&1",
-        python, script, dir.string(), names_where(is_misclassification),
-        names_where([](verdict_kind k) { return !is_scored(k); }), names_where([](verdict_kind) { return true; }),
-        fmt::join(choices.formats, ","), choices.error_measure);
+        "'{}' '{}' '{}' --misclassifications {} --unscored {} --format {} --error-measure {} 2>&1", python,
+        script, dir.string(), names_where(is_misclassification),
+        names_where([](verdict_kind k) { return !is_scored(k); }), fmt::join(choices.formats, ","),
+        choices.error_measure);
     std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), pclose);
     if (!pipe) {
         outcome.message = "cannot run " + script;

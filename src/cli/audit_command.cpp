@@ -97,30 +97,19 @@ shard_header::digests_record input_digests(const audit_options& options) {
     return digests;
 }
 
-int run(const audit_options& options, const std::string& command_line) {
-    if (!options.scene.empty()) {
-        if (!options.corpus.empty() || !options.generate.empty() || !options.shard.empty() ||
-            !options.per_case_file.empty() || options.plots)
-            throw input_error("", 0, "--scene",
-                              "a scene makes its own rays: no --corpus, --generate, --shard, --per-case or --plots");
-        return run_scene_audit({options.scene, options.variants, options.plugins, options.precisions,
-                                options.isolation, options.report_dir, command_line, options.results});
-    }
+// The options that cannot go together, refused before anything is read.
+void check_audit_options(const audit_options& options) {
     if (options.plots && options.report_dir.empty())
         throw input_error("", 0, "--plots", "the plots are drawn into the report directory: add --report DIR");
-    const shard_spec shard = options.shard.empty() ? shard_spec{} : chosen_shard(options.shard, "audit");
     if (!options.shard.empty() && options.report_dir.empty())
         throw input_error("", 0, "--shard", "a shard needs --report DIR (its state for `rayverify merge` goes there)");
-    const case_input input = select_input(options.corpus, options.generate);
-    const std::vector<std::filesystem::path>& paths = input.paths;
-    const std::vector<generate_spec>& specs = input.specs;
-    const std::string per_case_location_in_shard =
-        options.shard.empty() || options.per_case_file.empty()
-            ? std::string()
-            : per_case_location(options.per_case_file, options.report_dir);
-    case_stream stream = input.open(shard);
-    // A results file answers the whole input (every shard's cases), checked before any case is judged; a
-    // program or an engine's node is asked each chunk's cases as they are judged.
+}
+
+// The targets judged: the variants and plugins chosen, then what answers
+// from outside (a results file answers the whole input, every shard's cases,
+// checked before any case is judged; a program or an engine's node is asked
+// each chunk's cases as they are judged).
+std::vector<audit_target> audit_targets(const audit_options& options, const case_input& input) {
     const std::vector<audit_target> outside = outside_targets(
         options.results, options.precisions,
         [&](const case_sink& add) {
@@ -135,17 +124,77 @@ int run(const audit_options& options, const std::string& command_line) {
             return whole.fingerprint();
         },
         std::nullopt, programs_answer::chunk_by_chunk);
-    const std::vector<audit_target> targets =
-        targets_with_results(options.variants, options.plugins, options.precisions, options.isolation, options.results,
-                             outside);
+    std::vector<audit_target> targets = targets_with_results(options.variants, options.plugins, options.precisions,
+                                                             options.isolation, options.results, outside);
     if (targets.empty()) throw input_error("", 0, "--precision", "no variant runs in the chosen precision");
-    const unsigned requested = options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency());
+    return targets;
+}
+
+// The threads the audit runs on: those asked for (`requested`), or one
+// where a target must be called from one thread, said so.
+unsigned audit_thread_count(const audit_options& options, const std::vector<audit_target>& targets,
+                            unsigned requested) {
     const unsigned threads = audit_threads(targets, requested);
     if (threads < requested)
         terminal::note(options.isolation.child_process
                            ? "audit: --isolate answers each plugin's calls in one child process, one at a time: "
                              "auditing on one thread"
                            : "audit: a plugin is not thread-safe (called from one thread): auditing on one thread");
+    return threads;
+}
+
+// A shard's state for `rayverify merge` (its header: the build, the input and
+// its digests, the shard, the targets, the per-case file and its digest), and
+// the report's note of the shard.
+void write_shard_state(output_file& state_file, const audit_options& options, const run_context& context,
+                       const case_stream& stream, const shard_spec& shard, const std::vector<audit_target>& targets,
+                       const audit_state& audited, const std::string& per_case_location_in_shard,
+                       const digesting_buffer* per_case_digest, nlohmann::ordered_json& report) {
+    shard_header header;
+    header.schema_version = schema_version::shard_state;
+    header.format = shard_state_format;
+    header.build = build_json();
+    header.command = context.command_line;
+    header.input = {context.corpus_paths, context.generated, stream.total(), stream.fingerprint(),
+                    input_digests(options)};
+    header.shard = shard;
+    header.cases = audited.audit.cases;
+    header.targets = targets;
+    if (!per_case_location_in_shard.empty()) {
+        header.per_case_file = per_case_location_in_shard;
+        header.per_case_digest = per_case_digest->digest().text();
+    }
+    state_file.stream() << shard_document(header, audited).dump() << '\n';
+    report["shard"] = {{"index", shard.index},
+                       {"count", shard.count},
+                       {"cases", audited.audit.cases},
+                       {"input_cases", stream.total()},
+                       {"merge", "rayverify merge --report DIR SHARD_DIR... combines the shards' " +
+                                     std::string(shard_state_file) + " into the whole run's report"}};
+}
+
+int run(const audit_options& options, const std::string& command_line) {
+    if (!options.scene.empty()) {
+        if (!options.corpus.empty() || !options.generate.empty() || !options.shard.empty() ||
+            !options.per_case_file.empty() || options.plots)
+            throw input_error("", 0, "--scene",
+                              "a scene makes its own rays: no --corpus, --generate, --shard, --per-case or --plots");
+        return run_scene_audit({options.scene, options.variants, options.plugins, options.precisions,
+                                options.isolation, options.report_dir, command_line, options.results});
+    }
+    check_audit_options(options);
+    const shard_spec shard = options.shard.empty() ? shard_spec{} : chosen_shard(options.shard, "audit");
+    const case_input input = select_input(options.corpus, options.generate);
+    const std::vector<std::filesystem::path>& paths = input.paths;
+    const std::vector<generate_spec>& specs = input.specs;
+    const std::string per_case_location_in_shard =
+        options.shard.empty() || options.per_case_file.empty()
+            ? std::string()
+            : per_case_location(options.per_case_file, options.report_dir);
+    case_stream stream = input.open(shard);
+    const std::vector<audit_target> targets = audit_targets(options, input);
+    const unsigned requested = options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency());
+    const unsigned threads = audit_thread_count(options, targets, requested);
 
     // Every output is declared (opened as a temporary) before the audit and
     // committed only once all of them are complete: an error leaves no output behind.
@@ -194,29 +243,9 @@ int run(const audit_options& options, const std::string& command_line) {
     std::optional<nlohmann::ordered_json> report;
     if (outputs.report || outputs.summary_md != nullptr) {
         report = audit_report_document(audited, totals, context, requested);
-        if (state_file != nullptr) {
-            shard_header header;
-            header.schema_version = schema_version::shard_state;
-            header.format = shard_state_format;
-            header.build = build_json();
-            header.command = context.command_line;
-            header.input = {context.corpus_paths, context.generated, stream.total(), stream.fingerprint(),
-                            input_digests(options)};
-            header.shard = shard;
-            header.cases = audited.audit.cases;
-            header.targets = targets;
-            if (!per_case_location_in_shard.empty()) {
-                header.per_case_file = per_case_location_in_shard;
-                header.per_case_digest = per_case_digest->digest().text();
-            }
-            state_file->stream() << shard_document(header, audited).dump() << '\n';
-            (*report)["shard"] = {{"index", shard.index},
-                                  {"count", shard.count},
-                                  {"cases", audited.audit.cases},
-                                  {"input_cases", stream.total()},
-                                  {"merge", "rayverify merge --report DIR SHARD_DIR... combines the shards' " +
-                                                std::string(shard_state_file) + " into the whole run's report"}};
-        }
+        if (state_file != nullptr)
+            write_shard_state(*state_file, options, context, stream, shard, targets, audited,
+                              per_case_location_in_shard, per_case_digest ? &*per_case_digest : nullptr, *report);
     }
     return publish_audit(totals, report, outputs, options.plots, options.presentation,
                          render_contract_hints(contract_hints_json(targets, audited.lint.hints())) +

@@ -208,58 +208,85 @@ int run_oracle_timing(const std::vector<corpus_case>& cases, const bench_options
     return exit_ok;
 }
 
-int run(const bench_options& options, const std::string& command_line) {
+// The options that cannot go together, refused before the corpus is read.
+void check_bench_options(const bench_options& options) {
     // Its timings and choices are of the code as compiled, in the IEEE default.
     if (!options.isolation.environment.empty())
         throw input_error("", 0, "--fp-env",
                           "bench times and judges its targets in the IEEE default; --fp-env is for audit, gate, "
                           "explain, hunt and render");
-    std::vector<std::filesystem::path> paths(options.corpus.begin(), options.corpus.end());
-    if (paths.empty()) paths.emplace_back(default_corpus());
-    std::vector<corpus_case> cases;
-    corpus_reading reading;
-    for (corpus_case& c : read_corpus(paths, &reading))
-        if (options.families.empty() ||
-            std::find(options.families.begin(), options.families.end(), c.family) != options.families.end())
-            cases.push_back(std::move(c));
-    terminal::note("bench: read " + reading.text());
-    if (cases.empty()) throw input_error("", 0, "--family", "no case of the chosen families in the corpus");
     if (options.oracle && !options.benchmark_json.empty())
         throw input_error("", 0, "--benchmark-json", "times the variants: not with --oracle");
     if (options.oracle && !options.precisions.empty())
         throw input_error("", 0, "--precision", "times the variants: not with --oracle (the oracle is exact)");
     if ((options.oracle || options.audit) && !options.per_case_file.empty())
         throw input_error("", 0, "--per-case", "writes the accuracy audit's lines: not with --oracle or --audit");
-    if (options.oracle) return run_oracle_timing(cases, options);
     if ((!options.plot_formats.empty() || !options.error_measure.empty()) && options.report_dir.empty())
         throw input_error("", 0, options.plot_formats.empty() ? "--error-measure" : "--plot-format",
                           "chooses how the report's plots are drawn: add --report DIR");
-    const plot_choices plots_chosen = plot_choices_of(options.plot_formats, options.error_measure);
     if (options.audit && (!options.benchmark_json.empty() || !options.precisions.empty() || !options.report_dir.empty()))
         throw input_error("", 0, "--audit",
                           fmt::format("times the audit of the {} textbook variants: not with --benchmark-json, "
                                       "--precision or --report",
                                       textbook_variant_names().size()));
-    if (options.audit) {
-        const auto whole_pass = [](const case_source& next, const std::vector<audit_target>& targets,
-                                   std::ostream* per_case) { return run_audit_pass(next, targets, 1, true, per_case).audit.cases; };
-        fmt::print("{}", audit_timing_text(bench::measure_audit_timing(cases, options.repetitions,
-                                                                       std::max(options.min_time, 0.05), whole_pass)));
-        return exit_ok;
-    }
-    // --precision: the names timing rows carry ("long double" for long_double).
-    const auto chosen = [&](const char* name) {
+}
+
+// The corpus's cases of the chosen families (all by default), and what was read.
+std::vector<corpus_case> read_bench_cases(const bench_options& options, const std::vector<std::filesystem::path>& paths,
+                                          corpus_reading& reading) {
+    std::vector<corpus_case> cases;
+    for (corpus_case& c : read_corpus(paths, &reading))
+        if (options.families.empty() ||
+            std::find(options.families.begin(), options.families.end(), c.family) != options.families.end())
+            cases.push_back(std::move(c));
+    terminal::note("bench: read " + reading.text());
+    if (cases.empty()) throw input_error("", 0, "--family", "no case of the chosen families in the corpus");
+    return cases;
+}
+
+// bench --audit: the whole audit's cost per case-target, per family, with its stages.
+int run_audit_timing(const std::vector<corpus_case>& cases, const bench_options& options) {
+    const auto whole_pass = [](const case_source& next, const std::vector<audit_target>& targets,
+                               std::ostream* per_case) { return run_audit_pass(next, targets, 1, true, per_case).audit.cases; };
+    fmt::print("{}", audit_timing_text(bench::measure_audit_timing(cases, options.repetitions,
+                                                                   std::max(options.min_time, 0.05), whole_pass)));
+    return exit_ok;
+}
+
+// --precision: the precisions audited (float, double) and timed (the same,
+// and "long double", the name timing rows carry for long_double).
+struct precision_choice {
+    std::vector<std::string> judged, timed;
+    bool long_double = false;
+    bool double_timed = false;  // else naive/double, the ratios' reference, is timed on its own
+};
+precision_choice precisions_of(const bench_options& options) {
+    const auto chosen = [&](const std::string& name) {
         return options.precisions.empty() ||
                std::find(options.precisions.begin(), options.precisions.end(), name) != options.precisions.end();
     };
-    std::vector<std::string> judged_precisions, timed_precisions;
+    precision_choice choice;
     for (const std::string& p : precision_names())
-        if (chosen(p.c_str())) {
-            judged_precisions.emplace_back(p);
-            timed_precisions.emplace_back(p);
+        if (chosen(p)) {
+            choice.judged.emplace_back(p);
+            choice.timed.emplace_back(p);
         }
-    const bool with_long_double = chosen("long_double");
-    if (with_long_double) timed_precisions.emplace_back("long double");
+    choice.long_double = chosen("long_double");
+    if (choice.long_double) choice.timed.emplace_back("long double");
+    choice.double_timed = chosen("double");
+    return choice;
+}
+
+int run(const bench_options& options, const std::string& command_line) {
+    check_bench_options(options);
+    const plot_choices plots_chosen = plot_choices_of(options.plot_formats, options.error_measure);
+    std::vector<std::filesystem::path> paths(options.corpus.begin(), options.corpus.end());
+    if (paths.empty()) paths.emplace_back(default_corpus());
+    corpus_reading reading;
+    const std::vector<corpus_case> cases = read_bench_cases(options, paths, reading);
+    if (options.oracle) return run_oracle_timing(cases, options);
+    if (options.audit) return run_audit_timing(cases, options);
+    const precision_choice precisions = precisions_of(options);
     // The outputs, declared before the work; committed after it.
     run_outputs outputs;
     declare_inputs(outputs, paths, options.corpus.empty() ? "the default corpus" : "--corpus");
@@ -273,7 +300,7 @@ int run(const bench_options& options, const std::string& command_line) {
     output_file* benchmark_file =
         options.benchmark_json.empty() ? nullptr : &outputs.file(options.benchmark_json, "--benchmark-json");
 
-    const bench_targets chosen_targets = choose_targets(options, cases, judged_precisions, with_long_double);
+    const bench_targets chosen_targets = choose_targets(options, cases, precisions.judged, precisions.long_double);
     const std::vector<audit_target>& targets = chosen_targets.all;
     const std::vector<std::string>& labels = chosen_targets.labels;
     const std::size_t audited = chosen_targets.audited;
@@ -292,8 +319,8 @@ int run(const bench_options& options, const std::string& command_line) {
     provenance.input_files = input_files_json(reading, options.plugins);
     std::map<std::string, std::vector<corpus_case>> by_family;
     for (const corpus_case& c : cases) by_family[family_key(c)].push_back(c);
-    const bench::timing_options timing = timing_of(options, chosen_targets.plugins, timed_precisions);
-    const std::vector<bench::timing_row> rows = time_targets(by_family, timing, chosen("double"));
+    const bench::timing_options timing = timing_of(options, chosen_targets.plugins, precisions.timed);
+    const std::vector<bench::timing_row> rows = time_targets(by_family, timing, precisions.double_timed);
     const json timing_section = timing_json(rows, timing, bench_reference_label);
     if (benchmark_file != nullptr)
         benchmark_file->stream() << benchmark_json(rows, current_benchmark_context(command_line)).dump(2) << '\n';
@@ -303,27 +330,23 @@ int run(const bench_options& options, const std::string& command_line) {
     const robust_sphere_figures robust = robust_figures(rows, by_family);
     fmt::print("{}", robust.text);
     fmt::print("build: {}; CPU: {}\n", build_summary(), bench::cpu_model());
-    if (!bundle) {
-        check_standard_output();
-        outputs.commit();
-        return exit_ok;
+    if (bundle) {
+        // The report: the audit's sections for float and double, then ours.
+        run_context context{command_line, {}, {}};
+        for (const auto& p : paths) context.corpus_paths.push_back(p.string());
+        std::optional<far_sphere_sweep_run> sweep;
+        if (options.sweep > 0) {
+            const std::vector<corpus_case> sweep_cases = bench::far_sphere_sweep(options.sweep, options.seed);
+            const std::vector<audit_target> sweep_targets(targets.begin(), targets.begin() + static_cast<long>(audited));
+            const std::vector<std::string> sweep_labels(labels.begin(), labels.begin() + static_cast<long>(audited));
+            sweep = far_sphere_sweep_run{sweep_cases.size(), options.seed,
+                                         audit_with_stability(sweep_cases, sweep_targets, sweep_labels, threads)};
+        }
+        json report = bench_report_document(accuracy, context, timing_section, robust.json, sweep, provenance);
+        table_csv->stream() << bench_table_csv(report);
+        const plot_outcome plots = bundle->write(std::move(report), true, plots_chosen);
+        fmt::print("report: {}\nplots: {}\n", (bundle->dir() / "report.json").string(), plots.message);
     }
-
-    // The report: the audit's sections for float and double, then ours.
-    run_context context{command_line, {}, {}};
-    for (const auto& p : paths) context.corpus_paths.push_back(p.string());
-    std::optional<far_sphere_sweep_run> sweep;
-    if (options.sweep > 0) {
-        const std::vector<corpus_case> sweep_cases = bench::far_sphere_sweep(options.sweep, options.seed);
-        const std::vector<audit_target> sweep_targets(targets.begin(), targets.begin() + static_cast<long>(audited));
-        const std::vector<std::string> sweep_labels(labels.begin(), labels.begin() + static_cast<long>(audited));
-        sweep = far_sphere_sweep_run{sweep_cases.size(), options.seed,
-                                     audit_with_stability(sweep_cases, sweep_targets, sweep_labels, threads)};
-    }
-    json report = bench_report_document(accuracy, context, timing_section, robust.json, sweep, provenance);
-    table_csv->stream() << bench_table_csv(report);
-    const plot_outcome plots = bundle->write(std::move(report), true, plots_chosen);
-    fmt::print("report: {}\nplots: {}\n", (bundle->dir() / "report.json").string(), plots.message);
     check_standard_output();
     outputs.commit();
     return exit_ok;

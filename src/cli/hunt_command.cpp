@@ -73,37 +73,36 @@ hunt_command_options with_engine(hunt_command_options o, std::optional<library_i
 }
 
 
-int run(const hunt_command_options& given, const std::string& command_line) {
-    std::optional<library_identity> library;
-    const hunt_command_options o = with_engine(given, library);
+// The one target hunted: a variant, a plugin or a program (--command), in the precision given.
+audit_target hunt_target(const hunt_command_options& o, const std::optional<library_identity>& library) {
     if (int(!o.variant.empty()) + int(!o.plugin.empty()) + int(!o.command.empty()) != 1)
         throw input_error("", 0, "--variant",
                           "name exactly one target: --variant NAME, --plugin LIBRARY, --command 'PROGRAM' or --engine NAME");
     const std::vector<std::string> names = o.variant.empty() ? std::vector<std::string>{} : std::vector{o.variant};
     const std::vector<std::string> plugins = o.plugin.empty() ? std::vector<std::string>{} : std::vector{o.plugin};
-    std::vector<audit_target> targets = o.command.empty()
-                                                  ? select_targets(names, plugins, {o.precision}, o.isolation)
-                                                  : std::vector<audit_target>{outside_target(o.name, o.contract_spec, "command " + o.command,
-                                                                                   named_precision(o.precision))};
+    std::vector<audit_target> targets =
+        o.command.empty() ? select_targets(names, plugins, {o.precision}, o.isolation)
+                          : std::vector<audit_target>{outside_target(o.name, o.contract_spec, "command " + o.command,
+                                                                     named_precision(o.precision))};
     if (targets.empty())
         throw input_error("", 0, "--precision",
                           fmt::format("{} does not run in {}", o.variant.empty() ? o.plugin : o.variant, o.precision));
     if (library) targets.front().subject.library = library;
     check_fp_environment_targets(o.isolation.environment, targets);
-    const audit_target& target = targets.front();
-    const family_info* family = find_generator_family(o.family);
-    if (family == nullptr) {
-        std::string known;
-        for (const family_info& f : generator_families()) known += (known.empty() ? "" : ", ") + std::string(f.name);
-        throw input_error("", 0, "--family", fmt::format("unknown generator family '{}' (known: {})", o.family, known));
-    }
-    if (o.budget == 0 && o.evaluations == 0)
-        throw input_error("", 0, "--seconds", "give a time budget (--seconds) or an evaluation budget (--evaluations)");
-    run_outputs outputs;  // declared before the search, committed after it
-    declare_inputs(outputs, {plugins.begin(), plugins.end()}, "--plugin");
-    output_file& finds_file = outputs.file(o.output, "-o");
+    return targets.front();
+}
 
-    const shard_spec shard = o.shard.empty() ? shard_spec{} : chosen_shard(o.shard, "hunt");
+const family_info& hunt_family(const std::string& name) {
+    const family_info* family = find_generator_family(name);
+    if (family != nullptr) return *family;
+    std::string known;
+    for (const family_info& f : generator_families()) known += (known.empty() ? "" : ", ") + std::string(f.name);
+    throw input_error("", 0, "--family", fmt::format("unknown generator family '{}' (known: {})", name, known));
+}
+
+// The search as the options ask for it (objective, causes, strategy, this
+// shard's seed, the budgets, shrinking and the batch size).
+hunt_options hunt_options_of(const hunt_command_options& o, const shard_spec& shard) {
     hunt_options options;
     options.objective = *hunt_objective_from_name(o.objective);  // checked by CLI11
     options.rounding_only = o.rounding_only || o.cause == "rounding";
@@ -114,76 +113,61 @@ int run(const hunt_command_options& given, const std::string& command_line) {
     options.max_evaluations = o.evaluations;
     options.max_finds = o.finds;
     options.shrink = !o.no_shrink;
-    const std::string family_name(family->name);
-    // This shard's start cases: the family's cases K − 1, K − 1 + N, ...,
-    // generated a block of 64 at a time, four side by side (seeding a random
-    // engine per case is a large part of a random hunt's time).
-    constexpr std::uint64_t start_block_size = 64;
-    std::vector<corpus_case> start_block;
-    std::optional<std::uint64_t> start_block_first;
-    const hunt_start start = [&](std::uint64_t j) {
-        const std::uint64_t first = j - j % start_block_size;
-        if (start_block_first != first) {
-            std::array<std::size_t, start_block_size> indices{};
-            for (std::uint64_t k = 0; k < start_block_size; ++k) indices[k] = shard.global_index(first + k);
-            start_block.clear();
-            append_generated_cases(family_name, o.seed, indices, start_block);
-            start_block_first = first;
-        }
-        return start_block[j - first].geometry;
-    };
     options.batch = o.batch ? o.batch : (o.command.empty() ? 1 : 64);
-    std::optional<external_program> program;
-    hunt_judge judge;
-    if (!o.command.empty()) {
-        program.emplace(o.command, *exchange_format_from_name(o.format), target.prec, o.command_timeout);
-        judge = [&](std::span<const corpus_case> cases) {
-            audit_target answered = target;
-            answered.recorded = program->answer(cases);
-            try {
-                check_recorded_values(target.subject.promises, *answered.recorded);
-            } catch (const input_error& e) {  // named with its batch, as any answer that is not one
-                throw case_failure("", "--command",
-                                   fmt::format("command '{}' left out a value its contract needs ({})", o.command,
-                                               e.what()),
-                                   cases.empty() ? corpus_case{} : cases.front());
-            }
-            std::vector<hunt_evaluation> evals;
-            for (const corpus_case& c : cases) evals.push_back(evaluate_for_hunt(answered, c, options.objective));
-            return evals;
-        };
+    return options;
+}
+
+// This shard's start cases: the family's cases K − 1, K − 1 + N, ...,
+// generated a block of 64 at a time, four side by side (seeding a random
+// engine per case is a large part of a random hunt's time).
+class shard_start_cases {
+public:
+    shard_start_cases(std::string family, std::uint64_t seed, const shard_spec& shard)
+        : family_(std::move(family)), seed_(seed), shard_(shard) {}
+    ray_sphere<double> operator()(std::uint64_t j) {
+        const std::uint64_t first = j - j % block_size;
+        if (block_first_ != first) {
+            std::array<std::size_t, block_size> indices{};
+            for (std::uint64_t k = 0; k < block_size; ++k) indices[k] = shard_.global_index(first + k);
+            block_.clear();
+            append_generated_cases(family_, seed_, indices, block_);
+            block_first_ = first;
+        }
+        return block_[j - first].geometry;
     }
-    // Live: how far the budget is spent, and the best found so far.
-    const bool timed = o.budget > 0;
-    terminal::progress progress("hunt", timed ? "s" : "evaluations",
-                                timed ? o.budget : static_cast<double>(o.evaluations));
-    options.on_progress = [&](const hunt_progress& p) {
-        const std::string best =
-            maximises_error(options.objective)
-                ? fmt::format("best so far {}", p.best_error > 0 ? hunt_error_text(options.objective, p.best_error) : "-")
-                : fmt::format("{} disagreement(s) found", p.finds);
-        progress.update(timed ? p.seconds : static_cast<double>(p.evaluations),
-                        timed ? fmt::format("{} evaluations, {}", p.evaluations, best) : best);
+
+private:
+    static constexpr std::uint64_t block_size = 64;
+    std::string family_;
+    std::uint64_t seed_;
+    shard_spec shard_;
+    std::vector<corpus_case> block_;
+    std::optional<std::uint64_t> block_first_;
+};
+
+// A program's answers judged a batch at a time (--command).
+hunt_judge program_judge(external_program& program, const audit_target& target, const std::string& command,
+                         hunt_objective objective) {
+    return [&program, &target, command, objective](std::span<const corpus_case> cases) {
+        audit_target answered = target;
+        answered.recorded = program.answer(cases);
+        try {
+            check_recorded_values(target.subject.promises, *answered.recorded);
+        } catch (const input_error& e) {  // named with its batch, as any answer that is not one
+            throw case_failure("", "--command",
+                               fmt::format("command '{}' left out a value its contract needs ({})", command, e.what()),
+                               cases.empty() ? corpus_case{} : cases.front());
+        }
+        std::vector<hunt_evaluation> evals;
+        for (const corpus_case& c : cases) evals.push_back(evaluate_for_hunt(answered, c, objective));
+        return evals;
     };
-    const hunt_result result = hunt(target, start, options, judge);
-    progress.finish();
-    if (program) program->finish();  // nothing may follow its last answer
+}
 
-    const std::string label = target.label();
+// What the hunt found, as printed: each find as found and shrunk, or that
+// none was, and the first disagreement of an error hunt.
+void print_finds(const hunt_result& result, const hunt_file& file, const hunt_options& options) {
     const bool ulp = maximises_error(options.objective);
-    std::string shard_note;
-    if (shard.count > 1) shard_note = fmt::format(", shard {} (search seed {})", shard.text(), options.seed);
-    fmt::print("hunt {} ({} objective{}, {} strategy, family {}, seed {}{}): {} evaluations, {} starts, {:.2f} s\n",
-               label, o.objective,
-               o.cause == "algorithmic" ? ", algorithmic causes only"
-               : o.rounding_only || o.cause == "rounding" ? ", rounding causes only"
-                                                          : "", o.strategy, family_name, o.seed,
-               shard_note, result.evaluations, result.starts,
-               result.seconds);
-
-    if (program)
-        fmt::print("command '{}' answered {} batches of up to {} cases\n", o.command, program->batches(), options.batch);
-    const hunt_file file = hunt_file_of(result, {recorded_command(command_line), &target, options, family_name, o.seed, shard});
     const auto failure = [](const hunt_evaluation& e) {
         std::string text(verdict_name(e.verdict));
         if (e.cause) text += fmt::format(" ({})", cause_name(*e.cause));
@@ -210,11 +194,63 @@ int run(const hunt_command_options& given, const std::string& command_line) {
         fmt::print("{} of {} evaluations disagreed with the exact answer; the first ({}) at evaluation {}:\n  {}\n"
                    "  (--objective misclass hunts for them)\n",
                    result.disagreements, result.evaluations, verdict_name(d->verdict), d->evaluation, d->case_line);
+}
+
+int run(const hunt_command_options& given, const std::string& command_line) {
+    std::optional<library_identity> library;
+    const hunt_command_options o = with_engine(given, library);
+    const audit_target target = hunt_target(o, library);
+    const std::string family_name(hunt_family(o.family).name);
+    if (o.budget == 0 && o.evaluations == 0)
+        throw input_error("", 0, "--seconds", "give a time budget (--seconds) or an evaluation budget (--evaluations)");
+    run_outputs outputs;  // declared before the search, committed after it
+    if (!o.plugin.empty()) declare_inputs(outputs, {o.plugin}, "--plugin");
+    output_file& finds_file = outputs.file(o.output, "-o");
+
+    const shard_spec shard = o.shard.empty() ? shard_spec{} : chosen_shard(o.shard, "hunt");
+    hunt_options options = hunt_options_of(o, shard);
+    shard_start_cases start_cases(family_name, o.seed, shard);
+    const hunt_start start = [&](std::uint64_t j) { return start_cases(j); };
+    std::optional<external_program> program;
+    hunt_judge judge;
+    if (!o.command.empty()) {
+        program.emplace(o.command, *exchange_format_from_name(o.format), target.prec, o.command_timeout);
+        judge = program_judge(*program, target, o.command, options.objective);
+    }
+    // Live: how far the budget is spent, and the best found so far.
+    const bool timed = o.budget > 0;
+    terminal::progress progress("hunt", timed ? "s" : "evaluations",
+                                timed ? o.budget : static_cast<double>(o.evaluations));
+    options.on_progress = [&](const hunt_progress& p) {
+        const std::string best =
+            maximises_error(options.objective)
+                ? fmt::format("best so far {}", p.best_error > 0 ? hunt_error_text(options.objective, p.best_error) : "-")
+                : fmt::format("{} disagreement(s) found", p.finds);
+        progress.update(timed ? p.seconds : static_cast<double>(p.evaluations),
+                        timed ? fmt::format("{} evaluations, {}", p.evaluations, best) : best);
+    };
+    const hunt_result result = hunt(target, start, options, judge);
+    progress.finish();
+    if (program) program->finish();  // nothing may follow its last answer
+
+    std::string shard_note;
+    if (shard.count > 1) shard_note = fmt::format(", shard {} (search seed {})", shard.text(), options.seed);
+    fmt::print("hunt {} ({} objective{}, {} strategy, family {}, seed {}{}): {} evaluations, {} starts, {:.2f} s\n",
+               target.label(), o.objective,
+               o.cause == "algorithmic" ? ", algorithmic causes only"
+               : o.rounding_only || o.cause == "rounding" ? ", rounding causes only"
+                                                          : "", o.strategy, family_name, o.seed,
+               shard_note, result.evaluations, result.starts,
+               result.seconds);
+    if (program)
+        fmt::print("command '{}' answered {} batches of up to {} cases\n", o.command, program->batches(), options.batch);
+    const hunt_file file = hunt_file_of(result, {recorded_command(command_line), &target, options, family_name, o.seed, shard});
+    print_finds(result, file, options);
     finds_file.stream() << render_hunt_file(file);
     fmt::print("wrote {}\n", o.output);
     check_standard_output();
     outputs.commit();
-    const bool disagreement = (!ulp && !result.finds.empty()) || result.disagreements > 0;
+    const bool disagreement = (!maximises_error(options.objective) && !result.finds.empty()) || result.disagreements > 0;
     return disagreement ? exit_findings : exit_ok;
 }
 

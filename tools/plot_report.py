@@ -42,9 +42,12 @@ VARIANT_COLOURS = {
 }
 # Variants not named above (the engine ports, robust_sphere.h, plugins): colours in order of
 # appearance from Kelly's colours of maximum contrast, less white, black and the six closest to
-# the colours above (orange, light blue, grey, pink, salmon, buff); beyond 14 they repeat.
+# the colours above (orange, light blue, grey, pink, salmon, buff), then the Tableau 20 colours
+# the table above leaves and five dark ones of Tableau 20b; beyond 25 they repeat.
 EXTRA_COLOURS = ["#F3C300", "#875692", "#BE0032", "#008856", "#0067A5", "#604E97", "#F6A600", "#B3446C",
-                 "#DCD300", "#882D17", "#8DB600", "#654522", "#E25822", "#2B3D26"]
+                 "#DCD300", "#882D17", "#8DB600", "#654522", "#E25822", "#2B3D26",
+                 "#98df8a", "#c5b0d5", "#c49c94", "#7f7f7f", "#bcbd22", "#dbdb8d",
+                 "#393b79", "#637939", "#8c6d31", "#843c39", "#7b4173"]
 
 
 EXTRA_ASSIGNED = {}  # variant → colour from EXTRA_COLOURS, in order of first use

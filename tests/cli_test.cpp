@@ -60,6 +60,21 @@ TEST_F(Cli, AuditWithoutDisagreementExitsZeroAndWritesReports) {
         targets += v.runs_in(rayverify::precision::binary32) + v.runs_in(rayverify::precision::binary64);
     EXPECT_EQ(report["results"].size(), targets);
     EXPECT_NE(report["build"]["flags"].get<std::string>().find("-ffp-contract=off"), std::string::npos);
+    // audit.csv: a row per target and family, then one per target over every family, report.json's figures.
+    std::istringstream csv(read_text(dir_ / "rep" / "audit.csv"));
+    std::string header, row;
+    ASSERT_TRUE(std::getline(csv, header));
+    EXPECT_TRUE(header.starts_with("variant,precision,family,cases,cases_scored,misclassified,agree,")) << header;
+    std::size_t rows = 0, all_rows = 0;
+    for (; std::getline(csv, row); ++rows) {
+        if (row.find(",(all),") == std::string::npos) continue;
+        const nlohmann::json& entry = report["results"][all_rows++];
+        EXPECT_TRUE(row.starts_with(entry["variant"].get<std::string>() + "," + entry["precision"].get<std::string>() +
+                                    ",(all),1,"))
+            << row;
+    }
+    EXPECT_EQ(all_rows, targets);
+    EXPECT_EQ(rows, 2 * targets) << "one family (\"-\") and the whole corpus per target";
 
     const auto line = nlohmann::json::parse(read_text(dir_ / "cases.jsonl"));
     EXPECT_EQ(line["id"], "hit-6-14");

@@ -380,7 +380,7 @@ TEST_F(Outputs, StressTwoAuditsIntoOneReportDirectory) {
                 << err;
         }
         EXPECT_EQ(listing(dir_ / "rep"),
-                  (std::set<std::string>{"pc.jsonl", "report.json", "report.md", "summary.txt"}));
+                  (std::set<std::string>{"audit.csv", "pc.jsonl", "report.json", "report.md", "summary.txt"}));
         const std::string lines = read_text(dir_ / "rep" / "pc.jsonl");
         EXPECT_EQ(std::count(lines.begin(), lines.end(), '\n'), 3000);
         const std::string winner = read_text(dir_ / (code_a == ran ? "out-a.txt" : "out-b.txt"));

@@ -45,7 +45,7 @@ protected:
         return run_shell(fmt::format("cd '{}' && PATH='{}':\"$PATH\" && {}", dir_.string(), path, command));
     }
     void expect_same_report(const fs::path& a, const fs::path& b) {
-        for (const char* file : {"report.json", "summary.txt", "report.md"}) {
+        for (const char* file : {"report.json", "summary.txt", "report.md", "audit.csv"}) {
             const std::string x = read_text(a / file), y = read_text(b / file);
             EXPECT_FALSE(x.empty()) << a / file;
             EXPECT_TRUE(x == y) << (a / file) << " and " << (b / file) << " differ";

@@ -132,7 +132,7 @@ TEST_F(ShardMerge, ShardsRunByXargsMergeIntoTheSingleRunByteForByte) {
     const command_result merged = in_dir(fmt::format(
         "'{}' merge --report merged --per-case merged/cases.jsonl shard-4 shard-2 shard-1 shard-5 shard-3", RAYVERIFY_CLI));
     EXPECT_EQ(merged.exit_code, single.exit_code) << merged.output;
-    for (const char* file : {"report.json", "report.md", "summary.txt", "cases.jsonl"}) {
+    for (const char* file : {"report.json", "report.md", "summary.txt", "audit.csv", "cases.jsonl"}) {
         const std::string a = read_text(dir_ / "single" / file), b = read_text(dir_ / "merged" / file);
         EXPECT_FALSE(a.empty()) << file;
         EXPECT_TRUE(a == b) << file << " differs (" << a.size() << " vs " << b.size() << " bytes)";

@@ -20,6 +20,7 @@
 #include "report/schema.h"
 #include "report/shard_state.h"
 #include "report/stability_report.h"
+#include "report/table_csv.h"
 
 namespace rayverify::cli {
 namespace {
@@ -303,6 +304,7 @@ void audit_outputs::open_report(const std::filesystem::path& dir, const std::str
     if (dir.empty()) return;
     report.emplace(files, dir, option);
     summary = &files.file(dir / "summary.txt", option);
+    table_csv = &files.file(dir / "audit.csv", option);
 }
 
 void print_libraries(const std::vector<audit_target>& targets) {
@@ -333,6 +335,7 @@ int publish_audit(const audit_totals& totals, const std::optional<nlohmann::orde
     plot_outcome drawn;
     if (outputs.report) {
         outputs.summary->stream() << table;
+        outputs.table_csv->stream() << audit_table_csv(*report);
         drawn = outputs.report->write(*report, plots);
     }
     if (outputs.summary_md != nullptr) outputs.summary_md->stream() << render_summary_markdown(*report);

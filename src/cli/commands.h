@@ -253,6 +253,7 @@ struct audit_outputs {
     run_outputs files;
     std::optional<report_bundle> report;
     output_file* summary = nullptr;   // in the report directory
+    output_file* table_csv = nullptr; // audit.csv, in the report directory (report/table_csv.h)
     output_file* per_case = nullptr;  // --per-case
     output_file* summary_md = nullptr;  // --summary-md
     // Declares the report directory and its files (nothing when `dir` is empty).

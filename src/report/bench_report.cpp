@@ -9,6 +9,7 @@
 #include "bench/robust_fallback.h"
 #include "compare/error_figures.h"
 #include "report/stability_report.h"
+#include "report/table_csv.h"
 
 namespace rayverify {
 
@@ -177,29 +178,6 @@ json bench_report_document(const bench_accuracy& accuracy, const run_context& co
     return report;
 }
 
-namespace {
-
-// A JSON value as a CSV field: numbers in their shortest round-trip decimal, strings as themselves
-// (quoted where they hold a comma, a quote or a line break), null and absent as nothing.
-std::string csv_field(const json* value) {
-    if (value == nullptr || value->is_null()) return "";
-    if (value->is_number_integer() || value->is_number_unsigned()) return value->dump();
-    if (value->is_number_float()) return fmt::format("{}", value->get<double>());
-    const std::string text = value->is_string() ? value->get<std::string>() : value->dump();
-    if (text.find_first_of(",\"\r\n") == std::string::npos) return text;
-    std::string quoted = "\"";
-    for (const char c : text) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
-    return quoted + "\"";
-}
-
-const json* member(const json* object, const std::string& key) {
-    if (object == nullptr || !object->is_object()) return nullptr;
-    const auto at = object->find(key);
-    return at == object->end() ? nullptr : &*at;
-}
-
-}  // namespace
-
 std::string bench_table_csv(const json& report) {
     // The audited targets' sections by "variant/precision": float and double, then long double.
     std::map<std::string, const json*> audited;
@@ -208,8 +186,12 @@ std::string bench_table_csv(const json& report) {
         for (const json& r : *results)
             audited[r["variant"].get<std::string>() + "/" + r["precision"].get<std::string>()] = &r;
     };
-    add(member(&report, "results"));
-    add(member(member(&report, "long_double"), "results"));
+    add(json_member(&report, "results"));
+    add(json_member(json_member(&report, "long_double"), "results"));
+    const auto audited_section = [&](const std::string& variant, const std::string& precision) -> const json* {
+        const auto found = audited.find(variant + "/" + precision);
+        return found == audited.end() ? nullptr : found->second;
+    };
 
     std::vector<std::string> header{"variant",
                                     "precision",
@@ -222,59 +204,33 @@ std::string bench_table_csv(const json& report) {
                                     "ns_per_test_min",
                                     "ns_per_test_max",
                                     "repetitions",
-                                    "ratio_to_reference",
-                                    "cases_scored",
-                                    "misclassified"};
-    for (int k = 0; k < verdict_kind_count; ++k) header.emplace_back(verdict_name(static_cast<verdict_kind>(k)));
-    static constexpr const char* statistics[] = {"count", "max", "p99", "median"};
-    for (const error_figure_definition& figure : error_figures)
-        for (const char* statistic : statistics) header.push_back(fmt::format("{}_{}", figure.name, statistic));
+                                    "ratio_to_reference"};
+    for (std::string& column : audit_csv_header()) header.push_back(std::move(column));
     std::string out = fmt::format("{}\n", fmt::join(header, ","));
-
-    // The verdict and figure columns of one audited section (empty fields where there is none).
-    const auto audit_fields = [&](std::vector<std::string>& fields, const json* section) {
-        const json* verdicts = member(section, "verdicts");
-        fields.push_back(verdicts == nullptr ? "" : std::to_string(scored_in(*verdicts)));
-        std::size_t misclassified = 0;
-        for (int k = 0; k < verdict_kind_count; ++k)
-            if (const json* n = member(verdicts, std::string(verdict_name(static_cast<verdict_kind>(k))));
-                n != nullptr && is_misclassification(static_cast<verdict_kind>(k)))
-                misclassified += n->get<std::size_t>();
-        fields.push_back(verdicts == nullptr ? "" : std::to_string(misclassified));
-        for (int k = 0; k < verdict_kind_count; ++k)
-            fields.push_back(csv_field(member(verdicts, std::string(verdict_name(static_cast<verdict_kind>(k))))));
-        for (const error_figure_definition& figure : error_figures) {
-            const json* tally = member(section, std::string(figure.name));
-            for (const char* statistic : statistics) fields.push_back(csv_field(member(tally, statistic)));
-        }
+    const auto write_row = [&](std::vector<std::string> fields, const json* section) {
+        for (std::string& field : audit_csv_fields(section)) fields.push_back(std::move(field));
         out += fmt::format("{}\n", fmt::join(fields, ","));
     };
-    const auto audited_section = [&](const std::string& variant, const std::string& precision) -> const json* {
-        const auto found = audited.find(variant + "/" + precision);
-        return found == audited.end() ? nullptr : found->second;
-    };
     for (const json& row : report["timing"]["rows"]) {
-        const std::string variant = row["variant"], precision = row["precision"], family = row["family"];
         const json& ns = row["ns_per_test"];
-        const json* interval = member(&ns, "median_interval");
-        std::vector<std::string> fields{csv_field(&row["variant"]), csv_field(&row["precision"]),
-                                        csv_field(&row["family"]), csv_field(&row["cases"]),
-                                        csv_field(member(&ns, "median")), csv_field(member(interval, "low")),
-                                        csv_field(member(interval, "high")), csv_field(member(interval, "confidence")),
-                                        csv_field(member(&ns, "min")), csv_field(member(&ns, "max")),
-                                        std::to_string(member(&ns, "repetitions") ? ns["repetitions"].size() : 0),
-                                        csv_field(member(&row, "ratio_to_reference"))};
-        audit_fields(fields, member(member(audited_section(variant, precision), "by_family"), family));
+        const json* interval = json_member(&ns, "median_interval");
+        write_row({csv_field(&row["variant"]), csv_field(&row["precision"]), csv_field(&row["family"]),
+                   csv_field(&row["cases"]), csv_field(json_member(&ns, "median")),
+                   csv_field(json_member(interval, "low")), csv_field(json_member(interval, "high")),
+                   csv_field(json_member(interval, "confidence")), csv_field(json_member(&ns, "min")),
+                   csv_field(json_member(&ns, "max")),
+                   std::to_string(json_member(&ns, "repetitions") ? ns["repetitions"].size() : 0),
+                   csv_field(json_member(&row, "ratio_to_reference"))},
+                  json_member(json_member(audited_section(row["variant"], row["precision"]), "by_family"),
+                              row["family"].get<std::string>()));
     }
     // Then a row per target over every family (report.json's timing.overall and results): the
     // case-weighted mean of the families' medians, its ratio, and the whole corpus's verdicts and figures.
-    for (const json& row : report["timing"]["overall"]) {
-        std::vector<std::string> fields{csv_field(&row["variant"]), csv_field(&row["precision"]),
-                                        std::string(bench_all_families), csv_field(&row["cases"]),
-                                        csv_field(member(&row, "ns_per_test")), "", "", "", "", "", "",
-                                        csv_field(member(&row, "ratio_to_reference"))};
-        audit_fields(fields, audited_section(row["variant"], row["precision"]));
-    }
+    for (const json& row : report["timing"]["overall"])
+        write_row({csv_field(&row["variant"]), csv_field(&row["precision"]), std::string(all_families_row),
+                   csv_field(&row["cases"]), csv_field(json_member(&row, "ns_per_test")), "", "", "", "", "", "",
+                   csv_field(json_member(&row, "ratio_to_reference"))},
+                  audited_section(row["variant"], row["precision"]));
     return out;
 }
 

@@ -92,12 +92,11 @@ nlohmann::ordered_json bench_report_document(const bench_accuracy& accuracy, con
 // per verdict and, per error
 // figure, its count, max, p99 and median (the columns report.json's
 // by_family holds). Then a row per target whose family is
-// `bench_all_families`: the whole corpus (timing.overall's case-weighted
+// `all_families_row` (report/table_csv.h): the whole corpus (timing.overall's case-weighted
 // time and ratio, results' verdicts and figures; no interval, minimum or
 // maximum). Numbers as the shortest decimal that reads back to the same
 // double (`inf`, `nan`); a figure with no value, or a target not audited
 // (the exact oracles), is an empty field.
-inline constexpr std::string_view bench_all_families = "(all)";
 std::string bench_table_csv(const nlohmann::ordered_json& report);
 
 }  // namespace rayverify

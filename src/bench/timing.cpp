@@ -1,8 +1,8 @@
 #include "bench/timing.h"
 
 #include <benchmark/benchmark.h>
-#include <sys/utsname.h>
 #include <fmt/format.h>
+#include <sys/utsname.h>
 
 #include <algorithm>
 #include <cstdlib>
@@ -116,13 +116,22 @@ double median_of(std::vector<double> values) {
     return n % 2 ? values[n / 2] : (values[n / 2 - 1] + values[n / 2]) / 2;
 }
 
+namespace {
+
+// The value of a /proc/cpuinfo line "key<blanks>: value" (empty when it has none).
+std::string cpuinfo_value(const std::string& line) {
+    const auto colon = line.find(':');
+    if (colon == std::string::npos) return {};
+    const auto start = line.find_first_not_of(" \t", colon + 1);
+    return start == std::string::npos ? std::string() : line.substr(start);
+}
+
+}  // namespace
+
 std::string cpu_model() {
     std::ifstream in("/proc/cpuinfo");
     for (std::string line; std::getline(in, line);)
-        if (line.rfind("model name", 0) == 0) {
-            const auto colon = line.find(':');
-            if (colon != std::string::npos) return line.substr(line.find_first_not_of(" \t", colon + 1));
-        }
+        if (line.rfind("model name", 0) == 0 && line.find(':') != std::string::npos) return cpuinfo_value(line);
     return "unknown";
 }
 
@@ -131,22 +140,16 @@ machine_record read_machine_record() {
     m.cpu = cpu_model();
     m.hardware_threads = std::thread::hardware_concurrency();
     std::ifstream cpuinfo("/proc/cpuinfo");
-    const auto value_of = [](const std::string& line) {
-        const auto colon = line.find(':');
-        if (colon == std::string::npos) return std::string();
-        const auto start = line.find_first_not_of(" \t", colon + 1);
-        return start == std::string::npos ? std::string() : line.substr(start);
-    };
     bool flags_read = false;
     for (std::string line; std::getline(cpuinfo, line);) {
         if (line.empty()) break;  // the first processor's block is enough
         if (line.rfind("cpu MHz", 0) == 0) {
-            const std::string text = value_of(line);
+            const std::string text = cpuinfo_value(line);
             char* end = nullptr;
             const double mhz = std::strtod(text.c_str(), &end);
             if (end != text.c_str() && mhz > 0) m.cpu_mhz = mhz;
         } else if (!flags_read && (line.rfind("flags", 0) == 0 || line.rfind("Features", 0) == 0)) {
-            std::istringstream words(value_of(line));
+            std::istringstream words(cpuinfo_value(line));
             for (std::string w; words >> w;) m.cpu_flags.push_back(w);
             flags_read = true;
         }

@@ -87,7 +87,7 @@ stability_measures measure_stability(const ray_sphere<double>& input, precision 
         sensitivity += along * (std::fabs(dw_value(o[k])) + std::fabs(dw_value(c[k]))) + across * std::fabs(dw_value(d[k]));
     }
     sensitivity *= 2;
-    const double u = std::ldexp(1.0, -significand_bits(prec));
+    const double u = unit_roundoff(prec);
     m.tangency_margin = sensitivity > 0 ? abs_discriminant / (u * sensitivity) : infinity;
     m.distance_ratio = std::sqrt(dw_value(dot(f, f))) / dw_value(r);
 

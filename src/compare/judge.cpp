@@ -863,7 +863,7 @@ bool root_at_range_end_within_backward_error(const case_frame& frame, const t_ra
     const stability_measures& m = frame.stability();
     const exact_solution& exact = frame.exact();
     if (exact.cls == line_class::miss) return false;
-    const double u = std::ldexp(1.0, -significand_bits(frame.prec()));
+    const double u = unit_roundoff(frame.prec());
     for (const root_index k : {root_index::near_root, root_index::far_root}) {
         const std::optional<double>& absolute_condition =
             k == root_index::near_root ? m.near_absolute_condition : m.far_absolute_condition;
@@ -893,7 +893,7 @@ disagreement_cause rounding_cause(verdict_kind k, const case_frame& frame, const
     if (is_misclassification(k))
         return limited_by(ambiguous_class || root_at_range_end_within_backward_error(frame, range));
     if (k == verdict_kind::wrong_root || k == verdict_kind::wrong_side || k == verdict_kind::wrong_sphere) {
-        const double u = std::ldexp(1.0, -significand_bits(frame.prec()));
+        const double u = unit_roundoff(frame.prec());
         const bool ambiguous_root = m.near_condition && conditioning_gamma * u * *m.near_condition >= 1;
         return limited_by(ambiguous_class || ambiguous_root || root_at_range_end_within_backward_error(frame, range));
     }

@@ -49,7 +49,7 @@ std::optional<double> excess_over_line(const case_score& score, const stability_
         const std::optional<double>& absolute_condition =
             exact.near_root.sign == 0 ? m.near_absolute_condition : m.far_absolute_condition;
         if (absolute_condition && std::isfinite(*absolute_condition) && *absolute_condition > 0) {
-            const double u = std::ldexp(1.0, -significand_bits(prec));
+            const double u = unit_roundoff(prec);
             excess = std::max(excess.value_or(0.0), *score.zero_root_error / (u * *absolute_condition));
         }
     }

@@ -54,6 +54,8 @@ constexpr double rounded_to(precision p, double x) {
 }
 
 constexpr int significand_bits(precision p) { return p == precision::binary32 ? 24 : 53; }
+// The unit roundoff u = 2^-p of precision p.
+constexpr double unit_roundoff(precision p) { return p == precision::binary32 ? 0x1p-24 : 0x1p-53; }
 
 // A case as it is stored in a corpus: double inputs plus provenance.
 struct corpus_case {

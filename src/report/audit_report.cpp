@@ -88,7 +88,6 @@ void map_json(json_io& io, precision& p) {
 void map_json(json_io& io, verdict_kind& v) { io.name(v, verdict_name, verdict_from_name, "a verdict"); }
 void map_json(json_io& io, disagreement_cause& c) { io.name(c, cause_name, cause_from_name, "a cause"); }
 
-
 void map_json(json_io& io, invalid_reason& r) {
     io.name(r, invalid_reason_name,
             [](std::string_view name) -> std::optional<invalid_reason> {
@@ -192,12 +191,20 @@ std::string invalid_reasons_text(const invalid_case& c) {
 
 }  // namespace
 
-std::size_t scored_in(const json& verdicts) {
+namespace {
+
+// The counts of a "verdicts" object whose verdict `holds`.
+std::size_t counted_where(const json& verdicts, bool (*holds)(verdict_kind)) {
     std::size_t n = 0;
     for (const auto& [name, count] : verdicts.items())
-        if (const auto kind = verdict_from_name(name); kind && is_scored(*kind)) n += count.get<std::size_t>();
+        if (const auto kind = verdict_from_name(name); kind && holds(*kind)) n += count.get<std::size_t>();
     return n;
 }
+
+}  // namespace
+
+std::size_t scored_in(const json& verdicts) { return counted_where(verdicts, is_scored); }
+std::size_t misclassified_in(const json& verdicts) { return counted_where(verdicts, is_misclassification); }
 
 std::string render_summary_table(const audit_totals& totals) {
     std::string out;

@@ -40,6 +40,8 @@ nlohmann::ordered_json audit_report_json(const audit_totals& totals, const run_c
 // The scored cases of a "verdicts" object of report.json (a target's, or one
 // family's): the counts of the verdicts the verdict table scores.
 std::size_t scored_in(const nlohmann::ordered_json& verdicts);
+// The cases given the wrong class in such an object: the counts of the verdicts the table calls misclassifications.
+std::size_t misclassified_in(const nlohmann::ordered_json& verdicts);
 
 // One line of --per-case output (no trailing newline): the case, its exact
 // answers, every target's result and the case's stability measures, written

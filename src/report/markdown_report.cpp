@@ -59,7 +59,6 @@ std::string machine_lines(const json& report) {
     return out;
 }
 
-
 std::string number(const json& x) {
     if (x.is_null()) return "-";
     if (x.is_string()) return x.get<std::string>();
@@ -71,13 +70,6 @@ std::string number(const json& x) {
 std::string percent(std::size_t part, std::size_t whole) {
     if (whole == 0) return "-";
     return fmt::format("{:.1f}%", 100.0 * static_cast<double>(part) / static_cast<double>(whole));
-}
-
-std::size_t misclassified(const json& verdicts) {
-    std::size_t n = 0;
-    for (const auto& [name, count] : verdicts.items())
-        if (const auto kind = verdict_from_name(name); kind && is_misclassification(*kind)) n += count.get<std::size_t>();
-    return n;
 }
 
 // What each plot shows, as its image's alt text.
@@ -97,7 +89,7 @@ void accuracy_table(std::string& out, const json& results, const std::string& ti
            "p99 ulp | median ulp |\n";
     out += "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
     for (const json& r : results) {
-        const std::size_t n = scored_in(r["verdicts"]), mis = misclassified(r["verdicts"]);
+        const std::size_t n = scored_in(r["verdicts"]), mis = misclassified_in(r["verdicts"]);
         const json& u = r["near_root_ulp"];
         out += fmt::format("| {} | {} | {} | {} | {} | {} ({}) | {} | {} | {} | {} |\n", r["variant"].get<std::string>(),
                            r["precision"].get<std::string>(), n, r["verdicts"]["agree"].get<std::size_t>(),
@@ -250,7 +242,7 @@ void sweep_table(std::string& out, const json& sweep) {
         out += fmt::format("| {} |", decade);
         for (const json& r : results) {
             const json& f = r["by_family"][decade];
-            out += fmt::format(" {}/{} |", misclassified(f["verdicts"]), scored_in(f["verdicts"]));
+            out += fmt::format(" {}/{} |", misclassified_in(f["verdicts"]), scored_in(f["verdicts"]));
         }
         out += "\n";
     }

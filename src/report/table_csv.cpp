@@ -49,12 +49,7 @@ std::vector<std::string> audit_csv_fields(const json* section) {
     std::vector<std::string> fields;
     const json* verdicts = json_member(section, "verdicts");
     fields.push_back(verdicts == nullptr ? "" : std::to_string(scored_in(*verdicts)));
-    std::size_t misclassified = 0;
-    for (int k = 0; k < verdict_kind_count; ++k)
-        if (const json* n = json_member(verdicts, std::string(verdict_name(static_cast<verdict_kind>(k))));
-            n != nullptr && is_misclassification(static_cast<verdict_kind>(k)))
-            misclassified += n->get<std::size_t>();
-    fields.push_back(verdicts == nullptr ? "" : std::to_string(misclassified));
+    fields.push_back(verdicts == nullptr ? "" : std::to_string(misclassified_in(*verdicts)));
     for (int k = 0; k < verdict_kind_count; ++k)
         fields.push_back(csv_field(json_member(verdicts, std::string(verdict_name(static_cast<verdict_kind>(k))))));
     for (const error_figure_definition& figure : error_figures) {

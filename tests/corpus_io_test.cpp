@@ -207,7 +207,7 @@ TEST(ParseExactDouble, RejectsMalformedTokensNamingFileLineAndField) {
         {"0x1.8p-1075", "not exactly representable"}};
     for (const auto& [token, problem] : bad) {
         const std::string message =
-            error_of([&] { parse_exact_double(token, "corpus/x.txt", 17, "dx"); });
+            error_of([&malformed = token] { parse_exact_double(malformed, "corpus/x.txt", 17, "dx"); });
         EXPECT_NE(message.find(fmt::format("corpus/x.txt:17: field 'dx': {}", problem)),
                   std::string::npos)
             << token << " -> " << message;

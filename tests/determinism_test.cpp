@@ -14,6 +14,7 @@
 #include <string>
 
 #include "support/process.h"
+#include "support/sampled_corpus.h"
 
 namespace {
 
@@ -96,10 +97,11 @@ TEST_F(Determinism, GeneratedCorpusAndItsReportAreByteIdentical) {
 // The same audit on 1, 2 and 3 threads, every output byte for byte. The edge
 // corpus is more than one chunk of cases and holds invalid cases.
 TEST_F(Determinism, AuditIsByteIdenticalWhateverTheThreadCount) {
+    const rayverify::test_support::sampled_corpus edge(RAYVERIFY_CORPUS_DIR "/edge");
     std::string outputs[3];
     for (int threads = 1; threads <= 3; ++threads) {
-        const int code = run(fmt::format("audit --corpus '{}/edge' --threads {} --report rep --per-case cases.jsonl",
-                                         RAYVERIFY_CORPUS_DIR, threads),
+        const int code = run(fmt::format("audit --corpus '{}' --threads {} --report rep --per-case cases.jsonl",
+                                         edge.path().string(), threads),
                              outputs[threads - 1]);
         ASSERT_NE(code, 2) << outputs[threads - 1];
         keep_outputs(fmt::format("t{}", threads));

@@ -2,10 +2,11 @@
 # Installs the Debian 12 packages rayverify builds with. Idempotent: when all
 # are present it only checks (a second run takes well under a second).
 # Uses sudo only when not root.
-# Usage: tools/setup.sh [--fuzz] [--slurm]
-#   --fuzz   also clang for tools/fuzz.sh
-#   --slurm  also Slurm and MUNGE for the test labelled slurm (tools/slurm/local_cluster.sh);
-#            their services are not started by the install (a private cluster is, by the test)
+# Usage: tools/setup.sh [--fuzz] [--sanitize] [--slurm]
+#   --fuzz      also clang for tools/fuzz.sh
+#   --sanitize  also clang-14's sanitizer runtimes for tools/build.sh --sanitize
+#   --slurm     also Slurm and MUNGE for the test labelled slurm (tools/slurm/local_cluster.sh);
+#               their services are not started by the install (a private cluster is, by the test)
 set -euo pipefail
 
 packages=(
@@ -30,8 +31,9 @@ slurm=false
 for option in "$@"; do
   case "$option" in
     --fuzz) packages+=(clang libclang-rt-14-dev) ;;  # tools/fuzz.sh: clang, libFuzzer, sanitizers
+    --sanitize) packages+=(libclang-rt-14-dev) ;;  # tools/build.sh --sanitize: clang-14's ASan and UBSan runtimes
     --slurm) packages+=(slurm-wlm munge procps); slurm=true ;;  # procps: pgrep, ps for the cleanup checks
-    *) echo "setup.sh: unknown option '$option' (--fuzz, --slurm)" >&2; exit 2 ;;
+    *) echo "setup.sh: unknown option '$option' (--fuzz, --sanitize, --slurm)" >&2; exit 2 ;;
   esac
 done
 

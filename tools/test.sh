@@ -10,9 +10,11 @@ build_dir=build
 excluded='long|slurm'
 if [ "${1:-}" = "--sanitize" ]; then
   build_dir=build-sanitize
-  # The docs-run test checks the documents against the binary: once, in the
-  # default suite, is enough (its commands' code paths have tests of their own).
-  excluded='long|slurm|docs'
+  # Left to the default suite: the docs-run test, which checks the documents
+  # against the binary (once is enough; its commands' code paths have tests
+  # of their own), and the tests labelled external, which run none of
+  # rayverify's code (nothing for the sanitizers to check).
+  excluded='long|slurm|docs|external'
   # What the engines' libraries keep until the process ends is theirs, not a
   # leak of rayverify's (tools/lsan_suppressions.txt says which libraries).
   export LSAN_OPTIONS="suppressions=$PWD/tools/lsan_suppressions.txt${LSAN_OPTIONS:+:$LSAN_OPTIONS}"

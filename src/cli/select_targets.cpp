@@ -124,7 +124,7 @@ bool answers_elsewhere(const audit_target& t) { return !t.subject.run_float && !
 void check_fp_environment_targets(const fp_environment_choice& choice, const std::vector<audit_target>& targets) {
     for (const auto& [name, spec] : choice.by_target) {
         const auto named = std::find_if(targets.begin(), targets.end(),
-                                        [&](const audit_target& t) { return t.subject.name == name; });
+                                        [&wanted = name](const audit_target& t) { return t.subject.name == wanted; });
         if (named == targets.end()) {
             std::vector<std::string> names;
             for (const audit_target& t : targets)

@@ -24,6 +24,11 @@ using v3 = vec3<double>;
 
 // ---------------------------------------------------------------------------
 // Randomness: raw mt19937_64 outputs (corpus/mersenne_twister.h), converted by hand.
+// A case is its draws in order, so each draw is a statement of its own (or an
+// element of a braced list, which C++ evaluates left to right): two draws in
+// the arguments of one call, or the operands of one operator, are made in an
+// order each compiler chooses (g++ and clang++ differed, and regenerated
+// different corpora from one manifest).
 
 // splitmix64: the golden-ratio step, then the finaliser.
 std::uint64_t splitmix64(std::uint64_t x) { return splitmix64_finalise(x + 0x9e3779b97f4a7c15ULL); }
@@ -441,8 +446,8 @@ ray_sphere<double> make_far_sphere_wide(random_source& g) {
 template <class T>
 ray_sphere<double> make_tiny_sphere(random_source& g) {
     const bool single = std::is_same_v<T, float>;
-    const double radius = snap<T>(std::ldexp(g.uniform(1, 2), -static_cast<int>(g.integer(single ? 6 : 20,
-                                                                                              single ? 14 : 40))));
+    const int j = static_cast<int>(g.integer(single ? 6 : 20, single ? 14 : 40));
+    const double radius = snap<T>(std::ldexp(g.uniform(1, 2), -j));
     const v3 centre = snap<T>(radius * cube_point(g, -4, 4));
     v3 origin;
     do origin = snap<T>(cube_point(g, -8, 8));
@@ -467,8 +472,10 @@ ray_sphere<double> make_tiny_sphere(random_source& g) {
 template <class T>
 ray_sphere<double> make_ground_plane(random_source& g) {
     const bool single = std::is_same_v<T, float>;
-    const double big = snap<T>(std::ldexp(g.uniform(1, 2), static_cast<int>(g.integer(8, single ? 16 : 30))));
-    const double height = std::ldexp(g.uniform(1, 2), static_cast<int>(g.integer(single ? -2 : -4, 4)));
+    const int e = static_cast<int>(g.integer(8, single ? 16 : 30));
+    const double big = snap<T>(std::ldexp(g.uniform(1, 2), e));
+    const int j = static_cast<int>(g.integer(single ? -2 : -4, 4));
+    const double height = std::ldexp(g.uniform(1, 2), j);
     const v3 up = random_unit(g);
     const v3 origin = snap<T>(cube_point(g, -1, 1));
     const v3 centre = snap<T>(origin - (big + height) * up);
@@ -485,7 +492,8 @@ ray_sphere<double> make_ground_plane(random_source& g) {
         slope = g.uniform(-4, 1);  // mostly downwards
     } else {
         const double critical = std::sqrt(2 * height / big);
-        slope = (g.coin() ? 1 : -1) * 2 * critical * g.unit();
+        const double sign = g.coin() ? 1 : -1;
+        slope = sign * 2 * critical * g.unit();
     }
     const v3 direction = normalised(horizontal + slope * up);
     return exactly_in<T>({origin, direction, centre, big});

@@ -1,5 +1,6 @@
 // Sweeps under the sanitizers. In the ASan+UBSan build (g++ defines
-// __SANITIZE_ADDRESS__ there) every instrumented operation costs several
+// __SANITIZE_ADDRESS__ there, clang++ 14 only answers
+// __has_feature(address_sanitizer)) every instrumented operation costs several
 // times more. The sweeps whose point is numeric agreement (the oracle's
 // routes, the double-word bounds) run at full size in the default suite; in
 // the sanitized suite they run one case in `sanitized_stride`, which still
@@ -14,6 +15,8 @@ namespace rayverify::test_support {
 
 #if defined(__SANITIZE_ADDRESS__)
 inline constexpr bool sanitized_build = true;
+#elif defined(__has_feature)
+inline constexpr bool sanitized_build = __has_feature(address_sanitizer);
 #else
 inline constexpr bool sanitized_build = false;
 #endif

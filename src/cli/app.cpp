@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <sstream>
+#include <thread>
 
 #include "cli/terminal.h"
 #include "core/build_info.h"
@@ -118,6 +119,10 @@ const CLI::App* chosen(const CLI::App& app, const std::vector<std::string>& args
 }  // namespace
 
 std::string version_text() { return fmt::format("rayverify {}\nbuild: {}", build_info::version, build_summary()); }
+
+unsigned thread_count(unsigned requested) {
+    return requested != 0 ? requested : std::max(1u, std::thread::hardware_concurrency());
+}
 
 std::string closest(std::string_view word, const std::vector<std::string>& candidates) {
     std::string best;

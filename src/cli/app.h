@@ -21,6 +21,10 @@ struct global_options {
 // "rayverify 0.1.0" and the build line.
 std::string version_text();
 
+// The threads a command runs on: those --threads asked for, or, when it was
+// not given (0), every hardware thread (one where their number is unknown).
+unsigned thread_count(unsigned requested = 0);
+
 // Sets the help formatter, --version, --quiet and the hidden generators on the
 // top-level app. Call before adding the subcommands: they inherit the
 // formatter and let unknown options fall through to the app.

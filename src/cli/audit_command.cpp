@@ -4,8 +4,8 @@
 #include <array>
 #include <filesystem>
 #include <fstream>
-#include <thread>
 
+#include "cli/app.h"
 #include "cli/commands.h"
 #include "core/input_error.h"
 #include "corpus/case_stream.h"
@@ -194,7 +194,7 @@ int run(const audit_options& options, const std::string& command_line) {
             : per_case_location(options.per_case_file, options.report_dir);
     case_stream stream = input.open(shard);
     const std::vector<audit_target> targets = audit_targets(options, input);
-    const unsigned requested = options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency());
+    const unsigned requested = thread_count(options.threads);
     const unsigned threads = audit_thread_count(options, targets, requested);
 
     // Every output is declared (opened as a temporary) before the audit and

@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <filesystem>
 #include <map>
-#include <thread>
 
 #include "bench/far_sphere_sweep.h"
 #include "bench/long_double.h"
@@ -15,6 +14,7 @@
 #include "bench/audit_timing.h"
 #include "bench/robust_fallback.h"
 #include "bench/timing.h"
+#include "cli/app.h"
 #include "cli/commands.h"
 #include "compare/audit.h"
 #include "compare/stability.h"
@@ -309,7 +309,7 @@ int run(const bench_options& options, const std::string& command_line) {
     for (const std::string& l : labels) accuracy.precision_labels.push_back(l.substr(l.find('/') + 1));
     if (isatty(STDERR_FILENO)) terminal::note(fmt::format("bench: auditing {} cases", cases.size()));
     const unsigned threads = audit_threads(
-        targets, options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency()));
+        targets, thread_count(options.threads));
     accuracy.run = audit_with_stability(cases, targets, labels, threads,
                                         per_case_file ? &per_case_file->stream() : nullptr, audited);
 

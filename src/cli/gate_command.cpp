@@ -3,8 +3,8 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
-#include <thread>
 
+#include "cli/app.h"
 #include "cli/commands.h"
 #include "compare/gate.h"
 #include "core/input_error.h"
@@ -76,7 +76,7 @@ int run(const gate_options& options) {
                              outside);
     if (targets.empty()) throw input_error("", 0, "--precision", "no variant runs in the chosen precision");
 
-    const unsigned threads = options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency());
+    const unsigned threads = thread_count(options.threads);
     const gate_run run =
         run_gate(cases, targets, base, options.examples, threads, options.tolerance, options.allow_missing);
     if (updated != nullptr) {

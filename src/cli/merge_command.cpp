@@ -55,8 +55,7 @@ struct shard_input {
 // shards there are. Of the malformed shards met, the first in shard order is named.
 audit_state merged_states(const std::vector<shard_input>& shards) {
     const std::vector<audit_target>& targets = shards.front().header.targets;
-    const std::size_t threads =
-        std::clamp<std::size_t>(std::thread::hardware_concurrency(), 1, std::max<std::size_t>(shards.size(), 1));
+    const std::size_t threads = std::min<std::size_t>(thread_count(), std::max<std::size_t>(shards.size(), 1));
     std::vector<audit_state> partial(threads, audit_state(targets));
     std::vector<std::exception_ptr> failure(shards.size());
     std::atomic<std::size_t> next{0};
@@ -248,7 +247,7 @@ int merge_audits(const merge_options& options) {
     open_presentation(outputs, options.presentation);
     if (outputs.per_case != nullptr) interleave_per_case(shards, total, outputs.per_case->stream());
 
-    const unsigned threads = std::max(1u, std::thread::hardware_concurrency());
+    const unsigned threads = thread_count();
     const audit_totals totals = merged.audit.finish(threads);
     const std::optional<json> report = audit_report_document(merged, totals, context, threads);
     return publish_audit(totals, report, outputs, options.plots, options.presentation,

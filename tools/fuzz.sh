@@ -17,12 +17,12 @@ targets=("${@:2}")
 build=${FUZZ_BUILD_DIR:-build-fuzz}
 
 tools/setup.sh --fuzz
-# -O1 with line tables, as libFuzzer's and OSS-Fuzz's builds are: every
-# sanitizer check stays, a crash's stack names files and lines, and it
-# compiles in well under -O2 -g's time.
 # Ninja for a new build directory, as tools/build.sh.
 generator=()
 [ -f "$build/CMakeCache.txt" ] || generator=(-G Ninja)
+# -O1 with line tables, as libFuzzer's and OSS-Fuzz's builds are: every
+# sanitizer check stays, a crash's stack names files and lines, and it
+# compiles in well under -O2 -g's time.
 cmake -S fuzz -B "$build" "${generator[@]}" -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -gline-tables-only -DNDEBUG" >/dev/null
 cmake --build "$build" -j "$(nproc)" --target "${targets[@]/#/fuzz_}"

@@ -308,8 +308,7 @@ int run(const bench_options& options, const std::string& command_line) {
     accuracy.audited = audited;
     for (const std::string& l : labels) accuracy.precision_labels.push_back(l.substr(l.find('/') + 1));
     if (isatty(STDERR_FILENO)) terminal::note(fmt::format("bench: auditing {} cases", cases.size()));
-    const unsigned threads = audit_threads(
-        targets, thread_count(options.threads));
+    const unsigned threads = audit_threads(targets, thread_count(options.threads));
     accuracy.run = audit_with_stability(cases, targets, labels, threads,
                                         per_case_file ? &per_case_file->stream() : nullptr, audited);
 

@@ -8,6 +8,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <string>
 
 #include "process.h"
@@ -17,9 +18,10 @@ namespace rayverify::test_support {
 
 class sampled_corpus {
 public:
-    explicit sampled_corpus(const std::filesystem::path& corpus) : dir_(corpus), scratch_("sampled_corpus") {
+    explicit sampled_corpus(const std::filesystem::path& corpus) : dir_(corpus) {
         if (sanitized_stride == 1) return;
-        dir_ = scratch_.path() / corpus.filename();
+        scratch_.emplace("sampled_corpus");
+        dir_ = scratch_->path() / corpus.filename();
         std::filesystem::create_directories(dir_);
         for (const auto& entry : std::filesystem::directory_iterator(corpus)) {
             if (!entry.is_regular_file() || entry.path().extension() != ".txt") continue;
@@ -35,7 +37,7 @@ public:
 
 private:
     std::filesystem::path dir_;
-    scratch_directory scratch_;
+    std::optional<scratch_directory> scratch_;  // the sample's, in the sanitized build
 };
 
 }  // namespace rayverify::test_support

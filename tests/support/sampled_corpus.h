@@ -19,24 +19,34 @@ namespace rayverify::test_support {
 class sampled_corpus {
 public:
     explicit sampled_corpus(const std::filesystem::path& corpus) : dir_(corpus) {
-        if (sanitized_stride == 1) return;
-        scratch_.emplace("sampled_corpus");
-        dir_ = scratch_->path() / corpus.filename();
-        std::filesystem::create_directories(dir_);
+        const bool sampling = sanitized_stride > 1;
+        if (sampling) {
+            scratch_.emplace("sampled_corpus");
+            dir_ = scratch_->path() / corpus.filename();
+            std::filesystem::create_directories(dir_);
+        }
         for (const auto& entry : std::filesystem::directory_iterator(corpus)) {
             if (!entry.is_regular_file() || entry.path().extension() != ".txt") continue;
             std::ifstream in(entry.path());
-            std::ofstream out(dir_ / entry.path().filename());
+            std::ofstream out;
+            if (sampling) out.open(dir_ / entry.path().filename());
             std::size_t case_line = 0;
-            for (std::string line; std::getline(in, line);)
-                if (line.empty() || line[0] == '#' || case_line++ % sanitized_stride == 0) out << line << '\n';
+            for (std::string line; std::getline(in, line);) {
+                const bool comment = line.empty() || line[0] == '#';
+                const bool kept = comment || case_line++ % sanitized_stride == 0;
+                if (kept && !comment) ++case_count_;
+                if (kept && sampling) out << line << '\n';
+            }
         }
     }
     // The directory to audit: the corpus itself, or its sample.
     const std::filesystem::path& path() const { return dir_; }
+    // How many cases that directory's files hold (a report counts its lines by them).
+    std::size_t case_count() const { return case_count_; }
 
 private:
     std::filesystem::path dir_;
+    std::size_t case_count_ = 0;
     std::optional<scratch_directory> scratch_;  // the sample's, in the sanitized build
 };
 

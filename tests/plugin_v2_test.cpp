@@ -83,6 +83,27 @@ TEST(PluginV2, FloatOnlyPluginGetsFloatRowsOnly) {
     EXPECT_EQ(audit.output.find("shadow_sphere double"), std::string::npos) << audit.output;
 }
 
+// hunt works the precision out as audit does: a float-only plugin is hunted in
+// float without --precision, and --precision double on it is an input error
+// that writes no file.
+TEST(PluginV2, FloatOnlyPluginIsHuntedInFloatWithoutPrecision) {
+    const scratch_directory scratch("rayverify_hunt_float_only");
+    const std::string hunt = "hunt --plugin " + std::string(RAYVERIFY_EXAMPLE_SHADOW_SPHERE) +
+                             " --objective misclass --seconds 0 --evaluations 300 --finds 1 -o ";
+    const std::filesystem::path worked_out = scratch.path() / "worked_out.txt";
+    const command_result found = run_cli(hunt + worked_out.string());
+    EXPECT_LE(found.exit_code, 1) << found.output;
+    EXPECT_TRUE(found.output.starts_with("hunt shadow_sphere/float ")) << found.output;
+    EXPECT_TRUE(std::filesystem::exists(worked_out));
+
+    const std::filesystem::path in_double = scratch.path() / "in_double.txt";
+    const command_result refused = run_cli(hunt + in_double.string() + " --precision double");
+    EXPECT_EQ(refused.exit_code, 2) << refused.output;
+    EXPECT_NE(refused.output.find("field '--precision'"), std::string::npos) << refused.output;
+    EXPECT_NE(refused.output.find("does not run in double"), std::string::npos) << refused.output;
+    EXPECT_FALSE(std::filesystem::exists(in_double));
+}
+
 // Every example on the shipped corpus: its outputs beside t are checked, its
 // bounds are sound, and the isolated run (batches over a socket) gives the
 // same figures as the run in process.

@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <array>
 #include <optional>
 #include <vector>
@@ -73,20 +74,27 @@ hunt_command_options with_engine(hunt_command_options o, std::optional<library_i
 }
 
 
-// The one target hunted: a variant, a plugin or a program (--command), in the precision given.
+// The one target hunted: a variant, a plugin or a program (--command), in the
+// precision given. Without --precision, a variant or plugin is hunted in
+// double where it runs in double and in float where it runs in float alone (a
+// float-only plugin, as audit and explain choose); a program in double.
 audit_target hunt_target(const hunt_command_options& o, const std::optional<library_identity>& library) {
     if (int(!o.variant.empty()) + int(!o.plugin.empty()) + int(!o.command.empty()) != 1)
         throw input_error("", 0, "--variant",
                           "name exactly one target: --variant NAME, --plugin LIBRARY, --command 'PROGRAM' or --engine NAME");
     const std::vector<std::string> names = o.variant.empty() ? std::vector<std::string>{} : std::vector{o.variant};
     const std::vector<std::string> plugins = o.plugin.empty() ? std::vector<std::string>{} : std::vector{o.plugin};
+    const std::vector<std::string> precisions = o.precision_given ? std::vector{o.precision} : precision_names();
     std::vector<audit_target> targets =
-        o.command.empty() ? select_targets(names, plugins, {o.precision}, o.isolation)
+        o.command.empty() ? select_targets(names, plugins, precisions, o.isolation)
                           : std::vector<audit_target>{outside_target(o.name, o.contract_spec, "command " + o.command,
                                                                      named_precision(o.precision))};
     if (targets.empty())
         throw input_error("", 0, "--precision",
                           fmt::format("{} does not run in {}", o.variant.empty() ? o.plugin : o.variant, o.precision));
+    const auto in_double = std::ranges::find(targets, precision::binary64, &audit_target::prec);
+    if (in_double != targets.end()) std::swap(targets.front(), *in_double);
+    targets.erase(targets.begin() + 1, targets.end());
     if (library) targets.front().subject.library = library;
     check_fp_environment_targets(o.isolation.environment, targets);
     return targets.front();
@@ -288,9 +296,9 @@ command add_hunt_command(CLI::App& app, const std::string& command_line) {
                     "Cases judged together (start cases, or candidates moved from the same case); default 1, and "
                     "64 with --command")
         ->check(whole_number(1, std::uint64_t{1} << 20));
-    sub->add_option("--precision", o->precision, "float or double (an --engine: the one it computes in)")
+    sub->add_option("--precision", o->precision,
+                    "float or double (default: double, or float for a target that computes in float alone)")
         ->check(CLI::IsMember(precision_names()))
-        ->capture_default_str()
         ->each([o](const std::string&) { o->precision_given = true; });
     sub->add_option("--engine", o->engine,
                     "Hunt an engine's library as its package installs it instead (`rayverify engines` lists them)");

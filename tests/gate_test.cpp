@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "compare/gate.h"
+#include "core/contract.h"
 #include "corpus/corpus_io.h"
 #include "report/gate_report.h"
 #include "support/process.h"
@@ -134,6 +135,52 @@ TEST(Gate, LibrarySetUpIsRecordedAndAnotherOneFailsTheGate) {
               "b.txt:2: field 'library': 'embree3/float' is a target; a library line names a variant, like embree3");
     EXPECT_EQ(parse_error("rayverify-baseline 1\nlibrary embree3 kernel sse2\nlibrary embree3 kernel avx\n"),
               "b.txt:3: field 'library': duplicate library line for embree3");
+}
+
+// The contract each variant was judged by is recorded by --update and read
+// back; a run under another contract fails the gate naming both, whatever its
+// figures (another contract scores other cases: a run that scores fewer would
+// otherwise read as better); a baseline without the line takes a note.
+TEST(Gate, ContractIsRecordedAndAnotherOneFailsTheGate) {
+    const baseline b = parse_baseline("b.txt", sample);
+    const std::string line_roots = format_contract(parse_contract("query=line_roots"));
+    const std::string unit_line_roots = format_contract(parse_contract("query=line_roots,unit_direction=yes"));
+    ASSERT_NE(line_roots, unit_line_roots);
+    const configuration_table judged_by = {{"naive", line_roots}, {"hearn_baker", line_roots}};
+    const baseline recorded = updated_baseline(b, b.figures, {}, judged_by);
+    const std::string text = format_baseline(recorded);
+    EXPECT_NE(text.find("# The contract each variant was judged by; a run under another fails the gate.\n"
+                        "contract hearn_baker " + line_roots + "\ncontract naive " + line_roots + "\n"),
+              std::string::npos)
+        << text;
+    const baseline again = parse_baseline("again.txt", text);
+    EXPECT_EQ(format_baseline(again), text);
+    EXPECT_TRUE(compare_to_baseline(again, b.figures, default_figure_tolerance, {}, {}, judged_by).passed());
+
+    const configuration_table unit = {{"naive", unit_line_roots}, {"hearn_baker", line_roots}};
+    const gate_result moved = compare_to_baseline(again, b.figures, default_figure_tolerance, {}, {}, unit);
+    EXPECT_FALSE(moved.passed()) << "same figures, another contract";
+    ASSERT_EQ(moved.configuration_changes.size(), 1u);
+    EXPECT_EQ(moved.configuration_changes[0].aspect, setup_aspect::contract);
+    EXPECT_EQ(moved.configuration_changes[0].variant, "naive");
+    EXPECT_EQ(moved.configuration_changes[0].before, line_roots);
+    EXPECT_EQ(moved.configuration_changes[0].after, unit_line_roots);
+
+    const gate_result unrecorded = compare_to_baseline(b, b.figures, default_figure_tolerance, {}, {}, unit);
+    EXPECT_TRUE(unrecorded.passed());
+    ASSERT_FALSE(unrecorded.notes.empty());
+    EXPECT_NE(unrecorded.notes.front().find("hearn_baker: the baseline records no contract; this run's: " + line_roots),
+              std::string::npos)
+        << unrecorded.notes.front();
+
+    EXPECT_EQ(parse_error("rayverify-baseline 1\ncontract naive\n"),
+              "b.txt:2: field 'contract': expected 'contract VARIANT SPEC'");
+    EXPECT_EQ(parse_error("rayverify-baseline 1\ncontract naive/float query=line_roots\n"),
+              "b.txt:2: field 'contract': 'naive/float' is a target; a contract line names a variant, like naive");
+    EXPECT_NE(parse_error("rayverify-baseline 1\ncontract naive query=sideways\n").find("b.txt:2: field 'contract': "),
+              std::string::npos);
+    EXPECT_EQ(parse_error("rayverify-baseline 1\ncontract naive query=line_roots\ncontract naive query=any_hit\n"),
+              "b.txt:3: field 'contract': duplicate contract line for naive");
 }
 
 figure_change find_change(const gate_result& r, const std::string& text) {
@@ -269,6 +316,27 @@ TEST(Gate, CliUpdateThenGateThenRegressionWithJunitAndDiff) {
     r = run_cli("gate --baseline " + baseline + corpus + " --variant naive --junit " + (dir / "ok.xml").string());
     EXPECT_EQ(r.exit_code, 0) << r.output;
     EXPECT_NE(r.output.find("gate: passed: "), std::string::npos) << r.output;
+
+    // The baseline records naive's contract; judged by another (here the
+    // line edited, as a plugin's changed contract would read), the gate fails
+    // naming both, in the text and in the JUnit file.
+    const std::string contract_line = "\ncontract naive query=line_roots,";
+    ASSERT_NE(written.find(contract_line), std::string::npos) << written;
+    std::string other_contract = written;
+    const std::size_t unit_at = other_contract.find("unit_direction=no", other_contract.find(contract_line));
+    ASSERT_NE(unit_at, std::string::npos) << written;
+    other_contract.replace(unit_at, 17, "unit_direction=yes");
+    const std::string other_baseline = (dir / "other_contract.txt").string();
+    std::ofstream(other_baseline) << other_contract;
+    r = run_cli("gate --baseline " + other_baseline + corpus + " --variant naive --junit " +
+                (dir / "contract.xml").string());
+    EXPECT_EQ(r.exit_code, 1) << r.output;
+    EXPECT_NE(r.output.find("CONTRACT naive: contract query=line_roots,"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("unit_direction=yes,reports_tangent=yes in the baseline, query=line_roots,"),
+              std::string::npos) << r.output;
+    EXPECT_NE(r.output.find(", 1 contract(s) not the baseline's;"), std::string::npos) << r.output;
+    EXPECT_NE(read_text(dir / "contract.xml").find("<testsuite name=\"contract\" tests=\"1\" failures=\"1\">"),
+              std::string::npos);
 
     // A baseline tighter than the truth: the gate fails with a readable diff and pasteable cases.
     std::string tighter = written;

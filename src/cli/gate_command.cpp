@@ -80,7 +80,7 @@ int run(const gate_options& options) {
     const gate_run run =
         run_gate(cases, targets, base, options.examples, threads, options.tolerance, options.allow_missing);
     if (updated != nullptr) {
-        updated->stream() << format_baseline(updated_baseline(base, run.current, run.configurations));
+        updated->stream() << format_baseline(updated_baseline(base, run.current, run.configurations, run.contracts));
         std::size_t changed = 0;
         for (const figure_change& c : run.result.changes) changed += c.kind == change_kind::new_entry ? 0 : 1;
         fmt::print("gate: {} {}: {} figures of {} target(s) over {} cases; {} changed, {} new\n",

@@ -12,6 +12,7 @@
 #include <utility>
 
 #include "compare/audit.h"
+#include "core/contract.h"
 #include "core/input_error.h"
 
 namespace rayverify {
@@ -207,6 +208,21 @@ baseline parse_baseline(const std::string& file, std::string_view text) {
                 throw error("library", fmt::format("duplicate library line for {}", printable(words[1])));
             continue;
         }
+        if (words[0] == "contract") {
+            if (words.size() != 3) throw error("contract", "expected 'contract VARIANT SPEC'");
+            if (words[1].find('/') != std::string::npos)
+                throw error("contract", fmt::format("{} is a target; a contract line names a variant, like naive",
+                                                    quoted(words[1])));
+            std::string spec;
+            try {
+                spec = format_contract(parse_contract(words[2]));
+            } catch (const std::invalid_argument& e) {
+                throw error("contract", e.what());
+            }
+            if (!b.contracts.emplace(words[1], configuration_line{spec, std::exchange(pending, {})}).second)
+                throw error("contract", fmt::format("duplicate contract line for {}", printable(words[1])));
+            continue;
+        }
         if (words.size() != 4) throw error("entry", fmt::format("expected 'TARGET FAMILY FIGURE VALUE', got {} fields",
                                                                 words.size()));
         if (words[0].find('/') == std::string::npos)
@@ -240,6 +256,10 @@ std::string format_baseline(const baseline& b) {
     for (const auto& [variant, line] : b.configurations) {
         comments(line.comments);
         out += fmt::format("library {} {}\n", variant, line.text);
+    }
+    for (const auto& [variant, line] : b.contracts) {
+        comments(line.comments);
+        out += fmt::format("contract {} {}\n", variant, line.text);
     }
     for (const auto& [name, lines] : b.allowed_missing) {
         comments(lines);
@@ -279,13 +299,22 @@ configuration_table configurations_of(std::span<const audit_target> targets) {
     return out;
 }
 
+configuration_table contracts_of(std::span<const audit_target> targets) {
+    configuration_table out;
+    for (const audit_target& t : targets) out[t.subject.name] = format_contract(t.subject.promises);
+    return out;
+}
+
 baseline updated_baseline(const baseline& old, const figure_table& current,
-                          const configuration_table& current_configurations) {
+                          const configuration_table& current_configurations,
+                          const configuration_table& current_contracts) {
     baseline b = old;
     std::set<std::string> run;
     for (const auto& entry : current) run.insert(entry.first.target);
     for (const std::string& target : run) {
         const std::string variant = variant_of(target);
+        if (const auto judged_by = current_contracts.find(variant); judged_by != current_contracts.end())
+            b.contracts[variant].text = judged_by->second;
         const auto now = current_configurations.find(variant);
         if (now == current_configurations.end()) {
             if (const auto gone = b.configurations.find(variant); gone != b.configurations.end()) {
@@ -300,6 +329,9 @@ baseline updated_baseline(const baseline& old, const figure_table& current,
             line.comments = {"# The set-up " + variant + "'s library ran with; a run with another fails the gate."};
         line.text = now->second;
     }
+    if (old.contracts.empty() && !b.contracts.empty())
+        b.contracts.begin()->second.comments = {
+            "# The contract each variant was judged by; a run under another fails the gate."};
     b.figures.clear();
     b.comments.clear();
     for (const auto& [key, value] : old.figures)
@@ -417,7 +449,8 @@ gate_result compare_tables(const figure_table& before, const figure_table& after
 
 gate_result compare_to_baseline(const baseline& base, const figure_table& current, double tolerance,
                                 const configuration_table& current_configurations,
-                                const std::vector<std::string>& allow_missing) {
+                                const std::vector<std::string>& allow_missing,
+                                const configuration_table& current_contracts) {
     std::set<std::string> allowed(allow_missing.begin(), allow_missing.end());
     for (const auto& [name, unused] : base.allowed_missing) allowed.insert(name);
     const absence_rule may_be_absent = [&](const std::string& target, const std::string& family) {
@@ -434,11 +467,27 @@ gate_result compare_to_baseline(const baseline& base, const figure_table& curren
         const auto now = current_configurations.find(variant);
         const std::string after = now == current_configurations.end() ? std::string() : now->second;
         if (recorded != base.configurations.end()) {
-            if (recorded->second.text != after) result.configuration_changes.push_back({variant, recorded->second.text, after});
+            if (recorded->second.text != after)
+                result.configuration_changes.push_back({variant, recorded->second.text, after, setup_aspect::library});
         } else if (!after.empty() && variants_known.count(variant)) {
             result.notes.push_back(fmt::format("{}: the baseline records no library set-up; this run's: {} "
                                                "(--update records it)",
                                                variant, after));
+        }
+    }
+    // The contracts, of the variants whose contract the caller knows.
+    for (const std::string& variant : variants_run) {
+        const auto now = current_contracts.find(variant);
+        if (now == current_contracts.end()) continue;
+        const auto recorded = base.contracts.find(variant);
+        if (recorded != base.contracts.end()) {
+            if (recorded->second.text != now->second)
+                result.configuration_changes.push_back(
+                    {variant, recorded->second.text, now->second, setup_aspect::contract});
+        } else if (variants_known.count(variant)) {
+            result.notes.push_back(fmt::format("{}: the baseline records no contract; this run's: {} "
+                                               "(--update records it)",
+                                               variant, now->second));
         }
     }
     return result;
@@ -493,7 +542,8 @@ gate_run run_gate(std::span<const corpus_case> cases, const std::vector<audit_ta
     run.totals = run_audit(cases, targets, [&](const audited_case& c) { run.examples.add(c, targets); }, {}, threads);
     run.current = figures_of(run.totals);
     run.configurations = configurations_of(targets);
-    run.result = compare_to_baseline(base, run.current, tolerance, run.configurations, allow_missing);
+    run.contracts = contracts_of(targets);
+    run.result = compare_to_baseline(base, run.current, tolerance, run.configurations, allow_missing, run.contracts);
     for (std::size_t i = 0; i < run.totals.targets.size(); ++i)
         if (run.totals.overall[i].scored_nothing())
             run.result.unscored.push_back(run.totals.targets[i].label());

@@ -11,6 +11,7 @@
 //     policy default count_slack 0        # a count may grow by this many cases
 //     policy naive/float ulp_slack 2      # per variant ("naive") or target ("naive/float")
 //     library embree3 kernel avx512, Embree's choice for this CPU
+//     contract naive query=line_roots,range=ray,ends=(),...
 //     naive/float all cases 3000
 //     naive/float far_sphere false_miss 45
 //     naive/float far_sphere near_ulp_max 1.2e+08
@@ -19,7 +20,11 @@
 // ran (library_identity::configuration: the kernel Embree picked for the CPU,
 // say), which decides its answers as much as the code does: a run whose
 // set-up differs from the baseline's fails the gate, naming both, instead of
-// failing on figures that moved for that reason.
+// failing on figures that moved for that reason. A `contract VARIANT SPEC`
+// line records the contract the variant was judged by (its canonical spec,
+// core/contract.h): a run under another contract scores other cases, so
+// its figures are not comparable and the gate fails, naming both, instead
+// of reporting the cases it no longer scores as "better".
 #pragma once
 
 #include <cstddef>
@@ -74,6 +79,8 @@ struct policy_line {
 // by variant name; only targets whose library reports one.
 using configuration_table = std::map<std::string, std::string>;
 configuration_table configurations_of(std::span<const audit_target> targets);
+// The contract each target was judged by (format_contract), by variant name.
+configuration_table contracts_of(std::span<const audit_target> targets);
 
 struct configuration_line {
     std::string text;
@@ -84,6 +91,7 @@ struct baseline {
     std::vector<std::string> format_comments;  // comment lines above the format line
     std::vector<policy_line> policies;          // in file order; the last matching line wins
     std::map<std::string, configuration_line> configurations;  // `library VARIANT TEXT` lines, by variant
+    std::map<std::string, configuration_line> contracts;       // `contract VARIANT SPEC` lines, by variant
     // `allow-missing NAME` lines: a family, a variant or a target the baseline
     // holds that a run may leave out (each with the comment lines above it).
     std::vector<std::pair<std::string, std::vector<std::string>>> allowed_missing;
@@ -107,9 +115,10 @@ baseline new_baseline();
 // value (figures that vanished are dropped, their comments kept at the end);
 // targets not run keep their lines; policies and comments are kept. A
 // variant run with a library set-up records it (`library` line); one run
-// without drops the line.
+// without drops the line. Every variant run records its contract (`contract` line).
 baseline updated_baseline(const baseline& old, const figure_table& current,
-                          const configuration_table& current_configurations = {});
+                          const configuration_table& current_configurations = {},
+                          const configuration_table& current_contracts = {});
 
 enum class change_kind {
     worse,         // beyond the policy: fails the gate
@@ -128,15 +137,23 @@ struct figure_change {
     double limit = 0;  // for worse and within_slack: the largest value the policy allows
 };
 
-// A variant whose library ran with another set-up than the baseline records.
+// What a variant ran under besides its code, recorded in the baseline.
+enum class setup_aspect {
+    library,   // its library's set-up (`library` line)
+    contract,  // the contract it was judged by (`contract` line)
+};
+
+// A variant whose library ran with another set-up, or that was judged by
+// another contract, than the baseline records.
 struct configuration_change {
     std::string variant;
     std::string before, after;  // the baseline's; this run's (empty: none reported)
+    setup_aspect aspect = setup_aspect::library;
 };
 
 struct gate_result {
     std::vector<figure_change> changes;  // every figure that differs, in figure_key order
-    std::vector<configuration_change> configuration_changes;  // each fails the gate
+    std::vector<configuration_change> configuration_changes;  // library set-ups, then contracts: each fails the gate
     // Targets (labels) that scored no case of the run (each invalid at its
     // precision or breaking its contract): they passed nothing, and fail.
     std::vector<std::string> unscored;
@@ -154,8 +171,9 @@ struct gate_result {
 // at most `tolerance` relative to the larger are the same figure (last-digit
 // noise); counts are compared exactly.
 // A variant run whose library set-up differs from the baseline's `library`
-// line is a configuration_change (a failure); one the baseline has figures
-// for but no `library` line, while this run reports one, a note. A family or
+// line, or whose contract differs from its `contract` line, is a
+// configuration_change (a failure); one the baseline has figures for but no
+// such line, while this run reports a set-up or a contract, a note. A family or
 // target of the baseline that the run lacks is `missing` (a failure: a gate
 // does not pass on less than it was asked to judge) unless the baseline's
 // `allow-missing` lines or `allow_missing` name it (a family, a variant or a
@@ -164,7 +182,8 @@ inline constexpr double default_figure_tolerance = 1e-9;
 gate_result compare_to_baseline(const baseline& base, const figure_table& current,
                                 double tolerance = default_figure_tolerance,
                                 const configuration_table& current_configurations = {},
-                                const std::vector<std::string>& allow_missing = {});
+                                const std::vector<std::string>& allow_missing = {},
+                                const configuration_table& current_contracts = {});
 
 // Every difference between two figure tables, judged with one policy
 // (`rayverify diff`: before = A, after = B).
@@ -192,6 +211,7 @@ struct gate_run {
     audit_totals totals;
     figure_table current;
     configuration_table configurations;  // the library set-up each variant ran with
+    configuration_table contracts;       // the contract each variant was judged by
     gate_result result;
     gate_examples examples{0};
 };

@@ -2,9 +2,12 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <map>
+#include <string_view>
+#include <vector>
 
 #include "core/input_error.h"
 #include "corpus/corpus_io.h"
@@ -59,10 +62,19 @@ std::string unscored_line(const std::string& target) {
 }
 
 std::string configuration_change_line(const configuration_change& c) {
+    if (c.aspect == setup_aspect::contract)
+        return fmt::format("{}: contract {} in the baseline, {} in this run (another contract scores other cases: "
+                           "its figures are not comparable; review and --update)",
+                           c.variant, c.before, c.after);
     return fmt::format("{}: library set-up '{}' in the baseline, '{}' in this run (its answers depend on it: gate a "
                        "pinned set-up, e.g. one of `rayverify engines`' pinned kernels, or review and --update on "
                        "this machine)",
                        c.variant, c.before, c.after.empty() ? "none reported" : c.after);
+}
+
+// "library set-up" or "contract": a JUnit suite's name, and the failure's.
+std::string_view aspect_name(setup_aspect aspect) {
+    return aspect == setup_aspect::contract ? "contract" : "library set-up";
 }
 
 // The failing figure's first cases, as corpus lines that paste back into a corpus file.
@@ -77,13 +89,26 @@ std::string example_lines(const gate_run& run, const figure_change& c, std::span
     return out;
 }
 
+// ", 1 library set-up(s) and 2 contract(s) not the baseline's", or nothing.
+std::string setup_changes_text(std::span<const configuration_change> changes) {
+    const auto count = [&](setup_aspect aspect) {
+        return std::ranges::count(changes, aspect, &configuration_change::aspect);
+    };
+    std::vector<std::string> parts;
+    if (const auto n = count(setup_aspect::library); n > 0) parts.push_back(fmt::format("{} library set-up(s)", n));
+    if (const auto n = count(setup_aspect::contract); n > 0) parts.push_back(fmt::format("{} contract(s)", n));
+    return parts.empty() ? std::string() : fmt::format(", {} not the baseline's", fmt::join(parts, " and "));
+}
+
 }  // namespace
 
 std::string render_gate_text(const gate_run& run, std::span<const corpus_case> corpus) {
     const gate_result& r = run.result;
     std::string out;
     std::size_t worse = 0, absent = 0, better = 0, slack = 0, fresh = 0;
-    for (const configuration_change& c : r.configuration_changes) out += fmt::format("SETUP  {}\n", configuration_change_line(c));
+    for (const configuration_change& c : r.configuration_changes)
+        out += fmt::format("{} {}\n", c.aspect == setup_aspect::contract ? "CONTRACT" : "SETUP ",
+                           configuration_change_line(c));
     for (const std::string& t : r.unscored) out += fmt::format("NONE   {}\n", unscored_line(t));
     for (const figure_change& c : r.changes) {
         if (!fails(c)) continue;
@@ -109,9 +134,7 @@ std::string render_gate_text(const gate_run& run, std::span<const corpus_case> c
     else if (!r.passed())
         out += fmt::format("gate: FAILED: {} figure(s) worse than the baseline allows{}{}{}; {} compared\n", worse,
                            absent == 0 ? std::string() : fmt::format(", {} family or target group(s) absent", absent),
-                           r.configuration_changes.empty()
-                               ? std::string()
-                               : fmt::format(", {} library set-up(s) not the baseline's", r.configuration_changes.size()),
+                           setup_changes_text(r.configuration_changes),
                            r.unscored.empty() ? std::string()
                                               : fmt::format(", {} target(s) scored no case", r.unscored.size()),
                            r.compared);
@@ -140,16 +163,21 @@ std::string render_junit(const gate_run& run, std::span<const corpus_case> corpu
         suites += fmt::format("  <testsuite name=\"scored cases\" tests=\"{0}\" failures=\"{0}\">\n{1}  </testsuite>\n",
                               run.result.unscored.size(), cases);
     }
-    if (!run.result.configuration_changes.empty()) {
+    for (const setup_aspect aspect : {setup_aspect::library, setup_aspect::contract}) {
         std::string cases;
-        for (const configuration_change& c : run.result.configuration_changes)
-            cases += fmt::format("    <testcase classname=\"library set-up\" name=\"{}\">\n      <failure message=\"library "
-                                 "set-up differs from the baseline's\">{}</failure>\n    </testcase>\n",
-                                 xml_escaped(c.variant), xml_escaped(configuration_change_line(c)));
-        total_tests += run.result.configuration_changes.size();
-        total_failures += run.result.configuration_changes.size();
-        suites += fmt::format("  <testsuite name=\"library set-up\" tests=\"{0}\" failures=\"{0}\">\n{1}  </testsuite>\n",
-                              run.result.configuration_changes.size(), cases);
+        std::size_t failures = 0;
+        for (const configuration_change& c : run.result.configuration_changes) {
+            if (c.aspect != aspect) continue;
+            ++failures;
+            cases += fmt::format("    <testcase classname=\"{0}\" name=\"{1}\">\n      <failure message=\"{0} "
+                                 "differs from the baseline's\">{2}</failure>\n    </testcase>\n",
+                                 aspect_name(aspect), xml_escaped(c.variant), xml_escaped(configuration_change_line(c)));
+        }
+        if (failures == 0) continue;
+        total_tests += failures;
+        total_failures += failures;
+        suites += fmt::format("  <testsuite name=\"{0}\" tests=\"{1}\" failures=\"{1}\">\n{2}  </testsuite>\n",
+                              aspect_name(aspect), failures, cases);
     }
     for (const auto& [target, families] : groups) {
         std::string cases;

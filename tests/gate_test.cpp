@@ -217,6 +217,43 @@ TEST(Gate, WorseFailsBetterPassesWithinSlackPasses) {
     EXPECT_EQ(find_change(r, "naive/float far_sphere false_miss").kind, change_kind::better);
 }
 
+// Fewer scored cases is worse, more is better: a contract or an input that
+// leaves cases unscored (invalid at the precision, breaking the contract)
+// lowers the disagreement counts with them, which must not read as better.
+TEST(Gate, FewerScoredCasesFailMoreAreBetter) {
+    baseline b = parse_baseline("b.txt", sample);
+    b.figures[{"naive/float", "far_sphere", "scored"}] = 500;
+    b.figures[{"hearn_baker/double", "far_sphere", "scored"}] = 480;
+    figure_table current = b.figures;
+    current[{"naive/float", "far_sphere", "scored"}] = 497;  // within count_slack 3
+    current[{"hearn_baker/double", "far_sphere", "scored"}] = 490;
+    gate_result r = compare_to_baseline(b, current);
+    EXPECT_TRUE(r.passed());
+    EXPECT_EQ(find_change(r, "naive/float far_sphere scored").kind, change_kind::within_slack);
+    EXPECT_EQ(find_change(r, "naive/float far_sphere scored").limit, 497);
+    EXPECT_EQ(find_change(r, "hearn_baker/double far_sphere scored").kind, change_kind::better);
+
+    current[{"naive/float", "far_sphere", "scored"}] = 496;
+    current[{"naive/float", "far_sphere", "false_miss"}] = 30;  // fewer misses, because fewer cases were judged
+    r = compare_to_baseline(b, current);
+    EXPECT_FALSE(r.passed());
+    EXPECT_EQ(find_change(r, "naive/float far_sphere scored").kind, change_kind::worse);
+    EXPECT_EQ(find_change(r, "naive/float far_sphere false_miss").kind, change_kind::better);
+
+    // As an audit counts them: every case judged but the invalid ones.
+    audit_totals totals;
+    totals.targets.push_back({});
+    totals.targets[0].subject.name = "naive";
+    totals.overall.resize(1);
+    totals.overall[0].cases = 10;
+    totals.overall[0].verdicts[static_cast<int>(verdict_kind::agree)] = 6;
+    totals.overall[0].verdicts[static_cast<int>(verdict_kind::false_miss)] = 1;
+    totals.overall[0].verdicts[static_cast<int>(verdict_kind::invalid)] = 3;
+    const figure_table figures = figures_of(totals);
+    EXPECT_EQ(figures.at({"naive/double", "all", "cases"}), 10);
+    EXPECT_EQ(figures.at({"naive/double", "all", "scored"}), 7);
+}
+
 TEST(Gate, NewFamiliesAndTargetsAreNotesAChangedFamilyIsStale) {
     const baseline b = parse_baseline("b.txt", sample);
     figure_table current = b.figures;

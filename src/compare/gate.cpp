@@ -18,11 +18,11 @@
 namespace rayverify {
 namespace {
 
-// The figures in baseline order: the case count, each disagreement verdict
-// (judge.h's names, in verdict order), then the ULP figures.
+// The figures in baseline order: the case count, the scored cases, each
+// disagreement verdict (judge.h's names, in verdict order), then the ULP figures.
 const std::vector<std::string_view>& figure_list() {
     static const std::vector<std::string_view> list = [] {
-        std::vector<std::string_view> names = {"cases"};
+        std::vector<std::string_view> names = {"cases", scored_figure};
         for (int k = 0; k < verdict_kind_count; ++k)
             if (is_disagreement(static_cast<verdict_kind>(k))) names.push_back(verdict_name(static_cast<verdict_kind>(k)));
         static const std::vector<std::string> gated = [] {
@@ -75,6 +75,7 @@ figure_table figures_of(const audit_totals& totals) {
     figure_table table;
     const auto add = [&](const std::string& target, const std::string& family, const target_tally& t) {
         table[{target, family, "cases"}] = static_cast<double>(t.cases);
+        table[{target, family, std::string(scored_figure)}] = static_cast<double>(t.scored());
         for (int k = 0; k < verdict_kind_count; ++k) {
             const auto kind = static_cast<verdict_kind>(k);
             if (is_disagreement(kind))
@@ -282,9 +283,10 @@ baseline new_baseline() {
     b.format_comments = {
         "# rayverify gate baseline: the audit figures a change may not make worse.",
         "# One entry a line: TARGET FAMILY FIGURE VALUE (FAMILY 'all' is the whole corpus).",
-        "# Counts are cases with that verdict; *_ulp_max and *_ulp_p99 are the nearest (near_)",
-        "# and far root's error in ULPs over the agreeing cases. Regenerate with",
-        "# `rayverify gate --baseline FILE --update`; `#` lines stay with the entry below them."};
+        "# Counts are cases with that verdict ('scored': the cases judged, fewer is worse); *_ulp_max",
+        "# and *_ulp_p99 are the nearest (near_) and far root's error in ULPs over the agreeing",
+        "# cases. Regenerate with `rayverify gate --baseline FILE --update`; `#` lines stay with",
+        "# the entry below them."};
     b.policies = {{"default", "ulp_slack", 1, {"# A ULP figure may grow to baseline × ulp_slack, a count by count_slack cases;",
                                                "# add 'policy VARIANT|TARGET KEY VALUE' lines to override per variant."}},
                   {"default", "count_slack", 0, {}}};
@@ -363,6 +365,13 @@ std::optional<figure_change> judge(const figure_key& key, double before, double 
     if (is_ulp_figure(key.figure) && std::abs(after - before) <= tolerance * std::max(std::abs(before), std::abs(after)))
         return std::nullopt;
     figure_change change{key, before, after, change_kind::better, 0};
+    // Fewer scored cases is worse (a case left unscored passed nothing); of every other figure, more.
+    if (key.figure == scored_figure) {
+        if (after > before) return change;
+        change.limit = before - policy.count_slack;
+        change.kind = after < change.limit ? change_kind::worse : change_kind::within_slack;
+        return change;
+    }
     if (after < before) return change;
     change.limit = is_ulp_figure(key.figure) ? before * policy.ulp_slack : before + policy.count_slack;
     change.kind = after > change.limit ? change_kind::worse : change_kind::within_slack;

@@ -43,8 +43,11 @@ namespace rayverify {
 inline constexpr std::string_view all_families = "all";
 
 // The gated figures, in file order: "cases" (how many cases the figures are
-// over), one count per disagreement verdict, then near_ulp_max, near_ulp_p99,
-// far_ulp_max, far_ulp_p99 (over agreeing cases; absent when there are none).
+// over), "scored" (how many of them were judged: not invalid at the precision,
+// not breaking the contract; fewer is worse), one count per disagreement
+// verdict, then near_ulp_max, near_ulp_p99, far_ulp_max, far_ulp_p99 (over
+// agreeing cases; absent when there are none).
+inline constexpr std::string_view scored_figure = "scored";
 std::span<const std::string_view> figure_names();
 bool is_ulp_figure(std::string_view figure);
 
@@ -134,7 +137,7 @@ struct figure_change {
     figure_key key;
     std::optional<double> before, after;
     change_kind kind = change_kind::worse;
-    double limit = 0;  // for worse and within_slack: the largest value the policy allows
+    double limit = 0;  // for worse and within_slack: the largest value the policy allows (scored: the smallest)
 };
 
 // What a variant ran under besides its code, recorded in the baseline.

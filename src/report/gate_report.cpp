@@ -26,7 +26,7 @@ std::string change_line(const figure_change& c) {
     std::string line = fmt::format("{} {}: {} {} → {}", c.key.target, c.key.family, c.key.figure,
                                    value_text(c.before), value_text(c.after));
     if (c.kind == change_kind::worse || c.kind == change_kind::within_slack)
-        line += fmt::format(" (allowed ≤ {})", value_text(c.limit));
+        line += fmt::format(" (allowed {} {})", c.key.figure == scored_figure ? "≥" : "≤", value_text(c.limit));
     if (c.kind == change_kind::stale) line += " (the family's cases changed: figures not comparable; review, then --update)";
     if (c.kind == change_kind::missing)
         line = fmt::format("{} {}: in the baseline ({} cases), {} (a gate does not pass on less than its baseline; "

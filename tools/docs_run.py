@@ -464,7 +464,9 @@ def check_document(path, context, parent, regenerate):
             if problem:
                 problems.append(f"`{command}`: {problem}")
                 if regenerate and not excerpt and not figures_vary and not cpu_names:
-                    replacements.append((block, index, [l.replace(scratch, ".").rstrip() for l in output]))
+                    # The repository as the documents name it (<repo>): every clone prints its own path.
+                    replacements.append((block, index, [l.replace(scratch, ".").replace(context.repo, "<repo>").rstrip()
+                                                        for l in output]))
         if problems:
             failures.append(f"{block.where()}:\n" + "\n".join(problems))
         else:

@@ -301,6 +301,10 @@ configuration_table configurations_of(std::span<const audit_target> targets) {
     return out;
 }
 
+std::string_view setup_aspect_name(setup_aspect aspect) {
+    return aspect == setup_aspect::contract ? "contract" : "library set-up";
+}
+
 configuration_table contracts_of(std::span<const audit_target> targets) {
     configuration_table out;
     for (const audit_target& t : targets) out[t.subject.name] = format_contract(t.subject.promises);
@@ -471,34 +475,27 @@ gate_result compare_to_baseline(const baseline& base, const figure_table& curren
     std::set<std::string> variants_run, variants_known;
     for (const auto& entry : current) variants_run.insert(variant_of(entry.first.target));
     for (const auto& entry : base.figures) variants_known.insert(variant_of(entry.first.target));
-    for (const std::string& variant : variants_run) {
-        const auto recorded = base.configurations.find(variant);
-        const auto now = current_configurations.find(variant);
-        const std::string after = now == current_configurations.end() ? std::string() : now->second;
-        if (recorded != base.configurations.end()) {
-            if (recorded->second.text != after)
-                result.configuration_changes.push_back({variant, recorded->second.text, after, setup_aspect::library});
-        } else if (!after.empty() && variants_known.count(variant)) {
-            result.notes.push_back(fmt::format("{}: the baseline records no library set-up; this run's: {} "
-                                               "(--update records it)",
-                                               variant, after));
+    // What each variant ran under, against what the baseline records of it: a
+    // library set-up a run does not report is compared as none; a contract only
+    // where the caller knows the variant's.
+    const auto compare_setups = [&](setup_aspect aspect, const std::map<std::string, configuration_line>& recorded,
+                                    const configuration_table& now) {
+        for (const std::string& variant : variants_run) {
+            const auto reported = now.find(variant);
+            if (reported == now.end() && aspect == setup_aspect::contract) continue;
+            const std::string after = reported == now.end() ? std::string() : reported->second;
+            if (const auto line = recorded.find(variant); line != recorded.end()) {
+                if (line->second.text != after)
+                    result.configuration_changes.push_back({variant, line->second.text, after, aspect});
+            } else if (!after.empty() && variants_known.count(variant)) {
+                result.notes.push_back(fmt::format("{}: the baseline records no {}; this run's: {} "
+                                                   "(--update records it)",
+                                                   variant, setup_aspect_name(aspect), after));
+            }
         }
-    }
-    // The contracts, of the variants whose contract the caller knows.
-    for (const std::string& variant : variants_run) {
-        const auto now = current_contracts.find(variant);
-        if (now == current_contracts.end()) continue;
-        const auto recorded = base.contracts.find(variant);
-        if (recorded != base.contracts.end()) {
-            if (recorded->second.text != now->second)
-                result.configuration_changes.push_back(
-                    {variant, recorded->second.text, now->second, setup_aspect::contract});
-        } else if (variants_known.count(variant)) {
-            result.notes.push_back(fmt::format("{}: the baseline records no contract; this run's: {} "
-                                               "(--update records it)",
-                                               variant, now->second));
-        }
-    }
+    };
+    compare_setups(setup_aspect::library, base.configurations, current_configurations);
+    compare_setups(setup_aspect::contract, base.contracts, current_contracts);
     return result;
 }
 

@@ -146,6 +146,9 @@ enum class setup_aspect {
     contract,  // the contract it was judged by (`contract` line)
 };
 
+// "library set-up" or "contract", as reports and notes name them.
+std::string_view setup_aspect_name(setup_aspect aspect);
+
 // A variant whose library ran with another set-up, or that was judged by
 // another contract, than the baseline records.
 struct configuration_change {

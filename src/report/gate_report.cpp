@@ -72,11 +72,6 @@ std::string configuration_change_line(const configuration_change& c) {
                        c.variant, c.before, c.after.empty() ? "none reported" : c.after);
 }
 
-// "library set-up" or "contract": a JUnit suite's name, and the failure's.
-std::string_view aspect_name(setup_aspect aspect) {
-    return aspect == setup_aspect::contract ? "contract" : "library set-up";
-}
-
 // The failing figure's first cases, as corpus lines that paste back into a corpus file.
 std::string example_lines(const gate_run& run, const figure_change& c, std::span<const corpus_case> corpus,
                           std::string_view indent) {
@@ -171,13 +166,13 @@ std::string render_junit(const gate_run& run, std::span<const corpus_case> corpu
             ++failures;
             cases += fmt::format("    <testcase classname=\"{0}\" name=\"{1}\">\n      <failure message=\"{0} "
                                  "differs from the baseline's\">{2}</failure>\n    </testcase>\n",
-                                 aspect_name(aspect), xml_escaped(c.variant), xml_escaped(configuration_change_line(c)));
+                                 setup_aspect_name(aspect), xml_escaped(c.variant), xml_escaped(configuration_change_line(c)));
         }
         if (failures == 0) continue;
         total_tests += failures;
         total_failures += failures;
         suites += fmt::format("  <testsuite name=\"{0}\" tests=\"{1}\" failures=\"{1}\">\n{2}  </testsuite>\n",
-                              aspect_name(aspect), failures, cases);
+                              setup_aspect_name(aspect), failures, cases);
     }
     for (const auto& [target, families] : groups) {
         std::string cases;

@@ -149,6 +149,68 @@ TEST_F(Cli, InvalidCasesAreCountedNotScored) {
         EXPECT_EQ(entry["verdicts"]["invalid"], entry["precision"] == "float" ? 4 : 3);
 }
 
+// --accuracy radius:2^-10 turns exactly the "agree but far" answers into
+// imprecise ones: the count the table shows without the clause (from the
+// rounded scale figure) and the exact decision under it agree, target by
+// target, on the shipped far-sphere family.
+TEST_F(Cli, AccuracyClauseMakesTheFarAgreementsImprecise) {
+    const std::string corpus = std::string(RAYVERIFY_SOURCE_DIR) + "/corpus/far_sphere.txt";
+    const std::string run = "audit --corpus " + corpus + " --variant naive --variant hearn_baker --variant robust";
+    ASSERT_EQ(run_cli(run + " --report " + (dir_ / "plain").string()).exit_code, 1);
+    const command_result strict =
+        run_cli(run + " --accuracy radius:0.0009765625 --report " + (dir_ / "strict").string());
+    ASSERT_EQ(strict.exit_code, 1) << strict.output;
+    const auto plain = nlohmann::json::parse(read_text(dir_ / "plain" / "report.json"));
+    const auto required = nlohmann::json::parse(read_text(dir_ / "strict" / "report.json"));
+    ASSERT_EQ(plain["results"].size(), required["results"].size());
+    std::size_t imprecise = 0;
+    for (std::size_t i = 0; i < plain["results"].size(); ++i) {
+        const auto& before = plain["results"][i];
+        const auto& after = required["results"][i];
+        const std::size_t far = before["agree_far"];
+        EXPECT_EQ(after["verdicts"]["imprecise"], far) << before["variant"] << "/" << before["precision"];
+        EXPECT_EQ(after["verdicts"]["agree"].get<std::size_t>() + far, before["verdicts"]["agree"].get<std::size_t>());
+        EXPECT_EQ(after["agree_far"], 0u);
+        imprecise += far;
+        EXPECT_NE(after["contract"]["spec"].get<std::string>().find("accuracy=radius:0.0009765625"), std::string::npos);
+    }
+    EXPECT_GT(imprecise, 0u);  // naive/float grazes far spheres several radii off
+    EXPECT_NE(strict.output.find(" imprec "), std::string::npos);
+    // A clause that cannot be read: exit 2 naming it, no report.
+    for (const char* bad : {"radius:-1", "radius:nan", "furlong:1", "ulp"}) {
+        const command_result r = run_cli(run + " --accuracy " + bad + " --report " + (dir_ / "bad").string());
+        EXPECT_EQ(r.exit_code, 2) << bad;
+        EXPECT_NE(r.output.find("field '--accuracy'"), std::string::npos) << r.output;
+        EXPECT_NE(r.output.find(std::string("accuracy='") + bad + "'"), std::string::npos) << r.output;
+        EXPECT_FALSE(fs::exists(dir_ / "bad"));
+    }
+}
+
+// --degenerate miss hands the zero direction and the NaN origin to every
+// target; the textbook formula reports hits there, robust_sphere.h misses. A
+// negative radius stays invalid.
+TEST_F(Cli, DegenerateCastsAreHandedOverOnRequest) {
+    const fs::path corpus = write("degenerate.txt", std::string(simple_case) +
+                                                        "nan-origin - nan 0 -5 0 0 1 0 0 0 1\n"
+                                                        "zero-dir - 0 0 -5 0 0 0 0 0 0 1\n"
+                                                        "neg-r - 0 0 -5 0 0 1 0 0 0 -1\n");
+    const std::string run = "audit --corpus " + corpus.string() + " --variant naive --variant robust --precision double";
+    const command_result plain = run_cli(run + " --report " + (dir_ / "plain").string());
+    EXPECT_EQ(plain.exit_code, 0) << plain.output;
+    const command_result asked = run_cli(run + " --degenerate miss --report " + (dir_ / "asked").string());
+    EXPECT_EQ(asked.exit_code, 1) << asked.output;
+    const auto report = nlohmann::json::parse(read_text(dir_ / "asked" / "report.json"));
+    for (const auto& entry : report["results"]) {
+        const bool naive = entry["variant"] == "naive";
+        EXPECT_EQ(entry["verdicts"]["degenerate_hit"], naive ? 2 : 0) << entry["variant"];
+        EXPECT_EQ(entry["verdicts"]["agree"], naive ? 1 : 3) << entry["variant"];
+        EXPECT_EQ(entry["verdicts"]["invalid"], 1) << entry["variant"];
+        EXPECT_NE(entry["contract"]["spec"].get<std::string>().find("degenerate=miss"), std::string::npos);
+    }
+    EXPECT_NE(asked.output.find("naive/double degenerate_hit: nan-origin"), std::string::npos) << asked.output;
+    EXPECT_EQ(run_cli(run + " --degenerate hit").exit_code, 2);
+}
+
 TEST_F(Cli, ExplainShowsExactAndVariantsSideBySide) {
     const command_result r = run_cli("explain 0.5 0.25 0 0 0 1 0 0 4100 1 --variant naive --variant hearn_baker");
     EXPECT_EQ(r.exit_code, 1);

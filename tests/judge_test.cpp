@@ -14,6 +14,9 @@
 #include <bit>
 #include <cmath>
 #include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <random>
 #include <sstream>
 #include <limits>
 #include <stdexcept>
@@ -659,6 +662,202 @@ TEST(CaseFrame, EveryTargetIsJudgedOnTheSharedFrameAsOnItsOwn) {
     EXPECT_GT(breaches, 100u);
     EXPECT_GT(by_design, 100u);
     EXPECT_GT(judged, 100000u);
+}
+
+}  // namespace
+}  // namespace rayverify
+
+namespace rayverify {
+namespace {
+
+// ---- The accuracy clause (accuracy=ulp:N, radius:x, distance:x) -----------------
+
+contract with_accuracy(contract k, std::string_view clause) {
+    k.accuracy = parse_accuracy(clause);
+    return k;
+}
+
+// Worked by hand: the ray (0, 0, −10) + t·(0, 0, 2) meets the sphere of radius
+// 2 at the origin at t* = 4 and 6, with |d| = 2: |t − 4|·|d| = 0.5 at t = 4.25,
+// a quarter of the radius. Exactly at the bound agrees; one double beyond
+// is imprecise, on either side of the root.
+TEST(Accuracy, DistanceAndRadiusAreDecidedExactlyAtTheBound) {
+    const ray_sphere<double> g{{0, 0, -10}, {0, 0, 2}, {0, 0, 0}, 2};
+    for (const char* clause : {"distance:0.5", "radius:0.25"}) {
+        const contract k = with_accuracy(nearest, clause);
+        const auto verdict_at = [&](double t) { return judge(k, g, {1, t, t}).verdict; };
+        EXPECT_EQ(verdict_at(4.25), verdict_kind::agree) << clause;
+        EXPECT_EQ(verdict_at(3.75), verdict_kind::agree) << clause;
+        EXPECT_EQ(verdict_at(std::nextafter(4.25, 5.0)), verdict_kind::imprecise) << clause;
+        EXPECT_EQ(verdict_at(std::nextafter(3.75, 3.0)), verdict_kind::imprecise) << clause;
+        EXPECT_EQ(verdict_at(4.0), verdict_kind::agree) << clause;
+        // Nearer the far root: still wrong_root, which comes first.
+        EXPECT_EQ(verdict_at(5.5), verdict_kind::wrong_root) << clause;
+    }
+    // Both roots of a line_roots answer are held to it.
+    const contract both = with_accuracy(line, "distance:0.5");
+    EXPECT_EQ(judge(both, g, {2, 4.25, 6.25}).verdict, verdict_kind::agree);
+    EXPECT_EQ(judge(both, g, {2, 4, std::nextafter(6.25, 7.0)}).verdict, verdict_kind::imprecise);
+    const case_score far = judge(both, g, {2, 4, 6.5});
+    EXPECT_EQ(far.verdict, verdict_kind::imprecise);
+    EXPECT_NE(far.detail.find("t1 = 6.5"), std::string::npos) << far.detail;
+    EXPECT_NE(far.detail.find("accuracy=distance:0.5"), std::string::npos) << far.detail;
+    EXPECT_TRUE(is_disagreement(verdict_kind::imprecise));
+    EXPECT_FALSE(is_misclassification(verdict_kind::imprecise));
+}
+
+// ulp(4) in double is 2^−50 (4 opens its binade); below 4 a double steps by 2^−51.
+TEST(Accuracy, UlpBoundCountsUlpsOfTheExactRoot) {
+    const contract k = with_accuracy(nearest, "ulp:4");
+    const auto verdict_at = [&](double t) { return judge(k, ahead, {1, t, t}).verdict; };
+    EXPECT_EQ(verdict_at(4 + 4 * 0x1p-50), verdict_kind::agree);
+    EXPECT_EQ(verdict_at(4 + 5 * 0x1p-50), verdict_kind::imprecise);
+    EXPECT_EQ(verdict_at(4 - 8 * 0x1p-51), verdict_kind::agree);    // 4 ulps of t*, 8 steps below it
+    EXPECT_EQ(verdict_at(4 - 9 * 0x1p-51), verdict_kind::imprecise);  // 4.5 ulps
+    // An irrational root (5 − √0.75): its correctly rounded value is within
+    // half an ulp, and no double is within 0 ulps.
+    const ray_sphere<double> off_axis = along_z(0.5, 0, -5);
+    const exact_solution exact = solve_exact(off_axis, precision::binary64);
+    const double rounded = exact.near_root.rounded;
+    EXPECT_EQ(judge(with_accuracy(nearest, "ulp:0.5"), off_axis, {1, rounded, rounded}).verdict, verdict_kind::agree);
+    EXPECT_EQ(judge(with_accuracy(nearest, "ulp:0"), off_axis, {1, rounded, rounded}).verdict,
+              verdict_kind::imprecise);
+    // The exact comparison and the figure agree wherever the figure is not the bound itself.
+    for (int steps = -6; steps <= 6; ++steps) {
+        double t = rounded;
+        for (int i = 0; i < std::abs(steps); ++i) t = std::nextafter(t, steps < 0 ? 0.0 : 10.0);
+        const double figure = exact.root_ulp_error(root_index::near_root, t);
+        for (const double bound : {0.25, 1.0, 2.5, 4.0}) {
+            if (figure == bound) continue;
+            EXPECT_EQ(exact.compare_root_ulp_error(root_index::near_root, t, bound),
+                      figure < bound ? comparison::smaller : comparison::larger)
+                << "t " << t << " bound " << bound;
+        }
+    }
+}
+
+// A clamp's start is exact or wrong; an any_hit contract has no t and refuses the clause.
+TEST(Accuracy, ClampsAreExactAndAnyHitRefusesTheClause) {
+    const contract k = with_accuracy(clamped, "distance:0");
+    EXPECT_EQ(judge(k, inside, {1, 0, 0}).verdict, verdict_kind::agree);
+    EXPECT_THROW(parse_contract("query=any_hit,accuracy=ulp:1"), std::invalid_argument);
+}
+
+TEST(Accuracy, ClauseSpellingRoundTripsAndBadClausesAreRefused) {
+    const contract k = parse_contract("query=nearest_hit,accuracy=radius:0.001");
+    EXPECT_EQ(k.accuracy.unit, accuracy_unit::radius);
+    EXPECT_EQ(k.accuracy.bound, 0.001);
+    EXPECT_EQ(parse_contract(format_contract(k)).accuracy.bound, 0.001);
+    EXPECT_NE(format_contract(k).find(",accuracy=radius:0.001"), std::string::npos);
+    EXPECT_EQ(format_contract(nearest).find("accuracy"), std::string::npos);  // only when required
+    EXPECT_FALSE(parse_accuracy("none").required());
+    for (const char* bad : {"ulp:-1", "ulp:nan", "radius:inf", "furlong:3", "radius", "distance:", "ulp:1e", ""}) {
+        try {
+            parse_accuracy(bad);
+            ADD_FAILURE() << bad << " was taken";
+        } catch (const std::invalid_argument& e) {
+            EXPECT_NE(std::string(e.what()).find("accuracy="), std::string::npos) << e.what();
+        }
+    }
+}
+
+// The exact distance comparison against the scale figure (|t − t*|·|d| / r,
+// rounded) on random cases: they agree wherever the figure is not within
+// 2^-40 of the bound. Seed printed; RAYVERIFY_ACCURACY_SEED replays one.
+TEST(Accuracy, DistanceComparisonAgreesWithTheScaleFigure) {
+    std::uint64_t seed = std::random_device{}();
+    if (const char* given = std::getenv("RAYVERIFY_ACCURACY_SEED")) seed = std::stoull(given);
+    std::cout << "seed " << seed << " (RAYVERIFY_ACCURACY_SEED)\n";
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> unit(-1, 1), scale(-12, 12);
+    int compared = 0;
+    for (int i = 0; i < 2000; ++i) {
+        const double r = std::exp2(scale(rng) / 2);
+        const vec3<double> centre{unit(rng) * 4, unit(rng) * 4, std::exp2(scale(rng))};
+        const vec3<double> d{unit(rng) * r / centre.z, unit(rng) * r / centre.z, std::exp2(scale(rng) / 4)};
+        const ray_sphere<double> g{{0, 0, 0}, d, centre, r};
+        const exact_solution exact = solve_exact(g, precision::binary64);
+        if (!exact.valid() || exact.cls == line_class::miss) continue;
+        const double root = exact.near_root.rounded;
+        const double t = root * (1 + unit(rng) * std::exp2(scale(rng) - 14));
+        const case_score agreeing = judge(line, g, {2, t, exact.far_root.rounded});
+        if (agreeing.verdict != verdict_kind::agree || !agreeing.scale_error_radius) continue;
+        const double figure = *agreeing.scale_error_radius;
+        for (const double bound : {figure * 0.5, figure * 2, 1e-3, 0.25}) {
+            std::ostringstream clause;
+            clause << "radius:" << std::setprecision(17) << bound;
+            const contract bounded = with_accuracy(line, clause.str());
+            if (std::fabs(figure - bounded.accuracy.bound) <= 0x1p-40 * bounded.accuracy.bound) continue;
+            EXPECT_EQ(judge(bounded, g, {2, t, exact.far_root.rounded}).verdict,
+                      figure > bounded.accuracy.bound ? verdict_kind::imprecise : verdict_kind::agree)
+                << "seed " << seed << " case " << i << " figure " << figure << " " << clause.str();
+            ++compared;
+        }
+    }
+    EXPECT_GT(compared, 1000);
+}
+
+
+// ---- Degenerate casts (degenerate=miss) ------------------------------------------
+
+// Hand-made degenerate casts: each is invalid and never run without the
+// clause; with it, the target is called and must answer a miss.
+TEST(Degenerate, CastsAreHandedOverOnlyUnderTheClause) {
+    const double zero_length[3] = {0, 0, 0};
+    std::vector<corpus_case> casts;
+    casts.push_back(case_of({{0, 0, -5}, {zero_length[0], zero_length[1], zero_length[2]}, {0, 0, 0}, 1}));
+    casts.push_back(case_of({{0, 0, nan}, {0, 0, 1}, {0, 0, 0}, 1}));
+    casts.push_back(case_of({{0, 0, -5}, {0, 0, inf}, {0, 0, 0}, 1}));
+    casts.push_back(case_of(ahead, 6.0, 4.0));   // a reversed interval
+    casts.push_back(case_of(ahead, nan, 4.0));   // a NaN bound
+    const contract strict{.query = query_kind::nearest_hit, .range = range_source::interval};
+    contract asks = strict;
+    asks.degenerate_is_miss = true;
+    int calls = 0;
+    const auto target_of = [&](const contract& k, root_pair<double> answer) {
+        variant v = fixed(k, answer);
+        v.run_double_in = [&calls, answer](const ray_sphere<double>&, double, double) { return ++calls, answer; };
+        return audit_target{v, precision::binary64};
+    };
+    for (const corpus_case& c : casts) {
+        const exact_solution exact = solve_case(c, precision::binary64);
+        ASSERT_FALSE(exact.valid());
+        calls = 0;
+        EXPECT_EQ(judge_target(target_of(strict, {1, nan, nan}), c, exact).score.verdict, verdict_kind::invalid);
+        EXPECT_EQ(calls, 0);
+        EXPECT_FALSE(run_input<double>(target_of(strict, {0, 0, 0}), c));
+        const target_outcome hit = judge_target(target_of(asks, {1, nan, nan}), c, exact);
+        EXPECT_EQ(calls, 1);
+        EXPECT_EQ(hit.score.verdict, verdict_kind::degenerate_hit) << invalid_reason_name(exact.invalid);
+        EXPECT_NE(hit.score.detail.find(invalid_reason_name(exact.invalid)), std::string::npos) << hit.score.detail;
+        EXPECT_EQ(judge_target(target_of(asks, {0, nan, nan}), c, exact).score.verdict, verdict_kind::agree);
+        EXPECT_EQ(judge_target(target_of(asks, {-1, 0, 0}), c, exact).score.verdict, verdict_kind::degenerate_hit);
+        EXPECT_TRUE(run_input<double>(target_of(asks, {0, 0, 0}), c));
+    }
+    // A negative radius is the sphere's fault: invalid under the clause too.
+    const corpus_case negative = case_of({{0, 0, -5}, {0, 0, 1}, {0, 0, 0}, -1});
+    EXPECT_EQ(judge_target(target_of(asks, {0, 0, 0}), negative, solve_case(negative, precision::binary64)).score.verdict,
+              verdict_kind::invalid);
+    EXPECT_FALSE(run_input<double>(target_of(asks, {0, 0, 0}), negative));
+    EXPECT_EQ(format_contract(parse_contract("query=nearest_hit,degenerate=miss")).find("degenerate=miss") !=
+                  std::string::npos,
+              true);
+    EXPECT_THROW(parse_contract("degenerate=hit"), std::invalid_argument);
+    EXPECT_TRUE(is_disagreement(verdict_kind::degenerate_hit));
+}
+
+// The textbook formula divides by a = 0 for a zero direction: NaN roots and
+// a count of 2, which the clause catches; robust_sphere.h answers a miss.
+TEST(Degenerate, TheTextbookFormulaHitsAZeroLengthCastAndRobustDoesNot) {
+    const corpus_case zero = case_of({{0, 0, 0.5}, {0, 0, 0}, {0, 0, 0}, 1});
+    for (const char* name : {"naive", "robust", "robust_nearest"}) {
+        const variant* v = find_builtin_variant(name);
+        ASSERT_NE(v, nullptr);
+        audit_target target{*v, precision::binary64};
+        target.subject.promises.degenerate_is_miss = true;
+        const verdict_kind got = judge_target(target, zero, solve_case(zero, precision::binary64)).score.verdict;
+        EXPECT_EQ(got, std::string_view(name) == "naive" ? verdict_kind::degenerate_hit : verdict_kind::agree) << name;
+    }
 }
 
 }  // namespace

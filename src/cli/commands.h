@@ -70,7 +70,18 @@ struct results_options {
     // batch before it is killed; unset: 60 for --command, 300 for an engine.
     std::optional<double> command_timeout;
     std::vector<std::string> engines;
+    // --accuracy: the accuracy clause (core/contract.h) required of every
+    // target that returns a t; empty: each target's own contract's.
+    std::string accuracy;
+    // --degenerate miss|invalid: the degenerate clause for every target; empty: each target's own.
+    std::string degenerate;
 };
+
+// The clauses the user requires of every target, replacing those its
+// contract names: `--accuracy` for each target that returns a t (not
+// any_hit), `--degenerate` for all; nothing for an option not given. A
+// malformed clause is an input error naming the option.
+void require_clauses(std::vector<audit_target>& targets, const results_options& options);
 
 // `audit --scene FILE` (cli/scene_audit.cpp), called by the audit command.
 struct scene_audit_request {

@@ -67,6 +67,16 @@ void add_results_options(CLI::App* sub, results_options& options) {
                     "batch of 4096 cases before it is killed (default: 60 for --command, 300 for an engine, whose "
                     "first batch also starts node and loads the library)")
         ->check(finite_number(0.001, 86400));
+    sub->add_option("--accuracy", options.accuracy,
+                    "The accuracy every target's answers must have (the contract's accuracy clause): ulp:N (|t - t*| "
+                    "within N ulp of t*), radius:X (|t - t*|·|d| within X radii) or distance:X (within X, in the "
+                    "case's units); an answer on the right root but farther is `imprecise`, a disagreement "
+                    "(any_hit targets return no t and are judged as before)");
+    sub->add_option("--degenerate", options.degenerate,
+                    "miss: every target is handed the degenerate casts (zero direction, NaN or infinite input or "
+                    "bound, tmin > tmax) and must answer a miss, else `degenerate_hit` (the contract clause "
+                    "degenerate=miss); invalid: such cases are invalid and not run (the default of every built-in)")
+        ->check(CLI::IsMember({"miss", "invalid"}));
     sub->add_option("--engine", options.engines,
                     "An engine's library as its package installs it (`rayverify engines` lists them: Embree, "
                     "Bullet, ODE, three.js, ...), audited as a variant under its own name (repeatable)");
@@ -322,7 +332,23 @@ std::vector<audit_target> targets_with_results(const std::vector<std::string>& v
     }
     append_outside_targets(targets, outside);
     check_fp_environment_targets(isolation.environment, targets);
+    require_clauses(targets, options);
     return targets;
+}
+
+void require_clauses(std::vector<audit_target>& targets, const results_options& options) {
+    if (!options.accuracy.empty()) {
+        accuracy_requirement required;
+        try {
+            required = parse_accuracy(options.accuracy);
+        } catch (const std::invalid_argument& e) {
+            throw input_error("", 0, "--accuracy", e.what());
+        }
+        for (audit_target& t : targets)
+            if (t.subject.promises.query != query_kind::any_hit) t.subject.promises.accuracy = required;
+    }
+    if (!options.degenerate.empty())
+        for (audit_target& t : targets) t.subject.promises.degenerate_is_miss = options.degenerate == "miss";
 }
 
 void finish_outside_answers(const std::vector<audit_target>& targets) {

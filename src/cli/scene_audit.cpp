@@ -46,6 +46,7 @@ int run_scene_audit(const scene_audit_request& request) {
     if (outside.empty() || !request.variants.empty() || !request.plugins.empty() || !request.results.engines.empty())
         targets = scene_audit_targets(s, request.variants, request.plugins, request.isolation, request.results.engines);
     append_outside_targets(targets, outside);
+    require_clauses(targets, request.results);
 
     run_outputs outputs;  // declared before the work; committed after it
     declare_inputs(outputs, {request.scene_file}, "--scene");

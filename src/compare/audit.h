@@ -225,6 +225,8 @@ struct target_tally {
 
 // The "agree but far" line: |t − t*|·|d| ≥ 2^-10 r (about 0.1% of the radius).
 inline constexpr double agree_far_fraction = 0x1p-10;
+// The line in words, as every report prints it.
+inline constexpr std::string_view agree_far_rule = "|t - t*|·|d| >= 2^-10 r";
 
 // A case that is invalid in some precision: listed in reports, never scored.
 struct invalid_case {

@@ -64,6 +64,9 @@ constexpr verdict_entry verdict_table[verdict_kind_count] = {
     {verdict_kind::wrong_root, "wrong_root", "w_root", scoring::disagreement, false, false, {255, 140, 0}, root_queries,
      "a returned t stands for another exact root than the one asked for (it is strictly nearer that root, by "
      "the exact midpoint −b′/a; a t at the midpoint counts as the root asked for)"},
+    {verdict_kind::imprecise, "imprecise", "imprec", scoring::disagreement, false, false, {255, 200, 150}, root_queries,
+     "a returned t stands for the root asked for, on the right side of every range bound, but lies farther from "
+     "it than the contract's accuracy clause allows (accuracy=ulp:N, radius:x or distance:x; decided exactly)"},
     {verdict_kind::wrong_sphere, "wrong_sphere", "w_sph", scoring::disagreement, false, true, {40, 200, 40},
      nearest_queries, "both hit, but the variant's nearest sphere is not the exact nearest"},
     {verdict_kind::wrong_side, "wrong_side", "w_side", scoring::disagreement, false, false, {255, 0, 255}, root_queries,
@@ -78,6 +81,9 @@ constexpr verdict_entry verdict_table[verdict_kind_count] = {
      "infinity)"},
     {verdict_kind::malformed_output, "malformed_output", "malf", scoring::disagreement, false, false, {0, 220, 220},
      all_scene_queries, "a hit count the contract does not allow, or roots out of order"},
+    {verdict_kind::degenerate_hit, "degenerate_hit", "degen", scoring::disagreement, false, false, {255, 120, 200}, 0,
+     "a degenerate cast (zero direction, non-finite input or bound, reversed interval) that the contract's "
+     "degenerate=miss asks to be answered with a miss got a hit or a malformed count"},
     {verdict_kind::contract_violation, "contract_violation", "contract", scoring::not_scored, false, false, {90, 90, 90},
      0, "the case breaks the variant's stated assumption (a direction not within 8ε of unit length); not scored"},
     {verdict_kind::invalid, "invalid", "invalid", scoring::not_scored, false, false, {60, 60, 60}, 0,
@@ -554,7 +560,8 @@ case_score judge_verdict(const contract& promises, const variant_output& out, co
         return fail(verdict_kind::wrong_root,
                     fmt::format("t = {} stands for the {} root: {}", value, root_word(k), both()));
     }
-    // 12. unsound_bound is decided on the outputs beside t (measure_outputs); 13. agree.
+    // 12. imprecise is decided on the contract's accuracy clause (accuracy_shortfall); 13. unsound_bound on the
+    // outputs beside t (measure_outputs); 14. agree.
     return s;
 }
 
@@ -730,6 +737,51 @@ scale_errors measure_scale_errors(const judged_list& judged, const double (&t)[2
     return out;
 }
 
+// 12. imprecise: why an agreeing answer misses the contract's accuracy
+// clause (core/contract.h), or nullopt. Each finite value judged against a
+// root (a clamp's start is exact or wrong) is compared with its root exactly:
+// |t − t*| against N·ulp(t*), or |t − t*|·|d| against x·r or x. The detail
+// gives the value's figure in the clause's unit (rounded: the decision is the
+// exact comparison's).
+std::optional<std::string> accuracy_shortfall(const contract& promises, const variant_output& output,
+                                              const exact_solution& exact, const expected_hit& want,
+                                              const ray_sphere<double>& input) {
+    const accuracy_requirement& required = promises.accuracy;
+    if (!required.required() || output.roots.count <= 0) return std::nullopt;
+    const double t[2] = {output.roots.t0, output.roots.t1};
+    for (const judged_value& j : judged_values(promises.query, exact, want)) {
+        const double value = t[j.slot];
+        if (!j.root || !std::isfinite(value)) continue;
+        const root_index k = *j.root;
+        comparison against = comparison::equal;
+        std::string figure;
+        switch (required.unit) {
+            case accuracy_unit::none: continue;
+            case accuracy_unit::ulp:
+                against = exact.compare_root_ulp_error(k, value, required.bound);
+                if (against == comparison::larger)
+                    figure = fmt::format("{:.4g} ulp", exact.root_ulp_error(k, value));
+                break;
+            case accuracy_unit::radius:
+            case accuracy_unit::distance: {
+                const bool radii = required.unit == accuracy_unit::radius;
+                against = exact.compare_root_distance(k, value, required.bound, radii ? input.radius : 1.0);
+                if (against != comparison::larger) break;
+                const scaled along = root_error(exact, k, value) * euclidean_length(input.direction);
+                figure = radii ? fmt::format("{:.4g} r", (along / scaled::of(input.radius)).value())
+                               : fmt::format("{:.4g}", along.value());
+                break;
+            }
+        }
+        if (against != comparison::larger) continue;
+        return fmt::format("t{} = {} stands for the {} root t* ≈ {} but lies {} from it, farther than "
+                           "accuracy={} allows",
+                           promises.query == query_kind::line_roots ? std::to_string(j.slot) : std::string(), value,
+                           root_word(k), exact.root(k).rounded, figure, format_accuracy(required));
+    }
+    return std::nullopt;
+}
+
 // |t| in ulps of r/|d| (the radius measured along the ray, the length scale a
 // formula works at) in precision p: the error of a value judged against a
 // root exactly at 0, whose own ulp is the smallest subnormal. The ulp is that
@@ -892,7 +944,8 @@ disagreement_cause rounding_cause(verdict_kind k, const case_frame& frame, const
     };
     if (is_misclassification(k))
         return limited_by(ambiguous_class || root_at_range_end_within_backward_error(frame, range));
-    if (k == verdict_kind::wrong_root || k == verdict_kind::wrong_side || k == verdict_kind::wrong_sphere) {
+    if (k == verdict_kind::wrong_root || k == verdict_kind::wrong_side || k == verdict_kind::wrong_sphere ||
+        k == verdict_kind::imprecise) {
         const double u = unit_roundoff(frame.prec());
         const bool ambiguous_root = m.near_condition && conditioning_gamma * u * *m.near_condition >= 1;
         return limited_by(ambiguous_class || ambiguous_root || root_at_range_end_within_backward_error(frame, range));
@@ -951,6 +1004,9 @@ case_score judge_output(const contract& promises, const variant_output& output, 
     const exact_solution& exact = frame.exact();
     const expected_hit want = expected_answer(promises, exact, range);
     case_score s = judge_verdict(promises, output, exact, range, want, wanted.roots);
+    if (s.verdict == verdict_kind::agree)
+        if (std::optional<std::string> shortfall = accuracy_shortfall(promises, output, exact, want, frame.input()))
+            s = disagreement(s, verdict_kind::imprecise, std::move(*shortfall));
     if (s.verdict == verdict_kind::agree) {
         if (wanted.hit_point) measure_hit_point(promises, output, exact, range, want, frame.input(), s);
         const std::optional<std::string> unsound =
@@ -1008,10 +1064,27 @@ ray_interval<T> interval_in(const t_range& range) {
     return {static_cast<T>(range.lower), static_cast<T>(range.upper)};
 }
 
+// A case the target is handed although it has no exact answer: a
+// degenerate cast under degenerate=miss.
+bool runs_degenerate(const contract& promises, const exact_solution& exact) {
+    return promises.degenerate_is_miss && degenerate_cast(exact.invalid);
+}
+
+// The verdict on a degenerate cast: a miss (count 0: the values beside it
+// are unused, as for any miss) agrees; anything else is degenerate_hit.
+case_score judge_degenerate(const variant_output& output, invalid_reason why) {
+    case_score s;
+    if (output.roots.count == 0) return s;
+    return disagreement(s, verdict_kind::degenerate_hit,
+                        fmt::format("degenerate cast ({}): answered count {}, t0 = {}, t1 = {}, where degenerate=miss "
+                                    "asks for a miss",
+                                    invalid_reason_name(why), output.roots.count, output.roots.t0, output.roots.t1));
+}
+
 // Invalid or outside the contract: the outcome, else nullopt.
 std::optional<case_score> unscored(const contract& promises, const case_frame& frame) {
     case_score s;
-    if (!frame.exact().valid()) {
+    if (!frame.exact().valid() && !runs_degenerate(promises, frame.exact())) {
         s.verdict = verdict_kind::invalid;
         s.detail = invalid_reason_name(frame.exact().invalid);
         return s;
@@ -1037,8 +1110,15 @@ target_outcome judge_target_in(const audit_target& target, const corpus_case& c,
     const ray_sphere<T> input = rounded_to<T>(c.geometry);
     outcome.range = range_for(promises, c, target.prec);
     const answer<T>* ahead = std::get_if<answer<T>>(&given);
-    outcome.output = widen_answer(promises, ahead ? *ahead : answer_of(target, c, input, interval_in<T>(outcome.range)),
-                                  input, outcome.range);
+    const answer<T> given_answer = ahead ? *ahead : answer_of(target, c, input, interval_in<T>(outcome.range));
+    if (runs_degenerate(promises, frame.exact())) {
+        outcome.output.roots = {given_answer.roots.count, static_cast<double>(given_answer.roots.t0),
+                                static_cast<double>(given_answer.roots.t1)};
+        outcome.score = judge_degenerate(outcome.output, frame.exact().invalid);
+        if (outcome.score.verdict != verdict_kind::agree) outcome.score.cause = disagreement_cause::algorithmic;
+        return outcome;
+    }
+    outcome.output = widen_answer(promises, given_answer, input, outcome.range);
     if (target.recorded && !ahead) add_recorded_outputs(outcome.output, target.recorded->find(c.id));
     outcome.score = judge_output(promises, outcome.output, frame, outcome.range, wanted);
     return outcome;
@@ -1060,11 +1140,20 @@ target_outcome judge_target(const audit_target& target, const corpus_case& c, co
 
 template <class T>
 std::optional<batch_case<T>> run_input(const audit_target& target, const corpus_case& c) {
-    if (validity<T>(c.geometry) != invalid_reason::none) return std::nullopt;
     const t_range range = range_for(target.subject.promises, c, target.prec);
-    const auto bound_invalid = [](std::optional<double> t) { return t && std::isnan(*t); };
-    if (bound_invalid(c.tmin) || bound_invalid(c.tmax) || (c.tmin && c.tmax && *c.tmin > *c.tmax)) return std::nullopt;
     const ray_sphere<T> input = rounded_to<T>(c.geometry);
+    const invalid_reason reason = validity<T>(c.geometry);
+    const auto bound_invalid = [](std::optional<double> t) { return t && std::isnan(*t); };
+    const bool bad_interval =
+        bound_invalid(c.tmin) || bound_invalid(c.tmax) || (c.tmin && c.tmax && *c.tmin > *c.tmax);
+    if (reason != invalid_reason::none || bad_interval) {
+        // Handed over only as a degenerate cast, as judge_target_in decides
+        // from the oracle's reason (validity's first, then the interval's).
+        const invalid_reason why = reason != invalid_reason::none ? reason : invalid_reason::bad_interval;
+        if (target.subject.promises.degenerate_is_miss && degenerate_cast(why))
+            return batch_case<T>{input, interval_in<T>(range)};
+        return std::nullopt;
+    }
     if (contract_breach(target.subject.promises, rounded_to<double>(input), target.prec)) return std::nullopt;
     return batch_case<T>{input, interval_in<T>(range)};
 }
@@ -1165,7 +1254,8 @@ renderer_outcome judge_for_renderer_in(const audit_target& target, const corpus_
         outcome.score = std::move(*s);
         return outcome;
     }
-    const contract renderer = renderer_contract(q, lower_end, upper_end);
+    contract renderer = renderer_contract(q, lower_end, upper_end);
+    renderer.accuracy = q == ray_query::any_hit ? accuracy_requirement{} : promises.accuracy;
     outcome.range = range_for(renderer, c, target.prec);
     // The variant is asked as its contract says: an interval contract on the ray's interval.
     const t_range own_range = range_for(promises, c, target.prec);
@@ -1173,6 +1263,9 @@ renderer_outcome judge_for_renderer_in(const audit_target& target, const corpus_
     outcome.view = renderer_view(promises, raw, input, outcome.range, q);
     const expected_hit want = expected_answer(renderer, exact, outcome.range);
     case_score s = judge_verdict(renderer, outcome.view, exact, outcome.range, want);
+    if (s.verdict == verdict_kind::agree)
+        if (std::optional<std::string> shortfall = accuracy_shortfall(renderer, outcome.view, exact, want, frame.input()))
+            s = disagreement(s, verdict_kind::imprecise, std::move(*shortfall));
     if (s.verdict == verdict_kind::agree) {
         measure_hit_point(renderer, outcome.view, exact, outcome.range, want, frame.input(), s);
     } else if (!s.cause) {

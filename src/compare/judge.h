@@ -74,6 +74,8 @@ enum class verdict_kind {
     tangent_missed,      // exact: tangent (a hit); variant: miss
     false_tangent,       // exact: two roots distinct even after rounding; variant: one
     wrong_root,          // a returned t stands for another exact root than the one asked for
+    imprecise,           // the right root on the right side, but farther from it than the contract's
+                         // accuracy clause allows
     wrong_sphere,        // scene: both hit, but the variant's nearest sphere is not the exact nearest
     wrong_side,          // a returned t and the exact root it stands for lie on opposite sides of a range
                          // bound (the origin for line roots): a self-hit or a lost hit
@@ -81,6 +83,7 @@ enum class verdict_kind {
                          // claims for its hit point, does not contain the exact value
     non_finite,          // NaN, or an infinity that is not the correctly rounded root
     malformed_output,    // a hit count the contract does not allow, or roots out of order
+    degenerate_hit,      // a degenerate cast that the contract's degenerate=miss asks to be a miss was not
     contract_violation,  // the case breaks the variant's assumption (not scored)
     invalid,             // the case is invalid at this precision (not scored)
 };

@@ -26,6 +26,10 @@ constexpr name_table<inside_rule, 3> inside_rule_names{
 constexpr name_table<answer_kind, 2> answer_kind_names{{{answer_kind::t, "t"}, {answer_kind::point, "point"}}};
 constexpr name_table<point_bound, 3> point_bound_names{
     {{point_bound::none, "no"}, {point_bound::hit, "yes"}, {point_bound::surface, "surface"}}};
+constexpr name_table<accuracy_unit, 4> accuracy_unit_names{{{accuracy_unit::none, "none"},
+                                                            {accuracy_unit::ulp, "ulp"},
+                                                            {accuracy_unit::radius, "radius"},
+                                                            {accuracy_unit::distance, "distance"}}};
 
 // The shortest decimal that reads back as x (std::to_chars), ±inf spelled out.
 std::string number_text(double x) {
@@ -59,6 +63,34 @@ std::string_view inside_rule_name(inside_rule i) { return name_in(inside_rule_na
 std::string_view answer_kind_name(answer_kind a) { return name_in(answer_kind_names, a); }
 std::string_view point_bound_name(point_bound b) { return name_in(point_bound_names, b); }
 
+std::string_view accuracy_unit_name(accuracy_unit u) { return name_in(accuracy_unit_names, u); }
+
+std::string format_accuracy(const accuracy_requirement& a) {
+    if (!a.required()) return "none";
+    return std::string(accuracy_unit_name(a.unit)) + ":" + number_text(a.bound);
+}
+
+accuracy_requirement parse_accuracy(std::string_view text) {
+    const auto fail = [&](const std::string& why) {
+        return std::invalid_argument("accuracy='" + std::string(text) + "': " + why +
+                                     " (expected none, ulp:N, radius:X or distance:X with a finite bound >= 0)");
+    };
+    if (text == "none") return {};
+    const std::size_t colon = text.find(':');
+    if (colon == std::string_view::npos) throw fail("no unit:bound");
+    const std::string_view unit_text = text.substr(0, colon), bound_text = text.substr(colon + 1);
+    const std::optional<accuracy_unit> unit = value_in(accuracy_unit_names, unit_text);
+    if (!unit || *unit == accuracy_unit::none)
+        throw fail("unknown unit '" + std::string(unit_text) + "' (units: ulp, radius, distance)");
+    double bound = 0;
+    const auto [end, error] = std::from_chars(bound_text.data(), bound_text.data() + bound_text.size(), bound);
+    if (error != std::errc{} || end != bound_text.data() + bound_text.size())
+        throw fail("the bound '" + std::string(bound_text) + "' is not a number");
+    if (!std::isfinite(bound)) throw fail("the bound is not finite");
+    if (bound < 0) throw fail("the bound is negative");
+    return {*unit, bound};
+}
+
 std::optional<query_kind> query_kind_from_name(std::string_view name) { return value_in(query_kind_names, name); }
 std::optional<range_source> range_source_from_name(std::string_view name) {
     return value_in(range_source_names, name);
@@ -87,6 +119,8 @@ std::string format_contract(const contract& c) {
     if (c.outputs.point_error != point_bound::none)
         spec += ",point_error=" + std::string(point_bound_name(c.outputs.point_error));
     if (c.outputs.normal) spec += ",normal=yes";
+    if (c.accuracy.required()) spec += ",accuracy=" + format_accuracy(c.accuracy);
+    if (c.degenerate_is_miss) spec += ",degenerate=miss";
     return spec;
 }
 
@@ -98,6 +132,8 @@ std::optional<std::string> contract_problem(const contract& c) {
     if (c.answer == answer_kind::point && c.query != query_kind::nearest_hit)
         return "answer=point needs query=nearest_hit (one hit point)";
     if (c.answer == answer_kind::point && c.outputs.t_bounds) return "t_bounds needs answer=t";
+    if (c.query == query_kind::any_hit && c.accuracy.required())
+        return "accuracy needs a returned t: an any_hit contract returns none";
     return std::nullopt;
 }
 
@@ -143,6 +179,17 @@ std::string describe_contract(const contract& c) {
         "an error bound per coordinate of the hit point that holds a point of the sphere");
     add(c.outputs.normal, "the normal");
     if (!outputs.empty()) out += "; also gives " + outputs;
+    switch (c.accuracy.unit) {
+        case accuracy_unit::none: break;
+        case accuracy_unit::ulp: out += "; required: t within " + number_text(c.accuracy.bound) + " ulp of t*"; break;
+        case accuracy_unit::radius:
+            out += "; required: |t - t*|·|d| within " + number_text(c.accuracy.bound) + " r";
+            break;
+        case accuracy_unit::distance:
+            out += "; required: |t - t*|·|d| within " + number_text(c.accuracy.bound);
+            break;
+    }
+    if (c.degenerate_is_miss) out += "; a degenerate cast (zero direction, non-finite input, empty interval) is a miss";
     return out;
 }
 
@@ -216,11 +263,20 @@ contract parse_contract(std::string_view spec, contract c) {
             c.outputs.point_error = *v;
         } else if (key == "normal") {
             c.outputs.normal = yes_no_value(key, value);
+        } else if (key == "degenerate") {
+            if (value != "miss" && value != "invalid") throw fail(key, value, "miss or invalid");
+            c.degenerate_is_miss = value == "miss";
+        } else if (key == "accuracy") {
+            try {
+                c.accuracy = parse_accuracy(value);
+            } catch (const std::invalid_argument& e) {
+                throw std::invalid_argument("contract: " + std::string(e.what()));
+            }
         } else {
             throw std::invalid_argument("contract: unknown key '" + std::string(key) +
                                         "' (keys: query, range, ends, inside, tangent, faces, unit_direction, "
                                         "reports_tangent, tangent_threshold, answer, t_bounds, hit_point, "
-                                        "point_error, normal)");
+                                        "point_error, normal, accuracy, degenerate)");
         }
     }
     if (auto problem = contract_problem(c)) throw std::invalid_argument("contract: " + *problem);

@@ -82,6 +82,30 @@ enum class inside_rule {
     miss,      // no hit
 };
 
+// An accuracy the user requires of an answer (the accuracy clause): a
+// returned t that stands for the right root on the right side of every range
+// bound but lies farther from it than this is a disagreement, `imprecise`
+// (compare/judge.h), decided exactly. Spec `accuracy=UNIT:BOUND`:
+//   ulp:N        |t − t*| ≤ N·ulp(t*) in the target's precision (root_ulp_error)
+//   radius:x     |t − t*|·|d| ≤ x·r, the error along the ray in radii (scale_error_radius)
+//   distance:x   |t − t*|·|d| ≤ x, in the case's units
+// A value judged against a clamp's range start (inside=clamp) is exact or
+// wrong, so the clause does not apply to it; an any_hit contract returns no t.
+enum class accuracy_unit { none, ulp, radius, distance };
+
+struct accuracy_requirement {
+    accuracy_unit unit = accuracy_unit::none;
+    double bound = 0;  // finite, ≥ 0
+    constexpr bool required() const { return unit != accuracy_unit::none; }
+};
+
+std::string_view accuracy_unit_name(accuracy_unit u);
+// "radius:0.001"; "none" when nothing is required.
+std::string format_accuracy(const accuracy_requirement& a);
+// Parse "UNIT:BOUND" or "none"; throws std::invalid_argument naming the clause
+// (an unknown unit, a bound that is negative, NaN, infinite or not a number).
+accuracy_requirement parse_accuracy(std::string_view text);
+
 struct contract {
     query_kind query = query_kind::line_roots;
     range_source range = range_source::ray;
@@ -102,6 +126,14 @@ struct contract {
     std::optional<double> tangent_threshold{};
     answer_kind answer = answer_kind::t;
     output_set outputs{};
+    // What the user requires beyond the right root on the right side (not a
+    // promise of the formula's: audit's --accuracy sets it for every target).
+    accuracy_requirement accuracy{};
+    // degenerate=miss: a degenerate cast (degenerate_cast in core/ray_sphere_case.h:
+    // a zero direction, a non-finite input or bound, an empty or reversed
+    // interval) is handed to the target, which must answer a miss; without
+    // it (degenerate=invalid) such a case is invalid and never run.
+    bool degenerate_is_miss = false;
 };
 
 // contract::tangent_rule is a string_view (so that built-in contracts are
@@ -176,11 +208,11 @@ std::string describe_contract(const contract& c);
 
 // Parse a spec (comma-separated key=value; keys: query, range, ends, inside,
 // tangent, faces, unit_direction, reports_tangent, tangent_threshold, answer,
-// t_bounds, hit_point, point_error, normal). Fields not given keep
+// t_bounds, hit_point, point_error, normal, accuracy, degenerate). Fields not given keep
 // `defaults`' values. Throws std::invalid_argument naming the key and the
 // allowed values on anything else, and on a combination that cannot be
 // answered (point_error without hit_point, a point answer or hit point for
-// any_hit, t_bounds with a point answer).
+// any_hit, t_bounds with a point answer, an accuracy for any_hit).
 contract parse_contract(std::string_view spec, contract defaults = {});
 
 // Why a contract cannot be answered as stated, or nullopt: the combinations

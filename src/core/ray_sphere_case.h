@@ -79,6 +79,16 @@ enum class invalid_reason {
 
 const char* invalid_reason_name(invalid_reason r);
 
+// A cast with no geometry to judge, which a contract with degenerate=miss
+// (core/contract.h) hands to the target all the same: a zero direction, a
+// non-finite input (NaN or ±inf, or a double that overflows the target's
+// precision), a NaN bound or a reversed interval. A negative radius is the
+// sphere's fault, not the cast's: it stays invalid.
+constexpr bool degenerate_cast(invalid_reason r) {
+    return r == invalid_reason::non_finite_input || r == invalid_reason::zero_direction ||
+           r == invalid_reason::not_representable || r == invalid_reason::bad_interval;
+}
+
 // The inputs rounded to precision P (round to nearest), which is what a
 // variant running in P receives.
 template <class T, class S>

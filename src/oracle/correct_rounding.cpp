@@ -210,6 +210,17 @@ double ulp_error(const quadratic_irrational& x, double value) {
     }
 }
 
+// sign(|value − x| − bound·ulp(x)): x against value ∓ bound·ulp(x), exactly.
+template <class T>
+int compare_ulp_error(const quadratic_irrational& x, double value, double bound) {
+    const int side = x.compare(exact(value));  // sign(x − value)
+    if (side == 0) return bound > 0 ? -1 : 0;
+    const long e = x.sign() == 0 ? std::numeric_limits<T>::min_exponent - 1 : binade(x);
+    const exact allowed = exact(bound) * power_of_two(ulp_exponent_of_binade<T>(e));
+    // x above value: |value − x| − allowed = x − (value + allowed); below: (value − allowed) − x.
+    return side > 0 ? x.compare(exact(value) + allowed) : -x.compare(exact(value) - allowed);
+}
+
 template <class T>
 double round_in(const quadratic_irrational& x) {
     return static_cast<double>(round_to_nearest<T>(x));
@@ -219,6 +230,10 @@ double round_in(const quadratic_irrational& x) {
 
 double round_in(precision p, const quadratic_irrational& x) {
     return with_precision(p, [&]<class T>(std::type_identity<T>) { return round_in<T>(x); });
+}
+
+int compare_ulp_error_in(precision p, const quadratic_irrational& x, double value, double bound) {
+    return with_precision(p, [&]<class T>(std::type_identity<T>) { return compare_ulp_error<T>(x, value, bound); });
 }
 
 double ulp_error_in(precision p, const quadratic_irrational& x, double value) {

@@ -518,6 +518,45 @@ std::optional<figure_bracket> exact_solution::root_ulp_error_bracket(root_index 
     return ulp_error_bracket_from(frame.x, frame.ulp_exponent, value);
 }
 
+comparison exact_solution::compare_root_ulp_error(root_index i, double value, double bound) const {
+    return settle(
+        oracle_stage_counts_this_thread().comparisons,
+        [&]() -> uncertain_comparison {
+            const std::optional<figure_bracket> b = root_ulp_error_bracket(i, value);
+            if (!b) return std::nullopt;
+            if (b->upper < bound) return comparison::smaller;
+            if (b->lower > bound) return comparison::larger;
+            if (b->lower == b->upper && internal::exact_zero_root(*this, i)) return compare(b->lower, bound);
+            return std::nullopt;
+        },
+        [&] { return comparison_of_sign(compare_ulp_error_in(prec, state().root(i), value, bound)); });
+}
+
+comparison exact_solution::compare_root_distance(root_index i, double value, double length, double scale) const {
+    return settle(
+        oracle_stage_counts_this_thread().comparisons,
+        [&]() -> uncertain_comparison {
+            // sign(a·(value − t*)² − (length·scale)²) in double-words, where
+            // nothing underflows: the values in [2^−150, 2^150] or 0, the gap
+            // not below 2^−300 (the filter range bounds the root and |d|).
+            const enclosure& root = internal::root_enclosure(*this, i);
+            const auto in_range = [](double x) { return x == 0 || (std::fabs(x) >= 0x1p-150 && std::fabs(x) <= 0x1p150); };
+            if (!known(root) || !in_filter_range(geometry_) || !in_range(value) || !in_range(length) ||
+                !in_range(scale))
+                return std::nullopt;
+            const bounded gap = exactly(value) - bounded_of(root);
+            if (magnitude_bound(gap) < 0x1p-300) return std::nullopt;
+            const vec3<double>& d = geometry_.direction;
+            const bounded a = exactly(d.x) * exactly(d.x) + exactly(d.y) * exactly(d.y) + exactly(d.z) * exactly(d.z);
+            const bounded allowed = exactly(length) * exactly(scale);
+            const int s = certain_sign(gap * gap * a - allowed * allowed);
+            return s != 0 ? uncertain_comparison(comparison_of_sign(s)) : std::nullopt;
+        },
+        [&] {
+            return comparison_of_sign(state().compare_distance_along(i, exact(value), exact(length) * exact(scale)));
+        });
+}
+
 double exact_solution::hit_point_ulp_error(root_index i, int axis, double value) const {
     ulp_frame& frame = hit_frames_[slot_of(i)][axis];
     if (frame.built && frame.last_value == value) return frame.last_error;

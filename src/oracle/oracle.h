@@ -99,6 +99,17 @@ public:
     // (then root_ulp_error must answer). Requires cls != miss; value finite.
     std::optional<figure_bracket> root_ulp_error_bracket(root_index i, double value) const;
 
+    // compare(root_ulp_error(i, value), bound), exactly: whether a returned
+    // value lies within bound·ulp(t*) of root i (the accuracy clause's
+    // ulp:N). value finite; bound finite, ≥ 0. Requires cls != miss.
+    comparison compare_root_ulp_error(root_index i, double value, double bound) const;
+
+    // compare(|value − t*ᵢ|·|d|, length·scale), exactly (the product too):
+    // how far along the ray a returned value lies from root i, against a
+    // length (the accuracy clause's radius:x as x·r, distance:x as x·1).
+    // value finite; length and scale finite, ≥ 0. Requires cls != miss.
+    comparison compare_root_distance(root_index i, double value, double length, double scale) const;
+
     // Same for coordinate `axis` of o + t·d with t the root i.
     double hit_point_ulp_error(root_index i, int axis, double value) const;
 

@@ -206,6 +206,9 @@ std::size_t counted_where(const json& verdicts, bool (*holds)(verdict_kind)) {
 std::size_t scored_in(const json& verdicts) { return counted_where(verdicts, is_scored); }
 std::size_t misclassified_in(const json& verdicts) { return counted_where(verdicts, is_misclassification); }
 
+// The summary table's "far" column (agree but far, compare/audit.h), beside agree.
+constexpr int agree_far_column_width = 5;
+
 std::string render_summary_table(const audit_totals& totals) {
     std::string out;
     std::size_t name_width = 7;
@@ -214,6 +217,7 @@ std::string render_summary_table(const audit_totals& totals) {
     for (int k = 0; k < verdict_kind_count; ++k) {
         const auto kind = static_cast<verdict_kind>(k);
         if (is_corpus_verdict(kind)) out += fmt::format(" {:>{}}", verdict_column(kind), verdict_column_width(verdict_column(kind)));
+        if (kind == verdict_kind::agree) out += fmt::format(" {:>{}}", "far", agree_far_column_width);
     }
     out += fmt::format(" {:>6} {:>9} {:>9} {:>9}\n", "design", "max_ulp", "p99_ulp", "med_ulp");
     for (std::size_t i = 0; i < totals.targets.size(); ++i) {
@@ -223,6 +227,7 @@ std::string render_summary_table(const audit_totals& totals) {
         for (int k = 0; k < verdict_kind_count; ++k) {
             const auto kind = static_cast<verdict_kind>(k);
             if (is_corpus_verdict(kind)) out += fmt::format(" {:>{}}", t.verdicts[k], verdict_column_width(verdict_column(kind)));
+            if (kind == verdict_kind::agree) out += fmt::format(" {:>{}}", t.agree_far, agree_far_column_width);
         }
         out += fmt::format(" {:>6}", t.by_design());
         const error_statistics& s = t.errors[error_figure::near_root_ulp];
@@ -231,13 +236,20 @@ std::string render_summary_table(const audit_totals& totals) {
         else
             out += fmt::format(" {:>9} {:>9} {:>9}\n", compact(s.max), compact(s.p99), compact(s.median));
     }
-    out += fmt::format("{} cases; invalid: {} at float, {} at double. ULP columns: nearest root, agreeing cases, "
-                       "maxima over this finite corpus; p99 and median are upper bounds within 0.8%.\n",
-                       totals.cases, totals.invalid_cases[0], totals.invalid_cases[1]);
+    out += fmt::format("{} cases; invalid: {} at float, {} at double. far: agreeing cases whose t lies far from t* "
+                       "along the ray ({}; --accuracy makes an answer beyond a bound you choose imprecise). ULP "
+                       "columns: nearest root, agreeing cases, maxima over this finite corpus; p99 and median are "
+                       "upper bounds within 0.8%.\n",
+                       totals.cases, totals.invalid_cases[0], totals.invalid_cases[1], agree_far_rule);
     // Invalid cases are never scored, so they are named: the first few here, all in report.json.
     constexpr std::size_t listed = 5;
     if (!totals.invalid_list.empty()) {
-        out += fmt::format("invalid cases ({}, not scored):", totals.invalid_list.size());
+        const bool handed_over = std::any_of(totals.targets.begin(), totals.targets.end(), [](const audit_target& t) {
+            return t.subject.promises.degenerate_is_miss;
+        });
+        out += fmt::format("invalid cases ({}, {}):", totals.invalid_list.size(),
+                           handed_over ? "no exact answer; degenerate casts scored under degenerate=miss"
+                                       : "not scored");
         for (std::size_t i = 0; i < std::min(listed, totals.invalid_list.size()); ++i)
             out += fmt::format("{} {} ({})", i ? "," : "", totals.invalid_list[i].id,
                                invalid_reasons_text(totals.invalid_list[i]));
@@ -278,7 +290,8 @@ json audit_report_json(const audit_totals& totals, const run_context& context) {
         {"bits", "log2(1 + number of representable values between t and RN(t*))"},
         {"scale_error_radius", "max over the returned roots of |t - t*|·|d| / r: the error in units of the radius"},
         {"agree_far", "agreeing cases whose scale_error_radius is at least 2^-10 (about 0.1% of the radius): the "
-                      "verdict only asks which root a t stands for, so a t this far off can still agree"},
+                      "verdict only asks which root a t stands for, so a t this far off can still agree (unless "
+                      "the contract's accuracy clause, audit --accuracy, makes it imprecise)"},
         {"scale_error_distance", "max over the returned roots of |t - t*|·|d| / |o - c|"},
         {"bound_width_ulp",
          "the widest interval a variant claims for a returned t, in representable values between its ends"},

@@ -84,7 +84,7 @@ std::string render_cases_to_open(const json& cases, std::size_t most_targets) {
             }
         }
         if (!target["agree_far"].empty()) {
-            out += fmt::format("  {} agree but far (|t - t*|·|d| >= 2^-10 r), farthest: {}\n", label,
+            out += fmt::format("  {} agree but far ({}), farthest: {}\n", label, agree_far_rule,
                                ids(target["agree_far"]));
             out += fmt::format("    {}\n", target["agree_far"][0]["line"].get<std::string>());
         }
@@ -116,10 +116,12 @@ std::string render_cases_to_open_markdown(const json& cases) {
         }
         for (const json& e : target["agree_far"]) row(label, "agree but far", e);
     }
-    return out + "\nThe first cases of each disagreeing verdict in input order; the worst of each verdict whose "
-                 "answers have a t judged against an exact root, by its root error in ULPs (the larger of the near "
-                 "and far root's); and the agreeing cases whose hit lies farthest from the exact one (|t − t*|·|d| "
-                 "≥ 2^-10 r); at most 3 of each. `audit --failures FILE` writes every failing case as a corpus.\n";
+    return out + fmt::format("\nThe first cases of each disagreeing verdict in input order; the worst of each "
+                             "verdict whose answers have a t judged against an exact root, by its root error in ULPs "
+                             "(the larger of the near and far root's); and the agreeing cases whose hit lies farthest "
+                             "from the exact one ({}); at most 3 of each. `audit --failures FILE` writes every "
+                             "failing case as a corpus.\n",
+                             agree_far_rule);
 }
 
 }  // namespace rayverify

@@ -98,8 +98,10 @@ void accuracy_table(std::string& out, const json& results, const std::string& ti
                            number(u.value("max", json())), number(u.value("p99", json())),
                            number(u.value("median", json())));
     }
-    out += "\nagree but far: agreeing cases whose returned t lies at least 2^-10 of the radius from the exact "
-           "hit (|t − t*|·|d| ≥ 2^-10 r; the verdict asks which root a t stands for, not how close it is).";
+    out += fmt::format("\nagree but far: agreeing cases whose returned t lies far from the exact hit ({}; the "
+                       "verdict asks which root a t stands for, not how close it is; `--accuracy` makes such an "
+                       "answer imprecise).",
+                       agree_far_rule);
     out += "\nULP columns: nearest root over the agreeing cases; every maximum is over this finite corpus "
            "(sampled: a lower bound on the variant's worst case, not a bound).\n";
 }

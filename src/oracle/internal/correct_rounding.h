@@ -21,4 +21,8 @@ double round_in(precision p, const quadratic_irrational& x);
 // non-finite value.
 double ulp_error_in(precision p, const quadratic_irrational& x, double value);
 
+// sign(|value − x| / ulp(x) − bound) in precision p, exactly (ulp as
+// ulp_error_in's); value finite, bound finite and ≥ 0.
+int compare_ulp_error_in(precision p, const quadratic_irrational& x, double value, double bound);
+
 }  // namespace rayverify::oracle_internal

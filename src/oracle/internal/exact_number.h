@@ -51,6 +51,16 @@ struct exact_quadratic {
     const quadratic_irrational& root(root_index i) const {
         return i == root_index::near_root ? near_root : far_root;
     }
+    // sign(|value − t*ᵢ|·|d| − length), length ≥ 0 exact: with t*ᵢ = (A + B√D)/den,
+    // a(value − t*)² − length² has the sign of (P + Q√D)²·a − length²·den²,
+    // P = value·den − A, Q = −B, a = |d|².
+    int compare_distance_along(root_index i, const exact& value, const exact& length) const {
+        const quadratic_irrational& t = root(i);
+        const exact a = direction[0] * direction[0] + direction[1] * direction[1] + direction[2] * direction[2];
+        const exact P = value * t.den - t.A, Q = -t.B;
+        return sign_of_sum_with_root((P * P + Q * Q * t.D) * a - length * length * t.den * t.den,
+                                     exact(2.0) * P * Q * a, t.D);
+    }
     // Coordinate `axis` of o + t·d for t = (A + B√D)/den: (o·den + d·A + d·B√D)/den.
     quadratic_irrational hit_coordinate(root_index i, int axis) const {
         const quadratic_irrational& t = root(i);

@@ -211,6 +211,32 @@ TEST_F(Cli, DegenerateCastsAreHandedOverOnRequest) {
     EXPECT_EQ(run_cli(run + " --degenerate hit").exit_code, 2);
 }
 
+// hunt --corpus starts from the user's cases, says so in its file and
+// shrinks each find toward the case it came from.
+TEST_F(Cli, HuntStartsFromTheUsersCorpus) {
+    const fs::path corpus = write("mine.txt",
+                                  "mine-far - 0x1.ff2a5ep-2 -0x1.22d66cp-1 -0x1.bd5cap-1 -0x1.b4e04cp-1 "
+                                  "0x1.dd5fcp-2 -0x1.0845d8p-2 0x1.6fa572p+27 -0x1.0b99e8p+26 0x1.12c8ccp+25 "
+                                  "0x1.6b3c7cp-1\n" + std::string(simple_case));
+    const std::string hunt = "hunt --variant naive --precision float --objective misclass --evaluations 400 --corpus " +
+                             corpus.string() + " -o " + (dir_ / "finds.txt").string();
+    const command_result r = run_cli(hunt);
+    ASSERT_EQ(r.exit_code, 1) << r.output;
+    EXPECT_NE(r.output.find("2 start cases from " + corpus.string()), std::string::npos) << r.output;
+    const std::string finds = read_text(dir_ / "finds.txt");
+    EXPECT_NE(finds.find("\"start_corpus\":\"" + corpus.string() + "\""), std::string::npos) << finds;
+    EXPECT_NE(finds.find("\"start\":\"mine-"), std::string::npos) << finds;
+    EXPECT_NE(finds.find("shrunk toward mine-"), std::string::npos) << finds;
+    const command_result both = run_cli(hunt + " --family uniform");
+    EXPECT_EQ(both.exit_code, 2);
+    EXPECT_NE(both.output.find("field '--corpus'"), std::string::npos) << both.output;
+    EXPECT_EQ(run_cli("hunt --variant naive --evaluations 10 --corpus " + (dir_ / "none.txt").string() + " -o " +
+                      (dir_ / "f2.txt").string())
+                  .exit_code,
+              2);
+    EXPECT_FALSE(fs::exists(dir_ / "f2.txt"));
+}
+
 TEST_F(Cli, ExplainShowsExactAndVariantsSideBySide) {
     const command_result r = run_cli("explain 0.5 0.25 0 0 0 1 0 0 4100 1 --variant naive --variant hearn_baker");
     EXPECT_EQ(r.exit_code, 1);

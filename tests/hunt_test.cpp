@@ -14,6 +14,7 @@
 #include "compare/audit.h"
 #include "corpus/corpus_io.h"
 #include "corpus/generators.h"
+#include "core/float_bits.h"
 
 namespace rayverify {
 namespace {
@@ -48,12 +49,18 @@ verdict_kind audited_verdict(const audit_target& t, const ray_sphere<double>& g)
     return audit_case(c, targets).outcomes.front().score.verdict;
 }
 
-TEST(Hunt, FindsAndShrinksAMisclassificationOfNaiveInFloat) {
+// A misclass hunt of seed 1 within 5000 evaluations, stopping at `finds`.
+hunt_options misclass_hunt(std::size_t finds) {
     hunt_options options;
     options.objective = hunt_objective::misclass;
     options.max_evaluations = 5000;
-    options.max_finds = 2;
+    options.max_finds = finds;
     options.seed = 1;
+    return options;
+}
+
+TEST(Hunt, FindsAndShrinksAMisclassificationOfNaiveInFloat) {
+    const hunt_options options = misclass_hunt(2);
     const audit_target naive = target("naive", precision::binary32);
     const hunt_result r = hunt(naive, from_family("uniform", 1), options);
     ASSERT_EQ(r.finds.size(), 2u) << r.evaluations << " evaluations";
@@ -70,6 +77,51 @@ TEST(Hunt, FindsAndShrinksAMisclassificationOfNaiveInFloat) {
         EXPECT_GT(f.evaluation, 0u);
         EXPECT_LE(f.evaluation, r.evaluations);
     }
+}
+
+// Steps of float between two cases' inputs, in all.
+std::uint64_t float_steps_between(const ray_sphere<double>& a, const ray_sphere<double>& b) {
+    const double x[10] = {a.origin.x, a.origin.y, a.origin.z, a.direction.x, a.direction.y,
+                          a.direction.z, a.centre.x, a.centre.y, a.centre.z, a.radius};
+    const double y[10] = {b.origin.x, b.origin.y, b.origin.z, b.direction.x, b.direction.y,
+                          b.direction.z, b.centre.x, b.centre.y, b.centre.z, b.radius};
+    std::uint64_t steps = 0;
+    for (int i = 0; i < 10; ++i) steps += ulps_between<float>(static_cast<float>(x[i]), static_cast<float>(y[i]));
+    return steps;
+}
+
+// Start cases of the user's (hunt --corpus): a find is shrunk toward the
+// case it was searched from, never away from it, and a user case that fails
+// as it is comes back unchanged (0 inputs, 0 steps from it).
+TEST(Hunt, FindsFromTheUsersCasesShrinkTowardThem) {
+    hunt_options options = misclass_hunt(3);
+    options.shrink_toward_start = true;
+    const audit_target naive = target("naive", precision::binary32);
+    std::vector<ray_sphere<double>> users;
+    for (std::uint64_t i = 0; i < 4; ++i) users.push_back(rounded_to(precision::binary32, generate_case("uniform", 7, i).geometry));
+    const hunt_start from_users = [&](std::uint64_t i) { return users[i % users.size()]; };
+    const hunt_result r = hunt(naive, from_users, options);
+    ASSERT_EQ(r.finds.size(), 3u) << r.evaluations << " evaluations";
+    for (const hunt_find& f : r.finds) {
+        const ray_sphere<double>& start = users[f.start_index % users.size()];
+        EXPECT_EQ(audited_verdict(naive, f.shrunk), f.found_eval.verdict);
+        EXPECT_LE(float_steps_between(f.shrunk, start), float_steps_between(f.found, start));
+        EXPECT_EQ(f.steps_from_start, float_steps_between(f.shrunk, start));
+        EXPECT_LE(f.inputs_changed, 10);
+    }
+    // A far sphere naive/float misjudges as given: found at the first evaluation, unchanged.
+    ray_sphere<double> failing{};
+    for (std::uint64_t i = 0;; ++i) {
+        failing = rounded_to(precision::binary32, generate_case("far_sphere", 1, i).geometry);
+        if (is_disagreement(audited_verdict(naive, failing))) break;
+    }
+    options.max_finds = 1;
+    const hunt_result as_given = hunt(naive, [&](std::uint64_t) { return failing; }, options);
+    ASSERT_EQ(as_given.finds.size(), 1u);
+    EXPECT_EQ(as_given.finds[0].evaluation, 1u);
+    EXPECT_EQ(as_given.finds[0].inputs_changed, 0);
+    EXPECT_EQ(as_given.finds[0].steps_from_start, 0u);
+    EXPECT_TRUE(same_bits(as_given.finds[0].shrunk, failing));
 }
 
 // --cause algorithmic keeps only finds a better formula avoids; every find,

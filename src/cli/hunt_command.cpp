@@ -4,6 +4,7 @@
 #include <vector>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "cli/app.h"
 #include "cli/commands.h"
@@ -27,6 +28,9 @@ struct hunt_command_options {
     plugin_isolation isolation;
     std::string precision = "double";
     std::string family = "uniform";
+    bool family_given = false;
+    // The user's own cases the searches start from (--corpus), instead of a family's.
+    std::vector<std::string> corpus;
     double budget = 10;
     std::uint64_t evaluations = 0;
     std::string objective = "ulp";
@@ -191,8 +195,14 @@ void print_finds(const hunt_result& result, const hunt_file& file, const hunt_op
         fmt::print("find {}: {} at evaluation {} ({:.3f} s)\n", i + 1, what, f.evaluation, f.seconds);
         if (!f.found_eval.detail.empty()) fmt::print("  as found: {}\n", f.found_eval.detail);
         // The line printed is the shrunk case, and what it replays as is said under it.
-        fmt::print("  shrunk ({} -> {} significant bits, still {}):\n  {}\n", f.found_bits, f.shrunk_bits,
-                   shrunk_what, format_case_line(file.finds[i].shrunk));
+        const hunt_find_provenance& p = file.finds[i].provenance;
+        if (p.inputs_changed && p.steps_from_start)
+            fmt::print("  shrunk toward {} ({} of the ten inputs differ from it, by {} steps in all; still {}):\n  {}\n",
+                       p.start, *p.inputs_changed, *p.steps_from_start, shrunk_what,
+                       format_case_line(file.finds[i].shrunk));
+        else
+            fmt::print("  shrunk ({} -> {} significant bits, still {}):\n  {}\n", f.found_bits, f.shrunk_bits,
+                       shrunk_what, format_case_line(file.finds[i].shrunk));
         if (!f.shrunk_eval.detail.empty()) fmt::print("  replays as: {}\n", f.shrunk_eval.detail);
     }
     if (result.finds.empty())
@@ -208,17 +218,26 @@ int run(const hunt_command_options& given, const std::string& command_line) {
     std::optional<library_identity> library;
     const hunt_command_options o = with_engine(given, library);
     const audit_target target = hunt_target(o, library);
-    const std::string family_name(hunt_family(o.family).name);
+    if (!o.corpus.empty() && o.family_given)
+        throw input_error("", 0, "--corpus", "the searches start from --corpus or from --family, not both");
+    const std::string family_name(o.corpus.empty() ? hunt_family(o.family).name : std::string_view("corpus"));
+    std::vector<corpus_case> user_cases;
+    if (!o.corpus.empty()) user_cases = read_corpus({o.corpus.begin(), o.corpus.end()});
     if (o.budget == 0 && o.evaluations == 0)
         throw input_error("", 0, "--seconds", "give a time budget (--seconds) or an evaluation budget (--evaluations)");
     run_outputs outputs;  // declared before the search, committed after it
     if (!o.plugin.empty()) declare_inputs(outputs, {o.plugin}, "--plugin");
+    declare_inputs(outputs, {o.corpus.begin(), o.corpus.end()}, "--corpus");
     output_file& finds_file = outputs.file(o.output, "-o");
 
     const shard_spec shard = o.shard.empty() ? shard_spec{} : chosen_shard(o.shard, "hunt");
     hunt_options options = hunt_options_of(o, shard);
+    options.shrink_toward_start = !user_cases.empty();
     shard_start_cases start_cases(family_name, o.seed, shard);
-    const hunt_start start = [&](std::uint64_t j) { return start_cases(j); };
+    const hunt_start start = [&](std::uint64_t j) {
+        if (user_cases.empty()) return start_cases(j);
+        return user_cases[shard.global_index(j) % user_cases.size()].geometry;
+    };
     std::optional<external_program> program;
     hunt_judge judge;
     if (!o.command.empty()) {
@@ -243,16 +262,23 @@ int run(const hunt_command_options& given, const std::string& command_line) {
 
     std::string shard_note;
     if (shard.count > 1) shard_note = fmt::format(", shard {} (search seed {})", shard.text(), options.seed);
-    fmt::print("hunt {} ({} objective{}, {} strategy, family {}, seed {}{}): {} evaluations, {} starts, {:.2f} s\n",
-               target.label(), o.objective,
-               o.cause == "algorithmic" ? ", algorithmic causes only"
+    const std::string starts =
+        user_cases.empty() ? fmt::format("family {}, seed {}", family_name, o.seed)
+                           : fmt::format("{} start cases from {}, seed {}", user_cases.size(), fmt::join(o.corpus, " "), o.seed);
+    fmt::print("hunt {} ({} objective{}, {} strategy, {}{}): {} evaluations, {} starts, {:.2f} s\n", target.label(),
+               o.objective,
+               o.cause == "algorithmic"                   ? ", algorithmic causes only"
                : o.rounding_only || o.cause == "rounding" ? ", rounding causes only"
-                                                          : "", o.strategy, family_name, o.seed,
-               shard_note, result.evaluations, result.starts,
-               result.seconds);
+                                                          : "",
+               o.strategy, starts, shard_note, result.evaluations, result.starts, result.seconds);
     if (program)
         fmt::print("command '{}' answered {} batches of up to {} cases\n", o.command, program->batches(), options.batch);
-    const hunt_file file = hunt_file_of(result, {recorded_command(command_line), &target, options, family_name, o.seed, shard});
+    hunt_setting setting{recorded_command(command_line), &target, options, family_name, o.seed, shard, nullptr, {}};
+    if (!user_cases.empty()) {
+        setting.start_cases = &user_cases;
+        setting.start_corpus = fmt::format("{}", fmt::join(o.corpus, " "));
+    }
+    const hunt_file file = hunt_file_of(result, setting);
     print_finds(result, file, options);
     finds_file.stream() << render_hunt_file(file);
     fmt::print("wrote {}\n", o.output);
@@ -302,7 +328,13 @@ command add_hunt_command(CLI::App& app, const std::string& command_line) {
         ->each([o](const std::string&) { o->precision_given = true; });
     sub->add_option("--engine", o->engine,
                     "Hunt an engine's library as its package installs it instead (`rayverify engines` lists them)");
-    sub->add_option("--family", o->family, "Generator family the searches start from")->capture_default_str();
+    sub->add_option("--family", o->family, "Generator family the searches start from")
+        ->capture_default_str()
+        ->each([o](const std::string&) { o->family_given = true; });
+    sub->add_option("--corpus", o->corpus,
+                    "Start from your own cases instead of a family's (corpus files or directories, repeatable): "
+                    "start case j is the file's case j, cycling, and each find is shrunk toward the case it was "
+                    "searched from (the least change to your case that fails; their intervals are not used)");
     sub->add_option("--seconds", o->budget, "Search time in seconds (0: no time limit)")
         ->check(finite_number(0, 1e9))
         ->capture_default_str();

@@ -284,7 +284,12 @@ public:
         result_.seconds = elapsed();
         if (maximises_error(options_.objective) && best_) result_.finds.push_back(*best_);
         if (options_.shrink)
-            for (hunt_find& f : result_.finds) shrink(f);
+            for (hunt_find& f : result_.finds) {
+                if (options_.shrink_toward_start)
+                    shrink_toward_start(f);
+                else
+                    shrink(f);
+            }
         return result_;
     }
 
@@ -509,6 +514,91 @@ private:
                 }
             }
         }
+    }
+
+    // Steps of the precision between two inputs.
+    std::uint64_t steps_between(double a, double b) const {
+        return with_precision(target_.prec, [&]<class T>(std::type_identity<T>) {
+            return ulps_between<T>(static_cast<T>(a), static_cast<T>(b));
+        });
+    }
+
+    // Greedy shrinking toward the start case: each input that differs from
+    // the start's is set back to it, or else moved as near it as keeps the
+    // failure (a bisection on the steps between them); repeated until
+    // nothing changes. A case is kept only when it is nearer the start in
+    // all (fewer steps over the ten inputs).
+    void shrink_toward_start(hunt_find& f) {
+        const ray_sphere<double> origin_case = rounded_in(target_.prec, start_(f.start_index));
+        const auto distance = [&](const ray_sphere<double>& g) {
+            std::uint64_t steps = 0;
+            for (int i = 0; i < 10; ++i) steps += steps_between(input_at(g, i), input_at(origin_case, i));
+            return steps;
+        };
+        std::uint64_t budget = options_.shrink_evaluations;
+        std::uint64_t kept_distance = distance(f.shrunk);
+        const auto fails_same = [&](const ray_sphere<double>& g) {
+            if (budget == 0 || !(g.radius > 0)) return false;
+            const std::uint64_t d = distance(g);
+            if (d >= kept_distance) return false;
+            --budget;
+            ++result_.shrink_evaluations;
+            const hunt_evaluation e =
+                judge_batch({g}, "shrink", result_.shrink_evaluations - 1, f.start_index, true).front().eval;
+            if (!same_failure(options_, f.found_eval, e)) return false;
+            f.shrunk = g;
+            f.shrunk_eval = e;
+            f.shrunk_bits = significant_bits(g);
+            kept_distance = d;
+            return true;
+        };
+        for (bool changed = true; changed && budget > 0;) {
+            changed = false;
+            for (int i = 0; i < 10 && budget > 0; ++i) {
+                const double from = input_at(origin_case, i), now = input_at(f.shrunk, i);
+                if (now == from) continue;
+                ray_sphere<double> t = f.shrunk;
+                input_at(t, i) = from;
+                if (fails_same(t)) {
+                    changed = true;
+                    continue;
+                }
+                // The failing value nearest the start: between `from` (passes) and `now` (fails).
+                const std::int64_t toward_now = now > from ? 1 : -1;
+                std::uint64_t passing = 0, failing = steps_between(from, now);
+                while (failing - passing > 1 && budget > 0) {
+                    const std::uint64_t middle = passing + (failing - passing) / 2;
+                    input_at(t, i) = step_in(target_.prec, from, toward_now * static_cast<std::int64_t>(middle));
+                    if (fails_same(t)) {
+                        failing = middle;
+                        changed = true;
+                    } else {
+                        passing = middle;
+                    }
+                }
+            }
+        }
+        // Then moves of one to three inputs at once, each toward the start by
+        // 2^j of the steps between (j uniform): a failure near a tangency is
+        // kept only by moving inputs together, along the surface where the
+        // class changes; 400 moves in a row that keep nothing end it.
+        for (std::uint64_t stale = 0; budget > 0 && stale < 400 && kept_distance > 0; ++stale) {
+            ray_sphere<double> t = f.shrunk;
+            const std::uint64_t moves = 1 + random_.below(3);
+            for (std::uint64_t m = 0; m < moves; ++m) {
+                const int i = static_cast<int>(random_.below(10));
+                const double from = input_at(origin_case, i), now = input_at(t, i);
+                const std::uint64_t apart = steps_between(from, now);
+                if (apart == 0) continue;
+                const std::uint64_t size = std::uint64_t{1} << random_.below(static_cast<std::uint64_t>(std::bit_width(apart)));
+                const std::int64_t toward_start = now > from ? -1 : 1;
+                input_at(t, i) = step_in(target_.prec, now, toward_start * static_cast<std::int64_t>(std::min(size, apart)));
+            }
+            if (fails_same(t)) stale = 0;
+        }
+        f.inputs_changed = 0;
+        for (int i = 0; i < 10; ++i) f.inputs_changed += input_at(f.shrunk, i) != input_at(origin_case, i);
+        f.steps_from_start = distance(f.shrunk);
     }
 
     const audit_target& target_;

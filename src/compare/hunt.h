@@ -6,8 +6,9 @@
 // ±2^j ulps of the working precision (j uniform, so steps of every scale from
 // one ulp to a doubling), keep the move when the oracle says the case is at
 // least as bad. Each find is then shrunk (inputs zeroed, rounded to fewer
-// significant bits, the scene translated to c = 0 and scaled to unit size)
-// while it still fails the same way. Deterministic for a given seed and
+// significant bits, the scene translated to c = 0 and scaled to unit size;
+// or, for start cases of the user's, moved back toward the start case) while
+// it still fails the same way. Deterministic for a given seed and
 // evaluation budget; a time budget only decides where it stops.
 //
 // Maxima found by search are lower bounds on the variant's true maximum.
@@ -68,6 +69,12 @@ struct hunt_options {
     std::optional<disagreement_cause> only_cause;
     std::uint64_t patience = 400;       // evaluations without improvement before a restart
     bool shrink = true;
+    // Shrink each find toward the start case it was searched from (the
+    // user's own case, hunt --corpus): every input moved back to the start's
+    // value, or as near it in ulps as keeps the failure, instead of toward
+    // zeros and short numbers. The find is then the least change to that
+    // case that fails.
+    bool shrink_toward_start = false;
     std::uint64_t shrink_evaluations = 4000;  // per find
     // Cases judged together: the random strategy's start cases, or the
     // search's candidates, all moved from the same current case and then
@@ -113,6 +120,10 @@ struct hunt_find {
     ray_sphere<double> shrunk;  // after shrinking (== found when nothing simpler fails the same way)
     hunt_evaluation found_eval, shrunk_eval;
     int found_bits = 0, shrunk_bits = 0;  // significant bits over the ten inputs
+    // Shrunk toward the start case: the inputs that still differ from it, and
+    // by how many steps of the precision in all.
+    int inputs_changed = 0;
+    std::uint64_t steps_from_start = 0;
     std::uint64_t evaluation = 0;         // the search evaluation that found it (1-based)
     double seconds = 0;                   // search time when found
     std::uint64_t start_index = 0;        // the start case its search began from

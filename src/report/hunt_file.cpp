@@ -40,10 +40,11 @@ std::string outcome(const hunt_record& hunt, verdict_kind verdict, double error)
 }
 
 std::string hunt_summary(const hunt_record& h) {
-    std::string text = fmt::format("# rayverify hunt: {}, objective {}{}, strategy {}, start family {} (seed {})\n",
-                                   h.target, hunt_objective_name(h.objective),
-                                   h.rounding_only ? " (rounding causes only)" : "", hunt_strategy_name(h.strategy),
-                                   h.family, h.seed);
+    const std::string start_cases = h.start_corpus ? fmt::format("start cases from {}", *h.start_corpus)
+                                                   : fmt::format("start family {} (seed {})", h.family, h.seed);
+    std::string text = fmt::format("# rayverify hunt: {}, objective {}{}, strategy {}, {}\n", h.target,
+                                   hunt_objective_name(h.objective), h.rounding_only ? " (rounding causes only)" : "",
+                                   hunt_strategy_name(h.strategy), start_cases);
     text += fmt::format("# command: {}\n", h.command);
     std::uint64_t evaluations = 0, starts = 0, shrinking = 0;
     double seconds = 0;
@@ -82,8 +83,13 @@ std::string find_summary(const hunt_record& h, const hunt_file_find& f, std::siz
     std::string text =
         fmt::format("# find {}: {} at evaluation {} ({:.3f} s), {}\n", n, what, p.evaluation, p.seconds, from);
     if (!p.detail.empty()) text += fmt::format("#   {}\n", p.detail);
-    text += fmt::format("#   shrunk from {} to {} significant bits, still {}\n", p.found_bits, p.shrunk_bits,
-                        outcome(h, p.shrunk_verdict, p.shrunk_error));
+    if (p.inputs_changed && p.steps_from_start)
+        text += fmt::format("#   shrunk toward {}: {} of the ten inputs differ from it, by {} steps in all; still {}\n",
+                            p.start, *p.inputs_changed, *p.steps_from_start,
+                            outcome(h, p.shrunk_verdict, p.shrunk_error));
+    else
+        text += fmt::format("#   shrunk from {} to {} significant bits, still {}\n", p.found_bits, p.shrunk_bits,
+                            outcome(h, p.shrunk_verdict, p.shrunk_error));
     return text;
 }
 
@@ -139,6 +145,7 @@ void map_json(json_io& io, hunt_record& h) {
     io.field("strategy", h.strategy);
     io.field("family", h.family);
     io.field("seed", h.seed);
+    io.optional_field("start_corpus", h.start_corpus);
     io.field("shards", h.shards);
     io.field("runs", h.runs);
     if (!io.reading()) return;
@@ -163,6 +170,8 @@ void map_json(json_io& io, hunt_find_provenance& p) {
     io.field("shrunk_verdict", p.shrunk_verdict);
     io.field("shrunk_error", p.shrunk_error);
     io.field("shrunk_bits", p.shrunk_bits);
+    io.optional_field("inputs_changed", p.inputs_changed);
+    io.optional_field("steps_from_start", p.steps_from_start);
 }
 
 hunt_file hunt_file_of(const hunt_result& result, const hunt_setting& setting) {
@@ -177,6 +186,7 @@ hunt_file hunt_file_of(const hunt_result& result, const hunt_setting& setting) {
     file.hunt.strategy = o.strategy;
     file.hunt.family = setting.family;
     file.hunt.seed = setting.seed;
+    if (setting.start_cases) file.hunt.start_corpus = setting.start_corpus;
     file.hunt.shards = setting.shard.count;
     file.hunt.runs = {{setting.shard, o.seed, result.evaluations, result.starts, result.shrink_evaluations,
                        result.seconds, result.disagreements, std::nullopt}};
@@ -190,14 +200,23 @@ hunt_file hunt_file_of(const hunt_result& result, const hunt_setting& setting) {
         c.geometry = geometry;
         return c;
     };
+    const auto start_id = [&](std::uint64_t start_index) {
+        const std::size_t global = setting.shard.global_index(start_index);
+        return setting.start_cases ? (*setting.start_cases)[global % setting.start_cases->size()].id
+                                   : generate_case(setting.family, setting.seed, global).id;
+    };
     for (const hunt_find& f : result.finds) {
         const std::string id = fmt::format("{}-{}", id_stem, file.finds.size() + 1);
-        file.finds.push_back({{setting.shard, o.seed, f.evaluation, f.seconds,
-                               generate_case(setting.family, setting.seed, setting.shard.global_index(f.start_index)).id, f.found_eval.verdict,
-                               f.found_eval.error, f.found_eval.detail, static_cast<std::size_t>(f.found_bits),
-                               f.shrunk_eval.verdict, f.shrunk_eval.error, static_cast<std::size_t>(f.shrunk_bits)},
-                              hunt_case(id, f.shrunk),
-                              hunt_case(id + "-found", f.found)});
+        hunt_find_provenance provenance{setting.shard, o.seed, f.evaluation, f.seconds, start_id(f.start_index),
+                                        f.found_eval.verdict, f.found_eval.error, f.found_eval.detail,
+                                        static_cast<std::size_t>(f.found_bits), f.shrunk_eval.verdict,
+                                        f.shrunk_eval.error, static_cast<std::size_t>(f.shrunk_bits),
+                                        std::nullopt, std::nullopt};
+        if (o.shrink && o.shrink_toward_start) {
+            provenance.inputs_changed = static_cast<std::size_t>(f.inputs_changed);
+            provenance.steps_from_start = f.steps_from_start;
+        }
+        file.finds.push_back({std::move(provenance), hunt_case(id, f.shrunk), hunt_case(id + "-found", f.found)});
     }
     if (const auto& d = result.first_disagreement)
         file.hunt.runs[0].first_disagreement = {d->evaluation, d->found_eval.verdict,

@@ -55,8 +55,10 @@ struct hunt_record {
     hunt_objective objective = hunt_objective::ulp;
     bool rounding_only = false;
     hunt_strategy strategy = hunt_strategy::search;
-    std::string family;
+    std::string family;  // "corpus" when the start cases are the user's
     std::uint64_t seed = 0;
+    // The corpus the start cases came from (hunt --corpus), as given.
+    std::optional<std::string> start_corpus;
     std::size_t shards = 1;  // N
     std::vector<hunt_run> runs;
 };
@@ -75,6 +77,10 @@ struct hunt_find_provenance {
     verdict_kind shrunk_verdict = verdict_kind::agree;
     double shrunk_error = 0;
     std::size_t shrunk_bits = 0;
+    // Shrunk toward its start case (hunt --corpus): how many of the ten
+    // inputs still differ from it, and by how many steps of the precision.
+    std::optional<std::size_t> inputs_changed;
+    std::optional<std::uint64_t> steps_from_start;
 };
 
 struct hunt_file_find {
@@ -103,6 +109,10 @@ struct hunt_setting {
     std::string family;         // the start cases' generator family
     std::uint64_t seed = 0;     // the family's seed (--seed)
     shard_spec shard;
+    // With hunt --corpus: the user's cases the hunt started from (start case
+    // j is the one at the shard's global index j, cycling), and their file.
+    const std::vector<corpus_case>* start_cases = nullptr;
+    std::string start_corpus;
 };
 
 // The file of one hunt (one shard's): its record, with build_json(), and per

@@ -198,8 +198,9 @@ TEST(Generators, CasesAreWellFormed) {
             EXPECT_TRUE(ids.insert(c.id).second);
             EXPECT_EQ(c.family, f.name);
             EXPECT_EQ(c.source, "generated");
-            EXPECT_FALSE(c.tmin.has_value());
-            EXPECT_FALSE(c.tmax.has_value());
+            EXPECT_EQ(c.tmin.has_value(), f.interval);
+            EXPECT_EQ(c.tmax.has_value(), f.interval);
+            if (f.interval) EXPECT_LE(*c.tmin, *c.tmax);
             EXPECT_EQ(validity<double>(c.geometry), invalid_reason::none);
             for (const std::uint64_t word : bits_of(c.geometry))
                 EXPECT_TRUE(std::isfinite(std::bit_cast<double>(word)));
@@ -494,6 +495,94 @@ TEST(Generators, WorldOffsetsReachTheirMagnitudes) {
     for (const corpus_case& c : generate_family("world_offset", 500, oracle_seed))
         largest = std::max(largest, position_range(c.geometry).second);
     EXPECT_GT(largest, 1e11);
+}
+
+}  // namespace
+}  // namespace rayverify
+
+namespace rayverify {
+namespace {
+
+// Steps of T between two values (0: equal).
+template <class T>
+std::uint64_t steps_apart(double a, double b) {
+    const auto index = [](T x) {
+        const auto bits = static_cast<std::int64_t>(std::bit_cast<std::conditional_t<sizeof(T) == 4, std::int32_t, std::int64_t>>(x));
+        return bits < 0 ? -(bits & std::numeric_limits<decltype(bits)>::max()) : bits;
+    };
+    const std::int64_t i = index(static_cast<T>(a)), j = index(static_cast<T>(b));
+    return static_cast<std::uint64_t>(i > j ? i - j : j - i);
+}
+
+// Which exact root an end is on (0 steps), or next to (its steps), in T, when
+// the root is a value of T: the nearest over both roots, else nullopt.
+template <class T>
+std::optional<std::uint64_t> steps_to_exact_root(const exact_solution& s, double end) {
+    std::optional<std::uint64_t> best;
+    for (const root_index k : {root_index::near_root, root_index::far_root}) {
+        const double root = s.root(k).rounded;
+        if (s.compare_to_root(root, k) != comparison::equal) continue;  // not exactly representable
+        const std::uint64_t steps = steps_apart<T>(end, root);
+        if (!best || steps < *best) best = steps;
+    }
+    return best;
+}
+
+// The range-end families are what they say, decided by the oracle: their
+// roots are exact values, an end sits on one or within a step or four of it,
+// and the short casts are zero-length or the shortest nonzero.
+TEST(Generators, RangeEndFamiliesPutTheirEndsOnExactRoots) {
+    for (const auto& [family, in_float] : {std::pair{"range_end", false}, std::pair{"range_end_f32", true}}) {
+        std::array<int, 6> by_steps{};
+        for (const corpus_case& c : generate_family(family, 300, oracle_seed)) {
+            ASSERT_TRUE(c.tmin && c.tmax) << c.id;
+            EXPECT_LE(*c.tmin, *c.tmax) << c.id;
+            const exact_solution s = solve_exact(c.geometry, precision::binary64, c.tmin, c.tmax);
+            ASSERT_TRUE(s.valid()) << c.id;
+            ASSERT_EQ(s.cls, line_class::two_hit) << c.id;
+            std::optional<std::uint64_t> nearest;
+            for (const double end : {*c.tmin, *c.tmax}) {
+                const auto steps = in_float ? steps_to_exact_root<float>(s, end) : steps_to_exact_root<double>(s, end);
+                ASSERT_TRUE(steps) << c.id << ": the roots are not exact values";
+                if (!nearest || *steps < *nearest) nearest = steps;
+            }
+            ASSERT_LE(*nearest, 4u) << c.id;
+            ++by_steps[*nearest];
+        }
+        // Ends on a root, one step off, and straddles, each well represented.
+        EXPECT_GT(by_steps[0], 60) << family;
+        EXPECT_GT(by_steps[1], 60) << family;
+        EXPECT_GT(by_steps[2] + by_steps[3] + by_steps[4], 20) << family;
+    }
+    int zero_length = 0, shortest = 0;
+    for (const corpus_case& c : generate_family("short_cast", 300, oracle_seed)) {
+        ASSERT_TRUE(c.tmin && c.tmax) << c.id;
+        const exact_solution s = solve_exact(c.geometry, precision::binary64, c.tmin, c.tmax);
+        ASSERT_TRUE(s.valid()) << c.id;
+        ASSERT_EQ(s.cls, line_class::two_hit) << c.id;
+        if (*c.tmin == *c.tmax) {
+            ++zero_length;
+            continue;
+        }
+        const double length = *c.tmax - *c.tmin;
+        EXPECT_TRUE(length <= 4 * std::numeric_limits<double>::denorm_min() ||
+                    *c.tmax == std::nextafter(*c.tmin, std::numeric_limits<double>::infinity()))
+            << c.id;
+        ++shortest;
+    }
+    EXPECT_GT(zero_length, 100);
+    EXPECT_GT(shortest, 100);
+    // Grazing casts end at the tangent point of a tangent line, or one step from it.
+    int tangent = 0;
+    for (const corpus_case& c : generate_family("grazing_end", 300, oracle_seed)) {
+        ASSERT_TRUE(c.tmin && c.tmax) << c.id;
+        const exact_solution s = solve_exact(c.geometry, precision::binary64, c.tmin, c.tmax);
+        ASSERT_TRUE(s.valid()) << c.id;
+        if (s.cls != line_class::tangent) continue;
+        ++tangent;
+        EXPECT_LE(*steps_to_exact_root<double>(s, *c.tmax), 1u) << c.id;
+    }
+    EXPECT_GT(tangent, 60);
 }
 
 }  // namespace

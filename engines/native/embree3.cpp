@@ -37,10 +37,13 @@
 //
 // A ray Embree refuses: Debian's libembree3 is built with assertions on, and
 // rtcIntersect1 asserts ray.valid() (kernels/common/ray.h: every |org| and
-// |dir| coordinate <= FLT_LARGE = 1.844e18, tnear and tfar not NaN), which
-// aborts the program. The plugin makes the same test first and, for a ray
-// that would fail it, leaves the answer as rayverify handed it over (count
-// -1): the verdict malformed_output says "the library does not answer this".
+// |dir| coordinate <= FLT_LARGE = 1.844e18, tnear and tfar not NaN) and,
+// in the BVH traversal (kernels/bvh/bvh_intersector1.cpp), tnear >= 0: a
+// negative tnear (an interval that starts behind the origin, as the
+// range-end families give) aborts the program. The plugin makes the same
+// tests first and, for a ray that would fail them, leaves the answer as
+// rayverify handed it over (count -1): the verdict malformed_output says
+// "the library does not answer this".
 //
 // Cost: one sphere per case means one vertex update per case:
 // rtcUpdateGeometryBuffer + rtcCommitGeometry + rtcCommitScene, a BVH
@@ -208,13 +211,14 @@ device_setup choose_device() {
     return out;
 }
 
-// Embree's ray.valid() (kernels/common/ray.h), which its rtcIntersect1 asserts.
+// Embree's ray.valid() (kernels/common/ray.h) and tnear >= 0
+// (kernels/bvh/bvh_intersector1.cpp), which its rtcIntersect1 asserts.
 constexpr float embree_flt_large = 1.844E18f;
 bool embree_accepts(const rayverify_case_float& k) {
     for (int axis = 0; axis < 3; ++axis)
         if (!(std::fabs(k.origin[axis]) <= embree_flt_large) || !(std::fabs(k.direction[axis]) <= embree_flt_large))
             return false;
-    return !std::isnan(k.tmin) && !std::isnan(k.tmax);
+    return !std::isnan(k.tmin) && !std::isnan(k.tmax) && k.tmin >= 0.0f;
 }
 
 void report_error(void*, RTCError code, const char* message) {

@@ -609,9 +609,163 @@ ray_sphere<double> make_secondary_ray(random_source& g) {
 }
 
 // ---------------------------------------------------------------------------
+// Casts with range ends: a line with two roots that are exact integers ×
+// 2^k, and an interval whose ends sit on them, one ulp off, around them or
+// at no distance from each other. Exact by construction, in float too.
+
+// A family's case: the ray and the sphere, and the interval when the family gives one.
+struct generated_cast {
+    ray_sphere<double> geometry;
+    std::optional<double> tmin{}, tmax{};
+};
+
+// u² + v² = w² with small legs (m ≤ 8, no multiple): every input of a chord
+// construction then stays below 2^24, exact in float.
+triple small_triple(random_source& g) {
+    const std::int64_t m = g.integer(2, 8);
+    const std::int64_t n = g.integer(1, m - 1);
+    triple t{m * m - n * n, 2 * m * n, m * m + n * n};
+    if (g.coin()) std::swap(t.u, t.v);
+    return t;
+}
+
+// A line meeting the sphere at two exact parameters, in integers: a
+// direction d with integer length w_d (±e_a, or a triple's legs in a
+// coordinate plane), a unit of length w_d perpendicular to it, e, and a
+// triple (P, Q, R): the line passes P·e from c, the sphere has radius R·w_d,
+// so the half chord is Q·w_d = Q·|d| and the roots are t_mid ∓ Q. Inputs are
+// these integers × 2^k (d unscaled), the roots (t_mid ∓ Q)·2^k.
+struct chord_construction {
+    i3 centre{}, perpendicular{}, direction{};
+    std::int64_t radius = 0, t_mid = 0, half = 0;
+    int k = 0;
+
+    ray_sphere<double> geometry() const {
+        const i3 origin = add(add(centre, perpendicular), scaled(-t_mid, direction));
+        return {dyadic(origin, k), dyadic(direction, 0), dyadic(centre, k),
+                std::ldexp(static_cast<double>(radius), k)};
+    }
+    double root(bool near) const { return std::ldexp(static_cast<double>(near ? t_mid - half : t_mid + half), k); }
+};
+
+// `origin_on_surface`: t_mid = ±Q, so that one root is exactly 0 (the cast starts on the surface).
+chord_construction make_chord(random_source& g, bool origin_on_surface) {
+    chord_construction c;
+    c.k = static_cast<int>(g.integer(-12, 12));
+    c.centre = {g.integer(-1024, 1024), g.integer(-1024, 1024), g.integer(-1024, 1024)};
+    const int axis = static_cast<int>(g.integer(0, 2));
+    const int next = (axis + 1) % 3, last = (axis + 2) % 3;
+    std::int64_t length = 1;
+    i3 unit_across{};
+    if (g.coin()) {
+        c.direction[axis] = g.coin() ? 1 : -1;
+        unit_across[next] = g.coin() ? 1 : -1;
+    } else {
+        const triple d = small_triple(g);
+        c.direction[axis] = g.coin() ? d.u : -d.u;
+        c.direction[next] = g.coin() ? d.v : -d.v;
+        length = d.w;
+        // (−d_next, d_axis, 0) or the third axis times w_d: both ⟂ d, both of length w_d.
+        if (g.coin()) {
+            unit_across[axis] = -c.direction[next];
+            unit_across[next] = c.direction[axis];
+        } else {
+            unit_across[last] = g.coin() ? d.w : -d.w;
+        }
+    }
+    const triple chord = small_triple(g);
+    c.perpendicular = scaled(chord.u, unit_across);
+    c.radius = chord.w * length;
+    c.half = chord.v;
+    c.t_mid = origin_on_surface ? (g.coin() ? chord.v : -chord.v) : g.integer(-4 * chord.w, 4 * chord.w);
+    return c;
+}
+
+// x moved `steps` ulps of T (up for steps > 0).
+template <class T>
+double ulps_from(double x, int steps) {
+    for (int i = 0; i < std::abs(steps); ++i) x = ulp_step<T>(x, steps > 0);
+    return x;
+}
+
+// An end exactly on a root, one ulp of T inside or outside it, or two ends a
+// few ulps around it (straddling); the other end beyond both roots or between
+// them; a sixth of the casts start on the surface (a root at 0, tmin = 0).
+template <class T>
+generated_cast make_range_end(random_source& g) {
+    const bool on_surface = g.integer(0, 5) == 0;
+    const chord_construction c = make_chord(g, on_surface);
+    const double near = c.root(true), far = c.root(false), span = far - near;
+    generated_cast out{c.geometry()};
+    if (on_surface) {
+        out.tmin = 0.0;
+        out.tmax = ulps_from<T>(near == 0 ? far : span, static_cast<int>(g.integer(-1, 1)));
+        return out;
+    }
+    const bool at_near = g.coin();
+    const double root = at_near ? near : far;
+    switch (g.integer(0, 2)) {
+        case 0: {  // the upper end on the root, or one ulp off
+            out.tmax = ulps_from<T>(root, static_cast<int>(g.integer(-1, 1)));
+            out.tmin = at_near || g.coin() ? near - span : near + span / 2;
+            break;
+        }
+        case 1: {  // the lower end on the root, or one ulp off
+            out.tmin = ulps_from<T>(root, static_cast<int>(g.integer(-1, 1)));
+            out.tmax = !at_near || g.coin() ? far + span : near + span / 2;
+            break;
+        }
+        default: {  // both ends within four ulps of the root, on either side
+            const int below = static_cast<int>(g.integer(1, 4));
+            const int above = static_cast<int>(g.integer(1, 4));
+            out.tmin = ulps_from<T>(root, -below);
+            out.tmax = ulps_from<T>(root, above);
+        }
+    }
+    return out;
+}
+
+// A tangent_exact line, or one moved one double ulp off tangency (r up or
+// down), cast up to its tangent point: the upper end exactly at t_tan, or
+// one ulp before or after it; the lower end 2^k before t_tan, or at 0 when
+// that is earlier still.
+generated_cast make_grazing_end(random_source& g) {
+    const tangent_construction c = make_tangent(g);
+    ray_sphere<double> geometry = c.geometry();
+    const std::int64_t nudge = g.integer(-1, 1);
+    if (nudge != 0) geometry.radius = ulp_step<double>(geometry.radius, nudge > 0);
+    const double tangent_point = std::ldexp(static_cast<double>(c.t), c.k);
+    generated_cast out{geometry};
+    out.tmax = ulps_from<double>(tangent_point, static_cast<int>(g.integer(-1, 1)));
+    const double before = tangent_point - std::ldexp(1.0, c.k);  // (t − 1)·2^k, exact
+    out.tmin = g.coin() ? std::min(0.0, before) : before;
+    return out;
+}
+
+// Casts of zero or subnormal length: tmin = tmax on a root, between the
+// roots or outside them; or tmax = tmin + j·2^-1074, j in [1, 4], from a root
+// (a cast starting on the surface when the root is 0) or from just before it.
+generated_cast make_short_cast(random_source& g) {
+    const chord_construction c = make_chord(g, g.integer(0, 3) == 0);
+    const double near = c.root(true), far = c.root(false), span = far - near;
+    generated_cast out{c.geometry()};
+    const double places[] = {near, far, near + span / 2, near - span, far + span};
+    const double at = places[g.integer(0, 4)];
+    if (g.coin()) {
+        out.tmin = out.tmax = at;
+    } else {
+        const double start = g.coin() ? at : ulp_step<double>(at, false);
+        out.tmin = start;
+        out.tmax = start + static_cast<double>(g.integer(1, 4)) * std::numeric_limits<double>::denorm_min();
+        if (*out.tmax == start) out.tmax = ulp_step<double>(start, true);  // beyond the subnormal range: one ulp
+    }
+    return out;
+}
+
+// ---------------------------------------------------------------------------
 // The table.
 
-constexpr std::array<family_info, 30> families{{
+constexpr std::array<family_info, 34> families{{
     {"uniform",
      "baseline: o, c uniform in [-10,10]^3, r uniform in [0.1,5], unit d aimed at a uniform "
      "point of the ball of radius 2r around c (hits and misses, origin sometimes inside)",
@@ -721,40 +875,70 @@ constexpr std::array<family_info, 30> families{{
      "secondary_ray with the primary hit point computed in FLOAT: the float self-intersection case, "
      "float-exact",
      class_claim::two_hit, false, true},
+    {"range_end",
+     "casts whose interval ends on the sphere: two exact roots (integers x 2^k on an axis or a "
+     "Pythagorean direction, a triple's chord); tmax or tmin exactly on a root or one double ulp "
+     "off, or both within 4 ulps around it (straddling); a sixth start on the surface (root 0, "
+     "tmin = 0); float-exact inputs, double ends",
+     class_claim::two_hit, false, true, true},
+    {"range_end_f32",
+     "range_end with the ends one FLOAT ulp off (or within 4 float ulps): ends and inputs float-exact",
+     class_claim::two_hit, false, true, true},
+    {"grazing_end",
+     "a tangent_exact line (or one moved one double ulp off tangency by r) cast up to its tangent "
+     "point: tmax exactly at t_tan or one ulp before or after it",
+     class_claim::any, false, false, true},
+    {"short_cast",
+     "zero-length casts (tmin = tmax on a root, between or outside the roots) and the shortest "
+     "nonzero ones (tmax = tmin + j*2^-1074 from a root or one ulp before it: subnormal-length from a "
+     "root at 0, one ulp from any other; a quarter start on the surface); float-exact inputs, double ends",
+     class_claim::two_hit, false, true, true},
 }};
 
-using maker = ray_sphere<double> (*)(random_source&);
+ray_sphere<double> make_uniform_f32(random_source& g) { return exactly_in<float>(make_uniform(g)); }
+
+// A family that makes rays without an interval, as a maker of casts.
+template <ray_sphere<double> (*make)(random_source&)>
+generated_cast ray_only(random_source& g) {
+    return {make(g)};
+}
+
+using maker = generated_cast (*)(random_source&);
 constexpr std::array<maker, families.size()> makers{
-    make_uniform,
-    make_tangent_exact,
-    make_near_tangent,
-    make_far_sphere,
-    make_on_surface,
-    make_inside,
-    make_near_tangent_hit<double>,
-    make_near_tangent_miss<double>,
-    make_tangent_closest,
-    make_behind<double>,
-    make_far_sphere_wide<double>,
-    make_tiny_sphere<double>,
-    make_ground_plane<double>,
-    make_world_offset<double>,
-    make_scaled_direction<double>,
-    make_near_overflow<double>,
-    make_subnormal<double>,
-    make_secondary_ray<double>,
-    [](random_source& g) { return exactly_in<float>(make_uniform(g)); },
-    make_near_tangent_hit<float>,
-    make_near_tangent_miss<float>,
-    make_behind<float>,
-    make_far_sphere_wide<float>,
-    make_tiny_sphere<float>,
-    make_ground_plane<float>,
-    make_world_offset<float>,
-    make_scaled_direction<float>,
-    make_near_overflow<float>,
-    make_subnormal<float>,
-    make_secondary_ray<float>,
+    ray_only<make_uniform>,
+    ray_only<make_tangent_exact>,
+    ray_only<make_near_tangent>,
+    ray_only<make_far_sphere>,
+    ray_only<make_on_surface>,
+    ray_only<make_inside>,
+    ray_only<make_near_tangent_hit<double>>,
+    ray_only<make_near_tangent_miss<double>>,
+    ray_only<make_tangent_closest>,
+    ray_only<make_behind<double>>,
+    ray_only<make_far_sphere_wide<double>>,
+    ray_only<make_tiny_sphere<double>>,
+    ray_only<make_ground_plane<double>>,
+    ray_only<make_world_offset<double>>,
+    ray_only<make_scaled_direction<double>>,
+    ray_only<make_near_overflow<double>>,
+    ray_only<make_subnormal<double>>,
+    ray_only<make_secondary_ray<double>>,
+    ray_only<make_uniform_f32>,
+    ray_only<make_near_tangent_hit<float>>,
+    ray_only<make_near_tangent_miss<float>>,
+    ray_only<make_behind<float>>,
+    ray_only<make_far_sphere_wide<float>>,
+    ray_only<make_tiny_sphere<float>>,
+    ray_only<make_ground_plane<float>>,
+    ray_only<make_world_offset<float>>,
+    ray_only<make_scaled_direction<float>>,
+    ray_only<make_near_overflow<float>>,
+    ray_only<make_subnormal<float>>,
+    ray_only<make_secondary_ray<float>>,
+    make_range_end<double>,
+    make_range_end<float>,
+    make_grazing_end,
+    make_short_cast,
 };
 
 std::string case_id(std::string_view family, std::uint64_t seed, std::size_t index) {
@@ -806,7 +990,10 @@ corpus_case make_case(const family_info& info, std::uint64_t seed, std::size_t i
     corpus_case c;
     c.id = case_id(info.name, seed, index);
     c.family = std::string(info.name);
-    c.geometry = make(g);
+    const generated_cast made = make(g);
+    c.geometry = made.geometry;
+    c.tmin = made.tmin;
+    c.tmax = made.tmax;
     c.source = "generated";
     return c;
 }

@@ -31,6 +31,7 @@ struct family_info {
     class_claim claim;
     bool unit_direction;  // every direction is normalised in double (|d·d − 1| ≤ 2^-51)
     bool float_exact = false;  // every input is exactly a float: float variants see the case itself
+    bool interval = false;     // every case has an interval (tmin, tmax): the range-end families
     int version = 1;           // bumped whenever the family's output for a (seed, index) changes
 };
 
@@ -41,7 +42,8 @@ std::span<const family_info> generator_families();
 const family_info* find_generator_family(std::string_view name);
 
 // `count` cases of `family`. Case i has id "<family>-<seed>-<i as 6 digits>",
-// source "generated", no interval, and is the same whatever `count` is.
+// source "generated", an interval where its family_info says so (the
+// range-end families), and is the same whatever `count` is.
 // Throws input_error (field "family") for an unknown family.
 std::vector<corpus_case> generate_family(std::string_view family, std::size_t count,
                                          std::uint64_t seed);

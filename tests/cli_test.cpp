@@ -176,6 +176,20 @@ TEST_F(Cli, AccuracyClauseMakesTheFarAgreementsImprecise) {
     }
     EXPECT_GT(imprecise, 0u);  // naive/float grazes far spheres several radii off
     EXPECT_NE(strict.output.find(" imprec "), std::string::npos);
+    // Scenes judge each ray under the clause too: robust_sphere.h's correctly
+    // rounded hits are within an ulp, naive's float hits often are not.
+    const command_result scene = run_cli("audit --scene " + std::string(RAYVERIFY_SOURCE_DIR) +
+                                         "/corpus/scenes/secondary_self_hit.json --variant naive --variant "
+                                         "robust_nearest --accuracy ulp:1 --report " + (dir_ / "scene").string());
+    ASSERT_EQ(scene.exit_code, 1) << scene.output;
+    const auto scene_report = nlohmann::json::parse(read_text(dir_ / "scene" / "scene_report.json"));
+    for (const auto& target : scene_report["targets"]) {
+        const std::size_t scene_imprecise = target["primary"]["verdicts"]["imprecise"];
+        if (target["target"] == "robust_nearest/float")
+            EXPECT_EQ(scene_imprecise, 0u);
+        else
+            EXPECT_GT(scene_imprecise, 0u) << target["target"];
+    }
     // A clause that cannot be read: exit 2 naming it, no report.
     for (const char* bad : {"radius:-1", "radius:nan", "furlong:1", "ulp"}) {
         const command_result r = run_cli(run + " --accuracy " + bad + " --report " + (dir_ / "bad").string());

@@ -241,6 +241,12 @@ TEST_F(Cli, HuntStartsFromTheUsersCorpus) {
     EXPECT_NE(finds.find("\"start_corpus\":\"" + corpus.string() + "\""), std::string::npos) << finds;
     EXPECT_NE(finds.find("\"start\":\"mine-"), std::string::npos) << finds;
     EXPECT_NE(finds.find("shrunk toward mine-"), std::string::npos) << finds;
+    // Under an accuracy no rounded root meets (distance:0), the first hit is a find: imprecise.
+    const command_result strict = run_cli("hunt --variant naive --precision float --objective misclass --finds 1 "
+                                          "--accuracy distance:0 --evaluations 200 --seconds 0 -o " +
+                                          (dir_ / "strict.txt").string());
+    ASSERT_EQ(strict.exit_code, 1) << strict.output;
+    EXPECT_NE(read_text(dir_ / "strict.txt").find("\"verdict\":\"imprecise\""), std::string::npos) << strict.output;
     const command_result both = run_cli(hunt + " --family uniform");
     EXPECT_EQ(both.exit_code, 2);
     EXPECT_NE(both.output.find("field '--corpus'"), std::string::npos) << both.output;

@@ -31,6 +31,7 @@ struct hunt_command_options {
     bool family_given = false;
     // The user's own cases the searches start from (--corpus), instead of a family's.
     std::vector<std::string> corpus;
+    std::string accuracy;  // --accuracy: the contract's accuracy clause for the target
     double budget = 10;
     std::uint64_t evaluations = 0;
     std::string objective = "ulp";
@@ -100,6 +101,7 @@ audit_target hunt_target(const hunt_command_options& o, const std::optional<libr
     if (in_double != targets.end()) std::swap(targets.front(), *in_double);
     targets.erase(targets.begin() + 1, targets.end());
     if (library) targets.front().subject.library = library;
+    require_clauses(targets.front(), o.accuracy, {});
     check_fp_environment_targets(o.isolation.environment, targets);
     return targets.front();
 }
@@ -331,6 +333,10 @@ command add_hunt_command(CLI::App& app, const std::string& command_line) {
     sub->add_option("--family", o->family, "Generator family the searches start from")
         ->capture_default_str()
         ->each([o](const std::string&) { o->family_given = true; });
+    sub->add_option("--accuracy", o->accuracy,
+                    "The accuracy the target's answers must have (ulp:N, radius:X or distance:X, the contract's "
+                    "accuracy clause): under --objective misclass an answer farther from its root is a find "
+                    "(`imprecise`)");
     sub->add_option("--corpus", o->corpus,
                     "Start from your own cases instead of a family's (corpus files or directories, repeatable): "
                     "start case j is the file's case j, cycling, and each find is shrunk toward the case it was "

@@ -336,19 +336,24 @@ std::vector<audit_target> targets_with_results(const std::vector<std::string>& v
     return targets;
 }
 
-void require_clauses(std::vector<audit_target>& targets, const results_options& options) {
-    if (!options.accuracy.empty()) {
-        accuracy_requirement required;
+void require_clauses(audit_target& target, const std::string& accuracy, const std::string& degenerate) {
+    contract& promises = target.subject.promises;
+    if (!accuracy.empty() && promises.query != query_kind::any_hit) {
         try {
-            required = parse_accuracy(options.accuracy);
+            promises.accuracy = parse_accuracy(accuracy);
         } catch (const std::invalid_argument& e) {
             throw input_error("", 0, "--accuracy", e.what());
         }
-        for (audit_target& t : targets)
-            if (t.subject.promises.query != query_kind::any_hit) t.subject.promises.accuracy = required;
     }
-    if (!options.degenerate.empty())
-        for (audit_target& t : targets) t.subject.promises.degenerate_is_miss = options.degenerate == "miss";
+    if (!degenerate.empty()) promises.degenerate_is_miss = degenerate == "miss";
+}
+
+void require_clauses(std::vector<audit_target>& targets, const results_options& options) {
+    if (!options.accuracy.empty()) {
+        audit_target checked;  // a malformed clause is an error even with no target that takes it
+        require_clauses(checked, options.accuracy, {});
+    }
+    for (audit_target& t : targets) require_clauses(t, options.accuracy, options.degenerate);
 }
 
 void finish_outside_answers(const std::vector<audit_target>& targets) {

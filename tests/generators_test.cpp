@@ -15,6 +15,7 @@
 #include <set>
 #include <string>
 
+#include "core/float_bits.h"
 #include "core/hash.h"
 #include "core/input_error.h"
 #include "corpus/mersenne_twister.h"
@@ -503,17 +504,6 @@ TEST(Generators, WorldOffsetsReachTheirMagnitudes) {
 namespace rayverify {
 namespace {
 
-// Steps of T between two values (0: equal).
-template <class T>
-std::uint64_t steps_apart(double a, double b) {
-    const auto index = [](T x) {
-        const auto bits = static_cast<std::int64_t>(std::bit_cast<std::conditional_t<sizeof(T) == 4, std::int32_t, std::int64_t>>(x));
-        return bits < 0 ? -(bits & std::numeric_limits<decltype(bits)>::max()) : bits;
-    };
-    const std::int64_t i = index(static_cast<T>(a)), j = index(static_cast<T>(b));
-    return static_cast<std::uint64_t>(i > j ? i - j : j - i);
-}
-
 // Which exact root an end is on (0 steps), or next to (its steps), in T, when
 // the root is a value of T: the nearest over both roots, else nullopt.
 template <class T>
@@ -522,7 +512,7 @@ std::optional<std::uint64_t> steps_to_exact_root(const exact_solution& s, double
     for (const root_index k : {root_index::near_root, root_index::far_root}) {
         const double root = s.root(k).rounded;
         if (s.compare_to_root(root, k) != comparison::equal) continue;  // not exactly representable
-        const std::uint64_t steps = steps_apart<T>(end, root);
+        const std::uint64_t steps = ulps_between<T>(static_cast<T>(end), static_cast<T>(root));
         if (!best || steps < *best) best = steps;
     }
     return best;

@@ -516,6 +516,15 @@ private:
         }
     }
 
+    // `steps` up (or down) as step_in takes them, at most 2^63 − 1 of them
+    // (two doubles of opposite signs can be further apart; a bisection then
+    // starts from the nearer half).
+    static std::int64_t signed_steps(std::uint64_t steps, bool up) {
+        const auto most = static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max());
+        const auto magnitude = static_cast<std::int64_t>(std::min(steps, most));
+        return up ? magnitude : -magnitude;
+    }
+
     // Steps of the precision between two inputs.
     std::uint64_t steps_between(double a, double b) const {
         return with_precision(target_.prec, [&]<class T>(std::type_identity<T>) {
@@ -564,11 +573,11 @@ private:
                     continue;
                 }
                 // The failing value nearest the start: between `from` (passes) and `now` (fails).
-                const std::int64_t toward_now = now > from ? 1 : -1;
+                const bool now_above = now > from;
                 std::uint64_t passing = 0, failing = steps_between(from, now);
                 while (failing - passing > 1 && budget > 0) {
                     const std::uint64_t middle = passing + (failing - passing) / 2;
-                    input_at(t, i) = step_in(target_.prec, from, toward_now * static_cast<std::int64_t>(middle));
+                    input_at(t, i) = step_in(target_.prec, from, signed_steps(middle, now_above));
                     if (fails_same(t)) {
                         failing = middle;
                         changed = true;
@@ -591,8 +600,7 @@ private:
                 const std::uint64_t apart = steps_between(from, now);
                 if (apart == 0) continue;
                 const std::uint64_t size = std::uint64_t{1} << random_.below(static_cast<std::uint64_t>(std::bit_width(apart)));
-                const std::int64_t toward_start = now > from ? -1 : 1;
-                input_at(t, i) = step_in(target_.prec, now, toward_start * static_cast<std::int64_t>(std::min(size, apart)));
+                input_at(t, i) = step_in(target_.prec, now, signed_steps(std::min(size, apart), now < from));
             }
             if (fails_same(t)) stale = 0;
         }

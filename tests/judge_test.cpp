@@ -831,7 +831,9 @@ TEST(Degenerate, CastsAreHandedOverOnlyUnderTheClause) {
         EXPECT_EQ(hit.score.verdict, verdict_kind::degenerate_hit) << invalid_reason_name(exact.invalid);
         EXPECT_NE(hit.score.detail.find(invalid_reason_name(exact.invalid)), std::string::npos) << hit.score.detail;
         EXPECT_EQ(judge_target(target_of(asks, {0, nan, nan}), c, exact).score.verdict, verdict_kind::agree);
-        EXPECT_EQ(judge_target(target_of(asks, {-1, 0, 0}), c, exact).score.verdict, verdict_kind::degenerate_hit);
+        const target_outcome unanswered = judge_target(target_of(asks, {-1, 0, 0}), c, exact);
+        EXPECT_EQ(unanswered.score.verdict, verdict_kind::degenerate_hit);
+        EXPECT_NE(unanswered.score.detail.find("no answer"), std::string::npos) << unanswered.score.detail;
         EXPECT_TRUE(run_input<double>(target_of(asks, {0, 0, 0}), c));
     }
     // A negative radius is the sphere's fault: invalid under the clause too.

@@ -1075,6 +1075,11 @@ bool runs_degenerate(const contract& promises, const exact_solution& exact) {
 case_score judge_degenerate(const variant_output& output, invalid_reason why) {
     case_score s;
     if (output.roots.count == 0) return s;
+    if (output.roots.count < 0)
+        return disagreement(s, verdict_kind::degenerate_hit,
+                            fmt::format("degenerate cast ({}): no answer (count {}), where degenerate=miss asks for "
+                                        "a miss",
+                                        invalid_reason_name(why), output.roots.count));
     return disagreement(s, verdict_kind::degenerate_hit,
                         fmt::format("degenerate cast ({}): answered count {}, t0 = {}, t1 = {}, where degenerate=miss "
                                     "asks for a miss",

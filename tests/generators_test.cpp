@@ -201,7 +201,9 @@ TEST(Generators, CasesAreWellFormed) {
             EXPECT_EQ(c.source, "generated");
             EXPECT_EQ(c.tmin.has_value(), f.interval);
             EXPECT_EQ(c.tmax.has_value(), f.interval);
-            if (f.interval) EXPECT_LE(*c.tmin, *c.tmax);
+            if (f.interval) {
+                EXPECT_LE(*c.tmin, *c.tmax);
+            }
             EXPECT_EQ(validity<double>(c.geometry), invalid_reason::none);
             for (const std::uint64_t word : bits_of(c.geometry))
                 EXPECT_TRUE(std::isfinite(std::bit_cast<double>(word)));

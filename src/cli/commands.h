@@ -82,8 +82,8 @@ struct results_options {
 // any_hit), `--degenerate` for all; nothing for an option not given. A
 // malformed clause is an input error naming the option.
 void require_clauses(std::vector<audit_target>& targets, const results_options& options);
-// The same for one target and the two options' texts (empty: not given).
-void require_clauses(audit_target& target, const std::string& accuracy, const std::string& degenerate);
+// The same from the two options' texts (empty: not given).
+void require_clauses(std::span<audit_target> targets, const std::string& accuracy, const std::string& degenerate);
 
 // `audit --scene FILE` (cli/scene_audit.cpp), called by the audit command.
 struct scene_audit_request {

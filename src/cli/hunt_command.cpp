@@ -101,7 +101,7 @@ audit_target hunt_target(const hunt_command_options& o, const std::optional<libr
     if (in_double != targets.end()) std::swap(targets.front(), *in_double);
     targets.erase(targets.begin() + 1, targets.end());
     if (library) targets.front().subject.library = library;
-    require_clauses(targets.front(), o.accuracy, {});
+    require_clauses(std::span(targets.begin(), 1), o.accuracy, {});
     check_fp_environment_targets(o.isolation.environment, targets);
     return targets.front();
 }
@@ -264,9 +264,10 @@ int run(const hunt_command_options& given, const std::string& command_line) {
 
     std::string shard_note;
     if (shard.count > 1) shard_note = fmt::format(", shard {} (search seed {})", shard.text(), options.seed);
+    const std::string start_corpus = fmt::format("{}", fmt::join(o.corpus, " "));
     const std::string starts =
         user_cases.empty() ? fmt::format("family {}, seed {}", family_name, o.seed)
-                           : fmt::format("{} start cases from {}, seed {}", user_cases.size(), fmt::join(o.corpus, " "), o.seed);
+                           : fmt::format("{} start cases from {}, seed {}", user_cases.size(), start_corpus, o.seed);
     fmt::print("hunt {} ({} objective{}, {} strategy, {}{}): {} evaluations, {} starts, {:.2f} s\n", target.label(),
                o.objective,
                o.cause == "algorithmic"                   ? ", algorithmic causes only"
@@ -278,7 +279,7 @@ int run(const hunt_command_options& given, const std::string& command_line) {
     hunt_setting setting{recorded_command(command_line), &target, options, family_name, o.seed, shard, nullptr, {}};
     if (!user_cases.empty()) {
         setting.start_cases = &user_cases;
-        setting.start_corpus = fmt::format("{}", fmt::join(o.corpus, " "));
+        setting.start_corpus = start_corpus;
     }
     const hunt_file file = hunt_file_of(result, setting);
     print_finds(result, file, options);

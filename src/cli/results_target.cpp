@@ -336,24 +336,24 @@ std::vector<audit_target> targets_with_results(const std::vector<std::string>& v
     return targets;
 }
 
-void require_clauses(audit_target& target, const std::string& accuracy, const std::string& degenerate) {
-    contract& promises = target.subject.promises;
-    if (!accuracy.empty() && promises.query != query_kind::any_hit) {
+void require_clauses(std::span<audit_target> targets, const std::string& accuracy, const std::string& degenerate) {
+    std::optional<accuracy_requirement> required;
+    if (!accuracy.empty()) {
         try {
-            promises.accuracy = parse_accuracy(accuracy);
+            required = parse_accuracy(accuracy);
         } catch (const std::invalid_argument& e) {
             throw input_error("", 0, "--accuracy", e.what());
         }
     }
-    if (!degenerate.empty()) promises.degenerate_is_miss = degenerate == "miss";
+    for (audit_target& t : targets) {
+        contract& promises = t.subject.promises;
+        if (required && promises.query != query_kind::any_hit) promises.accuracy = *required;
+        if (!degenerate.empty()) promises.degenerate_is_miss = degenerate == "miss";
+    }
 }
 
 void require_clauses(std::vector<audit_target>& targets, const results_options& options) {
-    if (!options.accuracy.empty()) {
-        audit_target checked;  // a malformed clause is an error even with no target that takes it
-        require_clauses(checked, options.accuracy, {});
-    }
-    for (audit_target& t : targets) require_clauses(t, options.accuracy, options.degenerate);
+    require_clauses(targets, options.accuracy, options.degenerate);
 }
 
 void finish_outside_answers(const std::vector<audit_target>& targets) {

@@ -525,13 +525,6 @@ private:
         return up ? magnitude : -magnitude;
     }
 
-    // Steps of the precision between two inputs.
-    std::uint64_t steps_between(double a, double b) const {
-        return with_precision(target_.prec, [&]<class T>(std::type_identity<T>) {
-            return ulps_between<T>(static_cast<T>(a), static_cast<T>(b));
-        });
-    }
-
     // Greedy shrinking toward the start case: each input that differs from
     // the start's is set back to it, or else moved as near it as keeps the
     // failure (a bisection on the steps between them); repeated until
@@ -541,7 +534,8 @@ private:
         const ray_sphere<double> origin_case = rounded_in(target_.prec, start_(f.start_index));
         const auto distance = [&](const ray_sphere<double>& g) {
             std::uint64_t steps = 0;
-            for (int i = 0; i < 10; ++i) steps += steps_between(input_at(g, i), input_at(origin_case, i));
+            for (int i = 0; i < 10; ++i)
+                steps += ulps_between_in(target_.prec, input_at(g, i), input_at(origin_case, i));
             return steps;
         };
         std::uint64_t budget = options_.shrink_evaluations;
@@ -574,7 +568,7 @@ private:
                 }
                 // The failing value nearest the start: between `from` (passes) and `now` (fails).
                 const bool now_above = now > from;
-                std::uint64_t passing = 0, failing = steps_between(from, now);
+                std::uint64_t passing = 0, failing = ulps_between_in(target_.prec, from, now);
                 while (failing - passing > 1 && budget > 0) {
                     const std::uint64_t middle = passing + (failing - passing) / 2;
                     input_at(t, i) = step_in(target_.prec, from, signed_steps(middle, now_above));
@@ -597,9 +591,10 @@ private:
             for (std::uint64_t m = 0; m < moves; ++m) {
                 const int i = static_cast<int>(random_.below(10));
                 const double from = input_at(origin_case, i), now = input_at(t, i);
-                const std::uint64_t apart = steps_between(from, now);
+                const std::uint64_t apart = ulps_between_in(target_.prec, from, now);
                 if (apart == 0) continue;
-                const std::uint64_t size = std::uint64_t{1} << random_.below(static_cast<std::uint64_t>(std::bit_width(apart)));
+                const std::uint64_t size =
+                    std::uint64_t{1} << random_.below(static_cast<std::uint64_t>(std::bit_width(apart)));
                 input_at(t, i) = step_in(target_.prec, now, signed_steps(std::min(size, apart), now < from));
             }
             if (fails_same(t)) stale = 0;

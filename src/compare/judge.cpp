@@ -321,10 +321,6 @@ void add_recorded_outputs(variant_output& out, const recorded_answer* r) {
 
 namespace {
 
-std::uint64_t ulps_between_in(precision p, double a, double b) {
-    return with_precision(p, [&]<class T>(std::type_identity<T>) { return ulps_between(static_cast<T>(a), static_cast<T>(b)); });
-}
-
 double ulp_of_in(precision p, double x) {
     return with_precision(p, [&]<class T>(std::type_identity<T>) { return static_cast<double>(ulp_of(static_cast<T>(x))); });
 }
@@ -1071,10 +1067,13 @@ bool runs_degenerate(const contract& promises, const exact_solution& exact) {
 }
 
 // The verdict on a degenerate cast: a miss (count 0: the values beside it
-// are unused, as for any miss) agrees; anything else is degenerate_hit.
+// are unused, as for any miss) agrees; anything else is degenerate_hit, a
+// defect of the formula's (no rounding explains a hit where there is no
+// geometry).
 case_score judge_degenerate(const variant_output& output, invalid_reason why) {
     case_score s;
     if (output.roots.count == 0) return s;
+    s.cause = disagreement_cause::algorithmic;
     if (output.roots.count < 0)
         return disagreement(s, verdict_kind::degenerate_hit,
                             fmt::format("degenerate cast ({}): no answer (count {}), where degenerate=miss asks for "
@@ -1120,7 +1119,6 @@ target_outcome judge_target_in(const audit_target& target, const corpus_case& c,
         outcome.output.roots = {given_answer.roots.count, static_cast<double>(given_answer.roots.t0),
                                 static_cast<double>(given_answer.roots.t1)};
         outcome.score = judge_degenerate(outcome.output, frame.exact().invalid);
-        if (outcome.score.verdict != verdict_kind::agree) outcome.score.cause = disagreement_cause::algorithmic;
         return outcome;
     }
     outcome.output = widen_answer(promises, given_answer, input, outcome.range);

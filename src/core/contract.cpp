@@ -39,6 +39,14 @@ std::string number_text(double x) {
     return std::string(buffer, end);
 }
 
+// The whole text as a double (std::from_chars), or nullopt; number_text's inverse.
+std::optional<double> number_from_text(std::string_view text) {
+    double x = 0;
+    const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), x);
+    if (error != std::errc{} || end != text.data() + text.size()) return std::nullopt;
+    return x;
+}
+
 // "()", "[]", "[)", "(]": the ends as brackets.
 std::string ends_text(end_kind lower, end_kind upper) {
     return std::string(lower == end_kind::closed ? "[" : "(") + (upper == end_kind::closed ? "]" : ")");
@@ -82,13 +90,11 @@ accuracy_requirement parse_accuracy(std::string_view text) {
     const std::optional<accuracy_unit> unit = value_in(accuracy_unit_names, unit_text);
     if (!unit || *unit == accuracy_unit::none)
         throw fail("unknown unit '" + std::string(unit_text) + "' (units: ulp, radius, distance)");
-    double bound = 0;
-    const auto [end, error] = std::from_chars(bound_text.data(), bound_text.data() + bound_text.size(), bound);
-    if (error != std::errc{} || end != bound_text.data() + bound_text.size())
-        throw fail("the bound '" + std::string(bound_text) + "' is not a number");
-    if (!std::isfinite(bound)) throw fail("the bound is not finite");
-    if (bound < 0) throw fail("the bound is negative");
-    return {*unit, bound};
+    const std::optional<double> bound = number_from_text(bound_text);
+    if (!bound) throw fail("the bound '" + std::string(bound_text) + "' is not a number");
+    if (!std::isfinite(*bound)) throw fail("the bound is not finite");
+    if (*bound < 0) throw fail("the bound is negative");
+    return {*unit, *bound};
 }
 
 std::optional<query_kind> query_kind_from_name(std::string_view name) { return value_in(query_kind_names, name); }
@@ -244,11 +250,9 @@ contract parse_contract(std::string_view spec, contract c) {
         } else if (key == "reports_tangent") {
             c.reports_tangent = yes_no_value(key, value);
         } else if (key == "tangent_threshold") {
-            double x = 0;
-            const auto [end, error] = std::from_chars(value.data(), value.data() + value.size(), x);
-            if (error != std::errc{} || end != value.data() + value.size() || !std::isfinite(x) || x < 0)
-                throw fail(key, value, "a finite number ≥ 0");
-            c.tangent_threshold = x;
+            const std::optional<double> x = number_from_text(value);
+            if (!x || !std::isfinite(*x) || *x < 0) throw fail(key, value, "a finite number ≥ 0");
+            c.tangent_threshold = *x;
         } else if (key == "answer") {
             const auto v = answer_kind_from_name(value);
             if (!v) throw fail(key, value, allowed_names(answer_kind_names));

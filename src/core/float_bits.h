@@ -22,6 +22,8 @@
 #include <limits>
 #include <type_traits>
 
+#include "core/ray_sphere_case.h"
+
 namespace rayverify {
 
 template <class T>
@@ -125,6 +127,12 @@ std::uint64_t ulps_between(T a, T b) {
 // Herbie's "bits of error": log2(1 + ulps between computed and RN(exact)).
 inline double error_bits(std::uint64_t ulps_between_rounded) {
     return std::log2(1.0 + static_cast<double>(ulps_between_rounded));
+}
+
+// ulps_between in precision p, for two values of p carried as doubles.
+inline std::uint64_t ulps_between_in(precision p, double a, double b) {
+    return with_precision(
+        p, [&]<class T>(std::type_identity<T>) { return ulps_between(static_cast<T>(a), static_cast<T>(b)); });
 }
 
 }  // namespace rayverify

@@ -36,6 +36,14 @@ corpus_case case_from_arguments(const std::vector<std::string>& values) {
         std::istringstream words(v);
         for (std::string w; words >> w;) tokens.push_back(w);
     }
+    if (tokens.size() > 2 && tokens[2] == "segment") {
+        // A segment's corpus line, read as a corpus file reads it.
+        std::string line;
+        for (const std::string& t : tokens) line += t + ' ';
+        std::vector<corpus_case> cases = parse_corpus("<command line>", line, false);
+        cases.front().source = "<command line>";
+        return cases.front();
+    }
     corpus_case c;
     c.id = "command-line";
     c.source = "<command line>";
@@ -214,9 +222,15 @@ int run(const explain_options& options) {
     const audited_case audited = audit_case(c, targets);
 
     const auto& g = c.geometry;
-    fmt::print("case {}: o = ({}, {}, {})  d = ({}, {}, {})  c = ({}, {}, {})  r = {}\n", c.id, g.origin.x,
-               g.origin.y, g.origin.z, g.direction.x, g.direction.y, g.direction.z, g.centre.x, g.centre.y,
-               g.centre.z, g.radius);
+    if (c.segment_end)
+        fmt::print("case {}: segment p0 = ({}, {}, {})  p1 = ({}, {}, {})  c = ({}, {}, {})  r = {}  (t is the "
+                   "fraction of p1 - p0, taken exactly)\n",
+                   c.id, g.origin.x, g.origin.y, g.origin.z, c.segment_end->x, c.segment_end->y, c.segment_end->z,
+                   g.centre.x, g.centre.y, g.centre.z, g.radius);
+    else
+        fmt::print("case {}: o = ({}, {}, {})  d = ({}, {}, {})  c = ({}, {}, {})  r = {}\n", c.id, g.origin.x,
+                   g.origin.y, g.origin.z, g.direction.x, g.direction.y, g.direction.z, g.centre.x, g.centre.y,
+                   g.centre.z, g.radius);
     fmt::print("corpus line: {}\n\n", format_case_line(c));
     print_exact("exact, double inputs", audited.exact_double);
     if (audited.exact_float) print_exact("exact, inputs rounded to float", *audited.exact_float);
@@ -249,7 +263,7 @@ int run(const explain_options& options) {
         if (ran && !options.no_steps) {
             const variant_trace* trace = builtin_trace(targets[i]);
             if (!trace)
-                print_derived(o, promises, audited.exact_for(targets[i].prec), c.geometry);
+                print_derived(o, promises, audited.exact_for(targets[i].prec), target_input(targets[i].prec, c));
             else if (targets[i].prec == precision::binary32)
                 print_trace<float>(*trace, trace->in_float, targets[i], c);
             else

@@ -225,6 +225,12 @@ int run(const hunt_command_options& given, const std::string& command_line) {
     const std::string family_name(o.corpus.empty() ? hunt_family(o.family).name : std::string_view("corpus"));
     std::vector<corpus_case> user_cases;
     if (!o.corpus.empty()) user_cases = read_corpus({o.corpus.begin(), o.corpus.end()});
+    for (const corpus_case& c : user_cases)
+        if (c.is_segment())
+            throw input_error(c.source, 0, "--corpus",
+                              fmt::format("case '{}' is a segment: hunt moves a ray's o, d, c and r, and has no "
+                                          "segment moves yet; audit segment cases with `rayverify audit`",
+                                          c.id));
     if (o.budget == 0 && o.evaluations == 0)
         throw input_error("", 0, "--seconds", "give a time budget (--seconds) or an evaluation budget (--evaluations)");
     run_outputs outputs;  // declared before the search, committed after it

@@ -39,7 +39,7 @@ void audit_case_into(audited_case& out, const corpus_case& c, std::span<const au
         out.exact_float.reset();
     const case_frame at_double(out.exact_double, c.geometry);
     std::optional<case_frame> at_float;
-    if (float_used) at_float.emplace(*out.exact_float, rounded_to(precision::binary32, c.geometry));
+    if (float_used) at_float.emplace(*out.exact_float, target_input(precision::binary32, c));
     out.outcomes.resize(targets.size());
     for (std::size_t t = 0; t < targets.size(); ++t) {
         const case_frame& frame = targets[t].prec == precision::binary32 ? *at_float : at_double;

@@ -190,9 +190,7 @@ void contract_lint_accumulator::add(const audited_case& c) {
         if (candidates[t].empty()) continue;
         const target_outcome& outcome = c.outcomes[t];
         if (!is_scored(outcome.score.verdict)) continue;
-        const ray_sphere<double> input = precisions[t] == precision::binary32
-                                             ? rounded_to<double>(rounded_to<float>(c.source->geometry))
-                                             : c.source->geometry;
+        const ray_sphere<double> input = target_input(precisions[t], *c.source);
         lint_case(declared[t], candidates[t], outcome.score, outcome.output, c.exact_for(precisions[t]), outcome.range,
                   input, tallies[t]);
     }

@@ -238,6 +238,17 @@ root_index stands_for(const exact_solution& exact, double t, root_index wanted) 
 template <class T>
 answer<T> answer_of(const audit_target& target, const corpus_case& c, const ray_sphere<T>& input,
                     ray_interval<T> interval) {
+    if (!target.recorded && target.subject.promises.takes_segment_ends && c.is_segment()) {
+        // A segment-form target is asked through its batch entry, which carries p1.
+        const auto& batch = [&]() -> const auto& {
+            if constexpr (std::is_same_v<T, float>) return target.subject.batch_float;
+            else return target.subject.batch_double;
+        }();
+        const batch_case<T> asked{input, interval, segment_end_input<T>(c)};
+        answer<T> a{{-1, T(0), T(0)}};
+        if (batch) batch(std::span<const batch_case<T>>(&asked, 1), std::span<answer<T>>(&a, 1));
+        return a;
+    }
     if (!target.recorded) return answer_in(target.subject, input, interval);
     const recorded_answer* r = target.recorded->find(c.id);
     if (!r) return {{-1, T(0), T(0)}};
@@ -1039,14 +1050,21 @@ std::optional<std::string> unit_direction_breach_of(const ray_sphere<double>& in
 }
 
 exact_solution solve_case(const corpus_case& c, precision p) {
-    const invalid_reason reason = with_precision(p, [&]<class T>(std::type_identity<T>) { return validity<T>(c.geometry); });
+    const invalid_reason reason = with_precision(p, [&]<class T>(std::type_identity<T>) { return case_validity<T>(c); });
     if (reason != invalid_reason::none) {
         exact_solution invalid;
         invalid.prec = p;
         invalid.invalid = reason;
         return invalid;
     }
-    const ray_sphere<double> input = rounded_to(p, c.geometry);
+    const ray_sphere<double> input = target_input(p, c);
+    if (c.segment_end) {
+        // The segment between the ends as the target receives them, its
+        // direction their exact difference (not input.direction, rounded).
+        const vec3<double> p1 = with_precision(
+            p, [&]<class T>(std::type_identity<T>) { return vec3_cast<double>(segment_end_input<T>(c)); });
+        return solve_exact_segment(input.origin, p1, input.centre, input.radius, p);
+    }
     const auto bound = [p](std::optional<double> t) -> std::optional<double> {
         return t ? std::optional<double>(rounded_to(p, *t)) : t;
     };
@@ -1085,9 +1103,19 @@ case_score judge_degenerate(const variant_output& output, invalid_reason why) {
                                     invalid_reason_name(why), output.roots.count, output.roots.t0, output.roots.t1));
 }
 
+// A ray case handed to a target that takes segment end points: not its
+// question, so not scored.
+constexpr const char* ray_case_for_segment_target =
+    "a ray case: this target takes a segment's end points (cast=segment) and runs on segment cases only";
+
 // Invalid or outside the contract: the outcome, else nullopt.
-std::optional<case_score> unscored(const contract& promises, const case_frame& frame) {
+std::optional<case_score> unscored(const contract& promises, const corpus_case& c, const case_frame& frame) {
     case_score s;
+    if (promises.takes_segment_ends && !c.is_segment()) {
+        s.verdict = verdict_kind::contract_violation;
+        s.detail = ray_case_for_segment_target;
+        return s;
+    }
     if (!frame.exact().valid() && !runs_degenerate(promises, frame.exact())) {
         s.verdict = verdict_kind::invalid;
         s.detail = invalid_reason_name(frame.exact().invalid);
@@ -1107,11 +1135,11 @@ target_outcome judge_target_in(const audit_target& target, const corpus_case& c,
                                const given_answer& given, const figure_request& wanted) {
     target_outcome outcome;
     const contract& promises = target.subject.promises;
-    if (auto s = unscored(promises, frame)) {
+    if (auto s = unscored(promises, c, frame)) {
         outcome.score = std::move(*s);
         return outcome;
     }
-    const ray_sphere<T> input = rounded_to<T>(c.geometry);
+    const ray_sphere<T> input = target_input<T>(c);
     outcome.range = range_for(promises, c, target.prec);
     const answer<T>* ahead = std::get_if<answer<T>>(&given);
     const answer<T> given_answer = ahead ? *ahead : answer_of(target, c, input, interval_in<T>(outcome.range));
@@ -1138,14 +1166,16 @@ target_outcome judge_target(const audit_target& target, const corpus_case& c, co
 
 target_outcome judge_target(const audit_target& target, const corpus_case& c, const exact_solution& exact,
                             const given_answer& given, const figure_request& wanted) {
-    return judge_target(target, c, case_frame(exact, rounded_to(target.prec, c.geometry)), given, wanted);
+    return judge_target(target, c, case_frame(exact, target_input(target.prec, c)), given, wanted);
 }
 
 template <class T>
 std::optional<batch_case<T>> run_input(const audit_target& target, const corpus_case& c) {
+    if (target.subject.promises.takes_segment_ends && !c.is_segment()) return std::nullopt;
     const t_range range = range_for(target.subject.promises, c, target.prec);
-    const ray_sphere<T> input = rounded_to<T>(c.geometry);
-    const invalid_reason reason = validity<T>(c.geometry);
+    const ray_sphere<T> input = target_input<T>(c);
+    const vec3<T> segment_end = c.is_segment() ? segment_end_input<T>(c) : vec3<T>{};
+    const invalid_reason reason = case_validity<T>(c);
     const auto bound_invalid = [](std::optional<double> t) { return t && std::isnan(*t); };
     const bool bad_interval =
         bound_invalid(c.tmin) || bound_invalid(c.tmax) || (c.tmin && c.tmax && *c.tmin > *c.tmax);
@@ -1154,11 +1184,11 @@ std::optional<batch_case<T>> run_input(const audit_target& target, const corpus_
         // from the oracle's reason (validity's first, then the interval's).
         const invalid_reason why = reason != invalid_reason::none ? reason : invalid_reason::bad_interval;
         if (target.subject.promises.degenerate_is_miss && degenerate_cast(why))
-            return batch_case<T>{input, interval_in<T>(range)};
+            return batch_case<T>{input, interval_in<T>(range), segment_end};
         return std::nullopt;
     }
     if (contract_breach(target.subject.promises, rounded_to<double>(input), target.prec)) return std::nullopt;
-    return batch_case<T>{input, interval_in<T>(range)};
+    return batch_case<T>{input, interval_in<T>(range), segment_end};
 }
 
 template std::optional<batch_case<float>> run_input<float>(const audit_target&, const corpus_case&);
@@ -1250,10 +1280,10 @@ template <class T>
 renderer_outcome judge_for_renderer_in(const audit_target& target, const corpus_case& c, ray_query q,
                                        const exact_solution& exact, end_kind lower_end, end_kind upper_end) {
     renderer_outcome outcome;
-    const ray_sphere<T> input = rounded_to<T>(c.geometry);
+    const ray_sphere<T> input = target_input<T>(c);
     const case_frame frame(exact, rounded_to<double>(input));
     const contract& promises = target.subject.promises;
-    if (auto s = unscored(promises, frame)) {
+    if (auto s = unscored(promises, c, frame)) {
         outcome.score = std::move(*s);
         return outcome;
     }

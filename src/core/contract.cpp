@@ -127,6 +127,7 @@ std::string format_contract(const contract& c) {
     if (c.outputs.normal) spec += ",normal=yes";
     if (c.accuracy.required()) spec += ",accuracy=" + format_accuracy(c.accuracy);
     if (c.degenerate_is_miss) spec += ",degenerate=miss";
+    if (c.takes_segment_ends) spec += ",cast=segment";
     return spec;
 }
 
@@ -140,6 +141,10 @@ std::optional<std::string> contract_problem(const contract& c) {
     if (c.answer == answer_kind::point && c.outputs.t_bounds) return "t_bounds needs answer=t";
     if (c.query == query_kind::any_hit && c.accuracy.required())
         return "accuracy needs a returned t: an any_hit contract returns none";
+    if (c.takes_segment_ends && c.range != range_source::interval)
+        return "cast=segment answers on the segment's fractions [0, 1], as range=interval passes them: give range=interval";
+    if (c.takes_segment_ends && c.assumes_unit_direction)
+        return "cast=segment takes end points: a unit direction cannot be assumed (unit_direction=no)";
     return std::nullopt;
 }
 
@@ -196,6 +201,7 @@ std::string describe_contract(const contract& c) {
             break;
     }
     if (c.degenerate_is_miss) out += "; a degenerate cast (zero direction, non-finite input, empty interval) is a miss";
+    if (c.takes_segment_ends) out += "; takes a segment's end points p0, p1 and answers the fraction along p1 - p0";
     return out;
 }
 
@@ -270,6 +276,9 @@ contract parse_contract(std::string_view spec, contract c) {
         } else if (key == "degenerate") {
             if (value != "miss" && value != "invalid") throw fail(key, value, "miss or invalid");
             c.degenerate_is_miss = value == "miss";
+        } else if (key == "cast") {
+            if (value != "ray" && value != "segment") throw fail(key, value, "ray or segment");
+            c.takes_segment_ends = value == "segment";
         } else if (key == "accuracy") {
             try {
                 c.accuracy = parse_accuracy(value);
@@ -280,7 +289,7 @@ contract parse_contract(std::string_view spec, contract c) {
             throw std::invalid_argument("contract: unknown key '" + std::string(key) +
                                         "' (keys: query, range, ends, inside, tangent, faces, unit_direction, "
                                         "reports_tangent, tangent_threshold, answer, t_bounds, hit_point, "
-                                        "point_error, normal, accuracy, degenerate)");
+                                        "point_error, normal, accuracy, degenerate, cast)");
         }
     }
     if (auto problem = contract_problem(c)) throw std::invalid_argument("contract: " + *problem);

@@ -134,6 +134,15 @@ struct contract {
     // interval) is handed to the target, which must answer a miss; without
     // it (degenerate=invalid) such a case is invalid and never run.
     bool degenerate_is_miss = false;
+    // cast=segment: the target takes a segment case's end points p0 and p1
+    // as given (a plugin's segment entry, rayverify_plugin.h) and answers t
+    // along p1 − p0, the fraction of the segment, on the case's [0, 1] with
+    // the contract's ends (range=interval). It runs on segment cases only: a
+    // ray case is not scored (contract_violation). cast=ray (the default):
+    // the target takes o and d; on a segment case it gets o = p0 and
+    // d = p1 − p0 rounded in its precision (core/ray_sphere_case.h's
+    // target_input), that rounding counted as its own.
+    bool takes_segment_ends = false;
 };
 
 // contract::tangent_rule is a string_view (so that built-in contracts are
@@ -208,7 +217,7 @@ std::string describe_contract(const contract& c);
 
 // Parse a spec (comma-separated key=value; keys: query, range, ends, inside,
 // tangent, faces, unit_direction, reports_tangent, tangent_threshold, answer,
-// t_bounds, hit_point, point_error, normal, accuracy, degenerate). Fields not given keep
+// t_bounds, hit_point, point_error, normal, accuracy, degenerate, cast). Fields not given keep
 // `defaults`' values. Throws std::invalid_argument naming the key and the
 // allowed values on anything else, and on a combination that cannot be
 // answered (point_error without hit_point, a point answer or hit point for

@@ -58,6 +58,15 @@ constexpr int significand_bits(precision p) { return p == precision::binary32 ? 
 constexpr double unit_roundoff(precision p) { return p == precision::binary32 ? 0x1p-24 : 0x1p-53; }
 
 // A case as it is stored in a corpus: double inputs plus provenance.
+//
+// Two forms. A ray case: o + t·d with an optional interval. A segment case
+// (`segment_end` set, see make_segment): the cast from p0 = geometry.origin
+// to p1 = *segment_end, parameterised by the fraction f of d = p1 − p0 taken
+// exactly (a difference of doubles is not a double in general: the oracle
+// carries it unrounded); tmin = 0 and tmax = 1, the ends' openness the
+// contract's. geometry.direction then holds p1 − p0 rounded to double, for
+// what reads a direction to scale a figure; what a target receives at a
+// precision is target_input's.
 struct corpus_case {
     std::string id;
     std::string family;          // generator family, or "" when unknown
@@ -65,7 +74,20 @@ struct corpus_case {
     std::optional<double> tmin;  // optional ray interval, when the corpus gives one
     std::optional<double> tmax;
     std::string source;          // "file:line" the case was read from (for messages)
+    std::optional<vec3<double>> segment_end;  // p1 of a segment case; empty for a ray case
+
+    bool is_segment() const { return segment_end.has_value(); }
 };
+
+// Make `c` the segment case from p0 to p1 (geometry.origin = p0,
+// geometry.direction = p1 − p0 rounded to double, f ∈ [0, 1]).
+inline void make_segment(corpus_case& c, const vec3<double>& p0, const vec3<double>& p1) {
+    c.geometry.origin = p0;
+    c.geometry.direction = p1 - p0;
+    c.segment_end = p1;
+    c.tmin = 0.0;
+    c.tmax = 1.0;
+}
 
 // Why a case cannot be scored at a given precision; valid when none applies.
 enum class invalid_reason {
@@ -114,6 +136,52 @@ invalid_reason validity(const ray_sphere<double>& g) {
     for (double v : in)
         if (!std::isfinite(static_cast<T>(v))) return invalid_reason::not_representable;
     const vec3<T> d = vec3_cast<T>(g.direction);
+    if (d.x == 0 && d.y == 0 && d.z == 0) return invalid_reason::zero_direction;
+    return invalid_reason::none;
+}
+
+// What a target running in T receives for case c. A ray case: its inputs
+// rounded to T. A segment case: p0, p1, c and r rounded to T, and the
+// direction p1 − p0 computed in T (one rounding of the exact difference of
+// the rounded ends): the direction a ray-form target is handed, whose
+// rounding is the target's to answer for; the oracle solves the segment
+// between the rounded ends exactly (judge's solve_case).
+template <class T>
+ray_sphere<T> target_input(const corpus_case& c) {
+    if (!c.segment_end) return rounded_to<T>(c.geometry);
+    const vec3<T> p0 = vec3_cast<T>(c.geometry.origin), p1 = vec3_cast<T>(*c.segment_end);
+    return {p0, p1 - p0, vec3_cast<T>(c.geometry.centre), static_cast<T>(c.geometry.radius)};
+}
+
+// The same for a precision named at run time, kept in double (exact there).
+inline ray_sphere<double> target_input(precision p, const corpus_case& c) {
+    return with_precision(p, [&]<class T>(std::type_identity<T>) { return rounded_to<double>(target_input<T>(c)); });
+}
+
+// p1 of a segment case as a target running in T receives it.
+template <class T>
+vec3<T> segment_end_input(const corpus_case& c) {
+    return vec3_cast<T>(*c.segment_end);
+}
+
+// A case's validity at precision T: a ray case's as validity<T> says; a
+// segment case's from its ends: a non-finite end, centre or radius, a
+// negative radius, an input or a difference p1 − p0 that overflows T, and
+// p0 = p1 in T (a zero-length cast: zero_direction).
+template <class T>
+invalid_reason case_validity(const corpus_case& c) {
+    if (!c.segment_end) return validity<T>(c.geometry);
+    const ray_sphere<double>& g = c.geometry;
+    const vec3<double>& p1 = *c.segment_end;
+    const double in[10] = {g.origin.x, g.origin.y, g.origin.z, p1.x,       p1.y,
+                           p1.z,       g.centre.x, g.centre.y, g.centre.z, g.radius};
+    for (double v : in)
+        if (!std::isfinite(v)) return invalid_reason::non_finite_input;
+    if (g.radius < 0) return invalid_reason::negative_radius;
+    for (double v : in)
+        if (!std::isfinite(static_cast<T>(v))) return invalid_reason::not_representable;
+    const vec3<T> d = target_input<T>(c).direction;
+    if (!std::isfinite(d.x) || !std::isfinite(d.y) || !std::isfinite(d.z)) return invalid_reason::not_representable;
     if (d.x == 0 && d.y == 0 && d.z == 0) return invalid_reason::zero_direction;
     return invalid_reason::none;
 }

@@ -93,6 +93,11 @@ void case_fingerprint::add(const corpus_case& c) {
         const std::uint64_t bits = bound ? std::bit_cast<std::uint64_t>(*bound) : 0x7ff8dead0000beefULL;
         digest_.add(&bits, sizeof bits);
     }
+    if (c.segment_end) {  // a segment's p1 (its direction above is p1 - p0 rounded); rays digest as before
+        const double end[4] = {std::bit_cast<double>(0x7ff8dead5e600000ULL), c.segment_end->x, c.segment_end->y,
+                               c.segment_end->z};
+        digest_.add(end, sizeof end);
+    }
 }
 
 std::string case_fingerprint::text() const { return digest_.text(); }

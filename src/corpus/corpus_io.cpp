@@ -35,6 +35,18 @@ constexpr std::array<std::string_view, 14> field_names = {
     "id", "family", "ox", "oy", "oz", "dx", "dy", "dz", "cx", "cy", "cz", "r", "tmin", "tmax"};
 constexpr std::size_t id_field = 0, family_field = 1, first_number_field = 2, tmin_field = 12;
 
+// A segment case's end points in place of ox oy oz dx dy dz (text: after the
+// keyword `segment`; CSV: these columns instead of those).
+constexpr std::array<std::string_view, 6> segment_end_names = {"p0x", "p0y", "p0z", "p1x", "p1y", "p1z"};
+constexpr std::string_view segment_keyword = "segment";
+
+// A field's name as a message gives it: a segment's end coordinate in place of o or d.
+std::string_view field_name(std::size_t i, bool segment) {
+    return segment && i >= first_number_field && i < first_number_field + segment_end_names.size()
+               ? segment_end_names[i - first_number_field]
+               : field_names[i];
+}
+
 // The cells of one case by field index; nullopt when the corpus does not give the field.
 using case_cells = std::array<std::optional<std::string_view>, field_names.size()>;
 
@@ -154,8 +166,9 @@ void for_each_line(const std::string& file, std::string_view contents, F&& on_li
     }
 }
 
-corpus_case make_case(const case_cells& cells, const std::string& file, std::size_t line) {
-    const auto field = [](std::size_t i) { return std::string(field_names[i]); };
+// `segment`: the cells of ox..dz hold p0x..p1z (segment_end_names).
+corpus_case make_case(const case_cells& cells, const std::string& file, std::size_t line, bool segment = false) {
+    const auto field = [segment](std::size_t i) { return std::string(field_name(i, segment)); };
     corpus_case c;
     c.id = std::string(cells[id_field].value_or(""));
     if (!is_plain_token(c.id))
@@ -172,6 +185,11 @@ corpus_case make_case(const case_cells& cells, const std::string& file, std::siz
         v[i] = parse_exact_double(*cells[first_number_field + i], file, line,
                                   field(first_number_field + i));
     c.geometry = {{v[0], v[1], v[2]}, {v[3], v[4], v[5]}, {v[6], v[7], v[8]}, v[9]};
+    if (segment) {
+        make_segment(c, {v[0], v[1], v[2]}, {v[3], v[4], v[5]});
+        c.source = fmt::format("{}:{}", file, line);
+        return c;
+    }
 
     const auto bound = [&](std::size_t i) -> std::optional<double> {
         if (!cells[i] || cells[i]->empty() || *cells[i] == "-") return std::nullopt;
@@ -194,6 +212,21 @@ std::vector<corpus_case> parse_text(const std::string& file, std::string_view co
             line.remove_prefix(end);
         }
         if (tokens.empty()) return;
+        if (tokens.size() > 2 && tokens[2] == segment_keyword) {
+            // id family segment p0x p0y p0z p1x p1y p1z cx cy cz r
+            if (tokens.size() != 13)
+                throw input_error(
+                    file, number, "",
+                    fmt::format("found {} fields in a segment line, expected 13 (id family segment p0x p0y p0z "
+                                "p1x p1y p1z cx cy cz r; a segment's range is its fractions [0, 1], no tmin tmax)",
+                                tokens.size()));
+            case_cells cells;
+            cells[id_field] = tokens[0];
+            cells[family_field] = tokens[1];
+            std::copy(tokens.begin() + 3, tokens.end(), cells.begin() + first_number_field);
+            cases.push_back(make_case(cells, file, number, true));
+            return;
+        }
         if (tokens.size() != 12 && tokens.size() != 14)
             throw input_error(
                 file, number, "",
@@ -260,25 +293,44 @@ std::vector<corpus_case> parse_csv(const std::string& file, std::string_view con
     // For each field, the index of its cell in a row, when the header names it.
     std::array<std::optional<std::size_t>, field_names.size()> column;
     std::size_t header_line = 0, width = 0;
+    bool segments = false;  // the header names p0x..p1z: every row is a segment
     for_each_line(file, contents, [&](std::size_t number, std::string_view line) {
         if (trim(line).empty() || trim(line).front() == '#') return;
         const std::vector<std::string> cells = csv_row_cells(line, file, number);
         if (header_line == 0) {
             header_line = number;
             width = cells.size();
+            // A segment file names p0x..p1z where a ray file names ox..dz; one form a file.
+            const auto names = [&](std::string_view name) {
+                return std::ranges::any_of(cells, [&](const std::string& cell) { return iequals(cell, name); });
+            };
+            segments = std::ranges::any_of(segment_end_names, names);
+            if (segments) {
+                for (std::size_t f = first_number_field; f < first_number_field + segment_end_names.size(); ++f)
+                    if (names(field_names[f]))
+                        throw input_error(file, number, std::string(field_names[f]),
+                                          "a CSV file holds one form of case: its header names a segment's end "
+                                          "points (p0x..p1z) and a ray's column too (write the rays and the "
+                                          "segments to two files, or use the text format, whose lines may mix)");
+                for (std::size_t f = tmin_field; f < field_names.size(); ++f)
+                    if (names(field_names[f]))
+                        throw input_error(file, number, std::string(field_names[f]),
+                                          "a segment's range is its fractions [0, 1]: a segment file has no tmin or "
+                                          "tmax column");
+            }
             for (std::size_t i = 0; i < cells.size(); ++i) {
-                const auto known =
-                    std::ranges::find_if(field_names, [&](auto n) { return iequals(n, cells[i]); });
-                if (known == field_names.end()) continue;
-                auto& slot = column[static_cast<std::size_t>(known - field_names.begin())];
+                std::size_t f = 0;
+                while (f < field_names.size() && !iequals(field_name(f, segments), cells[i])) ++f;
+                if (f == field_names.size()) continue;
+                auto& slot = column[f];
                 if (slot)
-                    throw input_error(file, number, std::string(*known),
+                    throw input_error(file, number, std::string(field_name(f, segments)),
                                       "column appears twice in the header");
                 slot = i;
             }
             for (std::size_t f = 0; f < field_names.size(); ++f)
                 if (!column[f] && f != family_field && f < tmin_field)
-                    throw input_error(file, number, std::string(field_names[f]),
+                    throw input_error(file, number, std::string(field_name(f, segments)),
                                       "required column is missing from the CSV header");
             return;
         }
@@ -290,7 +342,7 @@ std::vector<corpus_case> parse_csv(const std::string& file, std::string_view con
         case_cells row;
         for (std::size_t f = 0; f < field_names.size(); ++f)
             if (column[f]) row[f] = cells[*column[f]];
-        cases.push_back(make_case(row, file, number));
+        cases.push_back(make_case(row, file, number, segments));
     });
     return cases;
 }
@@ -555,12 +607,18 @@ void append_case_line(std::string& line, const corpus_case& c) {
     line += c.id;
     line += ' ';
     line += c.family.empty() ? "-" : c.family;
-    for (double v : {g.origin.x, g.origin.y, g.origin.z, g.direction.x, g.direction.y,
-                     g.direction.z, g.centre.x, g.centre.y, g.centre.z, g.radius}) {
+    if (c.segment_end) {
+        line += ' ';
+        line += segment_keyword;
+    }
+    // A segment's second point is p1 where a ray's is d; its range is fixed.
+    const vec3<double>& second = c.segment_end ? *c.segment_end : g.direction;
+    for (double v : {g.origin.x, g.origin.y, g.origin.z, second.x, second.y, second.z, g.centre.x, g.centre.y,
+                     g.centre.z, g.radius}) {
         line += ' ';
         append_hex_float(line, v);
     }
-    if (c.tmin || c.tmax)
+    if (!c.segment_end && (c.tmin || c.tmax))
         for (const auto& bound : {c.tmin, c.tmax}) {
             line += ' ';
             if (bound)
@@ -575,6 +633,14 @@ std::string format_case_line(const corpus_case& c) {
     line.reserve(c.id.size() + c.family.size() + 12 * 24);
     append_case_line(line, c);
     return line;
+}
+
+std::string segment_header_comment() {
+    std::string header = fmt::format("# {} {} {}", field_names[id_field], field_names[family_field], segment_keyword);
+    for (std::string_view name : segment_end_names) header += fmt::format(" {}", name);
+    for (std::size_t i = first_number_field + segment_end_names.size(); i < tmin_field; ++i)
+        header += fmt::format(" {}", field_names[i]);
+    return header + "   (a segment: the cast from p0 to p1, fractions [0, 1])";
 }
 
 std::string corpus_header_comment() {
@@ -657,6 +723,7 @@ void write_corpus_file(const fs::path& path, const std::vector<corpus_case>& cas
             path.string(), 0, "id",
             fmt::format("duplicate id '{}' in the cases to write", duplicate->second->id));
     std::string out = corpus_header_comment() + '\n';
+    if (std::ranges::any_of(cases, &corpus_case::is_segment)) out += segment_header_comment() + '\n';
     for (const auto& comment : header_comments)
         for (std::string_view rest = comment;;) {  // an embedded newline must not start a case line
             const std::size_t end = std::min(rest.find('\n'), rest.size());

@@ -5,12 +5,18 @@
 // separated by whitespace; `#` starts a comment (a whole line, or from a
 // token that begins with `#` to the end of the line); blank lines are ignored.
 // `-` as family means unknown; `-` as tmin or tmax means that bound is absent.
+// A segment case (core/ray_sphere_case.h) is the line
+//     id family segment p0x p0y p0z p1x p1y p1z cx cy cz r
+// (the keyword `segment` third; no tmin or tmax: its range is the fractions
+// [0, 1]); ray and segment lines may mix in one text file.
 //
 // CSV corpus (.csv, any case): a header line names the columns id, ox, oy, oz,
 // dx, dy, dz, cx, cy, cz, r (required) and family, tmin, tmax (optional), in
 // any order; other columns are ignored. Cells are trimmed of whitespace; a
 // cell in double quotes may hold commas, with "" for a quote (RFC 4180, one
-// line per row). An empty or '-' tmin or tmax cell means absent.
+// line per row). An empty or '-' tmin or tmax cell means absent. A segment
+// file names p0x, p0y, p0z, p1x, p1y, p1z in place of ox..dz, and no tmin or
+// tmax; a header naming both forms is refused (one form a CSV file).
 //
 // Numbers are read exactly: shortest round-trip decimals, C99 hex floats
 // (which must fit a double without rounding), and nan / inf / infinity.
@@ -63,6 +69,9 @@ void append_case_line(std::string& line, const corpus_case& c);
 // The comment header every written corpus file starts with (column names),
 // without a trailing newline.
 std::string corpus_header_comment();
+// The comment naming a segment line's columns, which a written corpus holding
+// segments carries after corpus_header_comment() (no trailing newline).
+std::string segment_header_comment();
 
 // The largest corpus file read_corpus_file accepts. A larger file is refused
 // before anything is read (a parsed case takes up to ~10x its line in memory,

@@ -21,6 +21,10 @@ template <class T>
 struct batch_case {
     ray_sphere<T> input;
     ray_interval<T> interval;
+    // A segment case's p1 as the target receives it (input.origin is p0);
+    // read by a target whose contract says cast=segment, which runs only on
+    // segment cases.
+    vec3<T> segment_end{};
 };
 
 // A library audited as its package installs it (an --engine target, or a

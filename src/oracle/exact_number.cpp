@@ -43,7 +43,8 @@ int sign_of_difference(const quadratic_irrational& x, const quadratic_irrational
     return larger_u > 0 ? sign_u : sign_v;
 }
 
-std::shared_ptr<const exact_quadratic> exact_quadratic_of(const ray_sphere<double>& g, bool unit_direction) {
+std::shared_ptr<const exact_quadratic> exact_quadratic_of(const ray_sphere<double>& g, bool unit_direction,
+                                                          const vec3<double>& direction_low) {
     auto q = std::make_shared<exact_quadratic>();
     const double o[3] = {g.origin.x, g.origin.y, g.origin.z};
     const double d[3] = {g.direction.x, g.direction.y, g.direction.z};
@@ -51,7 +52,7 @@ std::shared_ptr<const exact_quadratic> exact_quadratic_of(const ray_sphere<doubl
     exact a(0.0), b_prime(0.0), f_squared(0.0);
     for (int axis = 0; axis < 3; ++axis) {
         q->origin[axis] = exact(o[axis]);
-        q->direction[axis] = exact(d[axis]);
+        q->direction[axis] = direction_low[axis] == 0 ? exact(d[axis]) : exact(d[axis]) + exact(direction_low[axis]);
         const exact f = q->origin[axis] - exact(c[axis]);
         a = a + q->direction[axis] * q->direction[axis];
         b_prime = b_prime + q->direction[axis] * f;

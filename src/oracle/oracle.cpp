@@ -215,8 +215,11 @@ struct exact_solution::internal {
         return std::nullopt;
     }
 
-    // The root's refined enclosure, built on first use; nullptr when it cannot be.
+    // The root's refined enclosure, built on first use; nullptr when it
+    // cannot be (a segment whose direction is not a double: expansions take
+    // the coefficients from a double d).
     static const refined_enclosure* refined(const exact_solution& s, root_index i) {
+        if (!s.direction_is_double()) return nullptr;
         const int k = slot_of(i);
         if (!s.refined_built_[k]) {
             s.refined_[k] = s.cls == line_class::tangent ? refine_tangent_root(coefficients(s), s.roots_[k])
@@ -283,16 +286,18 @@ struct exact_solution::internal {
     }
 
     static exact_solution reference(const ray_sphere<double>& g, precision prec, std::optional<double> tmin,
-                                    std::optional<double> tmax, bool unit_direction = false) {
+                                    std::optional<double> tmax, bool unit_direction = false,
+                                    const vec3<double>& direction_low = {}) {
         exact_solution solution;
         solution.prec = prec;
         solution.geometry_ = g;
+        solution.direction_low_ = direction_low;
         solution.unit_direction_ = unit_direction;
         solution.invalid = check_case(g, tmin, tmax);
         if (!solution.valid()) return solution;
         solution.stage = oracle_stage::exact;
 
-        std::shared_ptr<const exact_quadratic> state = exact_quadratic_of(g, unit_direction);
+        std::shared_ptr<const exact_quadratic> state = exact_quadratic_of(g, unit_direction, direction_low);
         const int sign_discriminant = sign_of(state->discriminant);
         solution.cls = sign_discriminant < 0   ? line_class::miss
                        : sign_discriminant == 0 ? line_class::tangent
@@ -452,7 +457,7 @@ struct exact_solution::internal {
 };
 
 const exact_quadratic& exact_solution::state() const {
-    if (!exact_) exact_ = exact_quadratic_of(geometry_, unit_direction_);
+    if (!exact_) exact_ = exact_quadratic_of(geometry_, unit_direction_, direction_low_);
     return *exact_;
 }
 
@@ -489,7 +494,7 @@ comparison exact_solution::compare_to_discriminant(double x) const {
     return settle(
         oracle_stage_counts_this_thread().comparisons, [] { return uncertain_comparison(); },
         [&]() -> uncertain_comparison {
-            if (!in_filter_range(geometry_) || !in_filter_range(x)) return std::nullopt;
+            if (!direction_is_double() || !in_filter_range(geometry_) || !in_filter_range(x)) return std::nullopt;
             // discriminant_side: sign(Δ′ − x).
             return comparison_from_reversed(discriminant_side(geometry_, internal::coefficients(*this), unit_direction_, x));
         },
@@ -734,6 +739,45 @@ exact_solution solve_exact(const ray_sphere<double>& g, precision prec, std::opt
                                                        : solutions.exact);
     }
     return solution;
+}
+
+namespace {
+
+// The segment from p0 to p1 as the ray o = p0, d = p1 − p0, the difference
+// split into its double and the exact remainder (two_sum: exact unless it
+// overflows, which check_case then refuses as a non-finite direction).
+struct segment_as_ray {
+    ray_sphere<double> geometry;
+    vec3<double> direction_low;
+    bool direction_is_double() const { return direction_low == vec3<double>{}; }
+};
+
+segment_as_ray segment_ray(const vec3<double>& p0, const vec3<double>& p1, const vec3<double>& centre, double radius) {
+    double high[3], low[3];
+    for (int axis = 0; axis < 3; ++axis) {
+        const dword difference = two_sum(p1[axis], -p0[axis]);
+        high[axis] = difference.h;
+        low[axis] = std::isfinite(difference.h) ? difference.l : 0.0;
+    }
+    return {{p0, {high[0], high[1], high[2]}, centre, radius}, {low[0], low[1], low[2]}};
+}
+
+}  // namespace
+
+exact_solution solve_exact_segment(const vec3<double>& p0, const vec3<double>& p1, const vec3<double>& centre,
+                                   double radius, precision prec) {
+    const segment_as_ray s = segment_ray(p0, p1, centre, radius);
+    if (s.direction_is_double()) return solve_exact(s.geometry, prec, 0.0, 1.0);
+    restore_ieee_default();
+    exact_solution solution = exact_solution::internal::reference(s.geometry, prec, 0.0, 1.0, false, s.direction_low);
+    if (solution.valid()) ++oracle_stage_counts_this_thread().solutions.exact;
+    return solution;
+}
+
+exact_solution solve_exact_segment_reference(const vec3<double>& p0, const vec3<double>& p1,
+                                             const vec3<double>& centre, double radius, precision prec) {
+    const segment_as_ray s = segment_ray(p0, p1, centre, radius);
+    return exact_solution::internal::reference(s.geometry, prec, 0.0, 1.0, false, s.direction_low);
 }
 
 exact_solution solve_exact_reference(const ray_sphere<double>& g, precision prec, std::optional<double> tmin,

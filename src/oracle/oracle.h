@@ -70,6 +70,8 @@ public:
     oracle_stage stage = oracle_stage::exact;
 
     bool valid() const { return invalid == invalid_reason::none; }
+    // False for a segment whose exact direction p1 − p0 is not a double.
+    bool direction_is_double() const { return direction_low_ == vec3<double>{}; }
     const exact_root& root(root_index i) const {
         return i == root_index::near_root ? near_root : far_root;
     }
@@ -167,6 +169,11 @@ private:
     double hit_coordinate_in(root_index i, int axis, precision p) const;
 
     ray_sphere<double> geometry_{};
+    // A segment's exact direction is geometry_.direction + direction_low_
+    // (p1 − p0 as two doubles a coordinate); zero for a ray, and for a
+    // segment whose difference is a double. Nonzero: only the exact route
+    // answers (the filters and expansions take d to be a double).
+    vec3<double> direction_low_{};
     bool unit_direction_ = false;  // a taken to be 1 (solve_exact_unit_direction)
     enclosure roots_[2];  // near, far
     enclosure midpoint_;  // of the two roots, −b′/a
@@ -241,6 +248,21 @@ oracle_stage_counts& oracle_stage_counts_this_thread();
 exact_solution solve_exact(const ray_sphere<double>& geometry, precision prec,
                            std::optional<double> tmin = std::nullopt,
                            std::optional<double> tmax = std::nullopt);
+
+// A segment case: the cast from p0 to p1, solved in the fraction f of
+// d = p1 − p0 taken exactly (a difference of doubles, not rounded), on the
+// interval f ∈ [0, 1]: roots, their ULP errors and every comparison are in
+// f, hit points p0 + f·d. The ends must hold exactly the values the variant
+// receives (for a float variant: rounded to float). A segment whose
+// difference is a double in every coordinate is the ray (p0, p1 − p0) and
+// takes solve_exact's filtered route; any other, the exact route for every
+// answer (its stage `exact`). Invalid as solve_exact says for that ray (a
+// difference that overflows: non-finite; p0 = p1: a zero direction).
+exact_solution solve_exact_segment(const vec3<double>& p0, const vec3<double>& p1, const vec3<double>& centre,
+                                   double radius, precision prec);
+// The same on the exact route for every segment (the tests require both to agree).
+exact_solution solve_exact_segment_reference(const vec3<double>& p0, const vec3<double>& p1,
+                                             const vec3<double>& centre, double radius, precision prec);
 
 // The reference route: exact CGAL::Gmpzf coefficients for everything, MPFR
 // proposals verified by exact comparison, no filter (`stage == exact`). Same

@@ -38,7 +38,8 @@ using steady = std::chrono::steady_clock;
 // count, a 32-bit flag (1: the plugin wrote outside its roots), then
 // roots[0], roots[1] in T; for a version 2 batch a 32-bit case count n and n
 // rayverify_case_T structs, answered by n rayverify_answer_T structs.
-constexpr std::int32_t float_call = 0, double_call = 1, float_batch = 2, double_batch = 3;
+constexpr std::int32_t float_call = 0, double_call = 1, float_batch = 2, double_batch = 3, float_segments = 4,
+                       double_segments = 5;
 constexpr std::uint32_t largest_batch = 1u << 20;
 constexpr std::size_t request_size = sizeof(std::int32_t) + 12 * sizeof(double);
 constexpr std::uint32_t longest_description = 1u << 20;
@@ -243,6 +244,10 @@ bool answer_call(int fd, Fn intersect, const unsigned char* request) {
                 answered = answer_batch<rayverify_case_float, rayverify_answer_float>(fd, opened.batch_float);
             } else if (kind == double_batch) {
                 answered = answer_batch<rayverify_case_double, rayverify_answer_double>(fd, opened.batch_double);
+            } else if (kind == float_segments) {
+                answered = answer_batch<rayverify_segment_float, rayverify_answer_float>(fd, opened.segments_float);
+            } else if (kind == double_segments) {
+                answered = answer_batch<rayverify_segment_double, rayverify_answer_double>(fd, opened.segments_double);
             } else {
                 std::memcpy(request, &kind, sizeof kind);
                 if (!receive_all(fd, request + sizeof kind, request_size - sizeof kind)) ::_exit(0);
@@ -367,9 +372,18 @@ root_pair<T> plugin_host::call_in(const ray_sphere<T>& s, T tmin, T tmax, bool i
 
 template <class T>
 void plugin_host::batch_in(std::span<const batch_case<T>> cases, std::span<answer<T>> out, const contract& promises) {
-    using case_t = std::conditional_t<std::is_same_v<T, float>, rayverify_case_float, rayverify_case_double>;
+    if (promises.takes_segment_ends)
+        batch_of<T, true>(cases, out, promises);
+    else
+        batch_of<T, false>(cases, out, promises);
+}
+
+template <class T, bool segments>
+void plugin_host::batch_of(std::span<const batch_case<T>> cases, std::span<answer<T>> out, const contract& promises) {
+    using case_t = plugin_case_t<T, segments>;
     using answer_t = std::conditional_t<std::is_same_v<T, float>, rayverify_answer_float, rayverify_answer_double>;
-    constexpr std::int32_t kind = std::is_same_v<T, float> ? float_batch : double_batch;
+    constexpr std::int32_t kind = segments ? (std::is_same_v<T, float> ? float_segments : double_segments)
+                                           : (std::is_same_v<T, float> ? float_batch : double_batch);
     if (cases.empty()) return;
     std::string happened = "is no longer running (it failed on an earlier call)";
     if (fd_ >= 0 && cases.size() <= largest_batch) {
@@ -378,7 +392,7 @@ void plugin_host::batch_in(std::span<const batch_case<T>> cases, std::span<answe
         const auto n = static_cast<std::uint32_t>(cases.size());
         request.append(reinterpret_cast<const char*>(&n), sizeof n);
         for (const batch_case<T>& c : cases) {
-            const case_t given = case_for_plugin<case_t>(c.input, c.interval.tmin, c.interval.tmax);
+            const case_t given = plugin_case<case_t>(c);
             request.append(reinterpret_cast<const char*>(&given), sizeof given);
         }
         std::vector<answer_t> answers(cases.size());

@@ -51,6 +51,8 @@ public:
 private:
     template <class T>
     void batch_in(std::span<const batch_case<T>> cases, std::span<answer<T>> out, const contract& promises);
+    template <class T, bool segments>
+    void batch_of(std::span<const batch_case<T>> cases, std::span<answer<T>> out, const contract& promises);
     template <class T>
     root_pair<T> call_in(const ray_sphere<T>& s, T tmin, T tmax, bool interval_asked);
     // Closes the socket, reaps the child (which exits at the end of file) and says how it ended.

@@ -72,6 +72,21 @@ void open_v2(opened_library& opened, rayverify_describe_v2_fn describe, const st
         fail(fmt::format("precisions = {}: expected RAYVERIFY_FLOAT, RAYVERIFY_DOUBLE or both", info->precisions));
     d.has_float = (info->precisions & RAYVERIFY_FLOAT) != 0;
     d.has_double = (info->precisions & RAYVERIFY_DOUBLE) != 0;
+    if (parse_contract(d.contract_spec).takes_segment_ends) {
+        // The segment entry in place of the batch functions; both would leave
+        // it unclear which one a case goes to.
+        if (symbol("rayverify_plugin_intersect_batch_double", false) ||
+            symbol("rayverify_plugin_intersect_batch_float", false))
+            fail("its contract says cast=segment, but it exports rayverify_plugin_intersect_batch_* (the ray form): "
+                 "a segment plugin exports rayverify_plugin_intersect_segments_* only (build one plugin per form)");
+        if (d.has_double)
+            opened.segments_double = reinterpret_cast<rayverify_segments_double_fn>(
+                symbol("rayverify_plugin_intersect_segments_double", true));
+        if (d.has_float)
+            opened.segments_float = reinterpret_cast<rayverify_segments_float_fn>(
+                symbol("rayverify_plugin_intersect_segments_float", true));
+        return;
+    }
     if (d.has_double)
         opened.batch_double =
             reinterpret_cast<rayverify_batch_double_fn>(symbol("rayverify_plugin_intersect_batch_double", true));

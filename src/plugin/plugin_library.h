@@ -50,6 +50,9 @@ struct opened_library {
     rayverify_intersect_float_fn run_float = nullptr;    // version 1; nullptr when the library has none
     rayverify_batch_double_fn batch_double = nullptr;    // version 2, when it runs in double
     rayverify_batch_float_fn batch_float = nullptr;      // version 2, when it runs in float
+    // Version 2 with cast=segment, in place of the two batch functions.
+    rayverify_segments_double_fn segments_double = nullptr;
+    rayverify_segments_float_fn segments_float = nullptr;
     plugin_description description;
 };
 
@@ -122,6 +125,27 @@ template <class Case, class T>
 Case case_for_plugin(const ray_sphere<T>& s, T tmin, T tmax) {
     return {{s.origin.x, s.origin.y, s.origin.z}, {s.direction.x, s.direction.y, s.direction.z},
             {s.centre.x, s.centre.y, s.centre.z}, s.radius, tmin, tmax};
+}
+
+// The struct a version 2 plugin is handed for one case: the ray and its
+// interval (rayverify_case_*), or for cast=segment the end points as the
+// target receives them (rayverify_segment_*: p0 is the input's origin).
+template <class T, bool segment>
+using plugin_case_t = std::conditional_t<
+    segment, std::conditional_t<std::is_same_v<T, float>, rayverify_segment_float, rayverify_segment_double>,
+    std::conditional_t<std::is_same_v<T, float>, rayverify_case_float, rayverify_case_double>>;
+
+template <class Case, class T>
+Case plugin_case(const batch_case<T>& c) {
+    if constexpr (std::is_same_v<Case, plugin_case_t<T, true>>) {
+        const ray_sphere<T>& s = c.input;
+        return {{s.origin.x, s.origin.y, s.origin.z},
+                {c.segment_end.x, c.segment_end.y, c.segment_end.z},
+                {s.centre.x, s.centre.y, s.centre.z},
+                s.radius};
+    } else {
+        return case_for_plugin<Case>(c.input, c.interval.tmin, c.interval.tmax);
+    }
 }
 
 // The case a failing call was on, as plugin_failure keeps it: the case

@@ -234,15 +234,22 @@ using rayverify_case_t = std::conditional_t<std::is_same_v<T, float>, rayverify_
 template <class T>
 using rayverify_answer_t = std::conditional_t<std::is_same_v<T, float>, rayverify_answer_float, rayverify_answer_double>;
 
-// A version 2 plugin's cases in the ABI's structs, and its answers as rayverify holds them.
-template <class T>
-std::vector<rayverify_case_t<T>> plugin_cases(std::span<const batch_case<T>> cases) {
-    std::vector<rayverify_case_t<T>> out;
+// A version 2 plugin's cases in the ABI's structs (rays or segments), and its answers as rayverify holds them.
+template <class Case, class T>
+std::vector<Case> plugin_cases(std::span<const batch_case<T>> cases) {
+    std::vector<Case> out;
     out.reserve(cases.size());
-    for (const batch_case<T>& c : cases)
-        out.push_back(case_for_plugin<rayverify_case_t<T>>(c.input, c.interval.tmin, c.interval.tmax));
+    for (const batch_case<T>& c : cases) out.push_back(plugin_case<Case>(c));
     return out;
 }
+
+// The struct a batch function of type Fn takes (rayverify_case_* or rayverify_segment_*).
+template <class Fn>
+struct batch_function_case;
+template <class Case, class Answer>
+struct batch_function_case<void (*)(const Case*, Answer*, std::size_t)> {
+    using type = Case;
+};
 
 template <class T>
 void take_answers(std::span<const rayverify_answer_t<T>> given, const contract& promises,
@@ -289,7 +296,7 @@ void bind_batch_entry_points(variant& v, bool has_float, bool has_double, const 
 template <class T, class Fn>
 void batch_in_process(const in_process_plugin& plugin, Fn intersect, const contract& promises,
                       std::span<const batch_case<T>> cases, std::span<answer<T>> out) {
-    const std::vector<rayverify_case_t<T>> given = plugin_cases(cases);
+    const auto given = plugin_cases<typename batch_function_case<Fn>::type>(cases);
     guarded_answers<rayverify_answer_t<T>> answers(cases.size());
     constexpr const char* function = std::is_same_v<T, float> ? "float batch" : "double batch";
     {
@@ -366,7 +373,7 @@ timed_pass_fn<T> batch_timed_pass(std::shared_ptr<const in_process_plugin> plugi
         std::vector<batch_case<T>> asked;
         asked.reserve(cases.size());
         for (const ray_sphere<T>& s : cases) asked.push_back({s, {tmin, std::numeric_limits<T>::infinity()}});
-        auto given = std::make_shared<const std::vector<rayverify_case_t<T>>>(plugin_cases<T>(asked));
+        auto given = std::make_shared<const std::vector<rayverify_case_t<T>>>(plugin_cases<rayverify_case_t<T>>(std::span<const batch_case<T>>(asked)));
         auto answers = std::make_shared<guarded_answers<rayverify_answer_t<T>>>(cases.size());
         return [plugin, intersect, tmin, given, answers, first = cases.front()] {
             constexpr const char* function = std::is_same_v<T, float> ? "float batch" : "double batch";
@@ -461,11 +468,21 @@ variant load_in_process(const std::filesystem::path& library, const fp_environme
         bind_batch_entry_points(v, d.has_float, d.has_double,
                                 [p, promises = v.promises]<class T>(std::span<const batch_case<T>> cases,
                                                                     std::span<answer<T>> answers) {
-                                    if constexpr (std::is_same_v<T, float>)
-                                        batch_in_process<T>(*p, p->library.batch_float, promises, cases, answers);
-                                    else
-                                        batch_in_process<T>(*p, p->library.batch_double, promises, cases, answers);
+                                    const opened_library& l = p->library;
+                                    if constexpr (std::is_same_v<T, float>) {
+                                        if (promises.takes_segment_ends)
+                                            batch_in_process<T>(*p, l.segments_float, promises, cases, answers);
+                                        else
+                                            batch_in_process<T>(*p, l.batch_float, promises, cases, answers);
+                                    } else {
+                                        if (promises.takes_segment_ends)
+                                            batch_in_process<T>(*p, l.segments_double, promises, cases, answers);
+                                        else
+                                            batch_in_process<T>(*p, l.batch_double, promises, cases, answers);
+                                    }
                                 });
+        // bench times a plugin on ray families: a segment plugin has none to run on.
+        if (v.promises.takes_segment_ends) return in_fp_environment(std::move(v), run_environment, std::move(environment_text));
         if (d.has_float)
             v.timed_pass_float = batch_timed_pass<float>(p, p->library.batch_float, interval_start<float>(v.promises));
         if (d.has_double)

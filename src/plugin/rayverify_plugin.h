@@ -183,6 +183,39 @@ RAYVERIFY_PLUGIN_EXPORT void rayverify_plugin_intersect_batch_double(const rayve
 RAYVERIFY_PLUGIN_EXPORT void rayverify_plugin_intersect_batch_float(const rayverify_case_float* cases,
                                                                     rayverify_answer_float* answers, size_t count);
 
+/* ---- Version 2: segments, as physics engines cast them ------------------- */
+
+/* A plugin whose contract says cast=segment (with range=interval) exports
+ * these in place of the two batch functions above: it is handed each
+ * segment case's end points exactly as the corpus gives them (rounded to its
+ * precision, nothing computed from them: no wrapper of yours rounds
+ * p1 = o + L·d) and answers t along p1 − p0, the fraction f of the segment
+ * (0 at p0, 1 at p1), on f in [0, 1] with the ends its contract states:
+ * e.g. "query=nearest_hit,range=interval,ends=[],inside=clamp,cast=segment".
+ * The answer struct is the one above (t[0] the fraction for nearest_hit,
+ * the point for answer=point). rayverify judges it against the exact
+ * segment between the two ends (its direction p1 − p0 taken exactly, not
+ * rounded), so that every verdict is about the segment the function
+ * received. A cast=segment plugin runs on segment cases only (a corpus line
+ * "id family segment p0x p0y p0z p1x p1y p1z cx cy cz r"); ray cases are not
+ * scored. examples/templates/segment.c and segment.cpp are the templates. */
+typedef struct rayverify_segment_double {
+    double p0[3], p1[3], centre[3], radius;
+} rayverify_segment_double;
+typedef struct rayverify_segment_float {
+    float p0[3], p1[3], centre[3], radius;
+} rayverify_segment_float;
+
+typedef void (*rayverify_segments_double_fn)(const rayverify_segment_double* segments,
+                                             rayverify_answer_double* answers, size_t count);
+typedef void (*rayverify_segments_float_fn)(const rayverify_segment_float* segments, rayverify_answer_float* answers,
+                                            size_t count);
+RAYVERIFY_PLUGIN_EXPORT void rayverify_plugin_intersect_segments_double(const rayverify_segment_double* segments,
+                                                                        rayverify_answer_double* answers,
+                                                                        size_t count);
+RAYVERIFY_PLUGIN_EXPORT void rayverify_plugin_intersect_segments_float(const rayverify_segment_float* segments,
+                                                                       rayverify_answer_float* answers, size_t count);
+
 /* ---- Either version: thread safety --------------------------------------- */
 
 /* Optional. Nonzero: the intersect (or batch) functions may be called from

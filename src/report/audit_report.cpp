@@ -345,6 +345,10 @@ std::string per_case_line(const audited_case& audited, const std::vector<audit_t
     hex_vec(g.origin);
     line.key("d");
     hex_vec(g.direction);
+    if (c.segment_end) {  // a segment case: o is p0, d is p1 − p0 rounded to double
+        line.key("p1");
+        hex_vec(*c.segment_end);
+    }
     line.key("c");
     hex_vec(g.centre);
     line.key("r").hex(g.radius).end_object();

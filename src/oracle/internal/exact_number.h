@@ -70,6 +70,9 @@ struct exact_quadratic {
 
 // The exact quadratic with f = o − c; with `unit_direction`, a is taken to be
 // 1 (what a unit-direction formula solves).
-std::shared_ptr<const exact_quadratic> exact_quadratic_of(const ray_sphere<double>& g, bool unit_direction = false);
+// `direction_low`: a segment's direction is g.direction + direction_low
+// exactly (p1 − p0 as two doubles a coordinate); zero for a ray.
+std::shared_ptr<const exact_quadratic> exact_quadratic_of(const ray_sphere<double>& g, bool unit_direction = false,
+                                                          const vec3<double>& direction_low = {});
 
 }  // namespace rayverify::oracle_internal

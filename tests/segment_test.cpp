@@ -243,3 +243,41 @@ TEST(PhysicsSegmentExample, RayCasesAreNotItsQuestionAndRayTargetsTakeSegments) 
 
 }  // namespace
 }  // namespace rayverify
+
+namespace rayverify {
+namespace {
+
+// The segment templates (C and C++, one formula) load as segment plugins in
+// both precisions, answer the same on every hand-worked segment, and take
+// the end on the surface exactly.
+TEST(SegmentTemplates, CAndCppAnswerAlikeInBothPrecisions) {
+    const variant in_c = load_plugin(RAYVERIFY_TEMPLATE_SEGMENT_C);
+    const variant in_cpp = load_plugin(RAYVERIFY_TEMPLATE_SEGMENT_CPP, plugin_isolation{true, 30});
+    for (const variant* v : {&in_c, &in_cpp}) {
+        EXPECT_TRUE(v->promises.takes_segment_ends) << v->name;
+        EXPECT_TRUE(v->runs_in(precision::binary32) && v->runs_in(precision::binary64)) << v->name;
+    }
+    const std::vector<variant> both = {in_c, in_cpp};
+    const std::vector<audit_target> targets = targets_for(both);
+    ASSERT_EQ(targets.size(), 4u);
+    for (const corpus_case& c : read_corpus({physics_segments})) {
+        const audited_case audited = audit_case(c, targets);
+        for (std::size_t t = 0; t < targets.size(); ++t) {
+            for (std::size_t u = t + 1; u < targets.size(); ++u) {
+                if (targets[t].prec != targets[u].prec) continue;
+                const variant_output &a = audited.outcomes[t].output, &b = audited.outcomes[u].output;
+                EXPECT_EQ(audited.outcomes[t].score.verdict, audited.outcomes[u].score.verdict) << c.id;
+                EXPECT_EQ(a.roots.count, b.roots.count) << c.id;
+                if (a.roots.count == 1) {
+                    EXPECT_EQ(a.roots.t0, b.roots.t0) << c.id;
+                }
+            }
+        }
+        if (c.id == "ends_on_surface") {
+            for (const target_outcome& o : audited.outcomes) EXPECT_EQ(o.output.roots.t0, 1.0);
+        }
+    }
+}
+
+}  // namespace
+}  // namespace rayverify

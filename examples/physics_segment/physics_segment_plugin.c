@@ -17,7 +17,7 @@ RAYVERIFY_PLUGIN_EXPORT const rayverify_plugin_info_v2* rayverify_plugin_describ
         "Ericson, Real-Time Collision Detection (2005), 5.3.2 IntersectRaySphere, on the segment",
         "d = p1-p0, m = p0-c, b = m.d, C = m.m-r^2; C>0 && b>0: miss; t = (-b - sqrt(b^2 - (d.d)C))/(d.d), "
         "max(t, 0), t <= 1",
-        "float throughout, as examples/physics_segment/CMakeLists.txt builds it",
+        "float throughout, no FMA contraction, no fast math (examples/physics_segment/CMakeLists.txt)",
         "query=nearest_hit,range=interval,ends=[],inside=clamp,tangent=hit,faces=both,cast=segment",
         NULL,
         RAYVERIFY_FLOAT};

@@ -337,7 +337,9 @@ case_writer::case_writer(std::ostream& out, std::ostream* sidecar, exchange_form
 
 void case_writer::write(const corpus_case& c) {
     const precision p = header_.prec;
-    const auto& g = c.geometry;
+    // What a target in p receives: a segment case in its ray form, o = p0 and
+    // d = p1 − p0 computed in p, on (0, 1) (the answers are judged on the exact segment).
+    const ray_sphere<double> g = target_input(p, c);
     const double values[10] = {g.origin.x, g.origin.y, g.origin.z, g.direction.x, g.direction.y,
                                g.direction.z, g.centre.x, g.centre.y, g.centre.z, g.radius};
     const auto bound = [&](const std::optional<double>& t) -> std::optional<double> {

@@ -64,7 +64,10 @@ struct cases_header {
 
 // Writes the cases of an export, one at a time, in memory that does not grow
 // with their number. Every value is rounded to the header's precision, as an
-// intersector running in it receives it. npy: `sidecar` receives the JSON
+// intersector running in it receives it (a segment case in its ray form:
+// o = p0, d = p1 − p0 computed in that precision, tmin 0, tmax 1; the
+// answers are judged on the exact segment, that rounding counted as the
+// program's). npy: `sidecar` receives the JSON
 // companion (header, columns, ids in row order); unused otherwise.
 class case_writer {
 public:

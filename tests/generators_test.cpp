@@ -204,10 +204,20 @@ TEST(Generators, CasesAreWellFormed) {
             if (f.interval) {
                 EXPECT_LE(*c.tmin, *c.tmax);
             }
-            EXPECT_EQ(validity<double>(c.geometry), invalid_reason::none);
+            EXPECT_EQ(c.is_segment(), f.segment);
             for (const std::uint64_t word : bits_of(c.geometry))
                 EXPECT_TRUE(std::isfinite(std::bit_cast<double>(word)));
             EXPECT_GE(c.geometry.radius, 0);
+            if (f.segment) {
+                // A zero-length segment (p1 = p0) is one of the family's casts: no geometry, on purpose.
+                EXPECT_EQ(*c.tmin, 0.0);
+                EXPECT_EQ(*c.tmax, 1.0);
+                const invalid_reason why = case_validity<double>(c);
+                EXPECT_TRUE(why == invalid_reason::none ||
+                            (why == invalid_reason::zero_direction && *c.segment_end == c.geometry.origin));
+                continue;
+            }
+            EXPECT_EQ(validity<double>(c.geometry), invalid_reason::none);
             EXPECT_NE(c.geometry.direction, (vec3<double>{}));
             if (f.unit_direction) {
                 EXPECT_LE(std::fabs(length_squared(c.geometry.direction) - 1), 4 * 0x1p-53);
@@ -343,6 +353,13 @@ TEST(Generators, EveryFamilyNamedF32IsFloatExactAndValidInFloat) {
         if (!f.float_exact) continue;
         SCOPED_TRACE(std::string(f.name) + ", seed " + std::to_string(oracle_seed));
         for (const corpus_case& c : generate_family(f.name, 300, oracle_seed)) {
+            if (c.is_segment()) {  // its ends (the direction is p1 − p0 rounded to double)
+                ray_sphere<double> ends = c.geometry;
+                ends.direction = *c.segment_end;
+                ASSERT_TRUE(float_exact(ends)) << c.id;
+                EXPECT_NE(case_validity<float>(c), invalid_reason::not_representable) << c.id;
+                continue;
+            }
             ASSERT_TRUE(float_exact(c.geometry)) << c.id;
             EXPECT_EQ(validity<float>(c.geometry), invalid_reason::none) << c.id;
         }

@@ -13,6 +13,8 @@
 #include <random>
 
 #include "compare/audit.h"
+#include "compare/judge.h"
+#include "corpus/generators.h"
 #include "corpus/corpus_io.h"
 #include "intersectors/registry.h"
 #include "oracle/oracle.h"
@@ -276,6 +278,57 @@ TEST(SegmentTemplates, CAndCppAnswerAlikeInBothPrecisions) {
         if (c.id == "ends_on_surface") {
             for (const target_outcome& o : audited.outcomes) EXPECT_EQ(o.output.roots.t0, 1.0);
         }
+    }
+}
+
+}  // namespace
+}  // namespace rayverify
+
+namespace rayverify {
+namespace {
+
+// The segment families do what they say, as the exact oracle sees it: ends
+// exactly on the sphere (f = 1 a root), starts on it (f = 0 a root),
+// zero-length casts, and differences p1 − p0 that are no double (the exact
+// route) or no float.
+TEST(SegmentFamilies, EndsSitOnTheSphereAndDifferencesAreMostlyInexact) {
+    for (const char* family : {"segment_end", "segment_end_f32"}) {
+        SCOPED_TRACE(family);
+        const precision p = std::string_view(family).ends_with("_f32") ? precision::binary32 : precision::binary64;
+        int end_on_sphere = 0, start_on_sphere = 0, zero_length = 0, inexact = 0, valid = 0;
+        const std::vector<corpus_case> cases = generate_family(family, 300, 11);
+        for (const corpus_case& c : cases) {
+            ASSERT_TRUE(c.is_segment()) << c.id;
+            const exact_solution s = solve_case(c, p);
+            if (!s.valid()) {
+                EXPECT_EQ(s.invalid, invalid_reason::zero_direction) << c.id;
+                zero_length += s.invalid == invalid_reason::zero_direction;
+                continue;
+            }
+            ++valid;
+            const ray_sphere<double> input = target_input(p, c);
+            const vec3<double> d = target_input(precision::binary64, c).direction;
+            inexact += p == precision::binary64 ? !s.direction_is_double()
+                                                : d != input.direction;  // p1 − p0 no float
+            if (s.cls == line_class::miss) continue;
+            const auto a_root_is = [&](double f) {
+                return s.compare_to_root(f, root_index::near_root) == comparison::equal ||
+                       s.compare_to_root(f, root_index::far_root) == comparison::equal;
+            };
+            end_on_sphere += a_root_is(1.0);
+            start_on_sphere += a_root_is(0.0);
+            // The two routes agree on these too.
+            const vec3<double> p1 = *c.segment_end;
+            const exact_solution reference =
+                solve_exact_segment_reference(input.origin, p1, input.centre, input.radius, p);
+            EXPECT_EQ(s.cls, reference.cls) << c.id;
+            EXPECT_EQ(s.near_root.rounded, reference.near_root.rounded) << c.id;
+            EXPECT_EQ(s.far_root.rounded, reference.far_root.rounded) << c.id;
+        }
+        EXPECT_GE(end_on_sphere, 90) << "two fifths end exactly on the sphere";
+        EXPECT_GE(start_on_sphere, 25) << "three twentieths start on it";
+        EXPECT_GE(zero_length, 10) << "a tenth are zero-length";
+        EXPECT_GE(inexact, valid / 3) << "p1 - p0 is often no number of the precision";
     }
 }
 

@@ -13,7 +13,8 @@
 // closest fraction (1 at first), and the cast reports nothing when it ends
 // with a zero normal, as it does from inside the sphere.
 //
-// The mapping: a case's (tmin, tmax) is the segment from = o + tmin·d (o when
+// Segment cases (p0, p1) are cast from p0 to p1 exactly as given, through
+// the segment entry. On ray cases, the mapping: a case's (tmin, tmax) is the segment from = o + tmin·d (o when
 // tmin = 0), to = o + tmax·d, each coordinate rounded once to float; a case
 // without tmax gets to = o + L·d with L the power of two of
 // rayverify::segment_length (L·|d|∞ >= 2(|o − c|₁ + r), past every root). The
@@ -79,35 +80,55 @@ RAYVERIFY_PLUGIN_EXPORT const rayverify_plugin_info_v2* rayverify_plugin_describ
     return &info;
 }
 
+}  // extern "C"
+
+namespace {
+
+// One rayTest from `from` to `to` against the sphere, its answer a point and the normal.
+void cast(const float centre[3], float radius, const float from[3], const float to[3], rayverify_answer_float& a) {
+    bullet_world& w = world();
+    w.sphere.setUnscaledRadius(radius);
+    btTransform place = btTransform::getIdentity();
+    place.setOrigin(btVector3(centre[0], centre[1], centre[2]));
+    w.object.setWorldTransform(place);
+    w.world.updateSingleAabb(&w.object);
+
+    const btVector3 ray_from(from[0], from[1], from[2]), ray_to(to[0], to[1], to[2]);
+    btCollisionWorld::ClosestRayResultCallback callback(ray_from, ray_to);
+    w.world.rayTest(ray_from, ray_to, callback);
+    if (!callback.hasHit()) {
+        a.count = 0;
+        return;
+    }
+    a.count = 1;
+    for (int axis = 0; axis < 3; ++axis) {
+        a.point[axis] = callback.m_hitPointWorld[axis];
+        a.normal[axis] = callback.m_hitNormalWorld[axis];
+    }
+}
+
+}  // namespace
+
+extern "C" {
+
+// Ray cases: the segment the mapping above forms from the ray and its interval.
 RAYVERIFY_PLUGIN_EXPORT void rayverify_plugin_intersect_batch_float(const rayverify_case_float* cases,
                                                                     rayverify_answer_float* answers, size_t count) {
-    bullet_world& w = world();
     for (size_t i = 0; i < count; ++i) {
         const rayverify_case_float& k = cases[i];
-        w.sphere.setUnscaledRadius(k.radius);
-        btTransform place = btTransform::getIdentity();
-        place.setOrigin(btVector3(k.centre[0], k.centre[1], k.centre[2]));
-        w.object.setWorldTransform(place);
-        w.world.updateSingleAabb(&w.object);
-
         float from[3], to[3], far = 0;
         rayverify_native::case_segment<float>(k.origin, k.direction, k.centre, k.radius, k.tmin, k.tmax, from, to,
                                               far);
-        const btVector3 ray_from(from[0], from[1], from[2]), ray_to(to[0], to[1], to[2]);
-        btCollisionWorld::ClosestRayResultCallback callback(ray_from, ray_to);
-        w.world.rayTest(ray_from, ray_to, callback);
-
-        rayverify_answer_float& a = answers[i];
-        if (!callback.hasHit()) {
-            a.count = 0;
-            continue;
-        }
-        a.count = 1;
-        for (int axis = 0; axis < 3; ++axis) {
-            a.point[axis] = callback.m_hitPointWorld[axis];
-            a.normal[axis] = callback.m_hitNormalWorld[axis];
-        }
+        cast(k.centre, k.radius, from, to, answers[i]);
     }
+}
+
+// Segment cases: rayTest(p0, p1) with the case's end points as given, as a
+// game casts between two points (rayverify_plugin.h's segment entry).
+RAYVERIFY_PLUGIN_EXPORT void rayverify_plugin_intersect_segments_float(const rayverify_segment_float* segments,
+                                                                       rayverify_answer_float* answers, size_t count) {
+    for (size_t i = 0; i < count; ++i)
+        cast(segments[i].centre, segments[i].radius, segments[i].p0, segments[i].p1, answers[i]);
 }
 
 // Bullet has no exported version function: btGetVersion() is inline in

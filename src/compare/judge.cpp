@@ -238,13 +238,13 @@ root_index stands_for(const exact_solution& exact, double t, root_index wanted) 
 template <class T>
 answer<T> answer_of(const audit_target& target, const corpus_case& c, const ray_sphere<T>& input,
                     ray_interval<T> interval) {
-    if (!target.recorded && target.subject.promises.takes_segment_ends && c.is_segment()) {
-        // A segment-form target is asked through its batch entry, which carries p1.
+    if (!target.recorded && target.subject.takes_segment_ends && c.is_segment()) {
+        // A target that takes segment ends is asked through its batch entry, which carries p1.
         const auto& batch = [&]() -> const auto& {
             if constexpr (std::is_same_v<T, float>) return target.subject.batch_float;
             else return target.subject.batch_double;
         }();
-        const batch_case<T> asked{input, interval, segment_end_input<T>(c)};
+        const batch_case<T> asked{input, interval, segment_end_input<T>(c), true};
         answer<T> a{{-1, T(0), T(0)}};
         if (batch) batch(std::span<const batch_case<T>>(&asked, 1), std::span<answer<T>>(&a, 1));
         return a;
@@ -1174,7 +1174,9 @@ std::optional<batch_case<T>> run_input(const audit_target& target, const corpus_
     if (target.subject.promises.takes_segment_ends && !c.is_segment()) return std::nullopt;
     const t_range range = range_for(target.subject.promises, c, target.prec);
     const ray_sphere<T> input = target_input<T>(c);
-    const vec3<T> segment_end = c.is_segment() ? segment_end_input<T>(c) : vec3<T>{};
+    // A segment case reaches a target that takes segment ends with them; any other target gets its ray form.
+    const bool with_ends = c.is_segment() && target.subject.takes_segment_ends;
+    const vec3<T> segment_end = with_ends ? segment_end_input<T>(c) : vec3<T>{};
     const invalid_reason reason = case_validity<T>(c);
     const auto bound_invalid = [](std::optional<double> t) { return t && std::isnan(*t); };
     const bool bad_interval =
@@ -1184,11 +1186,11 @@ std::optional<batch_case<T>> run_input(const audit_target& target, const corpus_
         // from the oracle's reason (validity's first, then the interval's).
         const invalid_reason why = reason != invalid_reason::none ? reason : invalid_reason::bad_interval;
         if (target.subject.promises.degenerate_is_miss && degenerate_cast(why))
-            return batch_case<T>{input, interval_in<T>(range), segment_end};
+            return batch_case<T>{input, interval_in<T>(range), segment_end, with_ends};
         return std::nullopt;
     }
     if (contract_breach(target.subject.promises, rounded_to<double>(input), target.prec)) return std::nullopt;
-    return batch_case<T>{input, interval_in<T>(range), segment_end};
+    return batch_case<T>{input, interval_in<T>(range), segment_end, with_ends};
 }
 
 template std::optional<batch_case<float>> run_input<float>(const audit_target&, const corpus_case&);

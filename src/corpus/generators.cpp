@@ -617,6 +617,7 @@ ray_sphere<double> make_secondary_ray(random_source& g) {
 struct generated_cast {
     ray_sphere<double> geometry;
     std::optional<double> tmin{}, tmax{};
+    std::optional<vec3<double>> segment_end{};  // a segment from geometry.origin (p0) to here (p1)
 };
 
 // u² + v² = w² with small legs (m ≤ 8, no multiple): every input of a chord
@@ -765,7 +766,7 @@ generated_cast make_short_cast(random_source& g) {
 // ---------------------------------------------------------------------------
 // The table.
 
-constexpr std::array<family_info, 34> families{{
+constexpr std::array<family_info, 36> families{{
     {"uniform",
      "baseline: o, c uniform in [-10,10]^3, r uniform in [0.1,5], unit d aimed at a uniform "
      "point of the ball of radius 2r around c (hits and misses, origin sometimes inside)",
@@ -893,7 +894,79 @@ constexpr std::array<family_info, 34> families{{
      "nonzero ones (tmax = tmin + j*2^-1074 from a root or one ulp before it: subnormal-length from a "
      "root at 0, one ulp from any other; a quarter start on the surface); float-exact inputs, double ends",
      class_claim::two_hit, false, true, true},
+    {"segment_end",
+     "segments (p0, p1) ending exactly on the sphere (a triple's point: f = 1 a root whatever p0 is), one "
+     "double ulp off it, starting on it (f = 0), zero-length or one ulp long; p0 drawn with a full "
+     "significand up to 2^90 r away, so that p1 - p0 is often no double",
+     class_claim::any, false, false, true, true},
+    {"segment_end_f32",
+     "segment_end with float ends and float ulp steps: every input float-exact, p1 - p0 mostly no float",
+     class_claim::any, false, true, true, true},
 }};
+
+// Segments whose ends sit on the sphere. A surface point s = c + (u, v, 0)·2^k
+// (permuted and signed; u² + v² = w² a triple, r = w·2^k) is exact, so a
+// segment ending there has the root f = 1 exactly whatever p0 is. p0 is
+// drawn with a full significand of T anywhere within about 2^j·r of the
+// centre (j in [0, 90]): p1 − p0 is no T once p0's last bit is coarser than
+// p1's and their span passes T's significand (for about half the double
+// cases and most float ones). Of the cases: two fifths end on the sphere; a fifth end one ulp of
+// T off it (one coordinate of p1 stepped up or down: inside or outside as
+// the geometry has it); three twentieths start on it (p0 = s: f = 0 a root);
+// a tenth are zero-length (p1 = p0, on the sphere or off it: no geometry);
+// three twentieths are one ulp of T long (p1 = p0 with a coordinate stepped),
+// from s or from a drawn point.
+template <class T>
+generated_cast make_segment_end(random_source& g) {
+    const int k = static_cast<int>(g.integer(-12, 12));
+    const i3 centre = {g.integer(-1024, 1024), g.integer(-1024, 1024), g.integer(-1024, 1024)};
+    const triple t = small_triple(g);
+    const int axis = static_cast<int>(g.integer(0, 2)), other = (axis + 1 + static_cast<int>(g.integer(0, 1))) % 3;
+    i3 offset{};
+    offset[axis] = g.coin() ? t.u : -t.u;
+    offset[other] = g.coin() ? t.v : -t.v;
+    const ray_sphere<double> sphere{{}, {}, dyadic(centre, k), std::ldexp(static_cast<double>(t.w), k)};
+    const vec3<double> surface = dyadic(add(centre, offset), k);
+    constexpr int digits = std::numeric_limits<T>::digits - 1;
+    const int j = static_cast<int>(g.integer(0, 90));
+    const auto drawn = [&] {
+        // A point with a full significand of T, within 2^j·r of the centre in each coordinate.
+        const auto coordinate = [&](double c) {
+            const double x =
+                c + std::ldexp(static_cast<double>(g.integer(-(std::int64_t{1} << digits), std::int64_t{1} << digits)),
+                               k + j + 7 - digits);
+            return static_cast<double>(static_cast<T>(x));
+        };
+        return vec3<double>{coordinate(sphere.centre.x), coordinate(sphere.centre.y), coordinate(sphere.centre.z)};
+    };
+    const auto stepped = [&](vec3<double> p) {
+        const int at = static_cast<int>(g.integer(0, 2));
+        const bool up = g.coin();
+        if (at == 0) p.x = ulp_step<T>(p.x, up);
+        if (at == 1) p.y = ulp_step<T>(p.y, up);
+        if (at == 2) p.z = ulp_step<T>(p.z, up);
+        return p;
+    };
+    vec3<double> p0 = drawn(), p1 = surface;
+    const std::int64_t kind = g.integer(0, 19);
+    if (kind < 8) {
+        // p1 on the sphere
+    } else if (kind < 12) {
+        p1 = stepped(surface);
+    } else if (kind < 15) {
+        p1 = p0;
+        p0 = surface;
+    } else if (kind < 17) {
+        if (g.coin()) p0 = surface;
+        p1 = p0;
+    } else {
+        if (g.coin()) p0 = surface;
+        p1 = stepped(p0);
+    }
+    generated_cast out{{p0, p1 - p0, sphere.centre, sphere.radius}};
+    out.segment_end = p1;
+    return out;
+}
 
 ray_sphere<double> make_uniform_f32(random_source& g) { return exactly_in<float>(make_uniform(g)); }
 
@@ -939,6 +1012,8 @@ constexpr std::array<maker, families.size()> makers{
     make_range_end<float>,
     make_grazing_end,
     make_short_cast,
+    make_segment_end<double>,
+    make_segment_end<float>,
 };
 
 std::string case_id(std::string_view family, std::uint64_t seed, std::size_t index) {
@@ -994,6 +1069,7 @@ corpus_case make_case(const family_info& info, std::uint64_t seed, std::size_t i
     c.geometry = made.geometry;
     c.tmin = made.tmin;
     c.tmax = made.tmax;
+    if (made.segment_end) make_segment(c, made.geometry.origin, *made.segment_end);
     c.source = "generated";
     return c;
 }

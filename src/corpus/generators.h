@@ -32,6 +32,7 @@ struct family_info {
     bool unit_direction;  // every direction is normalised in double (|d·d − 1| ≤ 2^-51)
     bool float_exact = false;  // every input is exactly a float: float variants see the case itself
     bool interval = false;     // every case has an interval (tmin, tmax): the range-end families
+    bool segment = false;      // every case is a segment (p0, p1; corpus_case::segment_end): its interval is [0, 1]
     int version = 1;           // bumped whenever the family's output for a (seed, index) changes
 };
 

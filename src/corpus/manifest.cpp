@@ -87,6 +87,7 @@ void write_generated_corpus(std::string_view family_name, std::size_t count, std
     generate_family(family_name, 0, seed);  // an unknown family throws before anything is written
     const family_info& family = *find_generator_family(family_name);
     std::string out = corpus_header_comment() + '\n';
+    if (family.segment) out += segment_header_comment() + '\n';
     out += fmt::format("# family {}: {}\n", family.name, family.description);
     out += fmt::format("# class claim: {}; unit directions: {}\n", class_claim_name(family.claim),
                        family.unit_direction ? "yes" : "no");

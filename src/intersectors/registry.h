@@ -22,9 +22,9 @@ struct batch_case {
     ray_sphere<T> input;
     ray_interval<T> interval;
     // A segment case's p1 as the target receives it (input.origin is p0);
-    // read by a target whose contract says cast=segment, which runs only on
-    // segment cases.
+    // read by a target that takes segment ends (variant::takes_segment_ends).
     vec3<T> segment_end{};
+    bool segment = false;  // a segment case: segment_end holds its p1
 };
 
 // A library audited as its package installs it (an --engine target, or a
@@ -65,6 +65,11 @@ struct variant {
     // False when the functions must never run concurrently (a plugin: its ABI
     // promises calls from one thread); an audit with such a variant runs on one thread.
     bool thread_safe = true;
+    // True when a segment case reaches the batch functions below with its
+    // end points (batch_case::segment): a plugin exporting the segment entry
+    // (rayverify_plugin.h), alone (contract cast=segment: segment cases only)
+    // or beside its ray batch (an engine whose API takes two points).
+    bool takes_segment_ends = false;
     // True when the class, every root's side and every interval decision are
     // exact for all inputs by construction (robust_sphere.h), not just on the
     // cases audited so far: `recommend` prefers it when no wrong ray is allowed.

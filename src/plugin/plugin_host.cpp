@@ -129,15 +129,19 @@ void encode_version_2(std::string& out, const plugin_description& d) {
     put_text(out, d.library_configuration);
     put_text(out, std::string(reinterpret_cast<const char*>(&d.environment_at_load), sizeof d.environment_at_load));
     put_u32(out, std::uint32_t{d.has_double});
+    put_u32(out, std::uint32_t{d.has_ray_batch});
+    put_u32(out, std::uint32_t{d.has_segment_entry});
 }
 
 bool decode_version_2(reader& in, plugin_description& d) {
-    std::uint32_t abi = 0, has_double = 0;
+    std::uint32_t abi = 0, has_double = 0, has_ray_batch = 0, has_segment_entry = 0;
     std::string environment;  // the child's fp_state, byte for byte (the same executable)
     if (!in.u32(abi) || !in.text(d.contract_spec) || !in.text(d.build) || !in.text(d.library_version) ||
         !in.text(d.library_configuration) || !in.text(environment) || environment.size() != sizeof(fp_state) ||
-        !in.u32(has_double))
+        !in.u32(has_double) || !in.u32(has_ray_batch) || !in.u32(has_segment_entry))
         return false;
+    d.has_ray_batch = has_ray_batch != 0;
+    d.has_segment_entry = has_segment_entry != 0;
     std::memcpy(&d.environment_at_load, environment.data(), sizeof(fp_state));
     d.abi = static_cast<int>(abi);
     d.has_double = has_double != 0;
@@ -372,10 +376,10 @@ root_pair<T> plugin_host::call_in(const ray_sphere<T>& s, T tmin, T tmax, bool i
 
 template <class T>
 void plugin_host::batch_in(std::span<const batch_case<T>> cases, std::span<answer<T>> out, const contract& promises) {
-    if (promises.takes_segment_ends)
-        batch_of<T, true>(cases, out, promises);
-    else
-        batch_of<T, false>(cases, out, promises);
+    answer_by_form<T>(
+        cases, out,
+        [&](std::span<const batch_case<T>> part, std::span<answer<T>> answers) { batch_of<T, false>(part, answers, promises); },
+        [&](std::span<const batch_case<T>> part, std::span<answer<T>> answers) { batch_of<T, true>(part, answers, promises); });
 }
 
 template <class T, bool segments>

@@ -72,19 +72,28 @@ void open_v2(opened_library& opened, rayverify_describe_v2_fn describe, const st
         fail(fmt::format("precisions = {}: expected RAYVERIFY_FLOAT, RAYVERIFY_DOUBLE or both", info->precisions));
     d.has_float = (info->precisions & RAYVERIFY_FLOAT) != 0;
     d.has_double = (info->precisions & RAYVERIFY_DOUBLE) != 0;
-    if (parse_contract(d.contract_spec).takes_segment_ends) {
-        // The segment entry in place of the batch functions; both would leave
-        // it unclear which one a case goes to.
-        if (symbol("rayverify_plugin_intersect_batch_double", false) ||
-            symbol("rayverify_plugin_intersect_batch_float", false))
-            fail("its contract says cast=segment, but it exports rayverify_plugin_intersect_batch_* (the ray form): "
-                 "a segment plugin exports rayverify_plugin_intersect_segments_* only (build one plugin per form)");
+    // The segment entry: required under cast=segment (which answers segment
+    // cases only, so the ray batch is refused there), optional otherwise (an
+    // engine whose API takes two points: segment cases then reach it).
+    const bool segments_only = parse_contract(d.contract_spec).takes_segment_ends;
+    const bool exports_segments = symbol("rayverify_plugin_intersect_segments_double", false) ||
+                                  symbol("rayverify_plugin_intersect_segments_float", false);
+    if (segments_only || exports_segments) {
         if (d.has_double)
             opened.segments_double = reinterpret_cast<rayverify_segments_double_fn>(
                 symbol("rayverify_plugin_intersect_segments_double", true));
         if (d.has_float)
             opened.segments_float = reinterpret_cast<rayverify_segments_float_fn>(
                 symbol("rayverify_plugin_intersect_segments_float", true));
+        d.has_segment_entry = true;
+    }
+    if (segments_only) {
+        if (symbol("rayverify_plugin_intersect_batch_double", false) ||
+            symbol("rayverify_plugin_intersect_batch_float", false))
+            fail("its contract says cast=segment (segment cases only), but it exports "
+                 "rayverify_plugin_intersect_batch_* (the ray form): leave cast out of the contract to answer both, "
+                 "rays through the batch functions and segment cases through the segment entry");
+        d.has_ray_batch = false;
         return;
     }
     if (d.has_double)

@@ -42,6 +42,10 @@ struct plugin_description {
     bool has_float = false;
     bool has_double = true;  // version 1 always
     bool thread_safe = false;  // rayverify_plugin_thread_safe() returned nonzero
+    // Version 2: which batch entries it exports (every precision it runs in):
+    // the ray batch, the segment entry (rayverify_plugin_intersect_segments_*), or both.
+    bool has_ray_batch = true;
+    bool has_segment_entry = false;
 };
 
 struct opened_library {
@@ -134,6 +138,34 @@ template <class T, bool segment>
 using plugin_case_t = std::conditional_t<
     segment, std::conditional_t<std::is_same_v<T, float>, rayverify_segment_float, rayverify_segment_double>,
     std::conditional_t<std::is_same_v<T, float>, rayverify_case_float, rayverify_case_double>>;
+
+// Answers a batch whose cases may mix rays and segments: `rays(cases,
+// answers)` for the ray cases, `segments(cases, answers)` for the segment
+// cases (batch_case::segment), each called once with its cases in order (not
+// at all when it has none), the answers put back in the batch's order.
+template <class T, class Rays, class Segments>
+void answer_by_form(std::span<const batch_case<T>> cases, std::span<answer<T>> out, const Rays& rays,
+                    const Segments& segments) {
+    const auto segment_count = static_cast<std::size_t>(
+        std::count_if(cases.begin(), cases.end(), [](const batch_case<T>& c) { return c.segment; }));
+    if (segment_count == 0) return rays(cases, out);
+    if (segment_count == cases.size()) return segments(cases, out);
+    for (const bool segment : {false, true}) {
+        std::vector<batch_case<T>> part;
+        std::vector<std::size_t> where;
+        for (std::size_t i = 0; i < cases.size(); ++i)
+            if (cases[i].segment == segment) {
+                part.push_back(cases[i]);
+                where.push_back(i);
+            }
+        std::vector<answer<T>> answers(part.size());
+        if (segment)
+            segments(std::span<const batch_case<T>>(part), std::span<answer<T>>(answers));
+        else
+            rays(std::span<const batch_case<T>>(part), std::span<answer<T>>(answers));
+        for (std::size_t k = 0; k < where.size(); ++k) out[where[k]] = answers[k];
+    }
+}
 
 template <class Case, class T>
 Case plugin_case(const batch_case<T>& c) {

@@ -469,20 +469,25 @@ variant load_in_process(const std::filesystem::path& library, const fp_environme
                                 [p, promises = v.promises]<class T>(std::span<const batch_case<T>> cases,
                                                                     std::span<answer<T>> answers) {
                                     const opened_library& l = p->library;
-                                    if constexpr (std::is_same_v<T, float>) {
-                                        if (promises.takes_segment_ends)
-                                            batch_in_process<T>(*p, l.segments_float, promises, cases, answers);
+                                    const auto rays = [&](std::span<const batch_case<T>> part,
+                                                          std::span<answer<T>> out) {
+                                        if constexpr (std::is_same_v<T, float>)
+                                            batch_in_process<T>(*p, l.batch_float, promises, part, out);
                                         else
-                                            batch_in_process<T>(*p, l.batch_float, promises, cases, answers);
-                                    } else {
-                                        if (promises.takes_segment_ends)
-                                            batch_in_process<T>(*p, l.segments_double, promises, cases, answers);
+                                            batch_in_process<T>(*p, l.batch_double, promises, part, out);
+                                    };
+                                    const auto segments = [&](std::span<const batch_case<T>> part,
+                                                              std::span<answer<T>> out) {
+                                        if constexpr (std::is_same_v<T, float>)
+                                            batch_in_process<T>(*p, l.segments_float, promises, part, out);
                                         else
-                                            batch_in_process<T>(*p, l.batch_double, promises, cases, answers);
-                                    }
+                                            batch_in_process<T>(*p, l.segments_double, promises, part, out);
+                                    };
+                                    answer_by_form<T>(cases, answers, rays, segments);
                                 });
-        // bench times a plugin on ray families: a segment plugin has none to run on.
-        if (v.promises.takes_segment_ends) return in_fp_environment(std::move(v), run_environment, std::move(environment_text));
+        v.takes_segment_ends = d.has_segment_entry;
+        // bench times a plugin on ray families: a segment-only plugin has none to run on.
+        if (!d.has_ray_batch) return in_fp_environment(std::move(v), run_environment, std::move(environment_text));
         if (d.has_float)
             v.timed_pass_float = batch_timed_pass<float>(p, p->library.batch_float, interval_start<float>(v.promises));
         if (d.has_double)
@@ -516,6 +521,7 @@ variant load_isolated(const std::filesystem::path& library, double timeout_secon
                                                                        std::span<answer<T>> answers) {
                                     host->call_batch(cases, answers, promises);
                                 });
+        v.takes_segment_ends = host->description().has_segment_entry;
         return v;
     }
     bind_entry_points(v, host->description().has_float,

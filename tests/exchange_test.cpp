@@ -43,6 +43,24 @@ std::string written(exchange_format format, precision p, const std::vector<corpu
     return out.str();
 }
 
+// A segment case goes out in its ray form (o = p0, d = p1 − p0 computed in
+// the export's precision, on (0, 1)), and in JSON lines with its end p1 as
+// given, for a program that casts between two points.
+TEST(ExchangeCases, ASegmentGoesOutInItsRayFormAndInJsonLinesWithItsEnd) {
+    corpus_case c = unit_case();
+    make_segment(c, {0.1, 0, 0}, {0.7, 0, 0});
+    const std::string jsonl = written(exchange_format::jsonl, precision::binary32, {c});
+    const nlohmann::json line = nlohmann::json::parse(jsonl.substr(jsonl.find('\n') + 1));
+    // A float export's decimals read back as the nearest float.
+    EXPECT_EQ(static_cast<float>(line["dx"].get<double>()), 0.7f - 0.1f) << "computed in float";
+    EXPECT_EQ(static_cast<float>(line["p1x"].get<double>()), 0.7f);
+    EXPECT_EQ(line["tmin"].get<double>(), 0.0);
+    EXPECT_EQ(line["tmax"].get<double>(), 1.0);
+    const std::string csv = written(exchange_format::csv, precision::binary64, {c});
+    EXPECT_EQ(csv.find("p1x"), std::string::npos) << "CSV gives the ray form alone";
+    EXPECT_NE(csv.find(",0.6,"), std::string::npos) << csv;  // 0.7 - 0.1 in double, ray form
+}
+
 TEST(ExchangeCases, CsvAndJsonLinesAreExactInTheirPrecision) {
     corpus_case c = unit_case();
     c.geometry.origin.x = 0.1;  // not a float: rounded to 0.1f in a float export

@@ -232,6 +232,11 @@ TEST(PhysicsSegmentExample, RayCasesAreNotItsQuestionAndRayTargetsTakeSegments) 
             EXPECT_EQ(on_ray.outcomes[t].score.verdict, verdict_kind::agree) << targets[t].label();
         }
     }
+    // A port whose engine takes two points gets a segment case's ends (variants.def's RAYVERIFY_SEGMENT_ENDS).
+    const variant* godot = find_builtin_variant("godot");
+    ASSERT_NE(godot, nullptr);
+    EXPECT_TRUE(godot->takes_segment_ends && godot->segment_answer_float && godot->segment_answer_double);
+    EXPECT_FALSE(naive->takes_segment_ends);
     // A ray-form target on a segment case: o = p0, d = p1 - p0, judged on f in [0, 1].
     const corpus_case segment = read_corpus({physics_segments}).front();
     const audited_case on_segment = audit_case(segment, targets);

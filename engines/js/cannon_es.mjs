@@ -14,7 +14,8 @@
 // the quadratic below; raycastClosest's options object and the
 // RaycastResult are reused.
 //
-// The segment: from = o + tmin·d (o itself when tmin is 0 or absent) and
+// A segment case (p1 given) is cast from p0 = o to p1 as given. On ray cases,
+// the segment: from = o + tmin·d (o itself when tmin is 0 or absent) and
 // to = o + tmax·d, each coordinate rounded once in double; for a case
 // without tmax, to = o + L·d with L = segmentLength() (protocol.mjs, as
 // rayverify's segment_length() for its segment engines): the power of two
@@ -50,13 +51,15 @@ const options = {};
 
 await serve({
   ...manifestEntry("cannon_es"),
-  answer({ o, d, c, r, tmin, tmax }) {
+  answer({ o, d, c, r, tmin, tmax, p1 }) {
     const body = new Body({ mass: 0, shape: new Sphere(r), position: new Vec3(c[0], c[1], c[2]) });
     world.addBody(body);
     if (tmin === null || tmin === 0) from.set(o[0], o[1], o[2]);
     else from.set(o[0] + tmin * d[0], o[1] + tmin * d[1], o[2] + tmin * d[2]);
     const length = tmax === null || tmax === Infinity ? segmentLength(o, d, c, r, "double") : tmax;
-    to.set(o[0] + length * d[0], o[1] + length * d[1], o[2] + length * d[2]);
+    // A segment case is cast between its two points as given, as a game casts.
+    if (p1 !== null) to.set(p1[0], p1[1], p1[2]);
+    else to.set(o[0] + length * d[0], o[1] + length * d[1], o[2] + length * d[2]);
     for (const key of Object.keys(options)) delete options[key]; // raycastClosest writes into it
     const hit = world.raycastClosest(from, to, options, result);
     world.removeBody(body);

@@ -90,8 +90,9 @@ export function jsonNumber(x) {
   return x;
 }
 
-// One case as the adapters receive it: o, d, c as [x, y, z], r, and the
-// case's interval (tmin, tmax; null where the case has none).
+// One case as the adapters receive it: o, d, c as [x, y, z], r, the case's
+// interval (tmin, tmax; null where the case has none), and for a segment case
+// p1 = [x, y, z], its end as given (o is then p0; null for a ray case).
 export function parseCase(line, precision) {
   const j = JSON.parse(line);
   if (typeof j.id !== "string") throw new Error("a case without an id: " + line);
@@ -104,6 +105,7 @@ export function parseCase(line, precision) {
     r: n("r"),
     tmin: j.tmin === null || j.tmin === undefined ? null : n("tmin"),
     tmax: j.tmax === null || j.tmax === undefined ? null : n("tmax"),
+    p1: j.p1x === undefined ? null : [n("p1x"), n("p1y"), n("p1z")],
   };
 }
 

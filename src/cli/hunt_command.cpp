@@ -108,6 +108,11 @@ audit_target hunt_target(const hunt_command_options& o, const std::optional<libr
 
 const family_info& hunt_family(const std::string& name) {
     const family_info* family = find_generator_family(name);
+    if (family != nullptr && family->segment)
+        throw input_error("", 0, "--family",
+                          fmt::format("'{}' makes segment cases: hunt moves a ray's o, d, c and r and has no segment "
+                                      "moves yet; audit the family with --generate {}:COUNT",
+                                      name, name));
     if (family != nullptr) return *family;
     std::string known;
     for (const family_info& f : generator_families()) known += (known.empty() ? "" : ", ") + std::string(f.name);

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <tuple>
 #include <limits>
 #include <utility>
 #include <vector>
@@ -240,10 +241,13 @@ answer<T> answer_of(const audit_target& target, const corpus_case& c, const ray_
                     ray_interval<T> interval) {
     if (!target.recorded && target.subject.takes_segment_ends && c.is_segment()) {
         // A target that takes segment ends is asked through its batch entry, which carries p1.
-        const auto& batch = [&]() -> const auto& {
-            if constexpr (std::is_same_v<T, float>) return target.subject.batch_float;
-            else return target.subject.batch_double;
+        const auto& [batch, from_ends] = [&]() {
+            if constexpr (std::is_same_v<T, float>)
+                return std::tie(target.subject.batch_float, target.subject.segment_answer_float);
+            else
+                return std::tie(target.subject.batch_double, target.subject.segment_answer_double);
         }();
+        if (from_ends) return from_ends(input, segment_end_input<T>(c));
         const batch_case<T> asked{input, interval, segment_end_input<T>(c), true};
         answer<T> a{{-1, T(0), T(0)}};
         if (batch) batch(std::span<const batch_case<T>>(&asked, 1), std::span<answer<T>>(&a, 1));

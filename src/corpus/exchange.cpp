@@ -362,6 +362,12 @@ void case_writer::write(const corpus_case& c) {
                     number_json(in_precision(values[i], p), p, header_.numbers);
             line["tmin"] = bounds[0] ? number_json(*bounds[0], p, header_.numbers) : json(nullptr);
             line["tmax"] = bounds[1] ? number_json(*bounds[1], p, header_.numbers) : json(nullptr);
+            if (c.segment_end) {  // a segment's end as given, for a program that casts between two points
+                const vec3<double>& p1 = *c.segment_end;
+                line["p1x"] = number_json(in_precision(p1.x, p), p, header_.numbers);
+                line["p1y"] = number_json(in_precision(p1.y, p), p, header_.numbers);
+                line["p1z"] = number_json(in_precision(p1.z, p), p, header_.numbers);
+            }
             out_ << line.dump() << '\n';
             break;
         }

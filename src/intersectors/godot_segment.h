@@ -77,10 +77,10 @@ inline constexpr contract godot_contract{.query = query_kind::nearest_hit,
                                          .answer = answer_kind::point,
                                          .outputs = {.normal = true}};
 
+// segment_intersects_sphere(from, to, c, r) itself; s gives c and r, and the
+// ray (s.origin, s.direction) the t of the answer's point (parameter_of_point).
 template <class T>
-answer<T> godot(const ray_sphere<T>& s, T tmin, T tmax) {
-    const vec3<T> from = tmin == 0 ? s.origin : s.origin + tmin * s.direction;
-    const vec3<T> to = s.origin + (isinf(tmax) ? segment_length(s) : tmax) * s.direction;
+answer<T> godot_between(const ray_sphere<T>& s, const vec3<T>& from, const vec3<T>& to) {
     const T epsilon = static_cast<T>(0.00001);  // (real_t)CMP_EPSILON
 
     const vec3<T> sphere_pos = step("sphere_pos", s.centre - from);
@@ -103,6 +103,21 @@ answer<T> godot(const ray_sphere<T>& s, T tmin, T tmax) {
     const T t = parameter_of_point(s, out.point);
     out.roots = {1, t, t};
     return out;
+}
+
+// A ray case: the segment from o + tmin·d to o + tmax·d (or o + L·d), as above.
+template <class T>
+answer<T> godot(const ray_sphere<T>& s, T tmin, T tmax) {
+    const vec3<T> from = tmin == 0 ? s.origin : s.origin + tmin * s.direction;
+    const vec3<T> to = s.origin + (isinf(tmax) ? segment_length(s) : tmax) * s.direction;
+    return godot_between(s, from, to);
+}
+
+// A segment case: its end points as given (s.origin = p0; s.direction, p1 − p0
+// rounded, only measures the answer's t).
+template <class T>
+answer<T> godot_segment(const ray_sphere<T>& s, const vec3<T>& p1) {
+    return godot_between(s, s.origin, p1);
 }
 
 }  // namespace rayverify::intersectors

@@ -86,15 +86,32 @@ variant with_exact_decisions(variant v) {
 #define RAYVERIFY_IN_yes(fn, T) &intersectors::fn<T>
 #define RAYVERIFY_IN_no(fn, T) nullptr
 
+// The ports whose engine takes two points (RAYVERIFY_SEGMENT_ENDS) take a
+// segment case's ends: in both precisions the port runs in.
+template <std::size_t N>
+std::array<variant, N> with_segment_ends(std::array<variant, N> list) {
+    const auto attach = [&list](std::string_view name, auto in_float, auto in_double) {
+        for (variant& v : list) {
+            if (v.name != name) continue;
+            v.takes_segment_ends = true;
+            if (v.run_float) v.segment_answer_float = in_float;
+            if (v.run_double) v.segment_answer_double = in_double;
+        }
+    };
+#define RAYVERIFY_SEGMENT_ENDS(fn) attach(#fn, &intersectors::fn##_segment<float>, &intersectors::fn##_segment<double>);
+#include "intersectors/variants.def"
+    return list;
+}
+
 // Its size follows from the list.
-const auto registry = std::to_array<variant>({
+const auto registry = with_segment_ends(std::to_array<variant>({
 #define RAYVERIFY_FORMULA(fn, shape, family, citation, formula) \
     RAYVERIFY_FAMILY_##family(RAYVERIFY_SHAPE_##shape(fn, citation, formula)),
 #define RAYVERIFY_PORT(fn, in_float, in_double, citation, formula, build)                                 \
     engine_variant(#fn, citation, formula, intersectors::fn##_contract, build, RAYVERIFY_IN_##in_float(fn, float), \
                    RAYVERIFY_IN_##in_double(fn, double)),
 #include "intersectors/variants.def"
-});
+}));
 
 // The textbook family's names, in the list's order.
 const auto textbook_names = std::to_array<std::string_view>({

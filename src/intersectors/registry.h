@@ -70,6 +70,11 @@ struct variant {
     // (rayverify_plugin.h), alone (contract cast=segment: segment cases only)
     // or beside its ray batch (an engine whose API takes two points).
     bool takes_segment_ends = false;
+    // Set only for a built-in port whose engine takes two points
+    // (RAYVERIFY_SEGMENT_ENDS in variants.def): a segment case answered from
+    // its ray form (s.origin = p0) and p1 as given.
+    std::function<answer<float>(const ray_sphere<float>&, const vec3<float>&)> segment_answer_float{};
+    std::function<answer<double>(const ray_sphere<double>&, const vec3<double>&)> segment_answer_double{};
     // True when the class, every root's side and every interval decision are
     // exact for all inputs by construction (robust_sphere.h), not just on the
     // cases audited so far: `recommend` prefers it when no wrong ray is allowed.

@@ -198,6 +198,24 @@ test("cannon_es: World.raycastClosest's hitPointWorld, on the segment the mappin
   assert.deepEqual(point(a.off_centre), [0, 0, 8]);
 });
 
+test("cannon_es: a segment case is cast between its two points as given", () => {
+  // The case line carries its ray form (o = p0, d = p1 - p0, [0, 1]) and p1x..p1z:
+  // the adapter casts to p1 itself, not to o + 1·d (which rounds where p1 - p0 is no double).
+  const segment = (id, p0, p1) => {
+    const j = JSON.parse(kase(id, p0, [p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]], C0, 1, 0, 1));
+    return JSON.stringify({ ...j, p1x: p1[0], p1y: p1[1], p1z: p1[2] });
+  };
+  const a = answer("cannon_es.mjs", "double", [], [
+    segment("ends_on_surface", [0, 0, -5], [0, 0, -1]),
+    segment("ends_short", [0, 0, -5], [0, 0, -1.5]),
+    segment("tiny_at_end", [-2, 0, 0], [2 ** -60, 0, 0]),
+  ]);
+  assert.deepEqual(point(a.ends_on_surface), [0, 0, -1]);
+  miss(a.ends_short);
+  // The unit sphere from (-2, 0, 0) towards (2^-60, 0, 0): contact at (-1, 0, 0).
+  assert.deepEqual(point(a.tiny_at_end), [-1, 0, 0]);
+});
+
 test("cannon_es: the case's interval is the segment, ends closed; d need not be unit", () => {
   const a = answer("cannon_es.mjs", "double", [], [
     kase("short", [0, 0, -5], Z, C0, 1, 0, 3), // [0, 3]: ends before the sphere

@@ -56,9 +56,21 @@ TEST(ExchangeCases, ASegmentGoesOutInItsRayFormAndInJsonLinesWithItsEnd) {
     EXPECT_EQ(static_cast<float>(line["p1x"].get<double>()), 0.7f);
     EXPECT_EQ(line["tmin"].get<double>(), 0.0);
     EXPECT_EQ(line["tmax"].get<double>(), 1.0);
-    const std::string csv = written(exchange_format::csv, precision::binary64, {c});
-    EXPECT_EQ(csv.find("p1x"), std::string::npos) << "CSV gives the ray form alone";
-    EXPECT_NE(csv.find(",0.6,"), std::string::npos) << csv;  // 0.7 - 0.1 in double, ray form
+    // CSV and npy: the ray form, and p1x..p1z when the file holds a segment (empty / NaN on a ray's row).
+    const std::string rays_only = written(exchange_format::csv, precision::binary64, {unit_case()});
+    EXPECT_EQ(rays_only.find("p1x"), std::string::npos) << rays_only;
+    std::ostringstream out, companion;
+    case_writer writer(out, &companion, exchange_format::csv, {precision::binary64, "0123456789abcdef", 2,
+                                                               number_style::decimal, true});
+    corpus_case ray = unit_case();
+    ray.id = "c0";
+    writer.write(ray);
+    writer.write(c);
+    writer.finish();
+    const std::string csv = out.str();
+    EXPECT_NE(csv.find("tmin,tmax,p1x,p1y,p1z\n"), std::string::npos) << csv;
+    EXPECT_NE(csv.find(",,,,\n"), std::string::npos) << "a ray's row: no bounds, no end\n" << csv;
+    EXPECT_NE(csv.find(",0.6,0,0,0,0,0,1,0,1,0.7,0,0\n"), std::string::npos) << csv;  // d = 0.7 - 0.1 in double
 }
 
 TEST(ExchangeCases, CsvAndJsonLinesAreExactInTheirPrecision) {

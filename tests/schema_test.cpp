@@ -186,14 +186,15 @@ TEST_F(Schema, EveryShippedSceneReportValidates) {
 }
 
 // The exchange files (docs/schema/rayverify-exchange-v1.json): the shipped
-// corpus and corpus/edge exported as JSON lines and as .npy (its companion),
+// corpus, corpus/edge and corpus/segments exported as JSON lines and as .npy (its companion),
 // and a results file with every shape of answer, absent values included.
 TEST_F(Schema, ExchangeFilesOfTheShippedCorpusAndEdgeCasesValidate) {
     const std::string check = "/usr/bin/python3 " + source_dir + "/tests/support/check_exchange_schema.py " +
                               source_dir + "/docs/schema/rayverify-exchange-v1.json ";
     std::string files;
     for (const auto& [corpus, name] : {std::pair{corpus_dir, std::string("corpus")},
-                                       std::pair{corpus_dir + "/edge", std::string("edge")}}) {
+                                       std::pair{corpus_dir + "/edge", std::string("edge")},
+                                       std::pair{corpus_dir + "/segments", std::string("segments")}}) {
         for (const std::string format : {"jsonl", "npy"}) {
             const fs::path out = dir_ / (name + "." + format);
             const command_result r = run_cli("corpus export --corpus " + corpus + " -o " + out.string());

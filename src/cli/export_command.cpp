@@ -3,6 +3,8 @@
 // (corpus/exchange.h), for answers computed outside rayverify.
 #include <fmt/format.h>
 
+#include <algorithm>
+
 #include "cli/commands.h"
 #include "core/input_error.h"
 
@@ -42,6 +44,7 @@ int run_export(const export_options& o) {
     std::vector<corpus_case> pairs;
     std::optional<case_input> input;
     std::size_t count = 0;
+    bool segments = false;  // some case is a segment: CSV and npy carry p1x..p1z
     std::string fingerprint;
     if (!o.scene.empty()) {
         sc = read_scene(o.scene);
@@ -54,6 +57,7 @@ int run_export(const export_options& o) {
         std::vector<corpus_case> cases;
         std::vector<std::size_t> indices;
         while (first.next(cases, indices)) {
+            segments = segments || std::ranges::any_of(cases, &corpus_case::is_segment);
             cases.clear();
             indices.clear();
         }
@@ -65,7 +69,7 @@ int run_export(const export_options& o) {
                            : sc                 ? sc->prec
                                                 : precision::binary64;
     const cases_header header{prec, exchange_fingerprint(fingerprint, prec), count,
-                              o.numbers == "hex" ? number_style::hex : number_style::decimal};
+                              o.numbers == "hex" ? number_style::hex : number_style::decimal, segments};
 
     case_writer writer(out.stream(), companion != nullptr ? &companion->stream() : nullptr, *format, header);
     if (sc) {

@@ -70,6 +70,8 @@ constexpr std::array<std::string_view, 14> case_column_names = {
     "id", "family", "ox", "oy", "oz", "dx", "dy", "dz", "cx", "cy", "cz", "r", "tmin", "tmax"};
 constexpr std::size_t first_number_column = 2;  // ox
 constexpr std::size_t npy_case_columns = 12;    // ox … r, tmin, tmax
+// A segment's end as given, after those columns when the file holds a segment (cases_header::segments).
+constexpr std::array<std::string_view, 3> segment_end_columns = {"p1x", "p1y", "p1z"};
 
 // The answer columns, one table for every results format: the count and the
 // two t's, then the optional groups (each all or none). A CSV and an .npy
@@ -308,6 +310,8 @@ case_writer::case_writer(std::ostream& out, std::ostream* sidecar, exchange_form
                                 numbers);
             std::string row;
             for (std::string_view n : case_column_names) row += (row.empty() ? "" : ",") + std::string(n);
+            if (header.segments)
+                for (std::string_view n : segment_end_columns) row += "," + std::string(n);
             out_ << row << '\n';
             break;
         }
@@ -319,12 +323,15 @@ case_writer::case_writer(std::ostream& out, std::ostream* sidecar, exchange_form
             break;
         }
         case exchange_format::npy: {
-            write_npy_header(out_, header.prec, header.cases, npy_case_columns);
+            write_npy_header(out_, header.prec, header.cases,
+                             npy_case_columns + (header.segments ? segment_end_columns.size() : 0));
             json h = header_json("cases", header.prec, header.fingerprint);
             h["cases"] = header.cases;
             h["columns"] = json::array();
             for (std::size_t i = first_number_column; i < case_column_names.size(); ++i)
                 h["columns"].push_back(case_column_names[i]);
+            if (header.segments)
+                for (std::string_view n : segment_end_columns) h["columns"].push_back(n);
             h["absent_bound"] = "nan";
             // The id list is streamed after the header's fields.
             std::string text = h.dump();
@@ -347,11 +354,16 @@ void case_writer::write(const corpus_case& c) {
         return in_precision(*t, p);
     };
     const std::optional<double> bounds[2] = {bound(c.tmin), bound(c.tmax)};
+    // A segment's end as given, in the file's precision (zeros for a ray case: unused).
+    const vec3<double> end = c.segment_end.value_or(vec3<double>{});
+    const std::array<double, 3> ends = {in_precision(end.x, p), in_precision(end.y, p), in_precision(end.z, p)};
     switch (format_) {
         case exchange_format::csv: {
             std::string row = csv_cell(c.id, c.source, "id") + "," + csv_cell(c.family, c.source, "family");
             for (double v : values) row += "," + number_text(in_precision(v, p), p, header_.numbers);
             for (const auto& b : bounds) row += "," + (b ? number_text(*b, p, header_.numbers) : std::string());
+            if (header_.segments)
+                for (double v : ends) row += "," + (c.segment_end ? number_text(v, p, header_.numbers) : std::string());
             out_ << row << '\n';
             break;
         }
@@ -362,19 +374,20 @@ void case_writer::write(const corpus_case& c) {
                     number_json(in_precision(values[i], p), p, header_.numbers);
             line["tmin"] = bounds[0] ? number_json(*bounds[0], p, header_.numbers) : json(nullptr);
             line["tmax"] = bounds[1] ? number_json(*bounds[1], p, header_.numbers) : json(nullptr);
-            if (c.segment_end) {  // a segment's end as given, for a program that casts between two points
-                const vec3<double>& p1 = *c.segment_end;
-                line["p1x"] = number_json(in_precision(p1.x, p), p, header_.numbers);
-                line["p1y"] = number_json(in_precision(p1.y, p), p, header_.numbers);
-                line["p1z"] = number_json(in_precision(p1.z, p), p, header_.numbers);
-            }
+            if (c.segment_end)  // a segment's end as given, for a program that casts between two points
+                for (std::size_t i = 0; i < ends.size(); ++i)
+                    line[std::string(segment_end_columns[i])] = number_json(ends[i], p, header_.numbers);
             out_ << line.dump() << '\n';
             break;
         }
         case exchange_format::npy: {
             const double nan = std::numeric_limits<double>::quiet_NaN();
-            for (std::size_t i = 0; i < npy_case_columns; ++i) {
-                const double v = i < 10 ? values[i] : bounds[i - 10].value_or(nan);
+            const std::size_t columns = npy_case_columns + (header_.segments ? segment_end_columns.size() : 0);
+            for (std::size_t i = 0; i < columns; ++i) {
+                const double v = i < 10                 ? values[i]
+                                 : i < npy_case_columns ? bounds[i - 10].value_or(nan)
+                                 : c.segment_end        ? ends[i - npy_case_columns]
+                                                        : nan;
                 if (p == precision::binary32)
                     write_little_endian(out_, static_cast<float>(v));
                 else

@@ -60,14 +60,18 @@ struct cases_header {
     std::string fingerprint;  // exchange_fingerprint of the input
     std::size_t cases = 0;
     number_style numbers = number_style::decimal;
+    // Some case is a segment: CSV and npy files then carry the columns p1x,
+    // p1y, p1z (its end as given; empty / NaN on a ray case's row). JSON
+    // lines give them on a segment's line whatever this says.
+    bool segments = false;
 };
 
 // Writes the cases of an export, one at a time, in memory that does not grow
 // with their number. Every value is rounded to the header's precision, as an
 // intersector running in it receives it (a segment case in its ray form:
-// o = p0, d = p1 − p0 computed in that precision, tmin 0, tmax 1, and in
-// JSON lines also p1x, p1y, p1z, its end as given; the answers are judged
-// on the exact segment, a rounding of d counted as the program's). npy: `sidecar` receives the JSON
+// o = p0, d = p1 − p0 computed in that precision, tmin 0, tmax 1, and
+// p1x, p1y, p1z, its end as given (cases_header::segments); the answers are
+// judged on the exact segment, a rounding of d counted as the program's). npy: `sidecar` receives the JSON
 // companion (header, columns, ids in row order); unused otherwise.
 class case_writer {
 public:

@@ -220,7 +220,8 @@ std::shared_ptr<const answer_book> external_program::answer(std::span<const corp
     const std::string input_fingerprint = fingerprint.text();
     std::ostringstream request;
     case_writer writer(request, nullptr, format_,
-                       {prec_, exchange_fingerprint(input_fingerprint, prec_), cases.size(), number_style::decimal});
+                       {prec_, exchange_fingerprint(input_fingerprint, prec_), cases.size(), number_style::decimal,
+                        std::ranges::any_of(cases, &corpus_case::is_segment)});
     for (const corpus_case& c : cases) writer.write(c);
     writer.finish();
     const std::string bytes = request.str();

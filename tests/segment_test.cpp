@@ -9,6 +9,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <map>
 #include <random>
 
@@ -19,6 +21,7 @@
 #include "intersectors/registry.h"
 #include "oracle/oracle.h"
 #include "plugin/plugin_loader.h"
+#include "support/process.h"
 
 namespace rayverify {
 namespace {
@@ -335,6 +338,37 @@ TEST(SegmentFamilies, EndsSitOnTheSphereAndDifferencesAreMostlyInexact) {
         EXPECT_GE(zero_length, 10) << "a tenth are zero-length";
         EXPECT_GE(inexact, valid / 3) << "p1 - p0 is often no number of the precision";
     }
+}
+
+}  // namespace
+}  // namespace rayverify
+
+namespace rayverify {
+namespace {
+
+// hunt --corpus of segment cases hunts segments: it moves the end points and
+// judges each candidate as the segment between them; its finds are segment
+// lines. One form a hunt: rays and segments together are refused.
+TEST(SegmentHunt, TheUsersSegmentsAreHuntedAsSegments) {
+    const std::filesystem::path dir = std::filesystem::temp_directory_path() / "rayverify_segment_hunt";
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    const std::string out = (dir / "finds.txt").string();
+    const test_support::command_result r =
+        test_support::run_cli("hunt --plugin " + std::string(RAYVERIFY_PHYSICS_SEGMENT_PLUGIN) + " --corpus " +
+                              physics_segments + " --objective misclass --evaluations 300 --seed 3 -o " + out);
+    ASSERT_LE(r.exit_code, 1) << r.output;
+    const std::vector<corpus_case> finds = read_corpus({out});
+    ASSERT_FALSE(finds.empty()) << r.output << "\nRaySphere's one-ulp-short false hit is among the starts";
+    for (const corpus_case& c : finds) EXPECT_TRUE(c.is_segment()) << c.id;
+
+    const std::string mixed = (dir / "mixed.txt").string();
+    std::ofstream(mixed) << "ray - -3 0 0 1 0 0 0 0 0 1\nseg - segment -3 0 0 -1 0 0 0 0 0 1\n";
+    const test_support::command_result refused = test_support::run_cli(
+        "hunt --variant naive --corpus " + mixed + " --evaluations 10 -o " + (dir / "none.txt").string());
+    EXPECT_EQ(refused.exit_code, 2) << refused.output;
+    EXPECT_NE(refused.output.find("one form of case"), std::string::npos) << refused.output;
+    std::filesystem::remove_all(dir);
 }
 
 }  // namespace

@@ -108,11 +108,6 @@ audit_target hunt_target(const hunt_command_options& o, const std::optional<libr
 
 const family_info& hunt_family(const std::string& name) {
     const family_info* family = find_generator_family(name);
-    if (family != nullptr && family->segment)
-        throw input_error("", 0, "--family",
-                          fmt::format("'{}' makes segment cases: hunt moves a ray's o, d, c and r and has no segment "
-                                      "moves yet; audit the family with --generate {}:COUNT",
-                                      name, name));
     if (family != nullptr) return *family;
     std::string known;
     for (const family_info& f : generator_families()) known += (known.empty() ? "" : ", ") + std::string(f.name);
@@ -152,7 +147,8 @@ public:
             append_generated_cases(family_, seed_, indices, block_);
             block_first_ = first;
         }
-        return block_[j - first].geometry;
+        const corpus_case& c = block_[j - first];
+        return c.is_segment() ? segment_search_inputs(c) : c.geometry;
     }
 
 private:
@@ -230,12 +226,16 @@ int run(const hunt_command_options& given, const std::string& command_line) {
     const std::string family_name(o.corpus.empty() ? hunt_family(o.family).name : std::string_view("corpus"));
     std::vector<corpus_case> user_cases;
     if (!o.corpus.empty()) user_cases = read_corpus({o.corpus.begin(), o.corpus.end()});
+    // Segments are hunted as segments (their ends moved), rays as rays: one form a hunt.
+    const bool segments = o.corpus.empty() ? hunt_family(o.family).segment
+                                           : !user_cases.empty() && user_cases.front().is_segment();
     for (const corpus_case& c : user_cases)
-        if (c.is_segment())
+        if (c.is_segment() != segments)
             throw input_error(c.source, 0, "--corpus",
-                              fmt::format("case '{}' is a segment: hunt moves a ray's o, d, c and r, and has no "
-                                          "segment moves yet; audit segment cases with `rayverify audit`",
-                                          c.id));
+                              fmt::format("case '{}' is a {} and '{}' a {}: a hunt searches one form of case, rays "
+                                          "or segments (give them in two hunts)",
+                                          c.id, c.is_segment() ? "segment" : "ray", user_cases.front().id,
+                                          segments ? "segment" : "ray"));
     if (o.budget == 0 && o.evaluations == 0)
         throw input_error("", 0, "--seconds", "give a time budget (--seconds) or an evaluation budget (--evaluations)");
     run_outputs outputs;  // declared before the search, committed after it
@@ -246,10 +246,12 @@ int run(const hunt_command_options& given, const std::string& command_line) {
     const shard_spec shard = o.shard.empty() ? shard_spec{} : chosen_shard(o.shard, "hunt");
     hunt_options options = hunt_options_of(o, shard);
     options.shrink_toward_start = !user_cases.empty();
+    options.segments = segments;
     shard_start_cases start_cases(family_name, o.seed, shard);
     const hunt_start start = [&](std::uint64_t j) {
         if (user_cases.empty()) return start_cases(j);
-        return user_cases[shard.global_index(j) % user_cases.size()].geometry;
+        const corpus_case& c = user_cases[shard.global_index(j) % user_cases.size()];
+        return segments ? segment_search_inputs(c) : c.geometry;
     };
     std::optional<external_program> program;
     hunt_judge judge;

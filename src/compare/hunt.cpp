@@ -340,7 +340,10 @@ private:
             source_start_ = start;
         }
         c.source.assign(source_);
-        c.geometry = g;
+        if (options_.segments)
+            set_segment_candidate(c, g);
+        else
+            c.geometry = g;
     }
 
     // Judges cases numbered after `before` in `stage`, searched from start
@@ -625,6 +628,18 @@ private:
 };
 
 }  // namespace
+
+ray_sphere<double> segment_search_inputs(const corpus_case& segment) {
+    ray_sphere<double> inputs = segment.geometry;
+    inputs.direction = segment.segment_end.value_or(segment.geometry.origin + segment.geometry.direction);
+    return inputs;
+}
+
+void set_segment_candidate(corpus_case& c, const ray_sphere<double>& inputs) {
+    c.geometry.centre = inputs.centre;
+    c.geometry.radius = inputs.radius;
+    make_segment(c, inputs.origin, inputs.direction);
+}
 
 hunt_evaluation evaluate_for_hunt(const audit_target& target, const ray_sphere<double>& input,
                                   hunt_objective objective) {

@@ -75,6 +75,12 @@ struct hunt_options {
     // zeros and short numbers. The find is then the least change to that
     // case that fails.
     bool shrink_toward_start = false;
+    // The cases are segments (hunt --corpus of segment cases, --family
+    // segment_end): a candidate's ten numbers are p0, p1, c and r, its
+    // direction field holding p1 (segment_search_inputs), so that every move
+    // and every shrink moves an end point; each candidate is judged as the
+    // segment between them (make_segment).
+    bool segments = false;
     std::uint64_t shrink_evaluations = 4000;  // per find
     // Cases judged together: the random strategy's start cases, or the
     // search's candidates, all moved from the same current case and then
@@ -103,6 +109,12 @@ struct hunt_evaluation {
     // figure is measured).
     double error = 0;
 };
+
+// A segment case's ten numbers as the hunter moves them: p0, p1 (in the
+// direction field), c and r; and a hunt candidate of that form as the
+// segment case it stands for, written into `c` (its id and source kept).
+ray_sphere<double> segment_search_inputs(const corpus_case& segment);
+void set_segment_candidate(corpus_case& c, const ray_sphere<double>& inputs);
 
 hunt_evaluation evaluate_for_hunt(const audit_target& target, const ray_sphere<double>& input,
                                   hunt_objective objective = hunt_objective::ulp);

@@ -197,7 +197,10 @@ hunt_file hunt_file_of(const hunt_result& result, const hunt_setting& setting) {
         corpus_case c;
         c.id = std::move(id);
         c.family = "hunt_" + setting.family;
-        c.geometry = geometry;
+        if (setting.options.segments)
+            set_segment_candidate(c, geometry);
+        else
+            c.geometry = geometry;
         return c;
     };
     const auto start_id = [&](std::uint64_t start_index) {

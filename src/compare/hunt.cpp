@@ -471,16 +471,22 @@ private:
         };
         for (bool changed = true; changed && budget > 0;) {
             changed = false;
-            // The scene translated so that c = 0 (o − c rounded in the precision).
+            // The scene translated so that c = 0 (o − c rounded in the precision;
+            // a segment's p1, in the direction field, moved with it).
             if (f.shrunk.centre != vec3<double>{}) {
                 ray_sphere<double> t = f.shrunk;
-                t.origin = {round_to(target_.prec, t.origin.x - t.centre.x),
-                            round_to(target_.prec, t.origin.y - t.centre.y),
-                            round_to(target_.prec, t.origin.z - t.centre.z)};
+                const auto translated = [&](const vec3<double>& p) {
+                    return vec3<double>{round_to(target_.prec, p.x - t.centre.x),
+                                        round_to(target_.prec, p.y - t.centre.y),
+                                        round_to(target_.prec, p.z - t.centre.z)};
+                };
+                t.origin = translated(t.origin);
+                if (options_.segments) t.direction = translated(t.direction);
                 t.centre = {};
                 changed = fails_same(t) || changed;
             }
-            // o, c, r scaled by a power of two towards r = 1, d towards |d| = 1 (exact scalings).
+            // o, c, r (and a segment's p1) scaled by a power of two towards
+            // r = 1, a ray's d towards |d| = 1 (exact scalings).
             if (f.shrunk.radius > 0) {
                 const int k = -std::ilogb(f.shrunk.radius);
                 if (k != 0) {
@@ -488,12 +494,13 @@ private:
                     t.origin = std::ldexp(1.0, k) * t.origin;
                     t.centre = std::ldexp(1.0, k) * t.centre;
                     t.radius = std::ldexp(t.radius, k);
+                    if (options_.segments) t.direction = std::ldexp(1.0, k) * t.direction;
                     changed = fails_same(rounded_in(target_.prec, t)) || changed;
                 }
             }
             const double d_max = std::max({std::fabs(f.shrunk.direction.x), std::fabs(f.shrunk.direction.y),
                                            std::fabs(f.shrunk.direction.z)});
-            if (d_max > 0 && std::ilogb(d_max) != 0) {
+            if (!options_.segments && d_max > 0 && std::ilogb(d_max) != 0) {
                 ray_sphere<double> t = f.shrunk;
                 t.direction = std::ldexp(1.0, -std::ilogb(d_max)) * t.direction;
                 changed = fails_same(rounded_in(target_.prec, t)) || changed;

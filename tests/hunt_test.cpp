@@ -26,7 +26,7 @@ hunt_start from_family(const char* family, std::uint64_t seed) {
 }
 
 bool same_bits(const ray_sphere<double>& a, const ray_sphere<double>& b) {
-    return format_case_line({"x", "", a, {}, {}, ""}) == format_case_line({"x", "", b, {}, {}, ""});
+    return format_case_line({"x", "", a, {}, {}, "", {}}) == format_case_line({"x", "", b, {}, {}, "", {}});
 }
 
 // Component by component through a volatile (GCC 12 at -O2 may drop a
@@ -65,7 +65,7 @@ TEST(Hunt, FindsAndShrinksAMisclassificationOfNaiveInFloat) {
     const hunt_result r = hunt(naive, from_family("uniform", 1), options);
     ASSERT_EQ(r.finds.size(), 2u) << r.evaluations << " evaluations";
     for (const hunt_find& f : r.finds) {
-        SCOPED_TRACE(format_case_line({"found", "", f.found, {}, {}, ""}));
+        SCOPED_TRACE(format_case_line({"found", "", f.found, {}, {}, "", {}}));
         EXPECT_TRUE(is_disagreement(f.found_eval.verdict));
         EXPECT_EQ(f.shrunk_eval.verdict, f.found_eval.verdict);
         EXPECT_EQ(audited_verdict(naive, f.found), f.found_eval.verdict);
@@ -137,7 +137,7 @@ TEST(Hunt, CauseFilterKeepsOnlyThatCauseAndShrinkingKeepsTheCaseValid) {
     const hunt_result r = hunt(naive, from_family("far_sphere", 1), options);
     ASSERT_FALSE(r.finds.empty()) << r.evaluations << " evaluations";
     for (const hunt_find& f : r.finds) {
-        SCOPED_TRACE(format_case_line({"shrunk", "", f.shrunk, {}, {}, ""}));
+        SCOPED_TRACE(format_case_line({"shrunk", "", f.shrunk, {}, {}, "", {}}));
         EXPECT_EQ(f.found_eval.cause, disagreement_cause::algorithmic);
         EXPECT_EQ(f.shrunk_eval.cause, disagreement_cause::algorithmic);
         EXPECT_GT(f.shrunk.radius, 0);

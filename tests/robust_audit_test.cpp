@@ -193,7 +193,7 @@ TEST(LongSweepRobustAudit, MisclassificationHuntFindsNothing) {
                     r.seconds);
         EXPECT_GT(r.evaluations, 0u);
         for (const hunt_find& f : r.finds) {
-            const corpus_case c{"hunt", "", f.found, {}, {}, ""};
+            const corpus_case c{"hunt", "", f.found, {}, {}, "", {}};
             if (overflow_gap(solve_case(c, t.prec)) && direct_check<float>(c).empty() &&
                 direct_check<double>(c).empty()) {
                 std::printf("  an overflowing root, checked directly: %s\n", format_case_line(c).c_str());

@@ -240,7 +240,8 @@ template <class T>
 answer<T> answer_of(const audit_target& target, const corpus_case& c, const ray_sphere<T>& input,
                     ray_interval<T> interval) {
     if (!target.recorded && target.subject.takes_segment_ends && c.is_segment()) {
-        // A target that takes segment ends is asked through its batch entry, which carries p1.
+        // A target that takes segment ends is asked with them: a port through
+        // its own segment function, a plugin through its batch entry (which carries p1).
         const auto& [batch, from_ends] = [&]() {
             if constexpr (std::is_same_v<T, float>)
                 return std::tie(target.subject.batch_float, target.subject.segment_answer_float);
@@ -1082,6 +1083,12 @@ ray_interval<T> interval_in(const t_range& range) {
     return {static_cast<T>(range.lower), static_cast<T>(range.upper)};
 }
 
+// A ray case handed to a target that takes segment end points (cast=segment):
+// not its question, so neither run nor scored.
+bool ray_case_for_segment_target(const contract& promises, const corpus_case& c) {
+    return promises.takes_segment_ends && !c.is_segment();
+}
+
 // A case the target is handed although it has no exact answer: a
 // degenerate cast under degenerate=miss.
 bool runs_degenerate(const contract& promises, const exact_solution& exact) {
@@ -1107,17 +1114,12 @@ case_score judge_degenerate(const variant_output& output, invalid_reason why) {
                                     invalid_reason_name(why), output.roots.count, output.roots.t0, output.roots.t1));
 }
 
-// A ray case handed to a target that takes segment end points: not its
-// question, so not scored.
-constexpr const char* ray_case_for_segment_target =
-    "a ray case: this target takes a segment's end points (cast=segment) and runs on segment cases only";
-
 // Invalid or outside the contract: the outcome, else nullopt.
 std::optional<case_score> unscored(const contract& promises, const corpus_case& c, const case_frame& frame) {
     case_score s;
-    if (promises.takes_segment_ends && !c.is_segment()) {
+    if (ray_case_for_segment_target(promises, c)) {
         s.verdict = verdict_kind::contract_violation;
-        s.detail = ray_case_for_segment_target;
+        s.detail = "a ray case: this target takes a segment's end points (cast=segment) and runs on segment cases only";
         return s;
     }
     if (!frame.exact().valid() && !runs_degenerate(promises, frame.exact())) {
@@ -1175,7 +1177,7 @@ target_outcome judge_target(const audit_target& target, const corpus_case& c, co
 
 template <class T>
 std::optional<batch_case<T>> run_input(const audit_target& target, const corpus_case& c) {
-    if (target.subject.promises.takes_segment_ends && !c.is_segment()) return std::nullopt;
+    if (ray_case_for_segment_target(target.subject.promises, c)) return std::nullopt;
     const t_range range = range_for(target.subject.promises, c, target.prec);
     const ray_sphere<T> input = target_input<T>(c);
     // A segment case reaches a target that takes segment ends with them; any other target gets its ray form.

@@ -124,17 +124,25 @@ inline ray_sphere<double> rounded_to(precision p, const ray_sphere<double>& g) {
     return with_precision(p, [&]<class T>(std::type_identity<T>) { return rounded_to<double>(rounded_to<T>(g)); });
 }
 
+// The checks every case's ten inputs share, in order: each finite, the
+// radius not negative, each finite once rounded to T.
+template <class T>
+invalid_reason inputs_validity(const double (&in)[10], double radius) {
+    for (double v : in)
+        if (!std::isfinite(v)) return invalid_reason::non_finite_input;
+    if (radius < 0) return invalid_reason::negative_radius;
+    for (double v : in)
+        if (!std::isfinite(static_cast<T>(v))) return invalid_reason::not_representable;
+    return invalid_reason::none;
+}
+
 // Classify a case's validity at precision T (after rounding its inputs to T).
 template <class T>
 invalid_reason validity(const ray_sphere<double>& g) {
     const double in[10] = {g.origin.x,    g.origin.y,    g.origin.z, g.direction.x,
                            g.direction.y, g.direction.z, g.centre.x, g.centre.y,
                            g.centre.z,    g.radius};
-    for (double v : in)
-        if (!std::isfinite(v)) return invalid_reason::non_finite_input;
-    if (g.radius < 0) return invalid_reason::negative_radius;
-    for (double v : in)
-        if (!std::isfinite(static_cast<T>(v))) return invalid_reason::not_representable;
+    if (const invalid_reason r = inputs_validity<T>(in, g.radius); r != invalid_reason::none) return r;
     const vec3<T> d = vec3_cast<T>(g.direction);
     if (d.x == 0 && d.y == 0 && d.z == 0) return invalid_reason::zero_direction;
     return invalid_reason::none;
@@ -175,11 +183,7 @@ invalid_reason case_validity(const corpus_case& c) {
     const vec3<double>& p1 = *c.segment_end;
     const double in[10] = {g.origin.x, g.origin.y, g.origin.z, p1.x,       p1.y,
                            p1.z,       g.centre.x, g.centre.y, g.centre.z, g.radius};
-    for (double v : in)
-        if (!std::isfinite(v)) return invalid_reason::non_finite_input;
-    if (g.radius < 0) return invalid_reason::negative_radius;
-    for (double v : in)
-        if (!std::isfinite(static_cast<T>(v))) return invalid_reason::not_representable;
+    if (const invalid_reason r = inputs_validity<T>(in, g.radius); r != invalid_reason::none) return r;
     const vec3<T> d = target_input<T>(c).direction;
     if (!std::isfinite(d.x) || !std::isfinite(d.y) || !std::isfinite(d.z)) return invalid_reason::not_representable;
     if (d.x == 0 && d.y == 0 && d.z == 0) return invalid_reason::zero_direction;

@@ -722,6 +722,19 @@ comparison compare_roots(const exact_solution& a, root_index i, const exact_solu
     return exact_solution::internal::compare_roots(a, i, b, j);
 }
 
+namespace {
+
+// A valid solution counted by the deepest stage it needed (oracle_stage_counts).
+void count_solved(const exact_solution& solution) {
+    if (!solution.valid()) return;
+    stage_tally& solutions = oracle_stage_counts_this_thread().solutions;
+    ++(solution.stage == oracle_stage::filter      ? solutions.filter
+       : solution.stage == oracle_stage::expansion ? solutions.expansion
+                                                   : solutions.exact);
+}
+
+}  // namespace
+
 exact_solution solve_exact(const ray_sphere<double>& g, precision prec, std::optional<double> tmin,
                            std::optional<double> tmax) {
     // The filters' error bounds assume rounding to nearest and gradual
@@ -732,12 +745,7 @@ exact_solution solve_exact(const ray_sphere<double>& g, precision prec, std::opt
     // judge and the measures that follow run in it too.
     restore_ieee_default();
     exact_solution solution = exact_solution::internal::filtered(g, prec, tmin, tmax);
-    if (solution.valid()) {
-        stage_tally& solutions = oracle_stage_counts_this_thread().solutions;
-        ++(solution.stage == oracle_stage::filter      ? solutions.filter
-           : solution.stage == oracle_stage::expansion ? solutions.expansion
-                                                       : solutions.exact);
-    }
+    count_solved(solution);
     return solution;
 }
 
@@ -770,7 +778,7 @@ exact_solution solve_exact_segment(const vec3<double>& p0, const vec3<double>& p
     if (s.direction_is_double()) return solve_exact(s.geometry, prec, 0.0, 1.0);
     restore_ieee_default();
     exact_solution solution = exact_solution::internal::reference(s.geometry, prec, 0.0, 1.0, false, s.direction_low);
-    if (solution.valid()) ++oracle_stage_counts_this_thread().solutions.exact;
+    count_solved(solution);  // the exact stage
     return solution;
 }
 

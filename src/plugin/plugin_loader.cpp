@@ -469,21 +469,19 @@ variant load_in_process(const std::filesystem::path& library, const fp_environme
                                 [p, promises = v.promises]<class T>(std::span<const batch_case<T>> cases,
                                                                     std::span<answer<T>> answers) {
                                     const opened_library& l = p->library;
-                                    const auto rays = [&](std::span<const batch_case<T>> part,
+                                    const auto [ray_batch, segment_batch] = [&l] {
+                                        if constexpr (std::is_same_v<T, float>)
+                                            return std::pair(l.batch_float, l.segments_float);
+                                        else
+                                            return std::pair(l.batch_double, l.segments_double);
+                                    }();
+                                    const auto calling = [&](auto entry) {
+                                        return [&, entry](std::span<const batch_case<T>> part,
                                                           std::span<answer<T>> out) {
-                                        if constexpr (std::is_same_v<T, float>)
-                                            batch_in_process<T>(*p, l.batch_float, promises, part, out);
-                                        else
-                                            batch_in_process<T>(*p, l.batch_double, promises, part, out);
+                                            batch_in_process<T>(*p, entry, promises, part, out);
+                                        };
                                     };
-                                    const auto segments = [&](std::span<const batch_case<T>> part,
-                                                              std::span<answer<T>> out) {
-                                        if constexpr (std::is_same_v<T, float>)
-                                            batch_in_process<T>(*p, l.segments_float, promises, part, out);
-                                        else
-                                            batch_in_process<T>(*p, l.segments_double, promises, part, out);
-                                    };
-                                    answer_by_form<T>(cases, answers, rays, segments);
+                                    answer_by_form<T>(cases, answers, calling(ray_batch), calling(segment_batch));
                                 });
         v.takes_segment_ends = d.has_segment_entry;
         // bench times a plugin on ray families: a segment-only plugin has none to run on.

@@ -540,6 +540,40 @@ def plot_histograms(report, directory):
     save(fig, directory, "ulp_histograms.png")
 
 
+def plot_builds(report, directory):
+    """builds.png: each build's verdict shares (`rayverify builds`), one bar per build and precision."""
+    builds = report["builds"]
+    order = [r["name"] for r in builds["rows"] if r["status"] == "ran"]
+    entries = [r for name in order for r in report.get("results", []) if r["variant"] == name]
+    if not entries:
+        return
+    kinds = []
+    for e in entries:
+        for k, n in e["verdicts"].items():
+            if n and k not in kinds and k not in UNSCORED:
+                kinds.append(k)
+    palette = ["#2ca02c", "#d62728", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf",
+               "#1f77b4", "#aec7e8", "#ffbb78", "#98df8a"]
+    fig, ax = plt.subplots(figsize=(9, 0.32 * len(entries) + 1.6))
+    labels = ["%s/%s%s" % (e["variant"], e["precision"], " (reference)" if e["variant"] == builds.get("reference") else "")
+              for e in entries]
+    left = [0.0] * len(entries)
+    for i, k in enumerate(kinds):
+        widths = [(e["verdicts"].get(k, 0) / scored(e) if scored(e) else 0.0) for e in entries]
+        colour_of = "#2ca02c" if k == "agree" else palette[1 + (i % (len(palette) - 1))]
+        ax.barh(range(len(entries)), widths, left=left, color=colour_of, label=k)
+        left = [a + b for a, b in zip(left, widths)]
+    ax.set_yticks(range(len(entries)))
+    ax.set_yticklabels(labels, fontsize=8)
+    ax.invert_yaxis()
+    ax.set_xlim(0, 1)
+    ax.set_xlabel("share of the scored cases")
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.12 - 0.6 / max(len(entries), 1)), ncol=4, fontsize=8)
+    ax.set_title("Verdicts per build (rayverify builds; %d cases, reference %s)" % (builds["cases"], builds.get("reference")))
+    fig.tight_layout()
+    save(fig, directory, "builds.png")
+
+
 def main():
     global MISCLASS, UNSCORED, FORMATS
     parser = argparse.ArgumentParser(description="Draw the rayverify report plots.")
@@ -572,6 +606,8 @@ def main():
         report = json.load(f)
     if "timing" in report:
         plot_accuracy_vs_time(report, directory, measure, args.points)
+    if "builds" in report:
+        plot_builds(report, directory)
     if "case_points" in report:
         plot_error_vs_condition(report, directory)
         plot_far_sphere(report, directory)

@@ -52,6 +52,7 @@ command add_diff_command(CLI::App& app);
 command add_merge_command(CLI::App& app);
 command add_render_command(CLI::App& app);  // cli/render_command.cpp
 command add_recommend_command(CLI::App& app);  // cli/recommend_command.cpp
+command add_builds_command(CLI::App& app, const std::string& command_line);  // cli/builds_command.cpp
 
 // `merge` of hunt outputs (cli/hunt_merge.cpp): the files of one sharded
 // hunt, every shard once, as one hunt file at `output` keeping the `keep`

@@ -79,7 +79,8 @@ int main(int argc, char** argv) {
                                      cli::add_bench_command(app, command_line), cli::add_gate_command(app), cli::add_diff_command(app),
                                      cli::add_hunt_command(app, command_line),
                                      cli::add_merge_command(app),
-                                     cli::add_render_command(app), cli::add_recommend_command(app)};
+                                     cli::add_render_command(app), cli::add_recommend_command(app),
+                                     cli::add_builds_command(app, command_line)};
     try {
         app.parse(argc, argv);
         if (global.completion.empty() && !global.man && app.get_subcommands().empty())

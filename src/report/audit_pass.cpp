@@ -13,7 +13,8 @@ namespace rayverify {
 
 audit_state run_audit_pass(const case_source& next, const std::vector<audit_target>& targets, unsigned threads,
                            bool with_points, std::ostream* per_case,
-                           const std::function<void(std::size_t done)>& progress, std::ostream* failures) {
+                           const std::function<void(std::size_t done)>& progress, std::ostream* failures,
+                           const std::function<void(const audited_case&, std::size_t index)>& observe) {
     // Per thread: the state, and the chunk's rendered per-case lines (written in order).
     std::vector<per_worker<audit_state>> workers(threads, {audit_state(targets)});
     std::vector<std::string> lines(per_case != nullptr ? case_stream::default_chunk : 0);
@@ -26,8 +27,9 @@ audit_state run_audit_pass(const case_source& next, const std::vector<audit_targ
         if (per_case == nullptr) return;
         lines[slot] = per_case_line(c, targets, std::move(lines[slot]));
     };
-    if (per_case != nullptr || failures != nullptr)
-        hooks.ordered = [&](const audited_case& c, std::size_t, std::size_t slot) {
+    if (per_case != nullptr || failures != nullptr || observe)
+        hooks.ordered = [&](const audited_case& c, std::size_t index, std::size_t slot) {
+            if (observe) observe(c, index);
             if (per_case != nullptr) *per_case << lines[slot] << '\n';
             if (failures == nullptr) return;
             const bool failing = std::any_of(c.outcomes.begin(), c.outcomes.end(),

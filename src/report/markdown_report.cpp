@@ -17,6 +17,7 @@
 #include "core/input_error.h"
 #include "core/installed_data.h"
 #include "corpus/corpus_io.h"
+#include "report/builds_report.h"
 #include "report/case_list.h"
 #include "report/contract_hints.h"
 
@@ -343,6 +344,8 @@ std::string render_markdown(const json& report) {
     if (report.contains("cases_to_open") && !report["cases_to_open"].empty())
         out += folded("Cases to open: the first of each verdict, and agreeing hits far from the exact one",
                       render_cases_to_open_markdown(report["cases_to_open"]));
+
+    if (report.contains("builds")) out += "\n### Builds\n\n" + render_builds_markdown(report["builds"]);
 
     if (report.contains("plots")) {
         const json& plots = report["plots"];

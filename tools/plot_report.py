@@ -568,7 +568,7 @@ def plot_builds(report, directory):
     ax.invert_yaxis()
     ax.set_xlim(0, 1)
     ax.set_xlabel("share of the scored cases")
-    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.12 - 0.6 / max(len(entries), 1)), ncol=4, fontsize=8)
+    ax.legend(loc="center left", bbox_to_anchor=(1.01, 0.5), fontsize=8)
     ax.set_title("Verdicts per build (rayverify builds; %d cases, reference %s)" % (builds["cases"], builds.get("reference")))
     fig.tight_layout()
     save(fig, directory, "builds.png")

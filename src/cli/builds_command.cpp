@@ -1,6 +1,6 @@
 // `rayverify builds SOURCE...` (docs/builds.md): one intersector source built
 // under every compiler and flag set of a matrix into isolated plugins
-// (cli/build_matrix), audited together beside the exact answer, each build's
+// (plugin/plugin_builds), audited together beside the exact answer, each build's
 // answers compared bit for bit with the reference build's
 // (compare/build_comparison), each build that changes them bisected to the
 // smallest set of its flags that reproduces the change, the report rendered
@@ -14,7 +14,7 @@
 #include <sstream>
 
 #include "cli/app.h"
-#include "cli/build_matrix.h"
+#include "plugin/plugin_builds.h"
 #include "cli/commands.h"
 #include "compare/build_comparison.h"
 #include "compare/gate.h"
@@ -32,7 +32,7 @@ namespace fs = std::filesystem;
 
 struct builds_options {
     std::vector<std::string> sources, harness, include_dirs, defines;
-    std::vector<std::string> compilers, flag_sets;
+    std::vector<std::string> compilers, flag_sets, standards;
     std::vector<std::string> corpus, generate, precisions;
     std::string report_dir, cache_dir;
     bool plots = false;
@@ -327,6 +327,14 @@ int run(const builds_options& options, const std::string& command_line) {
     for (const std::string& s : options.harness) sources.harness.emplace_back(s);
     sources.include_dirs = options.include_dirs;
     sources.defines = options.defines;
+    for (const std::string& standard : options.standards) {
+        const bool cxx = standard.starts_with("c++") || standard.starts_with("gnu++");
+        if (!cxx && !standard.starts_with("c") && !standard.starts_with("gnu"))
+            throw input_error("", 0, "--std", fmt::format("'{}' is no C or C++ standard (c99, c17, c++17, gnu++20, ...)", standard));
+        std::string& chosen = cxx ? sources.cxx_standard : sources.c_standard;
+        if (!chosen.empty()) throw input_error("", 0, "--std", fmt::format("two {} standards given", cxx ? "C++" : "C"));
+        chosen = standard;
+    }
     const fs::path cache = options.cache_dir.empty() ? default_build_cache() : fs::path(options.cache_dir);
 
     const std::vector<built_plugin> built = build_plugins(specs, sources, cache, options.jobs);
@@ -355,7 +363,7 @@ int run(const builds_options& options, const std::string& command_line) {
         row.commands = b.command_lines;
         row.plugin = b.plugin.string();
         if (!b.built()) {
-            row.status = build_row::outcome::did_not_compile;
+            row.status = b.refused_by_source ? build_row::outcome::refused_by_source : build_row::outcome::did_not_compile;
             row.failure = b.failure;
         } else {
             try {
@@ -490,6 +498,9 @@ command add_builds_command(CLI::App& app, const std::string& command_line) {
                     "the function under test changes with the build); repeatable");
     sub->add_option("-I,--include-dir", options->include_dirs, "Include directory for every compile (repeatable)");
     sub->add_option("-D,--define", options->defines, "Macro NAME or NAME=VALUE for every compile (repeatable)");
+    sub->add_option("--std", options->standards,
+                    "The language standard of every compile of a C or of a C++ source, e.g. --std c++17 (clang 14 "
+                    "compiles C++ as gnu++14 by default); once per language");
     sub->add_option("--compiler", options->compilers, "gcc or clang (repeatable; default: both)")
         ->check(CLI::IsMember({"gcc", "clang"}));
     sub->add_option("--flags", options->flag_sets,

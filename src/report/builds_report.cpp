@@ -28,6 +28,8 @@ std::string quoted(const std::string& text) {
     return out + "'";
 }
 
+std::string cases_text(std::size_t n) { return fmt::format("{} case{}", n, n == 1 ? "" : "s"); }
+
 std::string flip_text(const json& f) {
     return fmt::format("{} -> {}", f["reference"].get<std::string>(), f["build"].get<std::string>());
 }
@@ -43,6 +45,7 @@ std::string words(const json& list) {
 std::string_view build_outcome_name(build_row::outcome o) {
     switch (o) {
         case build_row::outcome::ran: return "ran";
+        case build_row::outcome::refused_by_source: return "refused_by_source";
         case build_row::outcome::did_not_compile: return "did_not_compile";
         case build_row::outcome::did_not_load: return "did_not_load";
         case build_row::outcome::failed_in_audit: return "failed_in_audit";
@@ -140,10 +143,12 @@ std::string render_builds_text(const json& builds) {
         const std::string name = r["name"].get<std::string>();
         const std::string status = r["status"].get<std::string>();
         if (status != "ran") {
-            const std::string said = status == "did_not_compile" ? "did not compile"
+            const std::string failure = r.value("failure", std::string());
+            const std::string said = status == "refused_by_source" ? "refused by the source (its #error)"
+                                     : status == "did_not_compile" ? "did not compile"
                                      : status == "did_not_load" ? "did not load"
                                                                 : "failed while audited (no figures)";
-            out += fmt::format("{:<{}}  {}: {}\n", name, width, said, r.value("failure", std::string()));
+            out += fmt::format("{:<{}}  {}: {}\n", name, width, said, failure);
             continue;
         }
         if (r["reference"].get<bool>()) {
@@ -192,7 +197,7 @@ std::string render_builds_text(const json& builds) {
                                b["smallest"].size() == 1 ? "s" : "", b["cases"].get<std::size_t>(),
                                b["builds_tried"].get<std::size_t>());
             for (const json& f : b["flips"])
-                out += fmt::format("      {} ({} cases): {}\n", flip_text(f), f["cases"].get<std::size_t>(),
+                out += fmt::format("      {} ({}): {}\n", flip_text(f), cases_text(f["cases"].get<std::size_t>()),
                                    words(f["smallest"]));
         }
     }
@@ -243,7 +248,7 @@ std::string render_builds_markdown(const json& builds) {
                                     b["cases"].get<std::size_t>(), b["searched"].get<std::string>(),
                                     b["builds_tried"].get<std::size_t>());
                 for (const json& f : b["flips"])
-                    mine += fmt::format("  - {} ({} cases): `{}`\n", flip_text(f), f["cases"].get<std::size_t>(),
+                    mine += fmt::format("  - {} ({}): `{}`\n", flip_text(f), cases_text(f["cases"].get<std::size_t>()),
                                         words(f["smallest"]));
             }
         }

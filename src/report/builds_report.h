@@ -38,7 +38,9 @@ struct build_row {
     std::string name, compiler, compiler_version, flags;
     bool reference = false;
     bool cached = false;
-    enum class outcome { ran, did_not_compile, did_not_load, failed_in_audit } status = outcome::ran;
+    // refused_by_source: it did not compile because the source's #error
+    // refuses the build (robust_sphere.h under -ffast-math).
+    enum class outcome { ran, refused_by_source, did_not_compile, did_not_load, failed_in_audit } status = outcome::ran;
     std::string failure;  // the compiler's first error, or why it did not load or run
     std::vector<std::string> commands;
     std::string plugin;          // the built library

@@ -1,4 +1,4 @@
-#include "cli/build_matrix.h"
+#include "plugin/plugin_builds.h"
 
 #include <fcntl.h>
 #include <poll.h>
@@ -27,8 +27,9 @@
 #include "core/installed_data.h"
 #include "core/process_status.h"
 
-namespace rayverify::cli {
-namespace {
+namespace rayverify {
+// Named, not anonymous: the plugin layer is one unity translation unit.
+namespace plugin_builds_detail {
 
 namespace fs = std::filesystem;
 
@@ -216,18 +217,24 @@ std::string joined(const std::vector<std::string>& words) {
 }
 
 // The cache key of a build: everything that decides it except the headers,
-// which the entry's dependency list checks.
+// which the entry's dependency list checks. Paths are taken as given
+// (relative to the working directory, where the compiler resolves them, and
+// where an entry's dependencies are checked), rayverify's own headers by
+// their content: the same source and headers build one entry wherever the
+// tree lies.
 std::string build_key(const build_spec& spec, const build_sources& sources) {
-    std::string text = "rayverify-build 1\n";
+    std::string text = "rayverify-build 2\n";
     text += spec.compiler.name + '\n' + spec.compiler.c_command + '\n' + spec.compiler.cxx_command + '\n' +
             spec.compiler.version + '\n';
     for (const std::string& f : spec.flags) text += "flag " + f + '\n';
     text += spec.ftz_daz_at_load ? "ftz-daz\n" : "\n";
-    for (const std::string& d : sources.include_dirs) text += "include " + fs::absolute(d).string() + '\n';
+    for (const std::string& d : sources.include_dirs) text += "include " + d + '\n';
     for (const std::string& d : sources.defines) text += "define " + d + '\n';
-    for (const fs::path& s : sources.sources) text += "source " + fs::absolute(s).string() + ' ' + file_digest(s) + '\n';
-    for (const fs::path& s : sources.harness) text += "harness " + fs::absolute(s).string() + ' ' + file_digest(s) + '\n';
-    text += plugin_header_dir().string() + '\n' + robust_header_dir().string() + '\n';
+    text += "std " + sources.c_standard + ' ' + sources.cxx_standard + '\n';
+    for (const fs::path& s : sources.sources) text += "source " + s.string() + ' ' + file_digest(s) + '\n';
+    for (const fs::path& s : sources.harness) text += "harness " + s.string() + ' ' + file_digest(s) + '\n';
+    text += file_digest(plugin_header_dir() / "rayverify_plugin.h") + ' ' +
+            file_digest(robust_header_dir() / "robust_sphere.h") + '\n';
     fnv1a_digest digest;
     digest.add(text);
     return digest.text();
@@ -240,8 +247,58 @@ std::vector<std::string> read_lines(const fs::path& path) {
     return lines;
 }
 
-// The cached build in `entry`, when every file it was built from is unchanged.
-std::optional<built_plugin> cached_build(const build_spec& spec, const fs::path& entry) {
+// The commands that build `spec` into `dir`: one compile per source (the
+// harness and FTZ/DAZ object with the reference flags), then the link.
+struct build_step {
+    std::vector<std::string> argv;
+    fs::path source, object, depfile;
+};
+struct build_plan {
+    std::vector<build_step> compiles;
+    build_step link;
+};
+
+build_plan plan_of(const build_spec& spec, const build_sources& sources, const fs::path& dir) {
+    const std::vector<std::string> reference = flag_words(reference_flags_text);
+    build_plan plan;
+    bool any_cxx = false;
+    const auto compile = [&](const fs::path& source, const std::vector<std::string>& flags) {
+        build_step step;
+        step.source = source;
+        step.object = dir / fmt::format("{}-{}.o", plan.compiles.size(), source.stem().string());
+        step.depfile = step.object.string() + ".d";
+        any_cxx = any_cxx || is_cxx_source(source);
+        step.argv = {is_cxx_source(source) ? spec.compiler.cxx_command : spec.compiler.c_command, "-c", "-fPIC"};
+        const std::string& standard = is_cxx_source(source) ? sources.cxx_standard : sources.c_standard;
+        if (!standard.empty()) step.argv.push_back("-std=" + standard);
+        step.argv.insert(step.argv.end(), flags.begin(), flags.end());
+        for (const std::string& d : sources.include_dirs) step.argv.push_back("-I" + d);
+        for (const std::string& d : sources.defines) step.argv.push_back("-D" + d);
+        step.argv.push_back("-I" + plugin_header_dir().string());
+        step.argv.push_back("-I" + robust_header_dir().string());
+        step.argv.insert(step.argv.end(), {"-MD", "-MF", step.depfile.string(), source.string(), "-o", step.object.string()});
+        plan.compiles.push_back(step);
+    };
+    for (const fs::path& s : sources.sources) compile(s, spec.flags);
+    for (const fs::path& s : sources.harness) compile(s, reference);
+    if (spec.ftz_daz_at_load) compile(dir / "ftz_daz_at_load.c", reference);
+    plan.link.argv = {any_cxx ? spec.compiler.cxx_command : spec.compiler.c_command, "-shared"};
+    plan.link.argv.insert(plan.link.argv.end(), spec.flags.begin(), spec.flags.end());
+    for (const build_step& c : plan.compiles) plan.link.argv.push_back(c.object.string());
+    plan.link.argv.insert(plan.link.argv.end(), {"-o", (dir / "plugin.so").string(), "-lm"});
+    return plan;
+}
+
+std::vector<std::string> command_lines_of(const build_plan& plan) {
+    std::vector<std::string> lines;
+    for (const build_step& c : plan.compiles) lines.push_back(joined(c.argv));
+    lines.push_back(joined(plan.link.argv));
+    return lines;
+}
+
+// The cached build in `entry`, when every file it was built from is unchanged
+// (its dependencies as the compiler named them, read from here).
+std::optional<built_plugin> cached_build(const build_spec& spec, const build_sources& sources, const fs::path& entry) {
     std::error_code error;
     if (!fs::is_regular_file(entry / "plugin.so", error)) return std::nullopt;
     const std::vector<std::string> deps = read_lines(entry / "dependencies.txt");
@@ -253,7 +310,7 @@ std::optional<built_plugin> cached_build(const build_spec& spec, const fs::path&
     }
     built_plugin b;
     b.spec = spec;
-    b.command_lines = read_lines(entry / "commands.txt");
+    b.command_lines = command_lines_of(plan_of(spec, sources, entry));
     b.plugin = entry / "plugin.so";
     b.cached = true;
     return b;
@@ -263,9 +320,10 @@ std::atomic<unsigned> partial_counter{0};
 
 built_plugin build_one(const build_spec& spec, const build_sources& sources, const fs::path& cache_dir) {
     const fs::path entry = cache_dir / build_key(spec, sources);
-    if (std::optional<built_plugin> hit = cached_build(spec, entry)) return *hit;
+    if (std::optional<built_plugin> hit = cached_build(spec, sources, entry)) return *hit;
     built_plugin b;
     b.spec = spec;
+    b.command_lines = command_lines_of(plan_of(spec, sources, entry));  // as they read once the entry is in place
     const fs::path work =
         cache_dir / fmt::format("{}.partial-{}-{}", entry.filename().string(), ::getpid(), partial_counter++);
     std::error_code error;
@@ -275,59 +333,26 @@ built_plugin build_one(const build_spec& spec, const build_sources& sources, con
         b.failure = fmt::format("cannot create {}: {}", work.string(), error.message());
         return b;
     }
-    const std::vector<std::string> reference = flag_words(reference_flags_text);
-    bool any_cxx = false;
-    for (const auto* list : {&sources.sources, &sources.harness})
-        for (const fs::path& s : *list) any_cxx = any_cxx || is_cxx_source(s);
-    std::vector<std::string> objects, depfiles, shown;
-    const auto compile = [&](const fs::path& source, const std::vector<std::string>& flags, std::size_t k) {
-        const std::string object = (work / fmt::format("{}-{}.o", k, source.stem().string())).string();
-        const std::string depfile = object + ".d";
-        std::vector<std::string> argv = {is_cxx_source(source) ? spec.compiler.cxx_command : spec.compiler.c_command,
-                                         "-c", "-fPIC"};
-        argv.insert(argv.end(), flags.begin(), flags.end());
-        for (const std::string& d : sources.include_dirs) argv.push_back("-I" + d);
-        for (const std::string& d : sources.defines) argv.push_back("-D" + d);
-        argv.push_back("-I" + plugin_header_dir().string());
-        argv.push_back("-I" + robust_header_dir().string());
-        argv.insert(argv.end(), {"-MD", "-MF", depfile, source.string(), "-o", object});
-        shown.push_back(joined(argv));
-        const command_run run = run_command(argv, compile_timeout_seconds);
-        if (!run.ran) {
-            b.failure = fmt::format("{}: {}", source.filename().string(), first_error_line(run.output, run.ending));
-            return false;
-        }
-        objects.push_back(object);
-        depfiles.push_back(depfile);
-        return true;
-    };
-    std::size_t k = 0;
+    if (spec.ftz_daz_at_load) std::ofstream(work / "ftz_daz_at_load.c") << ftz_daz_source;
+    const build_plan plan = plan_of(spec, sources, work);
     bool ok = true;
-    for (const fs::path& s : sources.sources) ok = ok && compile(s, spec.flags, k++);
-    for (const fs::path& s : sources.harness) ok = ok && compile(s, reference, k++);
-    if (ok && spec.ftz_daz_at_load) {
-        const fs::path source = work / "ftz_daz_at_load.c";
-        std::ofstream(source) << ftz_daz_source;
-        ok = compile(source, reference, k++);
+    for (const build_step& step : plan.compiles) {
+        const command_run run = run_command(step.argv, compile_timeout_seconds);
+        if (!run.ran) {
+            b.failure = fmt::format("{}: {}", step.source.filename().string(), first_error_line(run.output, run.ending));
+            // gcc says "error: #error ...", clang quotes the directive's line under its message.
+            b.refused_by_source = run.output.find("#error") != std::string::npos;
+            ok = false;
+            break;
+        }
     }
     if (ok) {
-        std::vector<std::string> argv = {any_cxx ? spec.compiler.cxx_command : spec.compiler.c_command, "-shared"};
-        argv.insert(argv.end(), spec.flags.begin(), spec.flags.end());
-        argv.insert(argv.end(), objects.begin(), objects.end());
-        argv.insert(argv.end(), {"-o", (work / "plugin.so").string(), "-lm"});
-        shown.push_back(joined(argv));
-        const command_run run = run_command(argv, compile_timeout_seconds);
+        const command_run run = run_command(plan.link.argv, compile_timeout_seconds);
         if (!run.ran) {
             b.failure = fmt::format("link: {}", first_error_line(run.output, run.ending));
             ok = false;
         }
     }
-    // The commands as they read once the entry is in place.
-    for (std::string& line : shown) {
-        for (std::size_t at; (at = line.find(work.string())) != std::string::npos;)
-            line.replace(at, work.string().size(), entry.string());
-    }
-    b.command_lines = shown;
     if (!ok) {
         fs::remove_all(work, error);
         return b;
@@ -335,17 +360,19 @@ built_plugin build_one(const build_spec& spec, const build_sources& sources, con
     {
         std::ofstream deps(work / "dependencies.txt");
         std::set<std::string> seen;
-        for (const std::string& depfile : depfiles)
-            for (const std::string& file : dependencies_in(depfile)) {
-                const std::string path = fs::absolute(file).lexically_normal().string();
-                if (path.find(work.string()) == 0 || !seen.insert(path).second) continue;
-                deps << file_digest(path) << ' ' << path << '\n';
+        for (const build_step& step : plan.compiles)
+            for (const std::string& file : dependencies_in(step.depfile)) {
+                if (fs::path(file).lexically_normal().string().find(work.string()) == 0 ||
+                    fs::absolute(file).lexically_normal().string().find(fs::absolute(work).string()) == 0 ||
+                    !seen.insert(file).second)
+                    continue;
+                deps << file_digest(file) << ' ' << file << '\n';
             }
-        std::ofstream commands(work / "commands.txt");
-        for (const std::string& line : shown) commands << line << '\n';
     }
-    for (const std::string& o : objects) fs::remove(o, error);
-    for (const std::string& d : depfiles) fs::remove(d, error);
+    for (const build_step& step : plan.compiles) {
+        fs::remove(step.object, error);
+        fs::remove(step.depfile, error);
+    }
     fs::remove(work / "ftz_daz_at_load.c", error);
     fs::remove_all(entry, error);
     fs::rename(work, entry, error);
@@ -359,7 +386,9 @@ built_plugin build_one(const build_spec& spec, const build_sources& sources, con
 
 std::string first_line_of(const std::string& text) { return text.substr(0, text.find('\n')); }
 
-}  // namespace
+}  // namespace plugin_builds_detail
+
+using namespace plugin_builds_detail;
 
 std::optional<compiler_driver> find_compiler(const std::string& name) {
     std::vector<std::pair<std::string, std::string>> candidates;
@@ -401,36 +430,38 @@ std::string build_name(const std::string& compiler, std::span<const std::string>
 
 void check_build_flags(std::span<const std::string> flags, const std::string& option) {
     // Flags that put code of their choosing into the build or run another
-    // program in the compiler's place: the matrix would audit that code.
+    // program in the compiler's place (the matrix would audit that code),
+    // refused in every spelling that starts so (-includefoo.h, -fplugin=...).
     static const std::vector<std::string> injecting = {"-include", "-imacros", "-fplugin", "-specs", "--specs",
                                                         "-wrapper", "-B", "-fprofile-use", "-fauto-profile",
-                                                        "--sysroot", "-isysroot", "-T"};
-    // Flags that change what is built rather than how: the matrix links one
-    // plugin per build itself.
-    static const std::vector<std::string> structural = {"-o", "-c", "-E", "-S", "-x", "-shared", "-static", "-Wl,",
-                                                         "-Xlinker", "-Xassembler", "-Xpreprocessor", "-M", "-l", "-L",
-                                                         "-nostdlib", "-nostartfiles", "-save-temps", "-pipe"};
+                                                        "--sysroot", "-isysroot", "-T", "--param=plugin"};
+    // Flags that change what is built rather than how (the matrix compiles
+    // and links each plugin itself): those alone, and those that take their
+    // value attached (-ofile, -lm, -Wl,...).
+    static const std::vector<std::string> structural_alone = {"-c", "-E", "-S", "-shared", "-static", "-pipe",
+                                                               "-nostdlib", "-nostartfiles", "-save-temps", "-r"};
+    static const std::vector<std::string> structural_prefix = {"-o", "-x", "-Wl,", "-Xlinker", "-Xassembler",
+                                                                "-Xpreprocessor", "-M", "-l", "-L", "-Wa,", "-Wp,"};
     for (const std::string& f : flags) {
         if (f.starts_with("@"))
             throw input_error("", 0, option,
                               fmt::format("'{}' reads more flags from a file: give them here, each one seen", f));
-        const auto is = [&](const std::string& refused) {
-            return f == refused || (f.starts_with(refused) && (refused.ends_with(",") || refused.size() <= 2 ||
-                                                               f[refused.size()] == '='));
-        };
         for (const std::string& r : injecting)
-            if (is(r))
+            if (f.starts_with(r))
                 throw input_error("", 0, option,
                                   fmt::format("'{}' puts code of its choosing into the build (refused: the matrix "
                                               "would audit that code, not your source; docs/builds.md)",
                                               f));
-        for (const std::string& r : structural)
-            if (is(r))
-                throw input_error("", 0, option,
-                                  fmt::format("'{}' changes what is built, not how it is compiled (refused: builds "
-                                              "compiles and links each plugin itself; use -I and -D for include "
-                                              "directories and defines)",
-                                              f));
+        const bool structural =
+            std::find(structural_alone.begin(), structural_alone.end(), f) != structural_alone.end() ||
+            std::any_of(structural_prefix.begin(), structural_prefix.end(),
+                        [&](const std::string& r) { return f.starts_with(r); });
+        if (structural)
+            throw input_error("", 0, option,
+                              fmt::format("'{}' changes what is built, not how it is compiled (refused: builds "
+                                          "compiles and links each plugin itself; -I and -D give include "
+                                          "directories and defines, --std the language standard)",
+                                          f));
         if (!f.starts_with("-"))
             throw input_error("", 0, option, fmt::format("'{}' is not a flag (a source goes before the options)", f));
     }
@@ -553,4 +584,4 @@ std::vector<std::size_t> smallest_reproducing_subset(
     return current;
 }
 
-}  // namespace rayverify::cli
+}  // namespace rayverify

@@ -1,5 +1,5 @@
-// One intersector source built under several compilers and flag sets, as
-// `rayverify builds` runs it (docs/builds.md): which compilers this machine
+// Plugins built from a user's source under several compilers and flag sets,
+// as `rayverify builds` runs it (docs/builds.md): which compilers this machine
 // has, a build's name and flags, the flags refused, the plugins compiled (two
 // at a time, cached by the content of everything they were built from), the
 // components a build's flags break into for the bisect, and the
@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-namespace rayverify::cli {
+namespace rayverify {
 
 // A compiler of the matrix, by the name its builds carry: `gcc` (Debian's
 // gcc 12, gcc/g++) or `clang` (Debian's clang 14, clang-14/clang++-14 or
@@ -65,6 +65,10 @@ void check_build_flags(std::span<const std::string> flags, const std::string& op
 struct build_sources {
     std::vector<std::filesystem::path> sources, harness;
     std::vector<std::string> include_dirs, defines;
+    // The language standards every compile of a C / C++ source names
+    // (-std=...; empty: the compiler's default, gnu17 / gnu++17 for gcc 12
+    // but gnu++14 for clang 14).
+    std::string c_standard, cxx_standard;
 };
 
 // A build as it came out.
@@ -73,6 +77,7 @@ struct built_plugin {
     std::vector<std::string> command_lines;  // every compile and the link, as run (or as cached)
     std::filesystem::path plugin;            // empty when it did not build
     std::string failure;                     // the compiler's first error line, when it did not
+    bool refused_by_source = false;          // it did not because an #error of the source's stopped it
     bool cached = false;                     // taken from the cache, not compiled now
     bool built() const { return !plugin.empty(); }
 };
@@ -115,4 +120,4 @@ build_spec build_of_components(const build_spec& build, std::span<const flag_com
 std::vector<std::size_t> smallest_reproducing_subset(
     std::size_t n, const std::function<bool(const std::vector<std::size_t>&)>& reproduces);
 
-}  // namespace rayverify::cli
+}  // namespace rayverify

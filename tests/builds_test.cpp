@@ -137,6 +137,30 @@ TEST(BuildsCommand, ABuildThatCrashesWhileAuditedFailsItsRowAlone) {
     for (const nlohmann::json& r : report["results"]) EXPECT_NE(r["variant"], "gcc-O0");  // nothing partial
 }
 
+TEST(BuildsCommand, ABuildThatHangsIsStoppedAndFailsItsRowAlone) {
+    test_support::scratch_directory scratch("builds_hang");
+    write_plugin(scratch.path(),
+                 "#ifndef __OPTIMIZE__\n#define CRASH_HERE for (volatile int spin = 1; spin;) {}\n#else\n"
+                 "#define CRASH_HERE\n#endif\n");
+    const auto ran = run_cli(builds_command(scratch, "--flags=-O0 --flags=-O1 --plugin-timeout 1"));
+    ASSERT_EQ(ran.exit_code, 1) << ran.output;
+    EXPECT_NE(ran.output.find("gcc-O0 failed while audited, and is left out"), std::string::npos) << ran.output;
+    EXPECT_NE(ran.output.find("gcc-O1                                 same answers as the reference"), std::string::npos)
+        << ran.output;
+}
+
+TEST(BuildsCommand, NoCompilerLeftIsAnInputError) {
+    test_support::scratch_directory scratch("builds_no_compiler");
+    write_plugin(scratch.path(), "#define CRASH_HERE\n");
+    const auto ran = test_support::run_shell("PATH=/nonexistent " RAYVERIFY_CLI " builds " +
+                                             (scratch / "plugin.c").string() + " --cache " +
+                                             (scratch / "cache").string());
+    EXPECT_EQ(ran.exit_code, 2) << ran.output;
+    EXPECT_NE(ran.output.find("builds: gcc is not on this machine"), std::string::npos) << ran.output;
+    EXPECT_NE(ran.output.find("builds: clang is not on this machine"), std::string::npos) << ran.output;
+    EXPECT_NE(ran.output.find("none of the compilers asked for is on this machine"), std::string::npos) << ran.output;
+}
+
 TEST(BuildsCommand, TheCacheReusesBuildsUntilAHeaderChanges) {
     test_support::scratch_directory scratch("builds_cache");
     write_plugin(scratch.path(), "#define CRASH_HERE\n");

@@ -895,6 +895,16 @@ std::vector<bad_input> bad_inputs() {
              two_reports(good, "naive", good, "naive")(dir);
              fs::create_directory(dir / "b");
          }},
+        // builds: what it refuses before it compiles anything.
+        {"builds: a source that does not exist", "rayverify builds nosuch.c", {}, 2,
+         "nosuch.c: field 'SOURCE': no such file"},
+        {"builds: a source that is neither C nor C++ (`.py`)", "rayverify builds p.py", one("p.py", "print(1)\n"),
+         2, "p.py: field 'SOURCE': is neither a C source"},
+        {"builds: a flag that puts code into the build (`-fplugin=`)",
+         "rayverify builds mine.c --flags=\"-O2 -fplugin=./evil.so\"", one("mine.c", "int x;\n"), 2,
+         "field '--flags': '-fplugin=./evil.so' puts code of its choosing into the build"},
+        {"builds: a flag that changes what is built (`-Wl,`)", "rayverify builds mine.c --flags=\"-O2 -Wl,-init,f\"",
+         one("mine.c", "int x;\n"), 2, "field '--flags': '-Wl,-init,f' changes what is built"},
     };
 }
 

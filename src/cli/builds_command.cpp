@@ -31,7 +31,7 @@ namespace {
 namespace fs = std::filesystem;
 
 struct builds_options {
-    std::vector<std::string> sources, harness, include_dirs, defines;
+    std::vector<std::string> sources, harness, include_dirs, defines, libraries;
     std::vector<std::string> compilers, flag_sets, standards;
     std::vector<std::string> corpus, generate, precisions;
     std::string report_dir, cache_dir;
@@ -327,6 +327,10 @@ int run(const builds_options& options, const std::string& command_line) {
     for (const std::string& s : options.harness) sources.harness.emplace_back(s);
     sources.include_dirs = options.include_dirs;
     sources.defines = options.defines;
+    for (const std::string& l : options.libraries)
+        if (l.empty() || l.find_first_of(" \t/") != std::string::npos || l.starts_with("-"))
+            throw input_error("", 0, "--link", fmt::format("'{}' is not a library name (the NAME of -lNAME)", l));
+    sources.libraries = options.libraries;
     for (const std::string& standard : options.standards) {
         const bool cxx = standard.starts_with("c++") || standard.starts_with("gnu++");
         if (!cxx && !standard.starts_with("c") && !standard.starts_with("gnu"))
@@ -498,6 +502,8 @@ command add_builds_command(CLI::App& app, const std::string& command_line) {
                     "the function under test changes with the build); repeatable");
     sub->add_option("-I,--include-dir", options->include_dirs, "Include directory for every compile (repeatable)");
     sub->add_option("-D,--define", options->defines, "Macro NAME or NAME=VALUE for every compile (repeatable)");
+    sub->add_option("--link", options->libraries,
+                    "A library the plugin links, -lNAME (repeatable): an engine adapter's library as installed");
     sub->add_option("--std", options->standards,
                     "The language standard of every compile of a C or of a C++ source, e.g. --std c++17 (clang 14 "
                     "compiles C++ as gnu++14 by default); once per language");

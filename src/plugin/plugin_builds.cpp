@@ -42,6 +42,12 @@ struct command_run {
 
 constexpr double compile_timeout_seconds = 300;
 
+// Held from a compiler's fork until it is counted as started, and while a
+// finished compiler's session is ended: end_program_session kills every
+// child of rayverify not yet counted as started, and keeps its tables in
+// static storage (compilers run two at a time).
+std::mutex children_mutex;
+
 // Runs `argv` (argv[0] looked up on PATH) with no input, its own session
 // (killed with rayverify, and with everything it started on a timeout).
 command_run run_command(const std::vector<std::string>& argv, double timeout_seconds) {
@@ -55,6 +61,7 @@ command_run run_command(const std::vector<std::string>& argv, double timeout_sec
     for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
     args.push_back(nullptr);
     const pid_t parent = ::getpid();
+    std::unique_lock<std::mutex> starting(children_mutex);
     const pid_t pid = ::fork();
     if (pid < 0) {
         ::close(out[0]);
@@ -79,6 +86,7 @@ command_run run_command(const std::vector<std::string>& argv, double timeout_sec
     ::close(out[1]);
     started_child(pid);
     program_session_opened(pid);
+    starting.unlock();
     const auto deadline = deadline_after(timeout_seconds);
     bool timed_out = false;
     char buffer[4096];
@@ -100,8 +108,11 @@ command_run run_command(const std::vector<std::string>& argv, double timeout_sec
     ::close(out[0]);
     if (timed_out) ::kill(-pid, SIGKILL);
     const std::optional<int> status = reap_child(pid, -pid, timed_out ? 0 : 10);
-    child_ended(pid);
-    end_program_session(pid);
+    {
+        const std::lock_guard<std::mutex> ending(children_mutex);
+        child_ended(pid);
+        end_program_session(pid);
+    }
     if (timed_out)
         result.ending = fmt::format("took longer than {:g} s and was stopped", timeout_seconds);
     else if (!status)
@@ -231,6 +242,7 @@ std::string build_key(const build_spec& spec, const build_sources& sources) {
     for (const std::string& d : sources.include_dirs) text += "include " + d + '\n';
     for (const std::string& d : sources.defines) text += "define " + d + '\n';
     text += "std " + sources.c_standard + ' ' + sources.cxx_standard + '\n';
+    for (const std::string& l : sources.libraries) text += "library " + l + '\n';
     for (const fs::path& s : sources.sources) text += "source " + s.string() + ' ' + file_digest(s) + '\n';
     for (const fs::path& s : sources.harness) text += "harness " + s.string() + ' ' + file_digest(s) + '\n';
     text += file_digest(plugin_header_dir() / "rayverify_plugin.h") + ' ' +
@@ -285,7 +297,9 @@ build_plan plan_of(const build_spec& spec, const build_sources& sources, const f
     plan.link.argv = {any_cxx ? spec.compiler.cxx_command : spec.compiler.c_command, "-shared"};
     plan.link.argv.insert(plan.link.argv.end(), spec.flags.begin(), spec.flags.end());
     for (const build_step& c : plan.compiles) plan.link.argv.push_back(c.object.string());
-    plan.link.argv.insert(plan.link.argv.end(), {"-o", (dir / "plugin.so").string(), "-lm"});
+    plan.link.argv.insert(plan.link.argv.end(), {"-o", (dir / "plugin.so").string()});
+    for (const std::string& l : sources.libraries) plan.link.argv.push_back("-l" + l);
+    plan.link.argv.push_back("-lm");
     return plan;
 }
 

@@ -69,6 +69,9 @@ struct build_sources {
     // (-std=...; empty: the compiler's default, gnu17 / gnu++17 for gcc 12
     // but gnu++14 for clang 14).
     std::string c_standard, cxx_standard;
+    // Libraries the plugin links (-lNAME after its objects): an engine
+    // adapter's library as installed, whose own code no build changes.
+    std::vector<std::string> libraries;
 };
 
 // A build as it came out.

@@ -394,6 +394,15 @@ int run(const builds_options& options, const std::string& command_line) {
     }
     const case_input input = select_input(corpus, options.generate);
 
+    // Every output declared before the audit, committed once all are complete.
+    audit_outputs outputs;
+    for (const auto* list : {&options.sources, &options.harness})
+        declare_inputs(outputs.files, {list->begin(), list->end()}, "SOURCE");
+    declare_inputs(outputs.files, {input.paths.begin(), input.paths.end()}, "--corpus");
+    if (!options.baseline.empty() && !options.update)
+        declare_inputs(outputs.files, {fs::path(options.baseline)}, "--baseline");
+    outputs.open_report(fs::path(options.report_dir), "--report");
+
     // The audit, again without a build that failed in it (named, no figures).
     audit_state audited{std::vector<audit_target>{}};
     std::vector<audit_target> targets;
@@ -450,19 +459,11 @@ int run(const builds_options& options, const std::string& command_line) {
         }
 
     // The report: the audit's, with the builds' section.
-    const fs::path report_dir(options.report_dir);
-    audit_outputs outputs;
-    for (const auto* list : {&options.sources, &options.harness})
-        declare_inputs(outputs.files, {list->begin(), list->end()}, "SOURCE");
-    std::vector<fs::path> input_paths(input.paths.begin(), input.paths.end());
-    declare_inputs(outputs.files, input_paths, "--corpus");
-    outputs.open_report(report_dir, "--report");
     const std::size_t cases = audited.audit.cases;
     const nlohmann::ordered_json builds = builds_json(rows, targets, comparison->differences(), cases, options.examples);
     std::string printed = render_builds_text(builds);
     int gate_status = exit_ok;
     if (!options.baseline.empty()) {
-        if (!options.update) declare_inputs(outputs.files, {fs::path(options.baseline)}, "--baseline");
         gate_status = gate_builds(options, input, targets, rows, outputs.files, printed);
     }
     run_context context{recorded_command(command_line), {}, {}};

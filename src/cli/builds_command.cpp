@@ -344,7 +344,7 @@ int run(const builds_options& options, const std::string& command_line) {
     const std::vector<built_plugin> built = build_plugins(specs, sources, cache, options.jobs);
     std::size_t compiled = 0, reused = 0;
     for (const built_plugin& b : built) (b.cached ? reused : compiled) += b.built() ? 1 : 0;
-    terminal::note(fmt::format("builds: {} builds ({} compiled now, {} from the cache {}, {} not built)", built.size(),
+    terminal::note(fmt::format("builds: {} builds ({} compiled now, {} from the cache in {}, {} not built)", built.size(),
                                compiled, reused, cache.string(), built.size() - compiled - reused));
     if (!built.front().built())
         throw input_error(options.sources.front(), 0, "SOURCE",

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "compare/build_comparison.h"
 #include "core/input_error.h"
 #include "plugin/plugin_builds.h"
 #include "support/process.h"
@@ -41,6 +42,28 @@ TEST(BuildsBisect, FindsTheSmallestReproducingSubsetAskingEachOnce) {
     // Every component needed.
     EXPECT_EQ(smallest_reproducing_subset(3, [](const std::vector<std::size_t>& s) { return s.size() == 3; }),
               (std::vector<std::size_t>{0, 1, 2}));
+}
+
+TEST(BuildsComparison, AnswersAreTheSameBitForBitAndAnyNanIsTheSame) {
+    variant_output a, b;
+    a.roots = {1, 0.5, 0};
+    b.roots = {1, 0.5, 0};
+    EXPECT_TRUE(same_answer(a, b));
+    b.roots.t0 = std::nextafter(0.5, 1.0);
+    EXPECT_FALSE(same_answer(a, b));
+    a.roots.t0 = 0.0;
+    b.roots.t0 = -0.0;
+    EXPECT_FALSE(same_answer(a, b));  // a sign a caller may read
+    a.roots.t0 = std::numeric_limits<double>::quiet_NaN();
+    b.roots.t0 = -std::numeric_limits<double>::quiet_NaN();
+    EXPECT_TRUE(same_answer(a, b));   // no NaN is an answer of its own
+    b.roots.count = 2;
+    EXPECT_FALSE(same_answer(a, b));
+    a.roots.count = b.roots.count = 0;
+    a.roots.t0 = 1;  // values not counted are no answer
+    EXPECT_TRUE(same_answer(a, b));
+    a.hit_point = vec3<double>{1, 2, 3};
+    EXPECT_FALSE(same_answer(a, b));
 }
 
 TEST(BuildsFlags, RefusesFlagsThatInjectCodeOrChangeWhatIsBuilt) {

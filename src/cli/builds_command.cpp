@@ -94,12 +94,17 @@ std::vector<build_spec> matrix_specs(const builds_options& options, std::vector<
         throw input_error("", 0, "--compiler",
                           fmt::format("none of the compilers asked for is on this machine ({})", fmt::join(wanted, ", ")));
     std::vector<build_spec> specs;
-    // The reference: gcc's strict build, else the first compiler's.
+    // The reference: gcc's strict build whatever --compiler chose, else the first compiler's.
     const auto gcc = std::find_if(compilers.begin(), compilers.end(), [](const compiler_driver& c) { return c.name == "gcc"; });
     build_spec reference;
-    reference.compiler = gcc != compilers.end() ? *gcc : compilers.front();
-    if (gcc == compilers.end())
+    if (gcc != compilers.end())
+        reference.compiler = *gcc;
+    else if (std::find(missing.begin(), missing.end(), "gcc") == missing.end() && find_compiler("gcc"))
+        reference.compiler = *find_compiler("gcc");
+    else {
+        reference.compiler = compilers.front();
         terminal::note(fmt::format("builds: gcc is not on this machine: the reference build is {}'s", reference.compiler.name));
+    }
     reference.flags = flag_words(reference_flags_text);
     reference.name = build_name(reference.compiler.name, reference.flags);
     reference.reference = true;

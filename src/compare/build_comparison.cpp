@@ -7,7 +7,12 @@
 namespace rayverify {
 namespace {
 
-bool same_bits(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
+// The same double, bit for bit (so -0 differs from +0), any NaN the same as
+// any other: a NaN's sign and payload are no answer (clang -O0 and gcc -O2
+// give the NaN of 0/0 opposite signs).
+bool same_bits(double a, double b) {
+    return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b) || (a != a && b != b);
+}
 
 template <class T>
 bool same_optional(const std::optional<T>& a, const std::optional<T>& b, bool (*same)(const T&, const T&)) {

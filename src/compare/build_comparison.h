@@ -18,7 +18,7 @@
 namespace rayverify {
 
 // Two answers the same to the bit: the hit count, the values counted, and
-// every output given beside them (NaN equals a NaN of the same bits).
+// every output given beside them (-0 is not +0; any NaN equals any NaN).
 bool same_answer(const variant_output& a, const variant_output& b);
 
 // One case whose verdict a build changed, as the report shows it.

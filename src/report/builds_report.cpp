@@ -194,7 +194,7 @@ std::string render_builds_text(const json& builds) {
             out += fmt::format("    bisect over {}: {} reproduce{} its {} changed answers ({} builds tried): what to "
                                "keep out of this file's build\n",
                                b["searched"].get<std::string>(), words(b["smallest"]),
-                               b["smallest"].size() == 1 ? "s" : "", b["cases"].get<std::size_t>(),
+                               b["smallest"].size() <= 1 ? "s" : "", b["cases"].get<std::size_t>(),
                                b["builds_tried"].get<std::size_t>());
             for (const json& f : b["flips"])
                 out += fmt::format("      {} ({}): {}\n", flip_text(f), cases_text(f["cases"].get<std::size_t>()),
@@ -244,7 +244,7 @@ std::string render_builds_markdown(const json& builds) {
             else {
                 mine += fmt::format("- **what to keep out of this file's build**: `{}` reproduce{} its {} changed "
                                     "answers (bisect over {}, {} builds tried)\n",
-                                    words(b["smallest"]), b["smallest"].size() == 1 ? "s" : "",
+                                    words(b["smallest"]), b["smallest"].size() <= 1 ? "s" : "",
                                     b["cases"].get<std::size_t>(), b["searched"].get<std::string>(),
                                     b["builds_tried"].get<std::size_t>());
                 for (const json& f : b["flips"])

@@ -181,6 +181,20 @@ struct ray_hit {
     root which = root::near_root;
 };
 
+// The segment from p0 to p1: the points p0 + f·(p1 − p0), f ∈ [0, 1] the
+// fraction of the way (a physics engine's cast). p1 − p0 is taken exactly,
+// never rounded: the answer is the segment's, not that of a ray through a
+// rounded p1 − p0.
+template <class T>
+struct segment {
+    vec3<T> p0, p1;
+};
+
+// What a segment that starts strictly inside the sphere hits: a contact at
+// its start (f = 0, the initial overlap physics engines report), or the
+// exit (the far root, as a renderer's interval query answers).
+enum class start_inside { contact, exit };
+
 // A hit point and a per-coordinate bound: some point q exactly on the sphere
 // has |point.x − q.x| ≤ error.x, and so on. Offset a secondary ray's origin
 // by (|n.x|·error.x + |n.y|·error.y + |n.z|·error.z)·n along the normal n
@@ -1162,13 +1176,20 @@ ROBUST_SPHERE_HD inline xdd x_add_same_sign(xdd x, xdd y) {
 // The exact solver: every sign from expansions, every root to relative 2^-90
 // from their approximations, and the rounding of a root settled by comparing
 // it exactly with the rounding boundaries when that bound leaves it open.
-// Capacities (components): f_i 2, r² 2, a 6, b′ 12, C 26, d × f 8 per
-// coordinate, Δ′ 24 + 3·128 = 408; a comparison with a value v of 2
-// components: a·v + b′ 36, |f + v·d|² − r² 3·72 + 2 = 218.
-template <class T>
+// P = 1: a ray, its direction d one double a coordinate. P = 2: a segment,
+// d = p1 − p0 taken exactly, two components a coordinate (exact_difference).
+// Capacities (components), P = 1 (P = 2): f_i 2, r² 2, a 6P² (24), b′ 12P
+// (24), C 26, d × f 8P per coordinate, Δ′ 24P² + 3·128P² = 408P² (1632); a
+// comparison with a value v of 2 components: a·v + b′ 24P² + 12P (120),
+// |f + v·d|² − r² 3·2(2 + 4P)² + 2 = 218 (602).
+template <class T, int P = 1>
 class exact_solver {
+    static_assert(P == 1 || P == 2, "a ray's direction or a segment's exact difference");
+    using direction_part = std::conditional_t<P == 1, xfloat, expansion<2>>;
+
 public:
     ROBUST_SPHERE_HD exact_solver(const ray<T>& ray_, const sphere<T>& s) {
+        static_assert(P == 1, "a ray: one double a coordinate of its direction");
         const double o[3] = {ray_.origin.x, ray_.origin.y, ray_.origin.z};
         const double d[3] = {ray_.direction.x, ray_.direction.y, ray_.direction.z};
         const double c[3] = {s.centre.x, s.centre.y, s.centre.z};
@@ -1177,37 +1198,23 @@ public:
         for (int i = 0; i < 3; ++i) finite = finite && isfinite(o[i]) && isfinite(d[i]) && isfinite(c[i]);
         valid_ = finite && (d[0] != 0 || d[1] != 0 || d[2] != 0);
         if (!valid_) return;
-
         // f = o − c as exact two_sum pairs.
         for (int i = 0; i < 3; ++i) assign(f_[i], exact_difference(o[i], c[i])), store(d_[i], to_xfloat(d[i]));
-        assign(r2_, product(single(r), single(r)));
+        form_coefficients(r);
+    }
 
-        // a = d·d, b′ = d·f, C = f·f − r².
-        expansion<24> C;
-        for (int i = 0; i < 3; ++i) {
-            const expansion<2> dd_i = product(single(d[i]), single(d[i]));
-            for (int k = 0; k < dd_i.size; ++k) grow(a_, dd_i.c[k]);
-            const expansion<4> df = scale(f_[i], d_[i]);
-            for (int k = 0; k < df.size; ++k) grow(b_, df.c[k]);
-            const expansion<8> ff = product(f_[i], f_[i]);
-            for (int k = 0; k < ff.size; ++k) grow(C, ff.c[k]);
-        }
-        compress(a_), compress(b_);
-        sum_into(C_, C, r2_, true);
-        compress(C_);
-
-        // Δ′ = a·r² − |d × f|², degree 4, exact.
-        expansion<384> cross2;
-        for (int i = 0; i < 3; ++i) {
-            const int j = (i + 1) % 3, k = (i + 2) % 3;
-            expansion<8> x = sum(scale(f_[k], d_[j]), scale(f_[j], d_[k]), true);
-            compress(x);
-            const expansion<128> x2 = product(x, x);
-            for (int m = 0; m < x2.size; ++m) grow(cross2, x2.c[m]);
-            compress(cross2);
-        }
-        sum_into(D_, product(a_, r2_), cross2, true);
-        compress(D_);
+    // The segment p0 + t·(p1 − p0), t the fraction of the segment.
+    ROBUST_SPHERE_HD exact_solver(const vec3<T>& p0, const vec3<T>& p1, const sphere<T>& s) {
+        static_assert(P == 2, "a segment: its difference p1 − p0 in two components a coordinate");
+        const double a[3] = {p0.x, p0.y, p0.z}, b[3] = {p1.x, p1.y, p1.z};
+        const double c[3] = {s.centre.x, s.centre.y, s.centre.z};
+        const double r = s.radius;
+        bool finite = isfinite(r);
+        for (int i = 0; i < 3; ++i) finite = finite && isfinite(a[i]) && isfinite(b[i]) && isfinite(c[i]);
+        valid_ = finite && (a[0] != b[0] || a[1] != b[1] || a[2] != b[2]);
+        if (!valid_) return;
+        for (int i = 0; i < 3; ++i) assign(f_[i], exact_difference(a[i], c[i])), assign(d_[i], exact_difference(b[i], a[i]));
+        form_coefficients(r);
     }
 
     ROBUST_SPHERE_HD uncertain line_class() const {
@@ -1253,6 +1260,55 @@ public:
 
 private:
     static constexpr double rho = 0x1p-90;
+    // e · d_i, exactly.
+    template <int N>
+    ROBUST_SPHERE_HD auto times_d(const expansion<N>& e, int i) const {
+        if constexpr (P == 1)
+            return scale(e, d_[i]);
+        else
+            return product(e, d_[i]);
+    }
+
+    // d_i as an expansion.
+    ROBUST_SPHERE_HD expansion<P> direction(int i) const {
+        expansion<P> e;
+        if constexpr (P == 1) {
+            if (d_[i].m != 0) e.push_back(d_[i]);
+        } else {
+            assign(e, d_[i]);
+        }
+        return e;
+    }
+
+    // a = d·d, b′ = d·f, C = f·f − r², Δ′ = a·r² − |d × f|² (degree 4), exactly.
+    ROBUST_SPHERE_HD void form_coefficients(double r) {
+        assign(r2_, product(single(r), single(r)));
+        expansion<24> C;
+        for (int i = 0; i < 3; ++i) {
+            const auto dd_i = times_d(direction(i), i);
+            for (int k = 0; k < dd_i.size; ++k) grow(a_, dd_i.c[k]);
+            const auto df = times_d(f_[i], i);
+            for (int k = 0; k < df.size; ++k) grow(b_, df.c[k]);
+            const expansion<8> ff = product(f_[i], f_[i]);
+            for (int k = 0; k < ff.size; ++k) grow(C, ff.c[k]);
+        }
+        compress(a_), compress(b_);
+        sum_into(C_, C, r2_, true);
+        compress(C_);
+
+        expansion<384 * P * P> cross2;
+        for (int i = 0; i < 3; ++i) {
+            const int j = (i + 1) % 3, k = (i + 2) % 3;
+            expansion<8 * P> x = sum(times_d(f_[k], j), times_d(f_[j], k), true);
+            compress(x);
+            const expansion<128 * P * P> x2 = product(x, x);
+            for (int m = 0; m < x2.size; ++m) grow(cross2, x2.c[m]);
+            compress(cross2);
+        }
+        sum_into(D_, product(a_, r2_), cross2, true);
+        compress(D_);
+    }
+
 
     // RN_T(x·2^e) for x within 2^-50 of its double: one rounding to double
     // (exact in double's normal range), then to T.
@@ -1285,7 +1341,7 @@ private:
     // where w has σ's sign, sign(Δ′ − w²) decides, and Δ′ − w² = −a·P(v) for
     // P(v) = |f + v·d|² − r².
     ROBUST_SPHERE_HD int compare(root which, const expansion<2>& v) const {
-        expansion<36> w = sum(product(a_, v), b_);
+        expansion<24 * P * P + 12 * P> w = sum(product(a_, v), b_);
         compress(w);
         const int sw = sign(w), sD = sign(D_);
         if (which == root::far_root) {
@@ -1298,16 +1354,17 @@ private:
 
     // sign(P(v)), P(v) = Σ (f_i + v·d_i)² − r², exactly.
     ROBUST_SPHERE_HD int residual_sign(const expansion<2>& v) const {
-        expansion<218> P;
-        for (int k = 0; k < r2_.size; ++k) P.push_back({-r2_.c[k].m, r2_.c[k].e});
+        constexpr int g_size = 2 + 4 * P;
+        expansion<6 * g_size * g_size + 2> residual;
+        for (int k = 0; k < r2_.size; ++k) residual.push_back({-r2_.c[k].m, r2_.c[k].e});
         for (int i = 0; i < 3; ++i) {
-            expansion<6> g = sum(f_[i], scale(v, d_[i]));
+            expansion<g_size> g = sum(f_[i], times_d(v, i));
             compress(g);
-            const expansion<72> g2 = product(g, g);
-            for (int k = 0; k < g2.size; ++k) grow(P, g2.c[k]);
-            compress(P);
+            const expansion<2 * g_size * g_size> g2 = product(g, g);
+            for (int k = 0; k < g2.size; ++k) grow(residual, g2.c[k]);
+            compress(residual);
         }
-        return sign(P);
+        return sign(residual);
     }
 
     // The roots to relative 2^-90 (a handful of operations under 2^-100 each).
@@ -1332,12 +1389,12 @@ private:
 
     bool valid_ = false;
     expansion<2> f_[3];
-    xfloat d_[3];
+    direction_part d_[3];
     expansion<2> r2_;
-    expansion<6> a_;
-    expansion<12> b_;
+    expansion<6 * P * P> a_;
+    expansion<12 * P> b_;
     expansion<26> C_;
-    expansion<408> D_;
+    expansion<408 * P * P> D_;
     bool have_roots_ = false;
     xdd roots_[2];
 };
@@ -1546,6 +1603,46 @@ ROBUST_SPHERE_COLD ROBUST_SPHERE_HD bool refined_any(const ray<T>& r, const sphe
     return exact_any<Lower, Upper>(r, s, tmin, tmax);
 }
 
+// A segment's nearest hit on f ∈ [0, 1] (ends as given), after the start
+// rule: strictly inside (C < 0) is a contact at f = 0 under
+// start_inside::contact.
+template <ends Start, ends End, start_inside Inside, class T, class S>
+ROBUST_SPHERE_INLINE ROBUST_SPHERE_HD bool query_segment(S& s, ray_hit<T>& out) {
+    if constexpr (Inside == start_inside::contact) {
+        const uncertain sc = s.sign_C();
+        if (!sc) return false;
+        if (*sc < 0) {
+            out = {true, T(0), root::near_root};
+            return true;
+        }
+    }
+    return query_nearest<Start, End, roots::correctly_rounded>(s, T(0), T(1), out);
+}
+
+// A segment whose p1 − p0 is a T: the ray (p0, p1 − p0) on [0, 1] through
+// stage 2 (double) and the exact path, out of line.
+template <ends Start, ends End, start_inside Inside, class T>
+ROBUST_SPHERE_COLD ROBUST_SPHERE_HD ray_hit<T> refined_segment(const ray<T>& r, const sphere<T>& s) {
+    ray_hit<T> out;
+    if constexpr (std::is_same_v<T, double>) {
+        fast_solver<T, true> refined(r, s);
+        if (query_segment<Start, End, Inside>(refined, out)) return out;
+    }
+    exact_solver<T> e(r, s);
+    query_segment<Start, End, Inside>(e, out);
+    return out;
+}
+
+// Any other segment: the exact path with p1 − p0 in two components a
+// coordinate (no rounding of the difference, no overflow).
+template <ends Start, ends End, start_inside Inside, class T>
+ROBUST_SPHERE_COLD ROBUST_SPHERE_HD ray_hit<T> exact_segment(const segment<T>& g, const sphere<T>& s) {
+    exact_solver<T, 2> e(g.p0, g.p1, s);
+    ray_hit<T> out;
+    query_segment<Start, End, Inside>(e, out);
+    return out;
+}
+
 // ulp above |x|: the largest distance from x to a real that rounds to it.
 template <class T>
 ROBUST_SPHERE_HD double ulp_above(T x) {
@@ -1601,6 +1698,37 @@ ROBUST_SPHERE_INLINE ROBUST_SPHERE_HD bool any_hit(const ray<T>& r, const sphere
     bool out = false;
     if (detail::query_any<Lower, Upper>(fast, tmin, tmax, out)) return out;
     return detail::refined_any<Lower, Upper, T>(r, s, tmin, tmax);
+}
+
+// A segment's first contact with the sphere: the fraction f ∈ [0, 1] of the
+// way from p0 to p1 (an end given as ends::open excludes a contact exactly
+// there), correctly rounded, every decision exact for the segment as given
+// (p1 − p0 is never rounded). A segment starting strictly inside touches at
+// f = 0 (start_inside::contact) or hits its exit (start_inside::exit). A
+// zero-length segment (p0 = p1) or a non-finite input is a miss. Where p1 −
+// p0 is a T, the ray's three stages answer; otherwise the exact path does
+// (p1 − p0 in two components a coordinate: slower, and about 60 KB of
+// stack, also on a GPU).
+template <ends Start = ends::closed, ends End = ends::closed, start_inside Inside = start_inside::contact, class T>
+ROBUST_SPHERE_INLINE ROBUST_SPHERE_HD ray_hit<T> segment_hit(const segment<T>& g, const sphere<T>& s) {
+    static_assert(detail::supported<T>, "robust_sphere.h answers in float or double");
+    const T a[3] = {g.p0.x, g.p0.y, g.p0.z}, b[3] = {g.p1.x, g.p1.y, g.p1.z};
+    T d[3];
+    bool finite = detail::isfinite(s.radius), moves = false, representable = true;
+    for (int i = 0; i < 3; ++i) {
+        finite = finite && detail::isfinite(a[i]) && detail::isfinite(b[i]);
+        moves = moves || a[i] != b[i];
+        const detail::dd diff = detail::two_sum(double(b[i]), -double(a[i]));  // float: exact in double or not
+        d[i] = T(diff.hi);
+        representable = representable && diff.lo == 0 && double(d[i]) == diff.hi && detail::isfinite(d[i]);
+    }
+    if (!finite || !moves) return {};
+    if (!representable) return detail::exact_segment<Start, End, Inside>(g, s);
+    const ray<T> r{g.p0, {d[0], d[1], d[2]}};
+    detail::fast_solver<T, false> fast(r, s);
+    ray_hit<T> out;
+    if (detail::query_segment<Start, End, Inside>(fast, out)) return out;
+    return detail::refined_segment<Start, End, Inside>(r, s);
 }
 
 // The fast path alone: what it settles, and nullopt where the exact path

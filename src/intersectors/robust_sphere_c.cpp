@@ -78,6 +78,28 @@ int any_hit(const T origin[3], const T direction[3], const T centre[3], T radius
                : 0;
 }
 
+template <class T>
+struct segment_query {
+    rs::segment<T> g;
+    rs::sphere<T> s;
+    bool contact;
+    template <rs::ends Start, rs::ends End>
+    rs::ray_hit<T> operator()() const {
+        return contact ? rs::segment_hit<Start, End, rs::start_inside::contact>(g, s)
+                       : rs::segment_hit<Start, End, rs::start_inside::exit>(g, s);
+    }
+};
+
+template <class T>
+int segment_hit(const T p0[3], const T p1[3], const T centre[3], T radius, robust_sphere_end start,
+                robust_sphere_end end, robust_sphere_start_inside inside, T* fraction) {
+    const rs::segment<T> g{{p0[0], p0[1], p0[2]}, {p1[0], p1[1], p1[2]}};
+    const rs::ray_hit<T> hit =
+        with_ends<T>(start, end, segment_query<T>{g, sphere_of(centre, radius), inside == ROBUST_SPHERE_CONTACT});
+    if (hit.found) *fraction = hit.t;
+    return hit.found ? 1 : 0;
+}
+
 }  // namespace
 
 extern "C" {
@@ -111,6 +133,18 @@ int robust_sphere_any_hit(const double origin[3], const double direction[3], con
 int robust_sphere_any_hit_f(const float origin[3], const float direction[3], const float centre[3], float radius,
                             float tmin, float tmax, robust_sphere_end lower, robust_sphere_end upper) {
     return any_hit(origin, direction, centre, radius, tmin, tmax, lower, upper);
+}
+
+int robust_sphere_segment_hit(const double p0[3], const double p1[3], const double centre[3], double radius,
+                              robust_sphere_end start, robust_sphere_end end, robust_sphere_start_inside inside,
+                              double* fraction) {
+    return segment_hit(p0, p1, centre, radius, start, end, inside, fraction);
+}
+
+int robust_sphere_segment_hit_f(const float p0[3], const float p1[3], const float centre[3], float radius,
+                                robust_sphere_end start, robust_sphere_end end, robust_sphere_start_inside inside,
+                                float* fraction) {
+    return segment_hit(p0, p1, centre, radius, start, end, inside, fraction);
 }
 
 }  // extern "C"

@@ -47,6 +47,23 @@ int robust_sphere_any_hit(const double origin[3], const double direction[3], con
 int robust_sphere_any_hit_f(const float origin[3], const float direction[3], const float centre[3], float radius,
                             float tmin, float tmax, enum robust_sphere_end lower, enum robust_sphere_end upper);
 
+/* What a segment that starts strictly inside the sphere hits: a contact at
+ * its start (fraction 0, the initial overlap physics engines report) or its
+ * exit (the far root). */
+enum robust_sphere_start_inside { ROBUST_SPHERE_CONTACT = 0, ROBUST_SPHERE_EXIT = 1 };
+
+/* A segment's first contact: the fraction f in [0, 1] of the way from p0 to
+ * p1 (an end given as ROBUST_SPHERE_OPEN excludes a contact exactly there),
+ * correctly rounded, every decision exact for the segment as given (p1 - p0
+ * is never rounded). Returns 1 and writes *fraction, or returns 0 (a miss;
+ * also a zero-length segment or a non-finite input). */
+int robust_sphere_segment_hit(const double p0[3], const double p1[3], const double centre[3], double radius,
+                              enum robust_sphere_end start, enum robust_sphere_end end,
+                              enum robust_sphere_start_inside inside, double* fraction);
+int robust_sphere_segment_hit_f(const float p0[3], const float p1[3], const float centre[3], float radius,
+                                enum robust_sphere_end start, enum robust_sphere_end end,
+                                enum robust_sphere_start_inside inside, float* fraction);
+
 #ifdef __cplusplus
 }
 #endif

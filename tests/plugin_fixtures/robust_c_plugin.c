@@ -11,7 +11,7 @@
 #include "robust_sphere_c.h"
 
 #if !defined(ROBUST_QUERY)
-#error "ROBUST_QUERY: 0 line roots, 1 nearest hit, 2 any hit"
+#error "ROBUST_QUERY: 0 line roots, 1 nearest hit, 2 any hit, 3 segment hit"
 #endif
 
 #if ROBUST_QUERY == 0
@@ -22,9 +22,13 @@
 #define NAME "robust_nearest_c_fastmath"
 #define CONTRACT "query=nearest_hit,range=interval"
 #define TANGENT_RULE 0
-#else
+#elif ROBUST_QUERY == 2
 #define NAME "robust_any_hit_c_fastmath"
 #define CONTRACT "query=any_hit,range=interval"
+#define TANGENT_RULE 0
+#else
+#define NAME "robust_segment_c_fastmath"
+#define CONTRACT "query=nearest_hit,range=interval,ends=[],inside=clamp,cast=segment"
 #define TANGENT_RULE 0
 #endif
 
@@ -64,6 +68,27 @@ RAYVERIFY_PLUGIN_EXPORT const rayverify_plugin_info_v2* rayverify_plugin_describ
         }                                                                                                       \
     }
 
+#if ROBUST_QUERY == 3
+/* The segment query on the ends as given, through the C interface. */
+#define SEGMENTS(T, SUFFIX)                                                                                      \
+    for (size_t i = 0; i < n; ++i) {                                                                            \
+        T f = 0;                                                                                                \
+        answers[i].count = robust_sphere_segment_hit##SUFFIX(segments[i].p0, segments[i].p1, segments[i].centre, \
+                                                             segments[i].radius, ROBUST_SPHERE_CLOSED,          \
+                                                             ROBUST_SPHERE_CLOSED, ROBUST_SPHERE_CONTACT, &f);  \
+        answers[i].t[0] = answers[i].t[1] = f;                                                                  \
+    }
+
+RAYVERIFY_PLUGIN_EXPORT void rayverify_plugin_intersect_segments_double(const rayverify_segment_double* segments,
+                                                                        rayverify_answer_double* answers, size_t n) {
+    SEGMENTS(double, )
+}
+
+RAYVERIFY_PLUGIN_EXPORT void rayverify_plugin_intersect_segments_float(const rayverify_segment_float* segments,
+                                                                       rayverify_answer_float* answers, size_t n) {
+    SEGMENTS(float, _f)
+}
+#else
 RAYVERIFY_PLUGIN_EXPORT void rayverify_plugin_intersect_batch_double(const rayverify_case_double* cases,
                                                                      rayverify_answer_double* answers, size_t n) {
     ANSWER(double, )
@@ -73,3 +98,4 @@ RAYVERIFY_PLUGIN_EXPORT void rayverify_plugin_intersect_batch_float(const rayver
                                                                     rayverify_answer_float* answers, size_t n) {
     ANSWER(float, _f)
 }
+#endif

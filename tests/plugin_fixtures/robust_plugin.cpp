@@ -12,7 +12,7 @@
 namespace rs = robust_sphere;
 
 #if !defined(ROBUST_QUERY)
-#error "ROBUST_QUERY: 0 line roots, 1 nearest hit, 2 any hit, 3 bounded line roots, 4 bounded nearest hit"
+#error "ROBUST_QUERY: 0 line roots, 1 nearest hit, 2 any hit, 3 bounded line roots, 4 bounded nearest hit, 5 segment hit (contact at the start), 6 segment hit (the exit, open ends)"
 #endif
 #if !defined(ROBUST_PLUGIN_SUFFIX) || !defined(ROBUST_PLUGIN_FLAGS)
 #error "ROBUST_PLUGIN_SUFFIX (\"_fma\") and ROBUST_PLUGIN_FLAGS (\"-O2 -mfma ...\") name and describe the build"
@@ -36,10 +36,18 @@ constexpr const char* spec = "query=any_hit,range=interval";
 constexpr const char* plugin_name = "robust_bounded" ROBUST_PLUGIN_SUFFIX;
 constexpr const char* spec = "query=line_roots,reports_tangent=yes";
 constexpr const char* tangent_rule = "Δ′ == 0 (exact)";
-#else
+#elif ROBUST_QUERY == 4
 constexpr const char* plugin_name = "robust_bounded_nearest" ROBUST_PLUGIN_SUFFIX;
 constexpr const char* tangent_rule = nullptr;
 constexpr const char* spec = "query=nearest_hit,range=interval";
+#elif ROBUST_QUERY == 5
+constexpr const char* plugin_name = "robust_segment" ROBUST_PLUGIN_SUFFIX;
+constexpr const char* tangent_rule = nullptr;
+constexpr const char* spec = "query=nearest_hit,range=interval,ends=[],inside=clamp,cast=segment";
+#else
+constexpr const char* plugin_name = "robust_segment_exit" ROBUST_PLUGIN_SUFFIX;
+constexpr const char* tangent_rule = nullptr;
+constexpr const char* spec = "query=nearest_hit,range=interval,ends=(),inside=far_root,cast=segment";
 #endif
 
 template <class T, class Case, class Answer>
@@ -66,6 +74,24 @@ void answer_all(const Case* cases, Answer* answers, size_t n) {
     }
 }
 
+// robust_sphere.h's segment query on the ends as given.
+template <class T, class Segment, class Answer>
+void answer_segments(const Segment* segments, Answer* answers, size_t n) {
+    using rs::ends;
+    for (size_t i = 0; i < n; ++i) {
+        const Segment& g = segments[i];
+        const rs::segment<T> seg{{g.p0[0], g.p0[1], g.p0[2]}, {g.p1[0], g.p1[1], g.p1[2]}};
+        const rs::sphere<T> s{{g.centre[0], g.centre[1], g.centre[2]}, g.radius};
+#if ROBUST_QUERY == 5
+        const rs::ray_hit<T> h = rs::segment_hit(seg, s);
+#else
+        const rs::ray_hit<T> h = rs::segment_hit<ends::open, ends::open, rs::start_inside::exit>(seg, s);
+#endif
+        answers[i].count = h.found ? 1 : 0;
+        answers[i].t[0] = answers[i].t[1] = h.t;
+    }
+}
+
 }  // namespace
 
 extern "C" {
@@ -82,6 +108,17 @@ RAYVERIFY_PLUGIN_EXPORT const rayverify_plugin_info_v2* rayverify_plugin_describ
     return &info;
 }
 
+#if ROBUST_QUERY >= 5
+RAYVERIFY_PLUGIN_EXPORT void rayverify_plugin_intersect_segments_double(const rayverify_segment_double* segments,
+                                                                        rayverify_answer_double* answers, size_t n) {
+    answer_segments<double>(segments, answers, n);
+}
+
+RAYVERIFY_PLUGIN_EXPORT void rayverify_plugin_intersect_segments_float(const rayverify_segment_float* segments,
+                                                                       rayverify_answer_float* answers, size_t n) {
+    answer_segments<float>(segments, answers, n);
+}
+#else
 RAYVERIFY_PLUGIN_EXPORT void rayverify_plugin_intersect_batch_double(const rayverify_case_double* cases,
                                                                      rayverify_answer_double* answers, size_t n) {
     answer_all<double>(cases, answers, n);
@@ -91,5 +128,6 @@ RAYVERIFY_PLUGIN_EXPORT void rayverify_plugin_intersect_batch_float(const rayver
                                                                     rayverify_answer_float* answers, size_t n) {
     answer_all<float>(cases, answers, n);
 }
+#endif
 
 }  // extern "C"

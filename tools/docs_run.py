@@ -44,7 +44,8 @@ The rules (docs/testing.md, "Documented commands"):
     <!-- docs-run: not output (WHAT) -->  an untagged block that is a file's text, not output
 - Normalisation, applied to the documented and the regenerated text alike: the scratch
   directory becomes `<scratch>`, the repository `<repo>`; a `build: ...` line's compiler and flags `<build>`;
-  durations in seconds (`0.353 s`) `<s> s`; ISO dates `<date>`; process ids `<pid>`;
+  durations in seconds (`0.353 s`) `<s> s`; ISO dates `<date>`; process ids `<pid>`; a
+  `rayverify builds` cache entry's 16 hex digits `<entry>`;
   trailing blanks go.
 Exit status 0 when every block passes, 1 when one does not (each failure explained),
 2 for a usage error.
@@ -170,6 +171,9 @@ BUILD_LINE = re.compile(r"^(\s*)build: .*$")
 SECONDS = re.compile(r"\b\d+(\.\d+)? s\b")
 ISO_DATE = re.compile(r"\b\d{4}-\d\d-\d\dT\d\d:\d\d:\d\d(\.\d+)?Z\b")
 PID = re.compile(r"\bpid \d+\b")
+# A `rayverify builds` cache entry (16 hex digits of the build's key, which
+# covers the content of rayverify's own headers: it changes with them).
+BUILD_ENTRY = re.compile(r"\b[0-9a-f]{16}/plugin\.so\b")
 BASH_JOB = re.compile(r"^bash: line \d+: +\d+ ")
 TARGET_MET = re.compile(r"\b(met|missed|MISSED)\b")
 RUNNER_UP = re.compile(r"\s*<- (runner-up|recommended)$")
@@ -204,6 +208,7 @@ def normalise(line, scratch, repo, figures_vary):
     line = ISO_DATE.sub("<date>", line)
     line = SECONDS.sub("<s> s", line)
     line = PID.sub("pid <pid>", line)
+    line = BUILD_ENTRY.sub("<entry>/plugin.so", line)
     line = BASH_JOB.sub("bash: line <n>: <pid> ", line)
     if figures_vary:
         line = RUNNER_UP.sub("", TARGET_MET.sub("<met or missed>", line))

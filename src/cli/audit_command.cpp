@@ -1,9 +1,7 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
-#include <array>
 #include <filesystem>
-#include <fstream>
 
 #include "cli/app.h"
 #include "cli/commands.h"
@@ -257,14 +255,8 @@ int run(const audit_options& options, const std::string& command_line) {
 
 std::string files_digest(const std::vector<std::filesystem::path>& paths, const std::string& option) {
     fnv1a_digest digest;
-    std::array<char, 1 << 16> buffer{};
     for (const std::filesystem::path& path : paths) {
-        std::ifstream in(path, std::ios::binary);
-        if (!in) throw input_error(path.string(), 0, option, "cannot open for reading");
-        while (in.read(buffer.data(), buffer.size()) || in.gcount() > 0) {
-            digest.add(buffer.data(), static_cast<std::size_t>(in.gcount()));
-            if (!in) break;
-        }
+        if (!add_file_bytes(digest, path)) throw input_error(path.string(), 0, option, "cannot open for reading");
         digest.add("\xff");  // where one file ends
     }
     return digest.text();

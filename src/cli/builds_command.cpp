@@ -10,8 +10,6 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
-#include <set>
-#include <sstream>
 
 #include "cli/app.h"
 #include "plugin/plugin_builds.h"
@@ -49,13 +47,12 @@ struct builds_options {
 constexpr std::size_t bisect_cases = 2000;
 
 void check_source_files(const std::vector<std::string>& files, const std::string& field) {
-    static const std::set<std::string> extensions = {".c", ".cc", ".cpp", ".cxx", ".c++", ".C"};
     for (const std::string& f : files) {
         std::error_code error;
         if (!fs::exists(f, error)) throw input_error(f, 0, field, "no such file");
         if (!fs::is_regular_file(f, error)) throw input_error(f, 0, field, "is not a regular file");
         if (!std::ifstream(f)) throw input_error(f, 0, field, "cannot open for reading");
-        if (!extensions.contains(fs::path(f).extension().string()))
+        if (!language_of(f))
             throw input_error(f, 0, field, "is neither a C source (.c) nor a C++ source (.cc, .cpp, .cxx, .c++, .C)");
     }
 }
@@ -96,12 +93,14 @@ std::vector<build_spec> matrix_specs(const builds_options& options, std::vector<
     std::vector<build_spec> specs;
     // The reference: gcc's strict build whatever --compiler chose, else the first compiler's.
     const auto gcc = std::find_if(compilers.begin(), compilers.end(), [](const compiler_driver& c) { return c.name == "gcc"; });
+    // (gcc was looked for already when --compiler asked for it.)
+    const bool gcc_missing = std::find(missing.begin(), missing.end(), "gcc") != missing.end();
+    const std::optional<compiler_driver> reference_gcc =
+        gcc != compilers.end() ? std::optional(*gcc) : gcc_missing ? std::nullopt : find_compiler("gcc");
     build_spec reference;
-    if (gcc != compilers.end())
-        reference.compiler = *gcc;
-    else if (std::find(missing.begin(), missing.end(), "gcc") == missing.end() && find_compiler("gcc"))
-        reference.compiler = *find_compiler("gcc");
-    else {
+    if (reference_gcc) {
+        reference.compiler = *reference_gcc;
+    } else {
         reference.compiler = compilers.front();
         terminal::note(fmt::format("builds: gcc is not on this machine: the reference build is {}'s", reference.compiler.name));
     }
@@ -140,30 +139,21 @@ variant load_build(const built_plugin& b, double timeout) {
     return v;
 }
 
-std::vector<audit_target> targets_of(const std::vector<variant>& variants, const std::vector<std::string>& precisions) {
-    std::vector<audit_target> targets;
-    for (audit_target& t : targets_for(variants))
-        if (precisions.empty() ||
-            std::find(precisions.begin(), precisions.end(), precision_name(t.prec)) != precisions.end())
-            targets.push_back(std::move(t));
-    return targets;
-}
-
 // The answers of `v` on every change of `differences` (per precision), each
 // compared with the build's: true where they are the same.
+// `changed_cases[k]`: the cases of differences[k]'s changes, in order.
 std::vector<bool> matches_of(const variant& v, const std::vector<const build_difference*>& differences,
+                             const std::vector<std::vector<corpus_case>>& changed_cases,
                              const std::vector<precision>& precisions) {
     std::vector<bool> matches;
     for (std::size_t k = 0; k < differences.size(); ++k) {
-        const build_difference& d = *differences[k];
-        std::vector<audit_target> target = {audit_target{v, precisions[k]}};
-        std::vector<corpus_case> cases;
-        for (const auto& change : d.changes) cases.push_back(change.source);
+        const std::vector<corpus_case>& cases = changed_cases[k];
+        const std::vector<audit_target> target = {audit_target{v, precisions[k]}};
         const std::vector<std::vector<given_answer>> given = batch_answers(cases, target);
         for (std::size_t i = 0; i < cases.size(); ++i) {
             const audited_case judged =
                 audit_case(cases[i], target, given.empty() ? std::span<const given_answer>{} : given[i]);
-            matches.push_back(same_answer(judged.outcomes[0].output, d.changes[i].answer));
+            matches.push_back(same_answer(judged.outcomes[0].output, differences[k]->changes[i].answer));
         }
     }
     return matches;
@@ -177,7 +167,12 @@ build_bisect_result bisect_build(const built_plugin& build, bool loads_with_ftz_
                                  const build_sources& sources, const fs::path& cache) {
     build_bisect_result result;
     std::vector<flag_component> components = flag_components(build.spec, loads_with_ftz_daz);
-    for (const build_difference* d : differences) result.cases += d->changes.size();
+    std::vector<std::vector<corpus_case>> changed_cases;
+    for (const build_difference* d : differences) {
+        result.cases += d->changes.size();
+        changed_cases.emplace_back();
+        for (const auto& change : d->changes) changed_cases.back().push_back(change.source);
+    }
     std::map<std::vector<std::size_t>, std::optional<std::vector<bool>>> tried;
     // The matches of the build of `components` restricted to `subset`.
     const auto matches = [&](const std::vector<flag_component>& from,
@@ -189,7 +184,7 @@ build_bisect_result bisect_build(const built_plugin& build, bool loads_with_ftz_
         ++result.builds_tried;
         if (!built[0].built()) return std::nullopt;
         try {
-            return matches_of(load_build(built[0], options.plugin_timeout), differences, precisions);
+            return matches_of(load_build(built[0], options.plugin_timeout), differences, changed_cases, precisions);
         } catch (const input_error&) {
             return std::nullopt;  // a candidate that does not load or fails does not reproduce
         }
@@ -280,14 +275,8 @@ int gate_builds(const builds_options& options, const case_input& input, const st
     if (!exists && !options.update)
         throw input_error(options.baseline, 0, "--baseline",
                           "no such baseline; create it with `rayverify builds ... --baseline FILE --update`");
-    baseline base = new_baseline();
-    if (exists) {
-        std::ifstream in(path, std::ios::binary);
-        if (!in) throw input_error(options.baseline, 0, "--baseline", "cannot open for reading");
-        std::ostringstream text;
-        text << in.rdbuf();
-        base = parse_baseline(options.baseline, text.str());
-    }
+    const baseline base =
+        exists ? parse_baseline(options.baseline, read_text_file(path, "--baseline")) : new_baseline();
     std::vector<corpus_case> cases;
     {
         case_stream stream = input.open();
@@ -413,7 +402,7 @@ int run(const builds_options& options, const std::string& command_line) {
     std::vector<audit_target> targets;
     std::optional<build_comparison> comparison;
     for (;;) {
-        targets = targets_of(variants, options.precisions);
+        targets = targets_in_precisions(variants, options.precisions);
         if (targets.empty()) throw input_error("", 0, "--precision", "no build runs in the chosen precision");
         std::vector<std::pair<std::size_t, std::size_t>> pairs;
         for (std::size_t t = 0; t < targets.size(); ++t) {

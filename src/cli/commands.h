@@ -130,6 +130,11 @@ std::vector<audit_target> select_targets(const std::vector<std::string>& variant
                                          const plugin_isolation& isolation = {},
                                          const std::vector<std::string>& engine_names = {});
 
+// Every variant of `variants` in each precision it runs in, float first,
+// kept when --precision (`precisions`, names) chose it or chose none.
+std::vector<audit_target> targets_in_precisions(std::span<const variant> variants,
+                                                const std::vector<std::string>& precisions);
+
 // The cases a command reads: corpus files (the shipped corpus when neither is
 // given) or generated families (cli/results_target.cpp).
 struct case_input {
@@ -303,5 +308,9 @@ void declare_inputs(run_outputs& outputs, const std::vector<std::filesystem::pat
 // The digest (core/hash.h) of the files' contents, one after the other, read
 // in pieces; a file that cannot be read is an input_error naming `option`.
 std::string files_digest(const std::vector<std::filesystem::path>& paths, const std::string& option);
+// A baseline or other small text input read whole (cli/gate_command.cpp): a
+// directory, a FIFO, a device or a file that cannot be read is an input_error
+// naming it and `field`.
+std::string read_text_file(const std::filesystem::path& path, const std::string& field);
 
 }  // namespace rayverify::cli

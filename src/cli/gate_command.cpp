@@ -30,20 +30,6 @@ struct gate_options {
     std::vector<std::string> allow_missing;  // families, variants or targets of the baseline the run may lack
 };
 
-std::string read_text_file(const std::filesystem::path& path, const std::string& field) {
-    std::error_code error;
-    if (std::filesystem::is_directory(path, error))
-        throw input_error(path.string(), 0, field, "is a directory, not a baseline file");
-    if (std::filesystem::exists(path, error) && !std::filesystem::is_regular_file(path, error))
-        throw input_error(path.string(), 0, field, "is not a regular file (a FIFO, a device or a socket)");
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw input_error(path.string(), 0, field, "cannot open for reading");
-    std::ostringstream text;
-    text << in.rdbuf();
-    if (in.bad()) throw input_error(path.string(), 0, field, "read error");
-    return text.str();
-}
-
 int run(const gate_options& options) {
     const std::filesystem::path baseline_path(options.baseline);
     std::error_code error;
@@ -98,6 +84,20 @@ int run(const gate_options& options) {
 }
 
 }  // namespace
+
+std::string read_text_file(const std::filesystem::path& path, const std::string& field) {
+    std::error_code error;
+    if (std::filesystem::is_directory(path, error))
+        throw input_error(path.string(), 0, field, "is a directory, not a baseline file");
+    if (std::filesystem::exists(path, error) && !std::filesystem::is_regular_file(path, error))
+        throw input_error(path.string(), 0, field, "is not a regular file (a FIFO, a device or a socket)");
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw input_error(path.string(), 0, field, "cannot open for reading");
+    std::ostringstream text;
+    text << in.rdbuf();
+    if (in.bad()) throw input_error(path.string(), 0, field, "read error");
+    return text.str();
+}
 
 command add_gate_command(CLI::App& app) {
     auto options = std::make_shared<gate_options>();

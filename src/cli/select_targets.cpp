@@ -77,8 +77,13 @@ std::vector<audit_target> select_targets(const std::vector<std::string>& variant
             if (!(*spec == fp_environment_spec{}))
                 chosen[i] = in_fp_environment(std::move(chosen[i]), settable_fp_state(*spec),
                                               chosen_fp_environment_text(*spec));
+    return targets_in_precisions(chosen, precisions);
+}
+
+std::vector<audit_target> targets_in_precisions(std::span<const variant> variants,
+                                                const std::vector<std::string>& precisions) {
     std::vector<audit_target> targets;
-    for (audit_target& t : targets_for(chosen)) {
+    for (audit_target& t : targets_for(variants)) {
         const bool wanted = precisions.empty() ||
                             std::find(precisions.begin(), precisions.end(), precision_name(t.prec)) != precisions.end();
         if (wanted) targets.push_back(std::move(t));

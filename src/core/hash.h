@@ -9,6 +9,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <filesystem>
 #include <string>
 #include <string_view>
 
@@ -34,6 +35,10 @@ public:
 private:
     std::uint64_t hash_ = 0xcbf29ce484222325ULL;  // the offset basis
 };
+
+// Adds the bytes of the file at `path` to `digest` (as far as it reads);
+// false when it cannot be opened.
+bool add_file_bytes(fnv1a_digest& digest, const std::filesystem::path& path);
 
 constexpr std::uint64_t fnv1a(std::string_view bytes) {
     fnv1a_digest digest;

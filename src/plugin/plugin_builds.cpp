@@ -142,21 +142,13 @@ std::string first_error_line(const std::string& output, const std::string& endin
     return first;
 }
 
-bool is_cxx_source(const fs::path& p) {
-    static const std::set<std::string> cxx = {".cc", ".cpp", ".cxx", ".c++", ".C", ".cu"};
-    return cxx.contains(p.extension().string());
-}
+bool is_cxx_source(const fs::path& p) { return language_of(p) == source_language::cxx; }
 
+// A file's digest, "missing" for one that cannot be read: a dependency that
+// is gone differs from any file's digest.
 std::string file_digest(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) return "missing";
     fnv1a_digest digest;
-    char buffer[1 << 14];
-    while (in.read(buffer, sizeof buffer) || in.gcount() > 0) {
-        digest.add(buffer, static_cast<std::size_t>(in.gcount()));
-        if (!in) break;
-    }
-    return digest.text();
+    return add_file_bytes(digest, path) ? digest.text() : "missing";
 }
 
 // The files a make-style dependency file names (the compiler's -MD output):
@@ -403,6 +395,14 @@ std::string first_line_of(const std::string& text) { return text.substr(0, text.
 }  // namespace plugin_builds_detail
 
 using namespace plugin_builds_detail;
+
+std::optional<source_language> language_of(const fs::path& source) {
+    static const std::set<std::string> cxx = {".cc", ".cpp", ".cxx", ".c++", ".C"};
+    const std::string extension = source.extension().string();
+    if (extension == ".c") return source_language::c;
+    if (cxx.contains(extension)) return source_language::cxx;
+    return std::nullopt;
+}
 
 std::optional<compiler_driver> find_compiler(const std::string& name) {
     std::vector<std::pair<std::string, std::string>> candidates;

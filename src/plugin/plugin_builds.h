@@ -59,6 +59,11 @@ std::string build_name(const std::string& compiler, std::span<const std::string>
 // and the like (docs/builds.md says why each is refused).
 void check_build_flags(std::span<const std::string> flags, const std::string& option);
 
+// A source's language by its extension: C (.c) or C++ (.cc, .cpp, .cxx,
+// .c++, .C); nullopt for any other.
+enum class source_language { c, cxx };
+std::optional<source_language> language_of(const std::filesystem::path& source);
+
 // What `builds` compiles: the sources under each build's flags, the harness
 // (the plugin's glue, which should not change with the build) under the
 // reference flags in every build, with the include directories and defines.

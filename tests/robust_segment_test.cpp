@@ -6,7 +6,8 @@
 // start with closed ends; the exit with open ends) and called from a
 // -ffast-math C caller through robust_sphere_c.h, each audited through the
 // CLI on the shipped segment corpus, the physics example's hand cases and
-// generated segment families: no disagreement with the exact answer.
+// generated segment families, and the rays of the shipped corpus and of
+// corpus/edge cast as segments: no disagreement with the exact answer.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -15,6 +16,8 @@
 #include <string>
 #include <vector>
 
+#include "core/intersection.h"
+#include "corpus/corpus_io.h"
 #include "robust_sphere.h"
 #include "support/process.h"
 
@@ -111,6 +114,41 @@ TEST(RobustSegment, ShippedSegmentsAndTheExampleAsAuditedPlugins) {
 
 TEST(RobustSegment, GeneratedSegmentFamiliesAsAuditedPlugins) {
     expect_no_disagreement("--generate segment_end:4000:23 --generate segment_end_f32:4000:23", "robust_segment_generated");
+}
+
+// The rays of the shipped corpus and corpus/edge as the segments an engine
+// casts along them: to o + L·d (past every root), to o + t0·d rounded (an end
+// on or next to the surface, t0 the near root), and over the case's own
+// interval where it has one; p1 − p0 in general no double.
+TEST(RobustSegment, CorpusAndEdgeRaysAsSegmentsAsAuditedPlugins) {
+    std::vector<corpus_case> segments;
+    for (const corpus_case& c : read_corpus({RAYVERIFY_CORPUS_DIR, RAYVERIFY_CORPUS_DIR "/edge"})) {
+        if (c.is_segment()) continue;
+        const ray_sphere<double>& g = c.geometry;
+        const auto add = [&](const char* suffix, double from, double to) {
+            const vec3<double> p0 = g.origin + from * g.direction, p1 = g.origin + to * g.direction;
+            for (int axis = 0; axis < 3; ++axis)
+                if (!std::isfinite(p0[axis]) || !std::isfinite(p1[axis])) return;
+            if (p0 == p1) return;
+            corpus_case s = c;
+            s.id = c.id + suffix;
+            make_segment(s, p0, p1);
+            segments.push_back(std::move(s));
+        };
+        if (validity<double>(g) != invalid_reason::none) continue;
+        add("_to_far", 0, static_cast<double>(segment_length(g)));
+        const rs::line_roots<double> roots =
+            rs::intersect_line(rs::ray<double>{{g.origin.x, g.origin.y, g.origin.z}, {g.direction.x, g.direction.y, g.direction.z}},
+                               rs::sphere<double>{{g.centre.x, g.centre.y, g.centre.z}, g.radius});
+        if (roots.count > 0 && roots.t0 > 0) add("_to_surface", 0, roots.t0);
+        if (c.tmin && c.tmax && std::isfinite(*c.tmin) && std::isfinite(*c.tmax)) add("_interval", *c.tmin, *c.tmax);
+    }
+    ASSERT_GT(segments.size(), 5000u);
+    std::printf("%zu segments from the rays of corpus and corpus/edge\n", segments.size());
+    test_support::scratch_directory scratch("robust_segment_from_rays");
+    const std::filesystem::path file = scratch.path() / "segments.txt";
+    write_corpus_file(file, segments, {"the shipped corpus's and corpus/edge's rays as segments"});
+    expect_no_disagreement("--corpus " + file.string(), "robust_segment_from_rays_audit");
 }
 
 }  // namespace

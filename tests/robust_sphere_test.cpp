@@ -3,6 +3,7 @@
 // interval decision, with open and closed ends, in float and double — on
 // hand-worked cases, held-out regression cases at the ends of the ranges,
 // random cases with a printed seed, and both paths (fast and exact) apart.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -481,6 +482,80 @@ TEST(RobustSphereProperty, FastPathAgreesWithTheExactPath) {
     std::printf("RAYVERIFY_SEED=%llu\n", static_cast<unsigned long long>(seed));
     fast_matches_exact<float>(seed, 4000);
     fast_matches_exact<double>(seed, 4000);
+}
+
+// The segment query's fast path (stage 1 on RN(p1 − p0) with that rounding
+// in its bounds, stage 2 on the exact pair p1 − p0) against its exact path
+// (p1 − p0 in two components a coordinate), every combination of ends and
+// start rule: the random cases' rays as segments to o + k·d for k a power of
+// two, a random scale or far past the roots, and segments ending on or one
+// ulp off a point of the sphere (p1 − p0 in general no value of T).
+template <class T>
+void segment_fast_matches_exact(std::uint64_t seed, int count) {
+    random_cases gen{std::mt19937_64(seed)};
+    int failures = 0, inexact = 0;
+    for (int i = 0; i < count && failures < 5; ++i) {
+        const ray_sphere<double> g = gen.next();
+        if (validity<T>(g) != invalid_reason::none) continue;
+        const ray_sphere<T> in = rounded_to<T>(g);
+        vec3<double> end;
+        switch (gen.rng() % 4) {
+            case 0: end = g.origin + std::ldexp(1.0, std::uniform_int_distribution<int>(-4, 40)(gen.rng)) * g.direction; break;
+            case 1: end = g.origin + (8 * std::fabs(gen.uniform())) * g.direction; break;
+            case 2: end = g.centre + g.radius * gen.unit(); break;  // on the sphere, rounded
+            default: {  // a point of the sphere, then one ulp of T off it
+                const vec3<double> q = g.centre + g.radius * gen.unit();
+                const T x = static_cast<T>(q.x);
+                end = {std::nextafter(x, gen.uniform() > 0 ? T(INFINITY) : T(-INFINITY)), q.y, q.z};
+            }
+        }
+        const rs::vec3<T> p0{in.origin.x, in.origin.y, in.origin.z};
+        const rs::vec3<T> p1{static_cast<T>(end.x), static_cast<T>(end.y), static_cast<T>(end.z)};
+        if (!std::isfinite(p1.x) || !std::isfinite(p1.y) || !std::isfinite(p1.z)) continue;
+        if (p0.x == p1.x && p0.y == p1.y && p0.z == p1.z) continue;
+        const rs::segment<T> seg{p0, p1};
+        const rs::sphere<T> s = sphere_of(in);
+        for (int axis = 0; axis < 3; ++axis) {
+            const double a = axis == 0 ? p0.x : (axis == 1 ? p0.y : p0.z), b = axis == 0 ? p1.x : (axis == 1 ? p1.y : p1.z);
+            const rs::detail::dd diff = rs::detail::two_sum(b, -a);
+            if (diff.lo != 0 || static_cast<double>(static_cast<T>(diff.hi)) != diff.hi) {
+                ++inexact;
+                break;
+            }
+        }
+        std::string why;
+        const auto check = [&]<ends Start, ends End, rs::start_inside Inside>(const char* name) {
+            rs::detail::exact_solver<T, 2> exact_solver(seg.p0, seg.p1, s);
+            rs::ray_hit<T> exact;
+            rs::detail::query_segment<Start, End, Inside>(exact_solver, exact);
+            const rs::ray_hit<T> fast = rs::segment_hit<Start, End, Inside>(seg, s);
+            if (fast.found != exact.found || (exact.found && (fast.t != exact.t || std::signbit(fast.t) != std::signbit(exact.t) ||
+                                                              fast.which != exact.which)))
+                why = name;
+        };
+        check.template operator()<ends::closed, ends::closed, rs::start_inside::contact>("closed ends, contact");
+        check.template operator()<ends::open, ends::open, rs::start_inside::contact>("open ends, contact");
+        check.template operator()<ends::closed, ends::open, rs::start_inside::exit>("closed start, open end, exit");
+        check.template operator()<ends::open, ends::closed, rs::start_inside::exit>("open start, closed end, exit");
+        if (!why.empty()) {
+            ++failures;
+            ADD_FAILURE() << "seed " << seed << " case " << i << ": segment fast and exact paths differ (" << why
+                          << ")\n  p0 " << fmt::format("{:a} {:a} {:a}", double(p0.x), double(p0.y), double(p0.z))
+                          << " p1 " << fmt::format("{:a} {:a} {:a}", double(p1.x), double(p1.y), double(p1.z))
+                          << " c " << fmt::format("{:a} {:a} {:a}", double(s.centre.x), double(s.centre.y), double(s.centre.z))
+                          << " r " << fmt::format("{:a}", double(s.radius));
+        }
+    }
+    EXPECT_GT(inexact, count / 10) << "most segments here should have a p1 − p0 that is no value of T";
+}
+
+TEST(RobustSphereProperty, SegmentFastPathAgreesWithTheExactPath) {
+    const std::uint64_t seed = seed_from_env();
+    std::printf("RAYVERIFY_SEED=%llu\n", static_cast<unsigned long long>(seed));
+    int count = 20000;
+    if (const char* n = std::getenv("RAYVERIFY_SEGMENT_CASES")) count = std::atoi(n);
+    segment_fast_matches_exact<float>(seed, count);
+    segment_fast_matches_exact<double>(seed, count);
 }
 
 // Every returned root within 1 ulp of the exact root, as the oracle measures it.

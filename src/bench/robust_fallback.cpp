@@ -53,6 +53,33 @@ robust_fallback_row count(const std::string& family, std::string_view name, cons
     return row;
 }
 
+// The segment query (closed ends, contact at the start) on segments_along
+// the family's cases: left by the static filter, then by the double-word stage?
+template <class T>
+robust_fallback_row count_segments(const std::string& family, const std::vector<corpus_case>& cases) {
+    namespace rs = robust_sphere;
+    using rs::ends;
+    constexpr precision prec = std::is_same_v<T, float> ? precision::binary32 : precision::binary64;
+    robust_fallback_row row{family, robust_segment_name, precision_name(prec)};
+    const auto settles = [](auto& solver) {
+        rs::ray_hit<T> out;
+        return rs::detail::query_segment<ends::closed, ends::closed, rs::start_inside::contact>(solver, out);
+    };
+    for (const segment_case<T>& c : segments_along<T>(cases)) {
+        const rs::segment<T> g{{c.p0.x, c.p0.y, c.p0.z}, {c.p1.x, c.p1.y, c.p1.z}};
+        const rs::sphere<T> target{{c.centre.x, c.centre.y, c.centre.z}, c.radius};
+        ++row.cases;
+        rs::detail::fast_solver<T, false, true> filter(g, target);
+        if (settles(filter)) continue;
+        rs::detail::fast_solver<T, true, true> refined(g, target);
+        if (settles(refined))
+            ++row.refined;
+        else
+            ++row.exact;
+    }
+    return row;
+}
+
 }  // namespace
 
 std::vector<robust_fallback_row> robust_fallbacks(const std::map<std::string, std::vector<corpus_case>>& by_family) {
@@ -62,6 +89,10 @@ std::vector<robust_fallback_row> robust_fallbacks(const std::map<std::string, st
             rows.push_back(count<float>(family, name, cases));
             rows.push_back(count<double>(family, name, cases));
         }
+    for (const auto& [family, cases] : by_family) {
+        rows.push_back(count_segments<float>(family, cases));
+        rows.push_back(count_segments<double>(family, cases));
+    }
     return rows;
 }
 

@@ -173,10 +173,7 @@ std::vector<timing_row> time_variants(const std::map<std::string, std::vector<co
         return options.variants.empty() ||
                std::find(options.variants.begin(), options.variants.end(), name) != options.variants.end();
     };
-    const auto timed_in = [&](std::string_view prec) {
-        return options.precisions.empty() ||
-               std::find(options.precisions.begin(), options.precisions.end(), prec) != options.precisions.end();
-    };
+    const auto timed_in = [&](std::string_view prec) { return times_precision(options, prec); };
     // Timed through their functions: the plugins, and the engine ports (no inlined kernel).
     std::vector<variant> through_function = options.plugins;
     for (const variant& v : builtin_variants())

@@ -18,6 +18,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/ray_sphere_case.h"
@@ -51,6 +52,12 @@ bool target_met(double value, double limit, target_direction direction);
 
 // Precisions timed: the two the audit judges plus long double.
 inline constexpr const char* timed_precisions[] = {"float", "double", "long double"};
+
+// Whether `options` time precision `prec` (one of timed_precisions).
+inline bool times_precision(const timing_options& options, std::string_view prec) {
+    return options.precisions.empty() ||
+           std::find(options.precisions.begin(), options.precisions.end(), prec) != options.precisions.end();
+}
 
 struct timing_row {
     std::string variant;    // a registry or plugin name, "exact_oracle" or "exact_reference"

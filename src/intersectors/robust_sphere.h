@@ -528,51 +528,34 @@ ROBUST_SPHERE_INLINE ROBUST_SPHERE_HD uncertain_value<float> certified_rounding(
 // Refine = false: stage 1 alone, inlined into the caller, its state in
 // registers; Refine = true (double): stage 2 as well, out of line
 // (detail::refined_*), where stage 1 could not answer.
-template <class T, bool Refine>
+//
+// Segment = true: the line p0 + t·(p1 − p0) of a segment, its direction d =
+// p1 − p0 never rounded as a value of T. Stage 1 works on d̃ = RN(p1 − p0) in
+// double, d̃_i = d_i(1 + δ_i), |δ_i| ≤ u_d = u, and its bounds carry u_d: ã
+// is off by (3.01u + 2.01u_d)·a, each product d̃_i·f̃_i by u + u_d more than
+// f̃'s rounding alone (e_b = (5u + u_d)·M_b), Δ′ = b′² − aC by (24.01u +
+// 4.01u_d)·a·M_C ≤ 28.02u·a·M_C, inside the same 2^-48·a·M_C; Lagrange's
+// form below. Stage 2 takes d exactly as two_sum's pair d_h + d_l, the
+// same kind of pair as f = o − c (on the inputs' grid, so the range
+// argument above holds for it as it does for f).
+template <class T, bool Refine, bool Segment = false>
 class fast_solver {
     static_assert(supported<T>, "robust_sphere.h answers in float or double");
     static constexpr bool words_allowed = Refine && std::is_same_v<T, double>;
 
 public:
-    ROBUST_SPHERE_INLINE ROBUST_SPHERE_HD fast_solver(const ray<T>& r, const sphere<T>& s) : ray_(r), sphere_(s) {
-        const double dx = r.direction.x, dy = r.direction.y, dz = r.direction.z;
-        const double fx = double(r.origin.x) - s.centre.x, fy = double(r.origin.y) - s.centre.y,
-                     fz = double(r.origin.z) - s.centre.z;
-        const double rr = double(s.radius) * s.radius;
+    ROBUST_SPHERE_INLINE ROBUST_SPHERE_HD fast_solver(const ray<T>& r, const sphere<T>& s) : origin_(r.origin), sphere_(s) {
+        static_assert(!Segment, "a ray: its direction as given");
+        start(r.direction.x, r.direction.y, r.direction.z);
+    }
 
-        // a = d·d: |ã − a| ≤ γ_3·a (exact squares for float: γ_2).
-        a_ = dx * dx + dy * dy + dz * dz;
-
-        // b′ = d·f: |b̃′ − b′| ≤ (u + γ_3)·Σ|d_i f̃_i| ≤ 5u·M_b.
-        const double px = dx * fx, py = dy * fy, pz = dz * fz;
-        b_ = px + py + pz;
-        eb_ = 5 * u * (abs(px) + abs(py) + abs(pz)) + eta;
-
-        // C = f·f − r²: f̃_i² is off by 2.01u·f̃_i², the dot product by γ_4: 7u·M_C.
-        const double ff = fx * fx + fy * fy + fz * fz;
-        C_ = ff - rr;
-        MC_ = ff + rr;
-        eC_ = 7 * u * MC_ + eta;
-
-        // Δ′ = b′² − aC: b̃′² is off by 2|b′|·5u·M_b + u·b̃′² ≤ 11u·a·|f|² (M_b² ≤ a·|f|²),
-        // ã·C̃ by a·7u·M_C + 3.01u·a|C| + u·a·M_C, the difference by u|Δ̃′| ≤ 2u·a·M_C:
-        // 24.01u·a·M_C in all, 2^-48·a·M_C with room for the bound's own roundings.
-        // Underflows in b̃′ and C̃ reach it through |b′| + a ≤ a + M_C.
-        D_ = b_ * b_ - a_ * C_;
-        eD_ = 0x1p-48 * a_ * MC_ + eta * (a_ + MC_ + 1);
-
-        d_[0] = dx, d_[1] = dy, d_[2] = dz, f_[0] = fx, f_[1] = fy, f_[2] = fz, rr_ = rr;
-        lagrange_ = have_q_ = have_q2_ = false;
-        q2_known_ = true;
-        sigma_ = sigma2_ = 1;
-        q_ = xq_ = inv_q_ = xq2_ = 0;
-        cache1_[0].done = cache1_[1].done = false;
-        if constexpr (words_allowed) {
-            words_.have_bC = words_.have_a = words_.have_D = false;
-            cache2_[0].done = cache2_[1].done = false;
-            undecided_.done = undecided_.valid = undecided_.ok = false;
-            undecided_.t = {0, 0}, undecided_.w = 0;
-        }
+    // The segment's line p0 + t·(p1 − p0) (finite end points).
+    ROBUST_SPHERE_INLINE ROBUST_SPHERE_HD fast_solver(const segment<T>& g, const sphere<T>& s) : origin_(g.p0), sphere_(s) {
+        static_assert(Segment, "a segment: its direction p1 − p0 taken exactly");
+        const dd dx = two_sum(double(g.p1.x), -double(g.p0.x)), dy = two_sum(double(g.p1.y), -double(g.p0.y)),
+                 dz = two_sum(double(g.p1.z), -double(g.p0.z));
+        if constexpr (words_allowed) end_ = &g.p1, dl_[0] = dx.lo, dl_[1] = dy.lo, dl_[2] = dz.lo;
+        start(dx.hi, dy.hi, dz.hi);
     }
 
     ROBUST_SPHERE_INLINE ROBUST_SPHERE_HD uncertain line_class() {
@@ -688,6 +671,51 @@ private:
     // eta is far above the underflow errors it covers (2^-1075 each) and keeps
     // every bound a normal number: subnormal arithmetic is slow.
     static constexpr double u = 0x1p-53, eta = 0x1p-1000;
+    // The relative rounding of each component of the direction stage 1 works
+    // on: none for a ray, u for a segment's RN(p1 − p0).
+    static constexpr double ud = Segment ? u : 0;
+
+    // Stage 1's coefficients for the direction d̃ (d̃ = d for a ray).
+    ROBUST_SPHERE_INLINE ROBUST_SPHERE_HD void start(double dx, double dy, double dz) {
+        const vec3<T>& o = origin_;
+        const sphere<T>& s = sphere_;
+        const double fx = double(o.x) - s.centre.x, fy = double(o.y) - s.centre.y, fz = double(o.z) - s.centre.z;
+        const double rr = double(s.radius) * s.radius;
+
+        // a = d·d: |ã − a| ≤ γ_3·a (exact squares for float: γ_2).
+        a_ = dx * dx + dy * dy + dz * dz;
+
+        // b′ = d·f: |b̃′ − b′| ≤ (u + γ_3)·Σ|d_i f̃_i| ≤ 5u·M_b (a segment: (5u + u_d)·M_b).
+        const double px = dx * fx, py = dy * fy, pz = dz * fz;
+        b_ = px + py + pz;
+        eb_ = (5 * u + ud) * (abs(px) + abs(py) + abs(pz)) + eta;
+
+        // C = f·f − r²: f̃_i² is off by 2.01u·f̃_i², the dot product by γ_4: 7u·M_C.
+        const double ff = fx * fx + fy * fy + fz * fz;
+        C_ = ff - rr;
+        MC_ = ff + rr;
+        eC_ = 7 * u * MC_ + eta;
+
+        // Δ′ = b′² − aC: b̃′² is off by 2|b′|·5u·M_b + u·b̃′² ≤ 11u·a·|f|² (M_b² ≤ a·|f|²),
+        // ã·C̃ by a·7u·M_C + 3.01u·a|C| + u·a·M_C, the difference by u|Δ̃′| ≤ 2u·a·M_C:
+        // 24.01u·a·M_C in all, 2^-48·a·M_C with room for the bound's own roundings.
+        // Underflows in b̃′ and C̃ reach it through |b′| + a ≤ a + M_C.
+        D_ = b_ * b_ - a_ * C_;
+        eD_ = 0x1p-48 * a_ * MC_ + eta * (a_ + MC_ + 1);
+
+        d_[0] = dx, d_[1] = dy, d_[2] = dz, f_[0] = fx, f_[1] = fy, f_[2] = fz, rr_ = rr;
+        lagrange_ = have_q_ = have_q2_ = false;
+        q2_known_ = true;
+        sigma_ = sigma2_ = 1;
+        q_ = xq_ = inv_q_ = xq2_ = 0;
+        cache1_[0].done = cache1_[1].done = false;
+        if constexpr (words_allowed) {
+            words_.have_bC = words_.have_a = words_.have_D = false;
+            cache2_[0].done = cache2_[1].done = false;
+            undecided_.done = undecided_.valid = undecided_.ok = false;
+            undecided_.t = {0, 0}, undecided_.w = 0;
+        }
+    }
 
     ROBUST_SPHERE_INLINE ROBUST_SPHERE_HD static bool covered(double x) {
         const double m = abs(x);
@@ -699,7 +727,9 @@ private:
     // fast path.
     // X_i = d_j f_k − d_k f_j is off by 3.01u·m_i, m_i = |d_j f_k| + |d_k f_j|;
     // |X̃ − |x|²| ≤ 3.01u·X̃ + 6.02u·Σ m_i|X_i| + 9.1u²·Σ m_i², Σ m_i² ≤ 2a·M_C;
-    // ã·r̃² is off by 5.02u·ã·r²; the difference adds u|Δ̃′|.
+    // ã·r̃² is off by 5.02u·ã·r²; the difference adds u|Δ̃′|. A segment's
+    // rounded d̃ adds u_d·m_i to X_i's error (so 2.02u_d·Σ m_i|X_i| and a
+    // square term under 32(u + u_d)²·a·M_C) and 2.01u_d·ã·r² to ã·r̃²'s.
     ROBUST_SPHERE_INLINE ROBUST_SPHERE_HD void lagrange() {
         lagrange_ = true;
         const double dx = d_[0], dy = d_[1], dz = d_[2], fx = f_[0], fy = f_[1], fz = f_[2];
@@ -709,8 +739,8 @@ private:
         const double Y = a_ * rr_;
         const double D = Y - X;
         const double S = (abs(u1) + abs(u2)) * abs(X1) + (abs(v1) + abs(v2)) * abs(X2) + (abs(w1) + abs(w2)) * abs(X3);
-        const double eD = u * (2 * abs(D) + 6 * Y + 4 * X + 7 * S) + 32 * u * u * a_ * MC_ +
-                          eta * (abs(X1) + abs(X2) + abs(X3) + a_ + rr_ + 1);
+        const double eD = u * (2 * abs(D) + 4 * X) + (6 * u + 2.1 * ud) * Y + (7 * u + 2.1 * ud) * S +
+                          32 * (u + ud) * (u + ud) * a_ * MC_ + eta * (abs(X1) + abs(X2) + abs(X3) + a_ + rr_ + 1);
         if (!(eD >= eD_)) {  // the tighter bound wins (NaN keeps the first)
             D_ = D, eD_ = eD;
             have_q_ = false;
@@ -765,9 +795,9 @@ private:
     ROBUST_SPHERE_INLINE ROBUST_SPHERE_HD void form_root(bool q_over_a, estimate1& e) {
         e.done = true;
         if (q_over_a) {
-            // ã is off by γ_3·a ≤ 3.01u·a; the division adds u.
+            // ã is off by γ_3·a ≤ 3.01u·a (a segment: 2.01u_d·a more); the division adds u.
             e.t = q_ / a_;
-            e.w = 1.01 * (xq_ + 4.1 * u) * abs(e.t);
+            e.w = 1.01 * (xq_ + 4.1 * u + 2.1 * ud) * abs(e.t);
         } else {
             // C/q as C·(1/|q|) with q's sign: 1/|q| is off by 3.01u, the product adds u;
             // |t|·e_C/|C| = e_C/|q|.
@@ -815,17 +845,22 @@ private:
     ROBUST_SPHERE_HD const words& words_bC() {
         if (words_.have_bC) return words_;
         words_.have_bC = true;
-        const vec3<T>& o = ray_.origin;
-        const vec3<T>& d = ray_.direction;
+        const vec3<T>& o = origin_;
         const vec3<T>& c = sphere_.centre;
-        words_.in_range = covered(o.x) && covered(o.y) && covered(o.z) && covered(d.x) && covered(d.y) &&
-                          covered(d.z) && covered(c.x) && covered(c.y) && covered(c.z) && covered(sphere_.radius);
+        // A ray's direction, or a segment's end point p1 (d_h = RN(p1 − p0) is
+        // then at most 2^161 and on the inputs' grid, as f is).
+        const vec3<T>& e = Segment ? *end_ : vec3<T>{T(d_[0]), T(d_[1]), T(d_[2])};
+        words_.in_range = covered(o.x) && covered(o.y) && covered(o.z) && covered(e.x) && covered(e.y) &&
+                          covered(e.z) && covered(c.x) && covered(c.y) && covered(c.z) && covered(sphere_.radius);
         if (!words_.in_range) return words_;
         // f = o − c exactly: f_i = fh_i + fl_i, |fl_i| ≤ u|fh_i|.
         const dd fx = two_sum(o.x, -c.x), fy = two_sum(o.y, -c.y), fz = two_sum(o.z, -c.z);
-        // b′ = d·fh + d·fl; the second part is below u·M_b, its rounding below u²·M_b.
-        const dd products[3] = {two_prod(d.x, fx.hi), two_prod(d.y, fy.hi), two_prod(d.z, fz.hi)};
-        words_.b = sum2(products, d.x * fx.lo + d.y * fy.lo + d.z * fz.lo);
+        // b′ = d·fh + d·fl (a segment: d_h·fh + (d_h·fl + d_l·fh), d_l·fl ≤ u²·M_b left
+        // out); the second part is below u·M_b (2u·M_b), its rounding below u²·M_b (12u²·M_b).
+        const dd products[3] = {two_prod(d_[0], fx.hi), two_prod(d_[1], fy.hi), two_prod(d_[2], fz.hi)};
+        double second = d_[0] * fx.lo + d_[1] * fy.lo + d_[2] * fz.lo;
+        if constexpr (Segment) second += dl_[0] * fx.hi + dl_[1] * fy.hi + dl_[2] * fz.hi;
+        words_.b = sum2(products, second);
         words_.eb = 0x1p-96 * (abs(products[0].hi) + abs(products[1].hi) + abs(products[2].hi));
         // C = fh·fh + 2 fh·fl − r² (fl·fl ≤ u²·M_C left out).
         const dd r2 = two_prod(sphere_.radius, sphere_.radius);
@@ -839,9 +874,11 @@ private:
     ROBUST_SPHERE_HD const dd& words_a() {
         if (!words_.have_a) {
             words_.have_a = true;
-            const vec3<T>& d = ray_.direction;
-            const dd squares[3] = {two_prod(d.x, d.x), two_prod(d.y, d.y), two_prod(d.z, d.z)};
-            words_.a = sum2(squares, 0.0);
+            // A segment's a = Σ(d_h + d_l)² = Σd_h² + 2Σd_h·d_l, Σd_l² ≤ u²·a left out.
+            const dd squares[3] = {two_prod(d_[0], d_[0]), two_prod(d_[1], d_[1]), two_prod(d_[2], d_[2])};
+            double second = 0;
+            if constexpr (Segment) second = 2 * (d_[0] * dl_[0] + d_[1] * dl_[1] + d_[2] * dl_[2]);
+            words_.a = sum2(squares, second);
         }
         return words_.a;
     }
@@ -903,8 +940,10 @@ private:
         return e;
     }
 
-    const ray<T>& ray_;
+    const vec3<T>& origin_;
     const sphere<T>& sphere_;
+    const vec3<T>* end_;  // a segment's p1 (stage 2)
+    double dl_[3];        // a segment's p1 − p0 − d_ (stage 2)
     double d_[3], f_[3], rr_;
     double a_, b_, C_, MC_, eb_, eC_;
     double D_, eD_;
@@ -1619,27 +1658,32 @@ ROBUST_SPHERE_INLINE ROBUST_SPHERE_HD bool query_segment(S& s, ray_hit<T>& out) 
     return query_nearest<Start, End, roots::correctly_rounded>(s, T(0), T(1), out);
 }
 
-// A segment whose p1 − p0 is a T: the ray (p0, p1 − p0) on [0, 1] through
-// stage 2 (double) and the exact path, out of line.
+// Stage 2 (double) on the segment's exact difference, then the exact path
+// (with p1 − p0 in one component a coordinate where it is a value of T: the
+// smaller expansions), out of line.
 template <ends Start, ends End, start_inside Inside, class T>
-ROBUST_SPHERE_COLD ROBUST_SPHERE_HD ray_hit<T> refined_segment(const ray<T>& r, const sphere<T>& s) {
+ROBUST_SPHERE_COLD ROBUST_SPHERE_HD ray_hit<T> refined_segment(const segment<T>& g, const sphere<T>& s) {
     ray_hit<T> out;
     if constexpr (std::is_same_v<T, double>) {
-        fast_solver<T, true> refined(r, s);
+        fast_solver<T, true, true> refined(g, s);
         if (query_segment<Start, End, Inside>(refined, out)) return out;
     }
-    exact_solver<T> e(r, s);
-    query_segment<Start, End, Inside>(e, out);
-    return out;
-}
-
-// Any other segment: the exact path with p1 − p0 in two components a
-// coordinate (no rounding of the difference, no overflow).
-template <ends Start, ends End, start_inside Inside, class T>
-ROBUST_SPHERE_COLD ROBUST_SPHERE_HD ray_hit<T> exact_segment(const segment<T>& g, const sphere<T>& s) {
-    exact_solver<T, 2> e(g.p0, g.p1, s);
-    ray_hit<T> out;
-    query_segment<Start, End, Inside>(e, out);
+    const T a[3] = {g.p0.x, g.p0.y, g.p0.z}, b[3] = {g.p1.x, g.p1.y, g.p1.z};
+    T d[3];
+    bool representable = true;
+    for (int i = 0; i < 3; ++i) {
+        const dd diff = two_sum(double(b[i]), -double(a[i]));  // float: exact in double or not
+        d[i] = T(diff.hi);
+        representable = representable && diff.lo == 0 && double(d[i]) == diff.hi && isfinite(d[i]);
+    }
+    if (representable) {
+        const ray<T> r{g.p0, {d[0], d[1], d[2]}};
+        exact_solver<T> e(r, s);
+        query_segment<Start, End, Inside>(e, out);
+    } else {
+        exact_solver<T, 2> e(g.p0, g.p1, s);
+        query_segment<Start, End, Inside>(e, out);
+    }
     return out;
 }
 
@@ -1705,30 +1749,25 @@ ROBUST_SPHERE_INLINE ROBUST_SPHERE_HD bool any_hit(const ray<T>& r, const sphere
 // there), correctly rounded, every decision exact for the segment as given
 // (p1 − p0 is never rounded). A segment starting strictly inside touches at
 // f = 0 (start_inside::contact) or hits its exit (start_inside::exit). A
-// zero-length segment (p0 = p1) or a non-finite input is a miss. Where p1 −
-// p0 is a T, the ray's three stages answer; otherwise the exact path does
-// (p1 − p0 in two components a coordinate: slower, and about 60 KB of
-// stack, also on a GPU).
+// zero-length segment (p0 = p1) or a non-finite input is a miss. The ray's
+// three stages answer, on RN(p1 − p0) with its rounding in stage 1's bounds
+// and on the exact pair in stage 2; the exact path, where they cannot,
+// takes p1 − p0 in two components a coordinate where it is no value of T
+// (about 60 KB of stack then, also on a GPU).
 template <ends Start = ends::closed, ends End = ends::closed, start_inside Inside = start_inside::contact, class T>
 ROBUST_SPHERE_INLINE ROBUST_SPHERE_HD ray_hit<T> segment_hit(const segment<T>& g, const sphere<T>& s) {
     static_assert(detail::supported<T>, "robust_sphere.h answers in float or double");
     const T a[3] = {g.p0.x, g.p0.y, g.p0.z}, b[3] = {g.p1.x, g.p1.y, g.p1.z};
-    T d[3];
-    bool finite = detail::isfinite(s.radius), moves = false, representable = true;
+    bool finite = detail::isfinite(s.radius), moves = false;
     for (int i = 0; i < 3; ++i) {
         finite = finite && detail::isfinite(a[i]) && detail::isfinite(b[i]);
         moves = moves || a[i] != b[i];
-        const detail::dd diff = detail::two_sum(double(b[i]), -double(a[i]));  // float: exact in double or not
-        d[i] = T(diff.hi);
-        representable = representable && diff.lo == 0 && double(d[i]) == diff.hi && detail::isfinite(d[i]);
     }
     if (!finite || !moves) return {};
-    if (!representable) return detail::exact_segment<Start, End, Inside>(g, s);
-    const ray<T> r{g.p0, {d[0], d[1], d[2]}};
-    detail::fast_solver<T, false> fast(r, s);
+    detail::fast_solver<T, false, true> fast(g, s);
     ray_hit<T> out;
     if (detail::query_segment<Start, End, Inside>(fast, out)) return out;
-    return detail::refined_segment<Start, End, Inside>(r, s);
+    return detail::refined_segment<Start, End, Inside>(g, s);
 }
 
 // The fast path alone: what it settles, and nullopt where the exact path

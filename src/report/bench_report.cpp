@@ -55,26 +55,30 @@ namespace {
 // where its cases went (the fallback rows), what the decisions alone cost
 // (robust_any_hit in the same precision), and the cheaper tier measured
 // beside it where there is one.
-std::string missed_reason(const std::string& variant, const std::string& precision,
+std::string missed_reason(const std::string& variant, const std::string& precision, double ratio,
                           const bench::robust_fallback_row* stages, const std::optional<double>& decisions_ratio,
                           const std::optional<double>& bounded_ratio) {
+    const double target = bench::robust_target_ratio;
     std::string why;
     if (stages != nullptr && stages->cases > 0) {
         const std::size_t left = stages->refined + stages->exact;
         if (left * 20 < stages->cases) {
             why = fmt::format("the static filter settles {} of {} cases, so the cost is the filter's own: ",
                               stages->cases - left, stages->cases);
-            if (variant == "robust_any_hit")
+            if (variant == "robust_any_hit" || !decisions_ratio) {
                 why += "naive's coefficients plus their error bounds and the comparisons against them";
-            else if (decisions_ratio)
-                why += fmt::format("the decisions alone (robust_any_hit) cost {:.2f}× here, returning a root with "
-                                   "its certificate (q's bound, the rounding checked at both ends of the root's "
-                                   "enclosure) the rest",
-                                   *decisions_ratio);
-            else
-                why += "its error bounds and the root's certificate";
-            if (precision == "float") why += "; float inputs are converted to double";
-            why += "; 2× needs a cheaper certificate";
+                if (precision == "float") why += ", the float inputs converted to double";
+                why += fmt::format("; meeting {:g}× needs a filter of fewer operations", target);
+            } else if (*decisions_ratio < target) {
+                why += fmt::format("the decisions alone (robust_any_hit) cost {:.2f}× here, the root with its "
+                                   "certificate (q's bound, the rounding checked at both ends of the root's "
+                                   "enclosure) the other {:.2f}×; meeting {:g}× needs that root for at most {:.2f}×",
+                                   *decisions_ratio, ratio - *decisions_ratio, target, target - *decisions_ratio);
+            } else {
+                why += fmt::format("the decisions alone (robust_any_hit) already cost {:.2f}× here; meeting {:g}× "
+                                   "needs a filter of fewer operations before any root",
+                                   *decisions_ratio, target);
+            }
         } else {
             why = fmt::format("{} of {} cases go to the double-word stage, {} to the exact path", stages->refined,
                               stages->cases, stages->exact);
@@ -83,7 +87,9 @@ std::string missed_reason(const std::string& variant, const std::string& precisi
                        "without FMA each exact product is Dekker's split)";
         }
     }
-    if (bounded_ratio) why += fmt::format("; the bounded tier (2^-44, the same decisions): {:.2f}×", *bounded_ratio);
+    if (bounded_ratio)
+        why += fmt::format("; where a root within 2^-44 will do, the bounded tier (the same decisions) costs {:.2f}×",
+                           *bounded_ratio);
     return why;
 }
 
@@ -157,9 +163,11 @@ robust_sphere_figures robust_figures(const std::vector<bench::timing_row>& rows,
                           {"ratio_to_naive_double", ratio},
                           {"met", met}};
             if (!met) {
-                // The bounded tier beside a correctly rounded query, where there is one.
+                // The bounded tier beside a correctly rounded double query (in
+                // float the two tiers are one: its roots are correctly rounded).
                 std::optional<double> bounded_ratio;
-                const std::string bounded = row->variant == "robust"           ? "robust_bounded"
+                const std::string bounded = row->precision != "double"         ? ""
+                                            : row->variant == "robust"         ? "robust_bounded"
                                             : row->variant == "robust_nearest" ? "robust_bounded_nearest"
                                                                                : "";
                 if (const bench::timing_row* b = bounded.empty() ? nullptr : find_row(bounded + "/" + row->precision, family))
@@ -168,7 +176,7 @@ robust_sphere_figures robust_figures(const std::vector<bench::timing_row>& rows,
                 if (const bench::timing_row* d = find_row("robust_any_hit/" + row->precision, family))
                     decisions_ratio = d->median / naive->median;
                 const std::string why =
-                    missed_reason(row->variant, row->precision, stages_of(family, row->variant, row->precision),
+                    missed_reason(row->variant, row->precision, ratio, stages_of(family, row->variant, row->precision),
                                   decisions_ratio, bounded_ratio);
                 text += fmt::format("    {}\n", why);
                 entry["reason"] = why;

@@ -75,6 +75,25 @@ TEST(RobustSegment, HandWorkedSegments) {
     h = closed_contact<double>({-1e308, 0, 0}, {1e308, 0, 0}, origin, 1);
     EXPECT_TRUE(h.found);
     EXPECT_EQ(h.t, 0.5);  // 1/2 − 1/(2·10^308) rounds to 1/2
+    // ... and beyond the float range (6·10^38 > FLT_MAX): the same in float.
+    const rs::ray_hit<float> wide_f = closed_contact<float>({-3e38f, 0, 0}, {3e38f, 0, 0}, {0, 0, 0}, 1);
+    EXPECT_TRUE(wide_f.found);
+    EXPECT_EQ(wide_f.t, 0.5f);
+    // At the double-word stage's range edge, p1 − p0 = 2^160 + 2^-160 no double: from −2^160 to the far
+    // side of the sphere of radius 2^-160 at the origin, the contact at f = (1 − 2^-320)/(1 + 2^-320),
+    // which rounds to 1; an open end excludes 1 itself, and the contact is answered one ulp inside it.
+    const rs::segment<double> edge{{-0x1p160, 0, 0}, {0x1p-160, 0, 0}};
+    const rs::sphere<double> tiny{origin, 0x1p-160};
+    h = rs::segment_hit(edge, tiny);
+    EXPECT_TRUE(h.found);
+    EXPECT_EQ(h.t, 1.0);
+    h = rs::segment_hit<ends::closed, ends::open>(edge, tiny);
+    EXPECT_TRUE(h.found);
+    EXPECT_EQ(h.t, 1.0 - 0x1p-53);
+    // A segment of one grid step 2^-212 ending exactly on the sphere of radius 2^-160 at the origin: f = 1.
+    h = closed_contact<double>({-0x1p-160 - 0x1p-212, 0, 0}, {-0x1p-160, 0, 0}, origin, 0x1p-160);
+    EXPECT_TRUE(h.found);
+    EXPECT_EQ(h.t, 1.0);
     // Zero length, and non-finite inputs: no geometry, a miss.
     EXPECT_FALSE((closed_contact<double>({0, 0, 2}, {0, 0, 2}, origin, 1).found));
     EXPECT_FALSE((closed_contact<double>({0, 0, 0}, {0, 0, 2}, origin, std::nan("")).found));

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "bench/robust_fallback.h"
 #include "core/intersection.h"
@@ -20,10 +21,13 @@ std::vector<segment_case<T>> segments_along(const std::vector<corpus_case>& case
         if (c.is_segment() || validity<T>(c.geometry) != invalid_reason::none) continue;
         const ray_sphere<double>& g = c.geometry;
         const double length = static_cast<double>(segment_length(rounded_to<T>(g)));
-        const segment_case<T> s{vec3_cast<T>(g.origin), vec3_cast<T>(g.origin + length * g.direction),
-                                vec3_cast<T>(g.centre), static_cast<T>(g.radius)};
-        const bool usable = std::isfinite(s.p1.x) && std::isfinite(s.p1.y) && std::isfinite(s.p1.z) && s.p1 != s.p0;
-        if (usable) out.push_back(s);
+        const vec3<double> end = g.origin + length * g.direction;
+        // p1 within T's range before it is converted (a conversion out of range is undefined).
+        const double largest = static_cast<double>(std::numeric_limits<T>::max());
+        if (!(std::fabs(end.x) <= largest && std::fabs(end.y) <= largest && std::fabs(end.z) <= largest)) continue;
+        const segment_case<T> s{vec3_cast<T>(g.origin), vec3_cast<T>(end), vec3_cast<T>(g.centre),
+                                static_cast<T>(g.radius)};
+        if (s.p1 != s.p0) out.push_back(s);
     }
     return out;
 }

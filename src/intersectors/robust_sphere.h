@@ -1673,7 +1673,10 @@ ROBUST_SPHERE_COLD ROBUST_SPHERE_HD ray_hit<T> refined_segment(const segment<T>&
     bool representable = true;
     for (int i = 0; i < 3; ++i) {
         const dd diff = two_sum(double(b[i]), -double(a[i]));  // float: exact in double or not
-        d[i] = T(diff.hi);
+        if constexpr (std::is_same_v<T, float>)
+            d[i] = round_to_float(diff.hi);  // a difference of floats may pass FLT_MAX
+        else
+            d[i] = diff.hi;
         representable = representable && diff.lo == 0 && double(d[i]) == diff.hi && isfinite(d[i]);
     }
     if (representable) {

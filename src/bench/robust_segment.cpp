@@ -1,9 +1,6 @@
 // robust_sphere.h's segment query on each family's rays cast as segments:
 // the cases (segments_along) and its timing against a naive double segment
 // cast (robust_fallback.h).
-#include <fmt/format.h>
-
-#include <algorithm>
 #include <cmath>
 #include <limits>
 

@@ -168,16 +168,10 @@ std::vector<timing_row> time_variants(const std::map<std::string, std::vector<co
                                       void (*on_progress)(std::size_t, std::size_t)) {
     for (const std::string& name : options.variants)
         if (!find_builtin_variant(name)) throw input_error("", 0, "--variant", fmt::format("unknown variant '{}'", name));
-    const auto wanted = [&](std::string_view name) {
-        if (!options.builtins) return false;
-        return options.variants.empty() ||
-               std::find(options.variants.begin(), options.variants.end(), name) != options.variants.end();
-    };
-    const auto timed_in = [&](std::string_view prec) { return times_precision(options, prec); };
     // Timed through their functions: the plugins, and the engine ports (no inlined kernel).
     std::vector<variant> through_function = options.plugins;
     for (const variant& v : builtin_variants())
-        if (!v.build.empty() && wanted(v.name)) through_function.push_back(v);
+        if (!v.build.empty() && times_builtin(options, v.name)) through_function.push_back(v);
 
     // Inputs rounded once per family and precision; the bodies refer to them.
     struct family_inputs {
@@ -193,9 +187,9 @@ std::vector<timing_row> time_variants(const std::map<std::string, std::vector<co
     std::vector<pending> work;
     for (const auto& [family, in] : inputs) {
         for_each_kernel([&, &in = in, &family = family](std::string_view name, auto kernel) {
-            if (!wanted(name)) return;
+            if (!times_builtin(options, name)) return;
             const auto add = [&](const char* prec, const auto& cases) {
-                if (!timed_in(prec)) return;
+                if (!times_precision(options, prec)) return;
                 timing_row row;
                 row.variant = name;
                 row.precision = prec;
@@ -213,7 +207,7 @@ std::vector<timing_row> time_variants(const std::map<std::string, std::vector<co
         for (const auto& [family, in] : inputs) {
             const auto add = [&, &family = family](const char* prec, const auto& cases) {
                 using T = decltype(std::decay_t<decltype(cases)>::value_type::radius);
-                if (!timed_in(prec)) return;
+                if (!times_precision(options, prec)) return;
                 timing_row row;
                 row.variant = plugin.name;  // called through a function pointer (timing_json says so)
                 row.precision = prec;

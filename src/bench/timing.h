@@ -59,6 +59,13 @@ inline bool times_precision(const timing_options& options, std::string_view prec
            std::find(options.precisions.begin(), options.precisions.end(), prec) != options.precisions.end();
 }
 
+// Whether `options` time the built-in variant `name`.
+inline bool times_builtin(const timing_options& options, std::string_view name) {
+    return options.builtins && (options.variants.empty() || std::find(options.variants.begin(),
+                                                                      options.variants.end(), name) !=
+                                                                options.variants.end());
+}
+
 struct timing_row {
     std::string variant;    // a registry or plugin name, "exact_oracle" or "exact_reference"
     std::string precision;  // "float", "double", "long double"; "exact" for the oracle

@@ -147,14 +147,8 @@ std::vector<bench::timing_row> time_targets(const std::map<std::string, std::vec
     // robust_sphere.h's segment query, where its ray queries are timed: it has
     // no registry variant (no built-in target casts segments), so bench times
     // it on the target families' rays as segments, with its naive reference.
-    const bool robust_timed = timing.builtins && (timing.variants.empty() ||
-                                                  std::any_of(std::begin(bench::robust_variant_names),
-                                                              std::end(bench::robust_variant_names), [&](const char* n) {
-                                                                  return std::find(timing.variants.begin(),
-                                                                                   timing.variants.end(),
-                                                                                   n) != timing.variants.end();
-                                                              }));
-    if (robust_timed) {
+    if (std::any_of(std::begin(bench::robust_variant_names), std::end(bench::robust_variant_names),
+                    [&](const char* name) { return bench::times_builtin(timing, name); })) {
         const std::vector<bench::timing_row> segments = bench::time_segment_queries(by_family, timing);
         rows.insert(rows.end(), segments.begin(), segments.end());
     }

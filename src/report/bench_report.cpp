@@ -153,6 +153,10 @@ robust_sphere_figures robust_figures(const std::vector<bench::timing_row>& rows,
         const bench::timing_row* naive = find_row(bench_reference_label, family);
         if (naive == nullptr || naive->median <= 0) continue;
         const bench::timing_row* naive_segment = find_row(std::string(bench::naive_segment_name) + "/double", family);
+        const auto against_naive = [&](const std::string& label) -> std::optional<double> {
+            const bench::timing_row* r = find_row(label, family);
+            return r == nullptr ? std::nullopt : std::optional<double>(r->median / naive->median);
+        };
         for (const std::string& label : labels) {
             const bench::timing_row* row = find_row(label, family);
             const bool segment = row != nullptr && row->variant == bench::robust_segment_name;
@@ -171,19 +175,16 @@ robust_sphere_figures robust_figures(const std::vector<bench::timing_row>& rows,
             if (!met) {
                 // The bounded tier beside a correctly rounded double query (in
                 // float the two tiers are one: its roots are correctly rounded).
-                std::optional<double> bounded_ratio;
                 const std::string bounded = row->precision != "double"         ? ""
                                             : row->variant == "robust"         ? "robust_bounded"
                                             : row->variant == "robust_nearest" ? "robust_bounded_nearest"
                                                                                : "";
-                if (const bench::timing_row* b = bounded.empty() ? nullptr : find_row(bounded + "/" + row->precision, family))
-                    bounded_ratio = b->median / naive->median;
+                const std::optional<double> bounded_ratio =
+                    bounded.empty() ? std::nullopt : against_naive(bounded + "/" + row->precision);
                 // What the decisions alone cost (robust_any_hit); for the segment
                 // query, what the ray's nearest hit costs, the same work on a ray.
-                std::optional<double> decisions_ratio;
-                const std::string decisions = segment ? "robust_nearest/" : "robust_any_hit/";
-                if (const bench::timing_row* d = find_row(decisions + row->precision, family))
-                    decisions_ratio = d->median / naive->median;
+                const std::optional<double> decisions_ratio =
+                    against_naive((segment ? "robust_nearest/" : "robust_any_hit/") + row->precision);
                 const std::string why =
                     missed_reason(row->variant, row->precision, ratio, stages_of(family, row->variant, row->precision),
                                   decisions_ratio, bounded_ratio);

@@ -14,6 +14,7 @@
 #include "report/audit_summary.h"
 #include "report/case_list.h"
 #include "report/contract_hints.h"
+#include "report/json_line.h"
 #include "report/markdown_report.h"
 #include "report/schema.h"
 #include "report/shard_state.h"
@@ -163,7 +164,7 @@ void write_shard_state(output_file& state_file, const audit_options& options, co
         header.per_case_file = per_case_location_in_shard;
         header.per_case_digest = per_case_digest->digest().text();
     }
-    state_file.stream() << shard_document(header, audited).dump() << '\n';
+    state_file.stream() << json_text(shard_document(header, audited)) << '\n';
     report["shard"] = {{"index", shard.index},
                        {"count", shard.count},
                        {"cases", audited.audit.cases},

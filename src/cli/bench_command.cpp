@@ -26,6 +26,7 @@
 #include "report/audit_timing_report.h"
 #include "report/bench_report.h"
 #include "report/benchmark_json.h"
+#include "report/json_line.h"
 #include "report/markdown_report.h"
 #include "report/stability_report.h"
 
@@ -330,7 +331,7 @@ int run(const bench_options& options, const std::string& command_line) {
     const std::vector<bench::timing_row> rows = time_targets(by_family, timing, precisions.double_timed);
     const json timing_section = timing_json(rows, timing, bench_reference_label);
     if (benchmark_file != nullptr)
-        benchmark_file->stream() << benchmark_json(rows, current_benchmark_context(command_line)).dump(2) << '\n';
+        benchmark_file->stream() << json_text(benchmark_json(rows, current_benchmark_context(command_line)), 2) << '\n';
 
     fmt::print("{}", timing_table_text(timing_section, cases.size(), options.repetitions));
     fmt::print("{}", target_notes(timing_section, chosen_targets));

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "compare/error_figures.h"
 #include "cli/commands.h"
 #include "core/input_error.h"
 #include "corpus/corpus_io.h"
@@ -100,9 +101,8 @@ void print_exact(const char* label, const exact_solution& e) {
                    e.rounded_hit_coordinate(i, 1), e.rounded_hit_coordinate(i, 2));
 }
 
-std::string optional_number(const std::optional<double>& x) {
-    return x ? fmt::format("{:.3g}", *x) : std::string("-");
-}
+// An error figure as explain prints it, like every report (error_figures.h), or "-".
+std::string figure_text(const std::optional<double>& x) { return x ? format_figure(*x) : std::string("-"); }
 
 // What a variant gave beside t (contract::outputs) and how it measured.
 void print_outputs(const target_outcome& o) {
@@ -117,16 +117,16 @@ void print_outputs(const target_outcome& o) {
         if (out.point_error)
             fmt::print(" ± ({}, {}, {})", out.point_error->x, out.point_error->y, out.point_error->z);
         if (s.hit_point_ulp)
-            fmt::print(", error ({:.3g}, {:.3g}, {:.3g}) ulp", (*s.hit_point_ulp)[0], (*s.hit_point_ulp)[1],
-                       (*s.hit_point_ulp)[2]);
+            fmt::print(", error ({}, {}, {}) ulp", format_figure((*s.hit_point_ulp)[0]),
+                       format_figure((*s.hit_point_ulp)[1]), format_figure((*s.hit_point_ulp)[2]));
         fmt::print("\n");
     }
     if (out.normal)
         fmt::print("    normal ({}, {}, {}){}\n", out.normal->x, out.normal->y, out.normal->z,
-                   s.normal_angle ? fmt::format(", {:.3g} rad from the exact normal", *s.normal_angle) : std::string());
+                   s.normal_angle ? fmt::format(", {} rad from the exact normal", format_figure(*s.normal_angle)) : std::string());
     if (s.scale_error_radius)
-        fmt::print("    |t − t*|·|d| = {:.3g} r = {:.3g} |o − c|\n", *s.scale_error_radius,
-                   s.scale_error_distance.value_or(0));
+        fmt::print("    |t − t*|·|d| = {} r = {} |o − c|\n", format_figure(*s.scale_error_radius),
+                   figure_text(s.scale_error_distance));
 }
 
 std::string step_number(double x) {
@@ -252,8 +252,8 @@ int run(const explain_options& options) {
         fmt::print("{:<26} {:<18} {:<20} {:>5} {:>24} {:>24} {:>10} {:>10}\n", targets[i].label(),
                    verdict_name(o.score.verdict), o.score.cause ? cause_name(*o.score.cause) : "-",
                    ran ? std::to_string(r.count) : "-", shows_t0 ? fmt::format("{}", r.t0) : "-",
-                   shows_t1 ? fmt::format("{}", r.t1) : "-", optional_number(o.score.near_ulp),
-                   optional_number(o.score.far_ulp));
+                   shows_t1 ? fmt::format("{}", r.t1) : "-", figure_text(o.score.near_ulp),
+                   figure_text(o.score.far_ulp));
         if (ran) fmt::print("    contract: {}\n", describe_contract(promises));
         if (ran && !targets[i].subject.build.empty()) fmt::print("    build: {}\n", targets[i].subject.build);
         if (ran) print_outputs(o);

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <map>
 
+#include "compare/error_figures.h"
 #include "cli/commands.h"
 #include "core/input_error.h"
 #include "corpus/case_stream.h"
@@ -119,7 +120,7 @@ int merge_hunts(const std::vector<std::string>& files, const std::string& output
     for (const hunt_file_find& f : merged.finds) {
         const hunt_find_provenance& p = f.provenance;
         fmt::print("find {}: {}{} from shard {} (search seed {}), evaluation {}\n  {}\n", ++n, verdict_name(p.verdict),
-                   merged.hunt.objective == hunt_objective::ulp ? fmt::format(", {:.3g} ulp", p.error) : "",
+                   merged.hunt.objective == hunt_objective::ulp ? ", " + format_figure(p.error) + " ulp" : "",
                    p.shard.text(), p.search_seed, p.evaluation, format_case_line(f.shrunk));
     }
     fmt::print("wrote {}\n", output);

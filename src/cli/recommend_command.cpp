@@ -6,6 +6,7 @@
 
 #include <memory>
 
+#include "compare/error_figures.h"
 #include "bench/recommend.h"
 #include "cli/commands.h"
 #include "compare/judge.h"
@@ -25,7 +26,7 @@ struct recommend_options {
     double min_time = 0.01;
 };
 
-std::string ulp_text(const std::optional<double>& ulp) { return ulp ? fmt::format("{:.3g}", *ulp) : "-"; }
+std::string ulp_text(const std::optional<double>& ulp) { return ulp ? format_figure(*ulp) : "-"; }
 
 void print_kind(const bench::kind_recommendation& k, const bench::recommend_budget& budget) {
     fmt::print("\n{} rays ({} rays, query {}):\n", ray_kind_name(k.kind), k.rays, ray_query_name(k.query));

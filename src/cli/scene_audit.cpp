@@ -8,6 +8,7 @@
 #include "cli/commands.h"
 #include "core/input_error.h"
 #include "report/audit_report.h"
+#include "report/json_line.h"
 #include "report/scene_report.h"
 #include "scene/scene.h"
 #include "scene/scene_audit.h"
@@ -64,7 +65,7 @@ int run_scene_audit(const scene_audit_request& request) {
     fmt::print("{}", text);
     fmt::print("build: {}\n", build_summary());
     if (report != nullptr) {
-        report->stream() << scene_report_json(s, result, recorded_command(request.command_line)).dump(2) << '\n';
+        report->stream() << json_text(scene_report_json(s, result, recorded_command(request.command_line)), 2) << '\n';
         fmt::print("report: {}\n", (std::filesystem::path(request.report_dir) / "scene_report.json").string());
     }
     check_standard_output();

@@ -8,6 +8,7 @@
 #include "intersectors/registry.h"
 #include "plugin/plugin_loader.h"
 #include "report/audit_report.h"
+#include "report/json_line.h"
 #include "report/schema.h"
 
 namespace rayverify::cli {
@@ -42,7 +43,7 @@ command add_variants_command(CLI::App& app) {
                     }
                     const nlohmann::ordered_json document = {{"schema_version", schema_version::variants},
                                                              {"variants", all}};
-                    fmt::print("{}\n", document.dump(2));
+                    fmt::print("{}\n", json_text(document, 2));
                     return exit_ok;
                 }
                 for (const variant& v : listed) {

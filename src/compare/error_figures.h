@@ -4,17 +4,42 @@
 // score gives its value. Tallies, samples, shard write/read/check, reports,
 // the gate and the schema test go through this table, so that a new figure is
 // a row here (and its value in case_score), not a change in each of them.
+//
+// How every figure is printed is stated here too, once: correctly rounded to
+// figure_significant_digits significant digits (printed_figure), wherever it
+// appears (per-case lines, report.json, report.md, summaries, scene and
+// stability reports, explain, gate baselines). What is decided on a figure
+// (a verdict, the case that holds a maximum, a histogram bucket) is decided
+// on its exact value, never on the printed one.
 #pragma once
 
 #include <algorithm>
 #include <array>
 #include <cstddef>
 #include <optional>
+#include <string>
 #include <string_view>
 
 #include "compare/judge.h"
 
 namespace rayverify {
+
+// The significant digits every ULP, bits, scale and angle figure is printed with.
+inline constexpr int figure_significant_digits = 4;
+
+// x as it is printed: RN(x) (a double) correctly rounded to
+// figure_significant_digits significant decimal digits, ties to even, as the
+// double nearest that decimal (which every shortest-form writer, JSON's
+// included, spells with those digits, trailing zeros dropped). 0, ±inf and
+// NaN are themselves; a decimal beyond the largest double (x within 0.03% of
+// it) has no nearest double, and x is returned unrounded.
+double printed_figure(double x);
+std::optional<double> printed_figure(const std::optional<double>& x);
+// The printed figure as text for tables and sentences: "0.1235", "1.235e+04",
+// "0", "inf", "nan".
+std::string format_figure(double x);
+// The rule above in one sentence, as reports state it.
+std::string figure_printing_rule();
 
 enum class error_figure : std::size_t {
     near_root_ulp,         // |t − t*| / ulp(t*) of the near (or only) root

@@ -84,8 +84,9 @@ figure_table figures_of(const audit_totals& totals) {
         for (const error_figure_definition& f : error_figures) {
             const error_statistics& s = t.errors[f.figure];
             if (!f.gated || s.count == 0) continue;
-            table[{target, family, std::string(f.case_name) + "_max"}] = s.max;
-            table[{target, family, std::string(f.case_name) + "_p99"}] = s.p99;
+            // The gate compares the figures as printed (a baseline's and this run's).
+            table[{target, family, std::string(f.case_name) + "_max"}] = printed_figure(s.max);
+            table[{target, family, std::string(f.case_name) + "_p99"}] = printed_figure(s.p99);
         }
     };
     for (std::size_t i = 0; i < totals.targets.size(); ++i) {
@@ -231,8 +232,10 @@ baseline parse_baseline(const std::string& file, std::string_view text) {
         check_precision(words[0], "target");
         if (figure_index(words[2]) == figure_list().size())
             throw error("figure", fmt::format("unknown figure {}", quoted(words[2])));
-        const double value =
-            is_ulp_figure(words[2]) ? number(words[3], "value") : count(words[3], "value", words[2]);
+        // A ULP figure as printed: a baseline written with more digits (before
+        // figures were printed to figure_significant_digits) compares alike.
+        const double value = is_ulp_figure(words[2]) ? printed_figure(number(words[3], "value"))
+                                                     : count(words[3], "value", words[2]);
         figure_key key{words[0], words[1], words[2]};
         if (!b.figures.emplace(key, value).second)
             throw error("entry", fmt::format("duplicate entry for {}", printable(key.text())));

@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "compare/error_figures.h"
 #include "core/case_in_progress.h"
 #include "core/float_bits.h"
 
@@ -772,7 +773,7 @@ std::optional<std::string> accuracy_shortfall(const contract& promises, const va
             case accuracy_unit::ulp:
                 against = exact.compare_root_ulp_error(k, value, required.bound);
                 if (against == comparison::larger)
-                    figure = fmt::format("{:.4g} ulp", exact.root_ulp_error(k, value));
+                    figure = format_figure(exact.root_ulp_error(k, value)) + " ulp";
                 break;
             case accuracy_unit::radius:
             case accuracy_unit::distance: {
@@ -780,8 +781,8 @@ std::optional<std::string> accuracy_shortfall(const contract& promises, const va
                 against = exact.compare_root_distance(k, value, required.bound, radii ? input.radius : 1.0);
                 if (against != comparison::larger) break;
                 const scaled along = root_error(exact, k, value) * euclidean_length(input.direction);
-                figure = radii ? fmt::format("{:.4g} r", (along / scaled::of(input.radius)).value())
-                               : fmt::format("{:.4g}", along.value());
+                figure = radii ? format_figure((along / scaled::of(input.radius)).value()) + " r"
+                               : format_figure(along.value());
                 break;
             }
         }

@@ -1,5 +1,6 @@
 #include "report/audit_report.h"
 
+#include "compare/error_figures.h"
 #include "report/stability_report.h"
 
 #include <fmt/format.h>
@@ -40,24 +41,18 @@ std::string build_summary() {
 
 std::size_t verdict_column_width(std::string_view heading) { return std::max<std::size_t>(6, heading.size()); }
 
-const char* const quantile_scope =
+const std::string quantile_scope =
     "upper bounds: the nearest-rank value's log bucket upper edge (at most a factor 1 + 2^-7 above it) "
-    "or the maximum when smaller; exact when 0";
+    "or the maximum when smaller, then printed rounded like every figure; exact when 0";
 
 namespace {
-
-std::string compact(double x) {
-    if (std::isinf(x)) return "inf";
-    if (x == 0) return "0";
-    return fmt::format("{:.3g}", x);
-}
 
 json statistics_json(const error_statistics& s, const char* scope) {
     json out = {{"count", s.count}};
     if (s.count == 0) return out;
-    out["max"] = json_number(s.max);
-    out["p99"] = json_number(s.p99);
-    out["median"] = json_number(s.median);
+    out["max"] = json_number(printed_figure(s.max));
+    out["p99"] = json_number(printed_figure(s.p99));
+    out["median"] = json_number(printed_figure(s.median));
     out["max_case"] = s.max_case;
     out["max_is"] = scope;
     out["p99_median_are"] = quantile_scope;
@@ -234,13 +229,14 @@ std::string render_summary_table(const audit_totals& totals) {
         if (s.count == 0)
             out += fmt::format(" {:>9} {:>9} {:>9}\n", "-", "-", "-");
         else
-            out += fmt::format(" {:>9} {:>9} {:>9}\n", compact(s.max), compact(s.p99), compact(s.median));
+            out += fmt::format(" {:>9} {:>9} {:>9}\n", format_figure(s.max), format_figure(s.p99), format_figure(s.median));
     }
     out += fmt::format("{} cases; invalid: {} at float, {} at double. far: agreeing cases whose t lies far from t* "
                        "along the ray ({}; --accuracy makes an answer beyond a bound you choose imprecise). ULP "
                        "columns: nearest root, agreeing cases, maxima over this finite corpus; p99 and median are "
-                       "upper bounds within 0.8%.\n",
-                       totals.cases, totals.invalid_cases[0], totals.invalid_cases[1], agree_far_rule);
+                       "upper bounds within 0.8%; every figure to {} significant digits.\n",
+                       totals.cases, totals.invalid_cases[0], totals.invalid_cases[1], agree_far_rule,
+                       figure_significant_digits);
     // Invalid cases are never scored, so they are named: the first few here, all in report.json.
     constexpr std::size_t listed = 5;
     if (!totals.invalid_list.empty()) {
@@ -296,6 +292,7 @@ json audit_report_json(const audit_totals& totals, const run_context& context) {
         {"bound_width_ulp",
          "the widest interval a variant claims for a returned t, in representable values between its ends"},
         {"normal_angle", "angle in radians between the returned normal and the exact one (the nearer of ±n*)"},
+        {"printed_figures", figure_printing_rule()},
         {"error_statistics",
          "over the cases whose verdict is agree; count and max are exact (max_case: the first case attaining it); "
          "p99 and median are nearest-rank, reported as upper bounds from a histogram of log buckets of relative "
@@ -413,14 +410,14 @@ std::string per_case_line(const audited_case& audited, const std::vector<audit_t
         const auto figure = [&](std::string_view name, const std::optional<double>& x) {
             if (!x) return;
             line.key_text(name);
-            write_number(line, *x);
+            write_number(line, printed_figure(*x));
         };
         for (const error_figure_definition& f : error_figures) {
             if (f.figure == error_figure::hit_point_ulp) {
                 // Per coordinate on a case's line (the tally keeps the worst).
                 if (!o.score.hit_point_ulp) continue;
                 line.key_text(f.case_name).begin_array();
-                for (const double e : *o.score.hit_point_ulp) write_number(line, e);
+                for (const double e : *o.score.hit_point_ulp) write_number(line, printed_figure(e));
                 line.end_array();
                 continue;
             }

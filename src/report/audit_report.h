@@ -52,7 +52,7 @@ std::string per_case_line(const audited_case& audited, const std::vector<audit_t
                           std::string buffer = {});
 
 // What the p99 and median of every error statistic are (written beside them).
-extern const char* const quantile_scope;
+extern const std::string quantile_scope;
 
 // The same value as json_number (corpus/json_mapping.h), written to a line.
 void write_number(json_line& out, double x);

@@ -8,6 +8,8 @@
 #include <map>
 #include <optional>
 
+#include "compare/error_figures.h"
+
 namespace rayverify {
 namespace {
 
@@ -35,9 +37,7 @@ std::string share_text(const target_tally* t) {
 
 std::string ulp_text(const target_tally* t) {
     if (!t || t->errors[error_figure::near_root_ulp].count == 0) return "-";
-    const double x = t->errors[error_figure::near_root_ulp].max;
-    if (std::isinf(x)) return "inf";
-    return x == 0 ? "0" : fmt::format("{:.3g}", x);
+    return format_figure(t->errors[error_figure::near_root_ulp].max);
 }
 
 // The disagreement a member gives most often (over both precisions), with its count.

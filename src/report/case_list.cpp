@@ -4,6 +4,7 @@
 
 #include <limits>
 
+#include "compare/error_figures.h"
 #include "corpus/corpus_io.h"
 #include "report/audit_report.h"
 
@@ -17,7 +18,7 @@ namespace {
 json example_json(const case_example& e, const char* figure = nullptr) {
     json out = {{"id", e.kase.id}, {"source", e.kase.source}, {"line", format_case_line(e.kase)}};
     if (e.cause) out["cause"] = std::string(cause_name(*e.cause));
-    if (figure) out[figure] = json_number(e.error);
+    if (figure) out[figure] = json_number(printed_figure(e.error));
     return out;
 }
 
@@ -37,7 +38,7 @@ std::string ids(const json& list) {
 
 std::string ulp_text(const json& e) {
     const std::optional<std::optional<double>> ulp = number_from_json(e["root_error_ulp"]);
-    return fmt::format("{:.3g} ulp", ulp && *ulp ? **ulp : std::numeric_limits<double>::quiet_NaN());
+    return format_figure(ulp && *ulp ? **ulp : std::numeric_limits<double>::quiet_NaN()) + " ulp";
 }
 
 // The worst cases of a verdict when they are not the first ones: ids with their errors.
@@ -103,7 +104,7 @@ std::string render_cases_to_open_markdown(const json& cases) {
                                ? fmt::format("{}, {}", e.value("cause", std::string("-")), ulp_text(e))
                            : e.contains("cause") ? e["cause"].get<std::string>()
                            : e.contains("scale_error_radius")
-                               ? fmt::format("{:.3g} r off", e["scale_error_radius"].get<double>())
+                               ? format_figure(e["scale_error_radius"].get<double>()) + " r off"
                                : std::string("-"),
                            e["line"].get<std::string>());
     };

@@ -5,6 +5,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "compare/error_figures.h"
 #include "core/input_error.h"
 #include "corpus/case_stream.h"
 #include "corpus/corpus_io.h"
@@ -19,12 +20,12 @@ using json = nlohmann::ordered_json;
 
 std::string hunt_error_text(hunt_objective objective, double error) {
     switch (objective) {
-        case hunt_objective::scale_radius: return fmt::format("|t − t*|·|d| = {:.3g} r", error);
-        case hunt_objective::scale_distance: return fmt::format("|t − t*|·|d| = {:.3g} |o − c|", error);
+        case hunt_objective::scale_radius: return "|t − t*|·|d| = " + format_figure(error) + " r";
+        case hunt_objective::scale_distance: return "|t − t*|·|d| = " + format_figure(error) + " |o − c|";
         case hunt_objective::ulp:
         case hunt_objective::misclass: break;
     }
-    return fmt::format("{:.3g} ulp", error);
+    return format_figure(error) + " ulp";
 }
 
 namespace {

@@ -1,10 +1,15 @@
-// A JSON document written straight into a string, byte for byte as
-// nlohmann::ordered_json::dump() writes the same document: compact, members
-// in the order written, numbers in nlohmann's own shortest round-trip form
-// (its Grisu2 to_chars), strings escaped as it escapes valid UTF-8. The
-// per-case lines of an audit are written this way, a few hundred values for
-// every case, without building a document first (tests/json_line_test.cpp
-// checks the bytes against nlohmann's on every shipped case).
+// JSON as rayverify writes it. Numbers are spelled in their shortest
+// round-trip form (json_number_text): nlohmann's dump() spells a double by
+// Grisu2, which is not always shortest (0.04266 comes out as
+// 0.042659999999999997), and every figure is printed to four digits
+// (compare/error_figures.h), so that each output's figures read as printed.
+// json_text writes a whole nlohmann document so, laid out as dump() lays it
+// out; json_line writes a document straight into a string, byte for byte as
+// json_text writes the same document: compact, members in the order
+// written, strings escaped as nlohmann escapes valid UTF-8. The per-case
+// lines of an audit are written this way, a few hundred values for every
+// case, without building a document first (tests/json_line_test.cpp checks
+// the bytes on every shipped case).
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -25,6 +30,17 @@
 #include "corpus/corpus_io.h"
 
 namespace rayverify {
+
+// The shortest text that reads back as the finite double x (std::to_chars,
+// which is exact), with ".0" after an integer as nlohmann writes one
+// ("2.0", "1e+21", "0.04266", "-5e-324"); at most 25 bytes, written at
+// `out`. Returns the end.
+char* json_number_text(char* out, double x);
+
+// The document as nlohmann's dump(indent) lays it out (indent < 0: compact;
+// otherwise one member or element a line), with every floating-point number
+// spelled by json_number_text and a non-finite one as null.
+std::string json_text(const nlohmann::ordered_json& document, int indent = -1);
 
 // Does JSON write this byte escaped? Control characters, '"' and '\\'.
 constexpr bool json_escapes(char ch) {
@@ -228,7 +244,7 @@ private:
         }
     }
 
-    // nlohmann's text of a finite double. A per-case line repeats many
+    // json_number_text of a finite double. A per-case line repeats many
     // values (variants that compute alike give the same figures), so the
     // texts of recent values are kept, per thread, in a small table indexed
     // by a hash of the bits (a slot holds the last value that hashed to it).
@@ -243,7 +259,7 @@ private:
         remembered& slot = recent[(bits * 0x9E3779B97F4A7C15ull) >> 56];
         if (slot.bits != bits) {
             char* const begin = slot.text.data();
-            slot.size = static_cast<std::uint32_t>(nlohmann::detail::to_chars(begin, begin + slot.text.size(), x) - begin);
+            slot.size = static_cast<std::uint32_t>(json_number_text(begin, x) - begin);
             slot.bits = bits;
         }
         return {slot.text.data(), slot.size};

@@ -13,6 +13,7 @@
 #include "compare/error_figures.h"
 #include "compare/judge.h"
 #include "compare/stability.h"
+#include "report/json_line.h"
 #include "report/stability_report.h"
 #include "core/input_error.h"
 #include "core/installed_data.h"
@@ -60,12 +61,11 @@ std::string machine_lines(const json& report) {
     return out;
 }
 
-std::string number(const json& x) {
+// An error figure as report.json gives it (a number, "inf", "nan" or null).
+std::string figure_text(const json& x) {
     if (x.is_null()) return "-";
     if (x.is_string()) return x.get<std::string>();
-    const double v = x.get<double>();
-    if (v == 0) return "0";
-    return fmt::format("{:.3g}", v);
+    return format_figure(x.get<double>());
 }
 
 std::string percent(std::size_t part, std::size_t whole) {
@@ -96,8 +96,8 @@ void accuracy_table(std::string& out, const json& results, const std::string& ti
                            r["precision"].get<std::string>(), n, r["verdicts"]["agree"].get<std::size_t>(),
                            r.contains("agree_far") ? std::to_string(r["agree_far"].get<std::size_t>()) : "-", mis,
                            percent(mis, n), r["disagreements"].get<std::size_t>() - mis,
-                           number(u.value("max", json())), number(u.value("p99", json())),
-                           number(u.value("median", json())));
+                           figure_text(u.value("max", json())), figure_text(u.value("p99", json())),
+                           figure_text(u.value("median", json())));
     }
     out += fmt::format("\nagree but far: agreeing cases whose returned t lies far from the exact hit ({}; the "
                        "verdict asks which root a t stands for, not how close it is; `--accuracy` makes such an "
@@ -119,7 +119,7 @@ void stability_tables(std::string& out, const json& stability) {
                            r["precision"].get<std::string>(), line["stable"].get<bool>() ? "yes" : "**no**",
                            line["judged"].get<std::size_t>(), line["above_line"].get<std::size_t>(),
                            line["well_conditioned_above_line"].get<std::size_t>(),
-                           number(line.value("max_excess", json())), r["misclassified"].get<std::size_t>(),
+                           figure_text(line.value("max_excess", json())), r["misclassified"].get<std::size_t>(),
                            r["conditioning_limited"].get<std::size_t>(), r["algorithmic"].get<std::size_t>());
     }
     out += "\nDisagreements are split into conditioning-limited and algorithmic (every disagreement, not only "
@@ -181,8 +181,8 @@ void stability_tables(std::string& out, const json& stability) {
             }
             const json& u = (*found)["near_root_ulp"];
             out += fmt::format(" {} · {} · {} / {} |", (*found)["cases"].get<std::size_t>(),
-                               (*found)["misclassified"].get<std::size_t>(), number(u.value("median", json())),
-                               number(u.value("max", json())));
+                               (*found)["misclassified"].get<std::size_t>(), figure_text(u.value("median", json())),
+                               figure_text(u.value("max", json())));
         }
         out += "\n";
     }
@@ -199,7 +199,7 @@ void timing_tables(std::string& out, const json& timing) {
     for (const json& r : timing["overall"])
         out += fmt::format("| {} | {} | {:.2f} | {} |\n", r["variant"].get<std::string>(),
                            r["precision"].get<std::string>(), r["ns_per_test"].get<double>(),
-                           number(r["ratio_to_reference"]));
+                           r["ratio_to_reference"].is_number() ? fmt::format("{:.3g}", r["ratio_to_reference"].get<double>()) : std::string("-"));
     out += fmt::format("\n({})\n\n#### Per family: median ns per test [min–max over repetitions]\n\n",
                        timing["overall_definition"].get<std::string>());
     std::vector<std::string> families, labels;
@@ -299,7 +299,7 @@ void compact_table(std::string& out, const json& report) {
             const json& r = *it->second;
             const std::size_t wrong = r["disagreements"].get<std::size_t>(), n = scored_in(r["verdicts"]);
             out += fmt::format(" {} ({}) | {} |", wrong, percent(wrong, n),
-                               number(r["near_root_ulp"].value("max", json())));
+                               figure_text(r["near_root_ulp"].value("max", json())));
         }
         out += "\n";
     }
@@ -538,7 +538,7 @@ plot_outcome report_bundle::write(json report, bool draw, const plot_choices& ch
         const std::filesystem::path stage = outputs_.staging_directory(dir_);
         {
             std::ofstream copy(stage / "report.json", std::ios::binary);
-            copy << report.dump(2) << '\n';
+            copy << json_text(report, 2) << '\n';
             if (!copy.flush()) throw input_error((stage / "report.json").string(), 0, option_, "cannot write");
         }
         plots = render_plots(stage, choices);
@@ -551,7 +551,7 @@ plot_outcome report_bundle::write(json report, bool draw, const plot_choices& ch
         plots.message = "not drawn (rayverify audit draws them with --plots; rayverify bench always does)";
     }
     report["plots"] = {{"rendered", plots.rendered}, {"message", plots.message}, {"files", plots.files}};
-    json_.stream() << report.dump(2) << '\n';
+    json_.stream() << json_text(report, 2) << '\n';
     markdown_.stream() << render_markdown(report);
     return plots;
 }

@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include "compare/error_figures.h"
 #include "compare/judge.h"
 #include "report/audit_report.h"
 #include "report/schema.h"
@@ -23,7 +24,7 @@ std::vector<verdict_kind> verdicts_for(ray_query q) {
 std::string ulp_cell(const error_summary& summary) {
     const error_statistics e = summary.statistics();
     if (e.count == 0) return "-";
-    return fmt::format("{:.3g} / {:.3g} / {:.3g}", e.median, e.p99, e.max);
+    return fmt::format("{} / {} / {}", format_figure(e.median), format_figure(e.p99), format_figure(e.max));
 }
 
 std::string kind_table(const scene_audit_result& result, ray_kind kind, ray_query query) {
@@ -65,7 +66,7 @@ std::string kind_table(const scene_audit_result& result, ray_kind kind, ray_quer
 
 nlohmann::ordered_json figures_json(const error_summary& summary) {
     const error_statistics e = summary.statistics();
-    return {{"count", e.count}, {"median", e.median}, {"p99", e.p99}, {"max", e.max}, {"max_ray", e.max_case}};
+    return {{"count", e.count}, {"median", printed_figure(e.median)}, {"p99", printed_figure(e.p99)}, {"max", printed_figure(e.max)}, {"max_ray", e.max_case}};
 }
 
 }  // namespace

@@ -7,10 +7,10 @@
 
 namespace rayverify::schema_version {
 
-inline constexpr int report = 1;        // report.json of audit, bench and merge (report.schema.json)
-inline constexpr int per_case = 1;      // each --per-case line (per-case.schema.json)
+inline constexpr int report = 2;        // report.json of audit, bench and merge (report.schema.json)
+inline constexpr int per_case = 2;      // each --per-case line (per-case.schema.json)
 inline constexpr int shard_state = 1;   // shard.json of audit --shard (shard-state.schema.json)
-inline constexpr int scene_report = 1;  // scene_report.json of audit --scene (scene-report.schema.json)
+inline constexpr int scene_report = 2;  // scene_report.json of audit --scene (scene-report.schema.json)
 inline constexpr int variants = 1;      // variants --json (variants.schema.json)
 inline constexpr int benchmark = 1;     // bench --benchmark-json, Google Benchmark's format (benchmark.schema.json)
 

@@ -7,6 +7,7 @@
 #include <iterator>
 #include <map>
 
+#include "compare/error_figures.h"
 #include "core/hash.h"
 #include "report/audit_report.h"
 
@@ -28,9 +29,9 @@ json bucket_json(const bucket_tally& b) {
                 {"by_design", b.by_design}};
     json ulp = {{"count", b.near_root_ulp.count}};
     if (b.near_root_ulp.count) {
-        ulp["max"] = json_number(b.near_root_ulp.max);
-        ulp["p99"] = json_number(b.near_root_ulp.p99);
-        ulp["median"] = json_number(b.near_root_ulp.median);
+        ulp["max"] = json_number(printed_figure(b.near_root_ulp.max));
+        ulp["p99"] = json_number(printed_figure(b.near_root_ulp.p99));
+        ulp["median"] = json_number(printed_figure(b.near_root_ulp.median));
         ulp["max_case"] = b.near_root_ulp.max_case;
         ulp["max_is"] = scope;
         ulp["p99_median_are"] = quantile_scope;
@@ -53,9 +54,9 @@ json tally_json(const stability_tally& t) {
                  {"well_conditioned_above_line", t.well_conditioned_above},
                  {"stable", t.stable()}};
     if (t.excess.count) {
-        line["max_excess"] = json_number(t.excess.max);
-        line["p99_excess"] = json_number(t.excess.p99);
-        line["median_excess"] = json_number(t.excess.median);
+        line["max_excess"] = json_number(printed_figure(t.excess.max));
+        line["p99_excess"] = json_number(printed_figure(t.excess.p99));
+        line["median_excess"] = json_number(printed_figure(t.excess.median));
         line["max_excess_case"] = t.excess.max_case;
         line["max_is"] = scope;
         line["p99_median_are"] = quantile_scope;
@@ -206,7 +207,7 @@ json case_points::to_json() const {
         kappa_double.push_back(optional_number(r->kappa_double));
         for (std::size_t t = 0; t < targets_.size(); ++t) {
             verdict[t].push_back(verdict_name(r->verdict[t]));
-            near_ulp[t].push_back(optional_number(r->near_ulp[t]));
+            near_ulp[t].push_back(optional_number(printed_figure(r->near_ulp[t])));
             cause[t].push_back(r->cause[t] ? json(cause_name(*r->cause[t])) : json());
         }
     }

@@ -1,0 +1,96 @@
+#include "report/json_line.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+
+namespace rayverify {
+
+char* json_number_text(char* out, double x) {
+    // From 1e16 on, the plain form may pick fixed notation, whose digits are
+    // the double's exact integer value (131745464716806488064), not the
+    // shortest ones: the scientific form's are (1.3174546471680649e+20).
+    char* const end = std::fabs(x) >= 1e16 ? std::to_chars(out, out + 25, x, std::chars_format::scientific).ptr
+                                           : std::to_chars(out, out + 25, x).ptr;
+    // An integer's text ("2", "-120") gets ".0", as nlohmann writes a double that
+    // is an integer, so that a reader sees a floating-point number.
+    if (std::find_if(out, end, [](char c) { return c == '.' || c == 'e' || c == 'n' || c == 'i'; }) == end) {
+        std::memcpy(end, ".0", 2);
+        return end + 2;
+    }
+    return end;
+}
+
+namespace {
+
+void write_indent(std::string& out, int indent, int depth) {
+    out += '\n';
+    out.append(static_cast<std::size_t>(indent) * static_cast<std::size_t>(depth), ' ');
+}
+
+void write_value(std::string& out, const nlohmann::ordered_json& value, int indent, int depth) {
+    using value_t = nlohmann::ordered_json::value_t;
+    const bool pretty = indent >= 0;
+    switch (value.type()) {
+        case value_t::object: {
+            if (value.empty()) {
+                out += "{}";
+                return;
+            }
+            out += '{';
+            bool first = true;
+            for (const auto& [key, member] : value.items()) {
+                if (!first) out += ',';
+                first = false;
+                if (pretty) write_indent(out, indent, depth + 1);
+                out += nlohmann::ordered_json(key).dump();
+                out += pretty ? ": " : ":";
+                write_value(out, member, indent, depth + 1);
+            }
+            if (pretty) write_indent(out, indent, depth);
+            out += '}';
+            return;
+        }
+        case value_t::array: {
+            if (value.empty()) {
+                out += "[]";
+                return;
+            }
+            out += '[';
+            bool first = true;
+            for (const auto& element : value) {
+                if (!first) out += ',';
+                first = false;
+                if (pretty) write_indent(out, indent, depth + 1);
+                write_value(out, element, indent, depth + 1);
+            }
+            if (pretty) write_indent(out, indent, depth);
+            out += ']';
+            return;
+        }
+        case value_t::number_float: {
+            const double x = value.get<double>();
+            if (!std::isfinite(x)) {
+                out += "null";
+                return;
+            }
+            char text[32];
+            out.append(text, json_number_text(text, x));
+            return;
+        }
+        default:  // strings, integers, booleans, null: nlohmann's own text
+            out += value.dump();
+            return;
+    }
+}
+
+}  // namespace
+
+std::string json_text(const nlohmann::ordered_json& document, int indent) {
+    std::string out;
+    write_value(out, document, indent, 0);
+    return out;
+}
+
+}  // namespace rayverify

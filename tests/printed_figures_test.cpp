@@ -1,0 +1,179 @@
+// Every error figure is printed correctly rounded to figure_significant_digits
+// significant digits (compare/error_figures.h): printed_figure by hand, against
+// glibc's printf on random doubles of every binade, and on what an audit of the
+// shipped corpus writes (per-case lines and report.json), figure by figure,
+// against the exact figures the judge measured.
+#include <gtest/gtest.h>
+
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "compare/audit.h"
+#include "compare/error_figures.h"
+#include "corpus/case_stream.h"
+#include "corpus/json_mapping.h"
+#include "intersectors/registry.h"
+#include "report/audit_report.h"
+#include "report/json_line.h"
+
+namespace rayverify {
+namespace {
+
+using json = nlohmann::ordered_json;
+
+// The significant digits of a JSON number's spelling ("0.1235", "1.235e-07", "12340.0").
+int significant_digits(std::string text) {
+    if (const std::size_t e = text.find_first_of("eE"); e != std::string::npos) text.resize(e);
+    std::string digits;
+    for (char c : text)
+        if (c >= '0' && c <= '9') digits += c;
+    const std::size_t first = digits.find_first_not_of('0');
+    if (first == std::string::npos) return 0;
+    const std::size_t last = digits.find_last_not_of('0');
+    return static_cast<int>(last - first + 1);
+}
+
+TEST(PrintedFigures, FourDigitsCorrectlyRoundedTiesToEven) {
+    ASSERT_EQ(figure_significant_digits, 4);
+    EXPECT_EQ(printed_figure(0.12345), 0.1235);   // the double lies above the decimal tie
+    EXPECT_EQ(printed_figure(12345.0), 12340.0);  // an exact tie: to the even digit
+    EXPECT_EQ(printed_figure(12355.0), 12360.0);
+    EXPECT_EQ(printed_figure(99995.0), 100000.0);  // a tie carrying into the next decade (9999 is odd)
+    EXPECT_EQ(printed_figure(99985.0), 99980.0);
+    EXPECT_EQ(printed_figure(9.9995), 9.999);  // the double 9.99949999... lies below the tie
+    EXPECT_EQ(printed_figure(0.5), 0.5);
+    EXPECT_EQ(printed_figure(1.0 / 3.0), 0.3333);
+    EXPECT_EQ(printed_figure(2.0 / 3.0), 0.6667);
+    EXPECT_EQ(printed_figure(0x1p-60), 8.674e-19);
+    EXPECT_EQ(printed_figure(3.0e300 + 1.0e297), 3.001e300);
+    // The smallest subnormal prints as 4.941e-324, whose nearest double is itself.
+    EXPECT_EQ(printed_figure(std::numeric_limits<double>::denorm_min()), std::numeric_limits<double>::denorm_min());
+    EXPECT_EQ(printed_figure(0.0), 0.0);
+    EXPECT_EQ(printed_figure(std::numeric_limits<double>::infinity()), std::numeric_limits<double>::infinity());
+    EXPECT_TRUE(std::isnan(printed_figure(std::numeric_limits<double>::quiet_NaN())));
+    // 1.798e308 is beyond every double: the figure stays as it is.
+    EXPECT_EQ(printed_figure(std::numeric_limits<double>::max()), std::numeric_limits<double>::max());
+    EXPECT_EQ(printed_figure(std::optional<double>()), std::nullopt);
+    EXPECT_EQ(printed_figure(std::optional<double>(0.12345)), std::optional<double>(0.1235));
+
+    EXPECT_EQ(format_figure(0.12345), "0.1235");
+    EXPECT_EQ(format_figure(12345.0), "1.234e+04");
+    EXPECT_EQ(format_figure(0.5), "0.5");
+    EXPECT_EQ(format_figure(0.0), "0");
+    EXPECT_EQ(format_figure(std::numeric_limits<double>::infinity()), "inf");
+    EXPECT_EQ(format_figure(std::numeric_limits<double>::quiet_NaN()), "nan");
+    EXPECT_NE(figure_printing_rule().find("4 significant digits"), std::string::npos);
+}
+
+// Against glibc's printf (exact decimal conversion, ties to even in the
+// default rounding mode), on doubles of random bits: the same decimal; the
+// figure's JSON spelling has at most four digits; printing is monotonic and
+// printing a printed figure changes nothing.
+TEST(PrintedFigures, AgreeWithPrintfOnRandomDoublesOfEveryBinade) {
+    const std::uint64_t seed = std::random_device{}();
+    std::printf("seed %llu\n", static_cast<unsigned long long>(seed));
+    SCOPED_TRACE(testing::Message() << "seed " << seed);
+    std::mt19937_64 random(seed);
+    double previous_x = 0, previous_printed = 0;
+    for (int i = 0; i < 200000; ++i) {
+        double x = std::bit_cast<double>(random() >> 1);  // every positive binade, subnormals included
+        if (!std::isfinite(x) || x > 1.79e308) continue;
+        if (i % 4 == 0) x = std::nextafter(printed_figure(x), 0.0);  // next to a printed decimal
+        char text[64];
+        std::snprintf(text, sizeof text, "%.3e", x);
+        const double expected = std::strtod(text, nullptr);
+        const double printed = printed_figure(x);
+        ASSERT_EQ(printed, expected) << text << " from " << std::hexfloat << x;
+        ASSERT_EQ(printed_figure(printed), printed) << text;
+        ASSERT_LE(significant_digits(json_text(json(printed))), 4) << json_text(json(printed));
+        if (x < previous_x) {
+            ASSERT_LE(printed, previous_printed);
+        } else {
+            ASSERT_GE(printed, previous_printed);
+        }
+        previous_x = x;
+        previous_printed = printed;
+    }
+}
+
+// The figures of one audited case, with the names per-case lines give them,
+// from the judge's exact scores.
+void expect_line_figures_printed(const audited_case& audited, const std::vector<audit_target>& targets,
+                                 const json& line, std::size_t& figures) {
+    for (std::size_t t = 0; t < targets.size(); ++t) {
+        const case_score& s = audited.outcomes[t].score;
+        const json& result = line["results"][targets[t].label()];
+        for (const error_figure_definition& f : error_figures) {
+            const std::string name(f.case_name);
+            if (f.figure == error_figure::hit_point_ulp) {
+                if (!s.hit_point_ulp) continue;
+                for (int axis = 0; axis < 3; ++axis) {
+                    // A non-finite figure is written "inf" (json_number's spelling).
+                    const std::optional<std::optional<double>> written = number_from_json(result[name][axis]);
+                    ASSERT_TRUE(written && *written) << json_text(result[name]);
+                    const double want = printed_figure((*s.hit_point_ulp)[axis]);
+                    ASSERT_TRUE(**written == want || (std::isnan(**written) && std::isnan(want)));
+                    ++figures;
+                }
+                continue;
+            }
+            const std::optional<double> exact = f.of_case(s);
+            if (!exact || !std::isfinite(*exact)) continue;
+            ASSERT_TRUE(result.contains(name)) << name;
+            ASSERT_EQ(result[name].get<double>(), printed_figure(*exact)) << name << " of " << audited.source->id;
+            ASSERT_LE(significant_digits(json_text(result[name])), 4) << json_text(result[name]);
+            ++figures;
+        }
+    }
+}
+
+// Every figure of every per-case line of the shipped corpus, with every
+// built-in variant, is the judge's exact figure rounded to four digits; every
+// maximum, p99 and median of report.json is the audit's, rounded alike, and
+// names the case that attains the exact maximum.
+TEST(PrintedFigures, PerCaseLinesAndReportOfTheShippedCorpusPrintTheExactFiguresRounded) {
+    const std::vector<audit_target> targets = targets_for(builtin_variants());
+    case_stream stream(std::vector<std::filesystem::path>{RAYVERIFY_CORPUS_DIR}, {});
+    std::vector<corpus_case> cases, chunk;
+    std::vector<std::size_t> indices;
+    while (stream.next(chunk, indices)) {
+        cases.insert(cases.end(), chunk.begin(), chunk.end());
+        chunk.clear();
+        indices.clear();
+    }
+    std::size_t figures = 0;
+    const audit_totals totals = run_audit(cases, targets, [&](const audited_case& audited) {
+        const json line = json::parse(per_case_line(audited, targets));
+        expect_line_figures_printed(audited, targets, line, figures);
+    });
+    EXPECT_GT(figures, 50000u);
+
+    const json report = audit_report_json(totals, run_context{});
+    ASSERT_EQ(report["results"].size(), targets.size());
+    std::size_t statistics = 0;
+    for (std::size_t t = 0; t < targets.size(); ++t) {
+        const json& entry = report["results"][t];
+        for (const error_figure_definition& f : error_figures) {
+            const error_statistics& s = totals.overall[t].errors[f.figure];
+            if (s.count == 0 || !std::isfinite(s.max)) continue;
+            const json& written = entry[std::string(f.name)];
+            EXPECT_EQ(written["max"].get<double>(), printed_figure(s.max)) << f.name;
+            EXPECT_EQ(written["p99"].get<double>(), printed_figure(s.p99)) << f.name;
+            EXPECT_EQ(written["median"].get<double>(), printed_figure(s.median)) << f.name;
+            EXPECT_EQ(written["max_case"].get<std::string>(), s.max_case) << f.name;
+            for (const char* key : {"max", "p99", "median"}) EXPECT_LE(significant_digits(json_text(written[key])), 4);
+            ++statistics;
+        }
+    }
+    EXPECT_GT(statistics, 100u);
+}
+
+}  // namespace
+}  // namespace rayverify

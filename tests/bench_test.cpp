@@ -124,6 +124,10 @@ TEST(Bench, OracleTimingTimesEveryRoute) {
         EXPECT_EQ(r.static_over_naive, r.static_ns / r.naive_ns) << r.family;
         EXPECT_GE(r.static_share, 0) << r.family;
         EXPECT_LE(r.static_share, 1) << r.family;
+        EXPECT_GT(r.class_ns, 0) << r.family;
+        EXPECT_EQ(r.class_over_naive, r.class_ns / r.naive_ns) << r.family;
+        EXPECT_GT(r.roots_ns, 0) << r.family;
+        EXPECT_EQ(r.roots_over_naive, r.roots_ns / r.naive_ns) << r.family;
     }
     EXPECT_EQ(t.all.cases, 160u);
     const std::string table = format_oracle_timing(t);
@@ -131,6 +135,8 @@ TEST(Bench, OracleTimingTimesEveryRoute) {
     EXPECT_NE(table.find("alg/oracle"), std::string::npos) << table;
     EXPECT_NE(table.find("filter/naive"), std::string::npos) << table;
     EXPECT_NE(table.find("static/naive"), std::string::npos) << table;
+    EXPECT_NE(table.find("class/naive"), std::string::npos) << table;
+    EXPECT_NE(table.find("roots/naive"), std::string::npos) << table;
     // Every missed target is followed by what meeting it would take.
     std::istringstream lines(table);
     std::string line, previous;

@@ -20,6 +20,7 @@
 #include "core/float_bits.h"
 #include "corpus/corpus_io.h"
 #include "oracle/oracle.h"
+#include "oracle/static_filter.h"
 #include "support/random_geometry.h"
 #include "support/sanitized.h"
 
@@ -51,6 +52,7 @@ ray_sphere<double> float_inputs(const ray_sphere<double>& g) { return rounded_to
 // What a comparison checked, for the tallies the tests print and assert on.
 struct comparison_tally {
     std::size_t cases = 0, filter_stage = 0, ulp_queries = 0;
+    std::size_t partial = 0;  // solve_exact_roots compared (both depths), static filter or not
 };
 
 // Values to probe the ULP and comparison queries with, around an exact value
@@ -109,6 +111,26 @@ testing::AssertionResult identical(const route& way, const ray_sphere<double>& g
     };
     check(fast.invalid == ref.invalid, "invalid differs");
     check(fast.prec == ref.prec, "precision differs");
+    // The partial answers (class and signs; roots rounded) of the true
+    // quadratic, which take no interval: the reference's, field by field.
+    if (&way == &routes[0] && ref.invalid != invalid_reason::bad_interval) {
+        for (const oracle_depth depth : {oracle_depth::class_and_signs, oracle_depth::roots_rounded}) {
+            const exact_roots part = solve_exact_roots(g, p, depth);
+            const std::string at = depth == oracle_depth::class_and_signs ? "class_and_signs: " : "roots_rounded: ";
+            check(part.invalid == ref.invalid, at + "invalid differs");
+            if (!part.valid() || !ref.valid()) continue;
+            check(part.cls == ref.cls, at + "class differs");
+            if (ref.cls == line_class::miss) continue;
+            for (root_index i : {root_index::near_root, root_index::far_root}) {
+                const exact_root& mine = i == root_index::near_root ? part.near_root : part.far_root;
+                check(mine.sign == ref.root(i).sign, at + "sign differs");
+                if (depth == oracle_depth::roots_rounded)
+                    check(same_bits(mine.rounded, ref.root(i).rounded),
+                          at + "rounded: " + hex(mine.rounded) + ", reference " + hex(ref.root(i).rounded));
+            }
+        }
+        ++tally.partial;
+    }
     if (ref.valid() && fast.valid()) {
         check(fast.cls == ref.cls, std::string("class: fast ") + line_class_name(fast.cls) + ", reference " +
                                        line_class_name(ref.cls));
@@ -214,8 +236,9 @@ TEST(FastOracleCorpus, IdenticalToReferenceOnEveryShippedFile) {
             compare_case(c.geometry, c.tmin, c.tmax, true, rng, tally);
         }
     }
-    std::printf("corpus: %zu solutions compared (%zu settled by the filter), %zu ULP queries; one case in %zu\n",
-                tally.cases, tally.filter_stage, tally.ulp_queries, test_support::sanitized_stride);
+    std::printf("corpus: %zu solutions compared (%zu settled by the filter), %zu ULP queries, %zu partial answers; "
+                "one case in %zu\n",
+                tally.cases, tally.filter_stage, tally.ulp_queries, tally.partial, test_support::sanitized_stride);
     EXPECT_GT(tally.cases, 10000u / test_support::sanitized_stride);
 }
 
@@ -333,6 +356,30 @@ TEST(FastOracleStage, FilterSettlesUniformCases) {
     const int n = 2000;
     for (int i = 0; i < n; ++i) filter += solve_exact(aimed_uniform_case(rng), precision::binary64).stage == oracle_stage::filter;
     EXPECT_GE(filter, n * 99 / 100) << filter << " of " << n;
+}
+
+// The partial answers stop the static filter early: whatever the whole
+// static filter settles, each shallower depth settles too (it answers a
+// prefix of the same questions), and on uniform cases it settles nearly all,
+// so that solve_exact_roots seldom needs a whole solution.
+TEST(FastOracleStage, PartialAnswersEndInTheStaticFilterOnUniformCases) {
+    std::mt19937_64 rng(13);
+    const int n = 2000;
+    int settled[3] = {0, 0, 0};
+    for (int i = 0; i < n; ++i) {
+        const ray_sphere<double> g = aimed_uniform_case(rng);
+        bool deeper_settled = false;
+        for (const oracle_depth depth : {oracle_depth::everything, oracle_depth::roots_rounded,
+                                         oracle_depth::class_and_signs}) {
+            oracle_internal::filtered_case f;
+            const bool ok = oracle_internal::static_filter_case(g, precision::binary64, f, depth);
+            EXPECT_TRUE(ok || !deeper_settled) << "a shallower depth failed where a deeper one settled";
+            deeper_settled = ok;
+            settled[static_cast<int>(depth)] += ok;
+        }
+    }
+    EXPECT_GE(settled[static_cast<int>(oracle_depth::roots_rounded)], n * 99 / 100);
+    EXPECT_GE(settled[static_cast<int>(oracle_depth::class_and_signs)], n * 99 / 100);
 }
 
 // A double's ULP error needs its root to about 2^−150 (the error of a

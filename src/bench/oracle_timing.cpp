@@ -70,19 +70,29 @@ oracle_timing_row time_family(const std::string& family, const prepared& p, cons
             }
         };
     };
+    const auto partial_pass = [&p](oracle_depth depth) {
+        return [&p, depth] {
+            for (const corpus_case& c : p.cases) {
+                exact_roots e = solve_exact_roots(c.geometry, precision::binary64, depth);
+                benchmark::DoNotOptimize(e);
+            }
+        };
+    };
     const auto filter_pass = [&p] {
         for (const corpus_case& c : p.cases) {
             oracle_internal::filtered_case f = oracle_internal::filter_case(c.geometry, precision::binary64);
             benchmark::DoNotOptimize(f);
         }
     };
-    const auto static_pass = [&p] {
-        for (const corpus_case& c : p.cases) {
-            oracle_internal::filtered_case f;
-            const bool settled = oracle_internal::static_filter_case(c.geometry, precision::binary64, f);
-            benchmark::DoNotOptimize(settled);
-            benchmark::DoNotOptimize(f);
-        }
+    const auto static_pass = [&p](oracle_depth depth) {
+        return [&p, depth] {
+            for (const corpus_case& c : p.cases) {
+                oracle_internal::filtered_case f;
+                const bool settled = oracle_internal::static_filter_case(c.geometry, precision::binary64, f, depth);
+                benchmark::DoNotOptimize(settled);
+                benchmark::DoNotOptimize(f);
+            }
+        };
     };
     const auto algebraic_pass = [&p] {
         for (const corpus_case& c : p.cases) {
@@ -90,17 +100,28 @@ oracle_timing_row time_family(const std::string& family, const prepared& p, cons
             benchmark::DoNotOptimize(a);
         }
     };
-    // One repetition of each benchmark at a time, the six back to back.
+    // One repetition of each benchmark at a time, the nine back to back.
     oracle_timing_options once = options;
     once.repetitions = 1;
     std::vector<double> naive, fast, reference, algebraic, filter, fast_ratio, reference_ratio, algebraic_ratio,
-        filter_ratio, static_filter, static_ratio;
+        filter_ratio, static_filter, static_ratio, partial_class, class_ratio, partial_roots, roots_ratio,
+        static_class_ratio;
     for (int r = 0; r < options.repetitions; ++r) {
         naive.push_back(time_naive(p.inputs, once, family));
-        static_filter.push_back(median_ns("static_filter_case/" + family, row.cases, static_pass, once));
+        static_filter.push_back(
+            median_ns("static_filter_case/" + family, row.cases, static_pass(oracle_depth::everything), once));
         static_ratio.push_back(static_filter.back() / naive.back());
         filter.push_back(median_ns("filter_case/" + family, row.cases, filter_pass, once));
         filter_ratio.push_back(filter.back() / naive.back());
+        partial_class.push_back(median_ns("solve_exact_roots/class_and_signs/" + family, row.cases,
+                                          partial_pass(oracle_depth::class_and_signs), once));
+        class_ratio.push_back(partial_class.back() / naive.back());
+        static_class_ratio.push_back(median_ns("static_filter_case/class_and_signs/" + family, row.cases,
+                                               static_pass(oracle_depth::class_and_signs), once) /
+                                     naive.back());
+        partial_roots.push_back(median_ns("solve_exact_roots/roots_rounded/" + family, row.cases,
+                                          partial_pass(oracle_depth::roots_rounded), once));
+        roots_ratio.push_back(partial_roots.back() / naive.back());
         fast.push_back(median_ns("solve_exact/" + family, row.cases, oracle_pass(&solve_exact), once));
         reference.push_back(
             median_ns("solve_exact_reference/" + family, row.cases, oracle_pass(&solve_exact_reference), once));
@@ -118,6 +139,11 @@ oracle_timing_row time_family(const std::string& family, const prepared& p, cons
     row.algebraic_over_fast = median_of(algebraic_ratio);
     row.filter_ns = median_of(filter);
     row.filter_over_naive = median_of(filter_ratio);
+    row.class_ns = median_of(partial_class);
+    row.class_over_naive = median_of(class_ratio);
+    row.roots_ns = median_of(partial_roots);
+    row.roots_over_naive = median_of(roots_ratio);
+    row.static_class_over_naive = median_of(static_class_ratio);
     row.static_ns = median_of(static_filter);
     row.static_over_naive = median_of(static_ratio);
     std::size_t settled = 0;
@@ -178,20 +204,25 @@ oracle_timing time_oracle(const std::vector<corpus_case>& cases, const oracle_ti
 
 std::string format_oracle_timing(const oracle_timing& t) {
     std::string out =
-        fmt::format("{:<20} {:>6} {:>9} {:>10} {:>13} {:>13} {:>12} {:>10} {:>10} {:>13} {:>8} {:>13} {:>10} {:>9}\n",
-                    "family", "cases", "naive_ns", "oracle_ns", "reference_ns", "algebraic_ns", "oracle/naive",
-                    "ref/oracle", "alg/oracle", "static/naive", "static", "filter/naive", "fallback64", "fallback32");
+        fmt::format("{:<20} {:>6} {:>9} {:>10} {:>13} {:>13} {:>12} {:>12} {:>12} {:>10} {:>10} {:>13} {:>8} {:>13} "
+                    "{:>10} {:>9}\n",
+                    "family", "cases", "naive_ns", "oracle_ns", "reference_ns", "algebraic_ns", "class/naive",
+                    "roots/naive", "oracle/naive", "ref/oracle", "alg/oracle", "static/naive", "static",
+                    "filter/naive", "fallback64", "fallback32");
     const auto line = [&out](const oracle_timing_row& r) {
-        out += fmt::format("{:<20} {:>6} {:>9.2f} {:>10.1f} {:>13.1f} {:>13.1f} {:>11.1f}x {:>9.1f}x {:>9.1f}x {:>12.1f}x "
-                           "{:>7.1f}% {:>12.1f}x {:>9.2f}% {:>8.2f}%\n",
-                           r.family, r.cases, r.naive_ns, r.fast_ns, r.reference_ns, r.algebraic_ns, r.fast_over_naive,
+        out += fmt::format("{:<20} {:>6} {:>9.2f} {:>10.1f} {:>13.1f} {:>13.1f} {:>11.1f}x {:>11.1f}x {:>11.1f}x "
+                           "{:>9.1f}x {:>9.1f}x {:>12.1f}x {:>7.1f}% {:>12.1f}x {:>9.2f}% {:>8.2f}%\n",
+                           r.family, r.cases, r.naive_ns, r.fast_ns, r.reference_ns, r.algebraic_ns,
+                           r.class_over_naive, r.roots_over_naive, r.fast_over_naive,
                            r.reference_over_fast, r.algebraic_over_fast, r.static_over_naive, 100 * r.static_share,
                            r.filter_over_naive, 100 * r.fallback_double, 100 * r.fallback_float);
     };
     for (const oracle_timing_row& r : t.families) line(r);
     line(t.all);
-    out += fmt::format("ns per case, CPU time, median of {} repetitions (ratios: medians of each repetition's, the six "
-                       "timed back to back); oracle = solve_exact (filtered), reference = "
+    out += fmt::format("ns per case, CPU time, median of {} repetitions (ratios: medians of each repetition's, the "
+                       "nine timed back to back); class = solve_exact_roots answering the class and the roots' "
+                       "signs alone, roots = the same with both roots correctly rounded (oracle_depth; no interval, "
+                       "no hit point, no state kept); oracle = solve_exact (filtered): everything, reference = "
                        "solve_exact_reference, algebraic = solve_algebraic (CGAL::Sqrt_extension), all on the double "
                        "inputs with the case's interval; static = the static filter alone "
                        "(oracle_internal::static_filter_case: the first stage of solve_exact, plain double with "
@@ -207,10 +238,39 @@ std::string format_oracle_timing(const oracle_timing& t) {
                            met ? "met" : "MISSED");
         return met;
     };
+    // The partial answers, on the ordinary families: what the class and signs
+    // cost, and what rounding both roots adds.
+    constexpr double class_limit = 5.0, roots_limit = 10.0;
+    for (const oracle_timing_row& r : t.families) {
+        if (r.family != "uniform" && r.family != "far_sphere") continue;
+        if (!target(fmt::format("oracle class and signs / naive, {}", r.family), r.class_over_naive, class_limit, true))
+            out += fmt::format("      needs {:.1f}x of {:.1f}x gone ({:.0f}%); the static filter stopped after the "
+                               "class and signs takes {:.1f}x (a, b', C and Lagrange's Δ' in plain double with "
+                               "their a-priori bounds, √Δ' and q, where naive computes a, b', C and b'² - aC "
+                               "unbounded), the rest {:.1f}x (the case's validity check, the IEEE environment's "
+                               "restore, the result): meeting it needs {}\n",
+                               r.class_over_naive - class_limit, r.class_over_naive,
+                               100 * (r.class_over_naive - class_limit) / r.class_over_naive,
+                               r.static_class_over_naive, r.class_over_naive - r.static_class_over_naive,
+                               r.static_class_over_naive > class_limit
+                                   ? "a sign from fewer products than Lagrange's identity (b'² - aC with a bound "
+                                     "that holds where it does not cancel, Δ' only where it does), not only less "
+                                     "around it"
+                                   : "less around the filter: the validity check and the environment's restore "
+                                     "done once per batch of cases, not per case");
+        if (!target(fmt::format("oracle roots rounded / naive, {}", r.family), r.roots_over_naive, roots_limit, true))
+            out += fmt::format("      needs {:.1f}x of {:.1f}x gone ({:.0f}%); the class and signs take {:.1f}x, "
+                               "rounding both roots {:.1f}x more (a Newton step each, its residual from error-free "
+                               "products, and the rounding of its enclosure): meeting it needs a root rounded from "
+                               "one correction cheaper than that step, or only the root a question asks for\n",
+                               r.roots_over_naive - roots_limit, r.roots_over_naive,
+                               100 * (r.roots_over_naive - roots_limit) / r.roots_over_naive, r.class_over_naive,
+                               r.roots_over_naive - r.class_over_naive);
+    }
     for (const oracle_timing_row& r : t.families) {
         const bool ordinary = r.family == "uniform" || r.family == "far_sphere";
         const double limit = ordinary ? 10.0 : 100.0;
-        if (target(fmt::format("oracle / naive double, {}", r.family), r.fast_over_naive, limit, true)) continue;
+        if (target(fmt::format("oracle everything / naive, {}", r.family), r.fast_over_naive, limit, true)) continue;
         out += fmt::format("      needs {:.1f}x of {:.1f}x gone ({:.0f}%); ", r.fast_over_naive - limit,
                            r.fast_over_naive, 100 * (r.fast_over_naive - limit) / r.fast_over_naive);
         if (r.static_share >= 0.5 && r.static_over_naive > limit)

@@ -749,6 +749,35 @@ exact_solution solve_exact(const ray_sphere<double>& g, precision prec, std::opt
     return solution;
 }
 
+exact_roots solve_exact_roots(const ray_sphere<double>& g, precision prec, oracle_depth depth) {
+    restore_ieee_default();  // as solve_exact: the filters' bounds assume the IEEE default
+    exact_roots out;
+    out.invalid = check_case(g, std::nullopt, std::nullopt);
+    if (!out.valid()) return out;
+    oracle_internal::filtered_case filter;
+    if (depth != oracle_depth::everything && oracle_internal::static_filter_case(g, prec, filter, depth)) {
+        ++oracle_stage_counts_this_thread().solutions.filter;
+        if (*filter.discriminant_sign < 0) return out;
+        out.cls = line_class::two_hit;  // the static filter certifies no tangent
+        out.near_root.sign = *filter.sign[0];
+        out.far_root.sign = *filter.sign[1];
+        if (depth == oracle_depth::roots_rounded) {
+            out.near_root.rounded = *filter.rounded[0];
+            out.far_root.rounded = *filter.rounded[1];
+        }
+        return out;
+    }
+    // What the static filter cannot certify (or everything): the whole solution's answer.
+    const exact_solution whole = solve_exact(g, prec);
+    out.invalid = whole.invalid;
+    out.cls = whole.cls;
+    if (whole.cls == line_class::miss) return out;
+    out.near_root = whole.near_root;
+    out.far_root = whole.far_root;
+    if (depth == oracle_depth::class_and_signs) out.near_root.rounded = out.far_root.rounded = 0;
+    return out;
+}
+
 namespace {
 
 // The segment from p0 to p1 as the ray o = p0, d = p1 − p0, the difference

@@ -186,6 +186,32 @@ private:
     mutable std::shared_ptr<const oracle_internal::exact_quadratic> exact_;
 };
 
+// How much of a case's exact answer a question needs: the class and each
+// root's sign (where a ray meets the sphere, and which roots lie in front),
+// those and each root correctly rounded, or everything solve_exact answers.
+enum class oracle_depth { class_and_signs, roots_rounded, everything };
+
+// The class and roots of a case, with nothing kept beyond them: no
+// enclosures, no hit point, no state for later questions (40 bytes against
+// exact_solution's 824, GCC 12 on x86-64). `rounded` is set at oracle_depth::roots_rounded
+// only (0 at class_and_signs); both roots equal for a tangent, nothing for a
+// miss.
+struct exact_roots {
+    invalid_reason invalid = invalid_reason::none;
+    line_class cls = line_class::miss;
+    exact_root near_root, far_root;
+    bool valid() const { return invalid == invalid_reason::none; }
+};
+
+// The case's class and root signs (class_and_signs), or those and the
+// correctly rounded roots (roots_rounded), exactly: the static filter
+// answers where its bounds certify everything asked, which for ordinary
+// cases is all of them; otherwise solve_exact does (the same values: the
+// tests require them equal to solve_exact's). `everything` is solve_exact's
+// whole answer, of which this returns the same fields. `geometry` as for
+// solve_exact (for a float variant: the inputs rounded to float).
+exact_roots solve_exact_roots(const ray_sphere<double>& geometry, precision prec, oracle_depth depth);
+
 // Solve one case exactly. `geometry` must hold exactly the values the variant
 // receives (for a float variant: the inputs already rounded to float). Never
 // throws for bad geometry: an invalid case comes back with `invalid` set. A

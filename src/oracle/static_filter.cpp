@@ -166,7 +166,8 @@ enclosure hit_enclosure(double o, double d, const enclosure& t) {
 
 }  // namespace
 
-RAYVERIFY_CLONED_FOR_FMA bool static_filter_case(const ray_sphere<double>& g, precision prec, filtered_case& out) {
+RAYVERIFY_CLONED_FOR_FMA bool static_filter_case(const ray_sphere<double>& g, precision prec, filtered_case& out,
+                                                  oracle_depth depth) {
     const double o[3] = {g.origin.x, g.origin.y, g.origin.z};
     const double d[3] = {g.direction.x, g.direction.y, g.direction.z};
     const double c[3] = {g.centre.x, g.centre.y, g.centre.z};
@@ -264,6 +265,7 @@ RAYVERIFY_CLONED_FOR_FMA bool static_filter_case(const ray_sphere<double>& g, pr
     const int sign_c = (C > 0 ? 1 : -1) * sign_q;
     out.sign[0] = positive_b ? sign_q : sign_c;
     out.sign[1] = positive_b ? sign_c : sign_q;
+    if (depth == oracle_depth::class_and_signs) return true;
 
     // Each root corrected once and rounded from its enclosure.
     const dword r_squared = two_prod(r, r);
@@ -278,6 +280,7 @@ RAYVERIFY_CLONED_FOR_FMA bool static_filter_case(const ray_sphere<double>& g, pr
         if (!out.rounded[k]) out.rounded[k] = round_enclosure(prec, out.roots[k], out.sign[k]);
         if (!out.rounded[k]) return false;
     }
+    if (depth == oracle_depth::roots_rounded) return true;
 
     // The front root's hit point: o exactly where d's coordinate is 0 (RN(0)
     // is +0), else from the coordinate's enclosure; a coordinate that does

@@ -20,6 +20,7 @@
 
 #include "core/ray_sphere_case.h"
 #include "oracle/filter.h"
+#include "oracle/oracle.h"
 
 namespace rayverify::oracle_internal {
 
@@ -33,6 +34,11 @@ namespace rayverify::oracle_internal {
 // the caller must discard (the double-word filter then fills a fresh one).
 // Written in place rather than returned: building and copying the result
 // cost a fifth of the whole stage.
-bool static_filter_case(const ray_sphere<double>& g, precision prec, filtered_case& out);
+// `depth`: how much it must settle before it answers true: the class and
+// the roots' signs (class_and_signs; roots, roundings and hit point left
+// unset), those and the rounded roots (roots_rounded; no hit point), or all
+// of the above (everything).
+bool static_filter_case(const ray_sphere<double>& g, precision prec, filtered_case& out,
+                        oracle_depth depth = oracle_depth::everything);
 
 }  // namespace rayverify::oracle_internal

@@ -237,9 +237,9 @@ testing::AssertionResult agree(const ray_sphere<double>& g, precision p, std::op
                                                                                : 1;
             check(alg.nearest_in_front.value_or(-1) == front, "nearest_in_front differs");
             for (int axis = 0; axis < 3; ++axis)
-                check(same_bits(alg.hit_point[axis], ref.hit_point[axis]),
+                check(same_bits(alg.hit_point[axis], ref.hit_point()[axis]),
                       "hit_point[" + std::to_string(axis) + "]: algebraic " + hex_float(alg.hit_point[axis]) +
-                          ", oracle " + hex_float(ref.hit_point[axis]));
+                          ", oracle " + hex_float(ref.hit_point()[axis]));
             bounds_agree(alg, tmin, tmax);
             // Each root against its own rounding and the other's.
             const double lo = ref.near_root.rounded, hi = ref.far_root.rounded;

@@ -90,7 +90,7 @@ TEST(ContractLint, RightPointsBesideWrongTGetThePointAnswerHint) {
             const double t = 2 * exact.root(*exact.nearest_in_front).rounded;
             output.roots = {1, t, t};
             output.hit_root = 0;
-            output.hit_point = exact.hit_point;
+            output.hit_point = exact.hit_point();
             ++hits;
         }
         const case_score score = judge_output(declared, output, exact, range, c.geometry);

@@ -109,7 +109,7 @@ TEST(SegmentOracle, AnEndOnTheSphereIsARootExactly) {
     EXPECT_EQ(s.near_root.rounded, 1.0);
     EXPECT_EQ(s.far_root.rounded, 2.0);
     EXPECT_EQ(s.compare_to_root(1.0, root_index::near_root), comparison::equal);
-    EXPECT_EQ(s.hit_point, (vec3<double>{-1, 0, 0}));
+    EXPECT_EQ(s.hit_point(), (vec3<double>{-1, 0, 0}));
 }
 
 TEST(SegmentOracle, TheDirectionIsTheEndsExactDifference) {
@@ -167,7 +167,7 @@ TEST(SegmentOracle, BothRoutesAgreeOnRandomSegments) {
                     EXPECT_EQ(fast.compare_to_root(v, i), slow.compare_to_root(v, i)) << k << " at " << v;
                 EXPECT_EQ(fast.root_ulp_error(i, 0.5), slow.root_ulp_error(i, 0.5)) << k;
             }
-            EXPECT_EQ(fast.hit_point, slow.hit_point) << k;
+            EXPECT_EQ(fast.hit_point(), slow.hit_point()) << k;
         }
     }
     EXPECT_GT(inexact, 100) << "most random ends' differences are no doubles: the exact route was exercised";

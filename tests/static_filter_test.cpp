@@ -162,9 +162,9 @@ testing::AssertionResult certified_answers_are_exact(const ray_sphere<double>& g
         check(quick->sign[0] && quick->sign[1], "signs not both certified");
         if (ref.nearest_in_front) {
             for (int axis = 0; axis < 3; ++axis)
-                check(quick->hit[axis] && same_bits(*quick->hit[axis], ref.hit_point[axis]),
+                check(quick->hit[axis] && same_bits(*quick->hit[axis], ref.hit_point()[axis]),
                       "hit_point[" + std::to_string(axis) + "]: static " +
-                          (quick->hit[axis] ? hex_float(*quick->hit[axis]) : "-") + ", exact " + hex_float(ref.hit_point[axis]));
+                          (quick->hit[axis] ? hex_float(*quick->hit[axis]) : "-") + ", exact " + hex_float(ref.hit_point()[axis]));
         }
     }
     if (why.str().empty()) return testing::AssertionSuccess();

@@ -36,9 +36,9 @@ struct oracle_timing_row {
     double static_class_over_naive = 0;
     double reference_ns = 0;  // solve_exact_reference, same inputs
     double algebraic_ns = 0;  // solve_algebraic, same inputs
-    // The static filter alone (oracle_internal::static_filter_case: plain
-    // double with a-priori bounds, one Newton step per root; the first stage
-    // of solve_exact), its ratio to naive (median of each repetition's) and
+    // The static filter alone as solve_exact runs it (oracle_internal::
+    // static_filter_case to the rounded roots: plain double with a-priori
+    // bounds, one Newton step per root; the first stage of solve_exact), its ratio to naive (median of each repetition's) and
     // the share of cases it settles: the least a certified answer of this
     // design costs, and how often that is all it costs.
     double static_ns = 0, static_over_naive = 0, static_share = 0;

@@ -267,12 +267,6 @@ struct exact_solution::internal {
         return std::nullopt;
     }
 
-    // RN of coordinate `axis` of the hit point of root i in precision p.
-    static double rounded_hit(const exact_solution& s, root_index i, int axis, precision p) {
-        if (const std::optional<double> r = round_hit_coordinate(p, s.geometry_, root_enclosure(s, i), axis)) return *r;
-        return round_in(p, s.state().hit_coordinate(i, axis));
-    }
-
     static comparison compare_roots(const exact_solution& a, root_index i, const exact_solution& b, root_index j) {
         return settle(
             oracle_stage_counts_this_thread().comparisons,
@@ -311,20 +305,12 @@ struct exact_solution::internal {
         solution.nearest_in_front = nearest_root_in_front(solution.near_root.sign, solution.far_root.sign);
 
         solution.exact_ = std::move(state);
-        if (solution.nearest_in_front) {
-            const root_index front = *solution.nearest_in_front;
-            const auto coordinate = [&](int axis) {
-                return round_in(prec, solution.exact_->hit_coordinate(front, axis));
-            };
-            solution.hit_point = {coordinate(0), coordinate(1), coordinate(2)};
-        }
         return solution;
     }
 
     // A tangent (Δ′ = 0, decided with an expansion): the root −b′/a enclosed,
-    // signed and rounded in double-words, and the hit point (a coordinate its
-    // enclosure cannot round, such as an exact 0, from the exact state);
-    // false (the exact route) when the root's enclosure cannot be rounded (a tie).
+    // signed and rounded in double-words; false (the exact route) when the
+    // root's enclosure cannot be rounded (a tie).
     static bool settle_tangent(exact_solution& solution) {
         const exact_coefficients& k = coefficients(solution);
         solution.cls = line_class::tangent;
@@ -342,13 +328,7 @@ struct exact_solution::internal {
         solution.roots_[0] = solution.roots_[1] = t;
         solution.near_root = solution.far_root = root;
         solution.nearest_in_front = nearest_root_in_front(root.sign, root.sign);
-        if (solution.nearest_in_front) {
-            const root_index front = *solution.nearest_in_front;
-            const auto coordinate = [&](int axis) { return rounded_hit(solution, front, axis, solution.prec); };
-            solution.hit_point = {coordinate(0), coordinate(1), coordinate(2)};
-        }
-        // A coordinate its enclosure could not round needed the exact state.
-        solution.stage = solution.exact_ ? oracle_stage::exact : oracle_stage::expansion;
+        solution.stage = oracle_stage::expansion;
         return true;
     }
 
@@ -365,7 +345,8 @@ struct exact_solution::internal {
         // The static filter first (plain double, a-priori bounds), then the
         // double-word filter when a static bound straddles a decision.
         filtered_case filter;
-        if (unit_direction || !static_filter_case(g, prec, filter))
+        // No hit point: rounded when asked (hit_point, rounded_hit_coordinate).
+        if (unit_direction || !static_filter_case(g, prec, filter, oracle_depth::roots_rounded))
             filter = filter_case(g, prec, std::nullopt, unit_direction);
         bool expanded = false;
         if (!filter.discriminant_sign) {
@@ -440,14 +421,6 @@ struct exact_solution::internal {
             out.rounded = filter.rounded[k] ? *filter.rounded[k] : round_in(prec, solution.state().root(i));
         }
         solution.nearest_in_front = nearest_root_in_front(solution.near_root.sign, solution.far_root.sign);
-
-        if (solution.nearest_in_front) {
-            const root_index front = *solution.nearest_in_front;
-            const auto coordinate = [&](int axis) {
-                return filter.hit[axis] ? *filter.hit[axis] : rounded_hit(solution, front, axis, prec);
-            };
-            solution.hit_point = {coordinate(0), coordinate(1), coordinate(2)};
-        }
         // Exact arithmetic ran iff the exact state was needed.
         solution.stage = solution.exact_                  ? oracle_stage::exact
                          : zero_root >= 0 || expanded ? oracle_stage::expansion
@@ -585,6 +558,12 @@ double exact_solution::hit_point_ulp_error(root_index i, int axis, double value)
 
 double exact_solution::rounded_hit_coordinate(root_index i, int axis) const {
     return hit_coordinate_in(i, axis, prec);
+}
+
+vec3<double> exact_solution::hit_point() const {
+    if (!nearest_in_front) return {};
+    const root_index front = *nearest_in_front;
+    return {rounded_hit_coordinate(front, 0), rounded_hit_coordinate(front, 1), rounded_hit_coordinate(front, 2)};
 }
 
 double exact_solution::hit_coordinate_in(root_index i, int axis, precision p) const {

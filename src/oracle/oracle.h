@@ -62,9 +62,8 @@ public:
     exact_root near_root;  // the smaller root; equals far_root for a tangent
     exact_root far_root;
 
-    // The nearest root with t > 0, and o + t·d rounded per coordinate.
+    // The nearest root with t > 0.
     std::optional<root_index> nearest_in_front;
-    vec3<double> hit_point{};
 
     // The deepest stage this answer needed; its rate per family measures how stiff the family is.
     oracle_stage stage = oracle_stage::exact;
@@ -117,6 +116,11 @@ public:
 
     // RN of coordinate `axis` of o + t·d for root i, in the solution's precision.
     double rounded_hit_coordinate(root_index i, int axis) const;
+    // The nearest root in front's hit point, o + t·d rounded per coordinate
+    // (rounded_hit_coordinate of nearest_in_front's root), formed when asked:
+    // solving rounds no hit point, since only the per-case lines' exact
+    // block, explain and scenes read one. (0, 0, 0) when no root is in front.
+    vec3<double> hit_point() const;
 
     // compare(value, p*), p* coordinate `axis` of o + t·d for root i; value
     // finite. Requires cls != miss.

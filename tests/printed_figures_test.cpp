@@ -103,6 +103,34 @@ TEST(PrintedFigures, AgreeWithPrintfOnRandomDoublesOfEveryBinade) {
     }
 }
 
+// Where printed_figure rounds without a decimal conversion (figures from
+// about 1e-19 to 1e25): decimal ties and their neighbours a few ulps away,
+// and doubles spread over the range, against printf.
+TEST(PrintedFigures, AgreeWithPrintfAtDecimalTiesAcrossTheFastRange) {
+    const std::uint64_t seed = std::random_device{}();
+    std::printf("seed %llu\n", static_cast<unsigned long long>(seed));
+    SCOPED_TRACE(testing::Message() << "seed " << seed);
+    std::mt19937_64 random(seed);
+    std::vector<double> values;
+    for (int i = 0; i < 50000; ++i) {
+        // (n + 0.5)·10^e, n of four digits: the tie between n and n + 1 at that scale.
+        const long n = 1000 + static_cast<long>(random() % 9000);
+        const int e = static_cast<int>(random() % 48) - 24;
+        char tie[40];
+        std::snprintf(tie, sizeof tie, "%ld5e%d", n, e - 1);
+        double x = std::strtod(tie, nullptr);
+        for (int step = 0; step < 3; ++step) x = std::nextafter(x, 0.0);
+        for (int step = 0; step < 7; ++step, x = std::nextafter(x, HUGE_VAL)) values.push_back(x);
+        values.push_back(std::exp(std::uniform_real_distribution<double>(-46, 60)(random)));
+    }
+    for (const double x : values) {
+        char text[64];
+        std::snprintf(text, sizeof text, "%.3e", x);
+        ASSERT_EQ(printed_figure(x), std::strtod(text, nullptr)) << text << " from " << std::hexfloat << x;
+        ASSERT_EQ(printed_figure(-x), -std::strtod(text, nullptr)) << text;
+    }
+}
+
 // The figures of one audited case, with the names per-case lines give them,
 // from the judge's exact scores.
 void expect_line_figures_printed(const audited_case& audited, const std::vector<audit_target>& targets,

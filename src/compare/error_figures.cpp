@@ -4,6 +4,7 @@
 // double nearest that decimal.
 #include "compare/error_figures.h"
 
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <system_error>
@@ -12,8 +13,58 @@
 
 namespace rayverify {
 
+namespace {
+
+// 10^k for k in [0, 22], each exactly a double.
+constexpr double exact_power_of_ten(int k) {
+    double p = 1;
+    for (int i = 0; i < k; ++i) p *= 10;
+    return p;
+}
+constexpr std::array<double, 23> powers_of_ten = [] {
+    std::array<double, 23> out{};
+    for (int k = 0; k < 23; ++k) out[k] = exact_power_of_ten(k);
+    return out;
+}();
+
+// printed_figure without a decimal conversion where that is safe: x scaled
+// by an exact power of ten to m in [1000, 10000) (one rounding, relative
+// error ≤ 2^−53), m rounded to the integer n when m lies farther than
+// 2^−40·m from every half-integer (so that the exact x·10^k rounds to n
+// too), and n·10^−k formed by one multiplication or division of exact
+// doubles (correctly rounded: the double nearest the decimal). nullopt
+// where a scale beyond 10^22 is needed or m lies that near a tie.
+std::optional<double> printed_without_conversion(double x) {
+    const double magnitude = std::fabs(x);
+    // The decimal exponent from the binary one (log10(2)·e, within one of
+    // floor(log10(x))), put right by the loop.
+    constexpr double log10_of_2 = 0.30102999566398120;
+    int k = figure_significant_digits - 1 - static_cast<int>(std::floor(std::ilogb(magnitude) * log10_of_2));
+    for (int attempt = 0; attempt < 3; ++attempt) {
+        if (k < -22 || k > 22) return std::nullopt;
+        const double m = k >= 0 ? magnitude * powers_of_ten[k] : magnitude / powers_of_ten[-k];
+        if (m < 1000) {
+            ++k;
+            continue;
+        }
+        if (m >= 10000) {
+            --k;
+            continue;
+        }
+        const double n = std::floor(m + 0.5);
+        if (std::fabs(std::fabs(m - std::floor(m)) - 0.5) <= 0x1p-40 * m) return std::nullopt;
+        const double rounded = k >= 0 ? n / powers_of_ten[k] : n * powers_of_ten[-k];
+        return std::copysign(rounded, x);
+    }
+    return std::nullopt;
+}
+
+}  // namespace
+
 double printed_figure(double x) {
     if (!std::isfinite(x) || x == 0) return x;
+    // A figure of 10000 after rounding (m = 9999.6) is 1.000e4, as the decimal conversion gives.
+    if (const std::optional<double> fast = printed_without_conversion(x)) return *fast;
     char text[32];
     const std::to_chars_result written =
         std::to_chars(text, text + sizeof text, x, std::chars_format::scientific, figure_significant_digits - 1);

@@ -14,8 +14,14 @@ char* json_number_text(char* out, double x) {
     char* const end = std::fabs(x) >= 1e16 ? std::to_chars(out, out + 25, x, std::chars_format::scientific).ptr
                                            : std::to_chars(out, out + 25, x).ptr;
     // An integer's text ("2", "-120") gets ".0", as nlohmann writes a double that
-    // is an integer, so that a reader sees a floating-point number.
+    // is an integer, so that a reader sees a floating-point number; where the
+    // scientific form is shorter than that (7.39079152912e+15), it instead.
     if (std::find_if(out, end, [](char c) { return c == '.' || c == 'e' || c == 'n' || c == 'i'; }) == end) {
+        char scientific[32];
+        char* const scientific_end = std::to_chars(scientific, scientific + sizeof scientific, x,
+                                                   std::chars_format::scientific).ptr;
+        if (scientific_end - scientific < end - out + 2)
+            return std::copy(scientific, scientific_end, out);
         std::memcpy(end, ".0", 2);
         return end + 2;
     }

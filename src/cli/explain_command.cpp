@@ -101,9 +101,6 @@ void print_exact(const char* label, const exact_solution& e) {
                    e.rounded_hit_coordinate(i, 1), e.rounded_hit_coordinate(i, 2));
 }
 
-// An error figure as explain prints it, like every report (error_figures.h), or "-".
-std::string figure_text(const std::optional<double>& x) { return x ? format_figure(*x) : std::string("-"); }
-
 // What a variant gave beside t (contract::outputs) and how it measured.
 void print_outputs(const target_outcome& o) {
     const variant_output& out = o.output;
@@ -126,7 +123,7 @@ void print_outputs(const target_outcome& o) {
                    s.normal_angle ? fmt::format(", {} rad from the exact normal", format_figure(*s.normal_angle)) : std::string());
     if (s.scale_error_radius)
         fmt::print("    |t − t*|·|d| = {} r = {} |o − c|\n", format_figure(*s.scale_error_radius),
-                   figure_text(s.scale_error_distance));
+                   format_figure(s.scale_error_distance));
 }
 
 std::string step_number(double x) {
@@ -252,8 +249,8 @@ int run(const explain_options& options) {
         fmt::print("{:<26} {:<18} {:<20} {:>5} {:>24} {:>24} {:>10} {:>10}\n", targets[i].label(),
                    verdict_name(o.score.verdict), o.score.cause ? cause_name(*o.score.cause) : "-",
                    ran ? std::to_string(r.count) : "-", shows_t0 ? fmt::format("{}", r.t0) : "-",
-                   shows_t1 ? fmt::format("{}", r.t1) : "-", figure_text(o.score.near_ulp),
-                   figure_text(o.score.far_ulp));
+                   shows_t1 ? fmt::format("{}", r.t1) : "-", format_figure(o.score.near_ulp),
+                   format_figure(o.score.far_ulp));
         if (ran) fmt::print("    contract: {}\n", describe_contract(promises));
         if (ran && !targets[i].subject.build.empty()) fmt::print("    build: {}\n", targets[i].subject.build);
         if (ran) print_outputs(o);

@@ -26,8 +26,6 @@ struct recommend_options {
     double min_time = 0.01;
 };
 
-std::string ulp_text(const std::optional<double>& ulp) { return ulp ? format_figure(*ulp) : "-"; }
-
 void print_kind(const bench::kind_recommendation& k, const bench::recommend_budget& budget) {
     fmt::print("\n{} rays ({} rays, query {}):\n", ray_kind_name(k.kind), k.rays, ray_query_name(k.query));
     fmt::print("  {:<26} {:>9} {:>17} {:>6} {:>7} {:>6} {:>9}  {}\n", "variant", "ns/ray", "(min..max)", "wrong",
@@ -38,7 +36,7 @@ void print_kind(const bench::kind_recommendation& k, const bench::recommend_budg
         const char* mark = k.winner == i ? "  <- recommended" : (k.runner_up == i ? "  <- runner-up" : "");
         fmt::print("  {:<26} {:>9.2f} {:>17} {:>6} {:>7} {:>6} {:>9}  {}{}\n", c.variant, c.ns_per_ray,
                    fmt::format("({:.2f}..{:.2f})", c.ns_min, c.ns_max), c.wrong, c.false_miss, c.false_hit,
-                   ulp_text(c.max_ulp), c.verdict, mark);
+                   format_figure(c.max_ulp), c.verdict, mark);
     }
     for (const bench::recommend_candidate& c : k.candidates)
         if (c.not_applicable) fmt::print("  not applicable: {}: {}\n", c.variant, *c.not_applicable);
@@ -49,7 +47,7 @@ void print_kind(const bench::kind_recommendation& k, const bench::recommend_budg
     }
     const bench::recommend_candidate& w = k.candidates[*k.winner];
     fmt::print("  recommended for {} rays: {} — {:.2f} ns/ray, {} wrong of {}, max root error {} ulp{}\n",
-               ray_kind_name(k.kind), w.variant, w.ns_per_ray, w.wrong, w.rays, ulp_text(w.max_ulp),
+               ray_kind_name(k.kind), w.variant, w.ns_per_ray, w.wrong, w.rays, format_figure(w.max_ulp),
                w.exact_decisions ? "; its decisions are exact for every input (robust_sphere.h)" : "");
     // Why the cheaper ones lost.
     for (std::size_t i = 0; i < *k.winner; ++i) {
@@ -62,7 +60,7 @@ void print_kind(const bench::kind_recommendation& k, const bench::recommend_budg
     if (k.runner_up) {
         const bench::recommend_candidate& r = k.candidates[*k.runner_up];
         fmt::print("    runner-up: {} — {:.2f} ns/ray ({:.2f}× the recommended), {} wrong, max root error {} ulp\n",
-                   r.variant, r.ns_per_ray, r.ns_per_ray / w.ns_per_ray, r.wrong, ulp_text(r.max_ulp));
+                   r.variant, r.ns_per_ray, r.ns_per_ray / w.ns_per_ray, r.wrong, format_figure(r.max_ulp));
     } else {
         fmt::print("    runner-up: none (no other variant meets the budget)\n");
     }

@@ -1,7 +1,8 @@
 // How an error figure is printed (error_figures.h): correctly rounded to
-// figure_significant_digits digits. std::to_chars with a precision rounds the
-// double's exact value as printf does (ties to even); from_chars returns the
-// double nearest that decimal.
+// figure_significant_digits digits. Where an exact power of ten scales it to
+// four integer digits away from a tie, by arithmetic; elsewhere std::to_chars
+// with a precision rounds the double's exact value as printf does (ties to
+// even), and from_chars returns the double nearest that decimal.
 #include "compare/error_figures.h"
 
 #include <array>
@@ -63,7 +64,6 @@ std::optional<double> printed_without_conversion(double x) {
 
 double printed_figure(double x) {
     if (!std::isfinite(x) || x == 0) return x;
-    // A figure of 10000 after rounding (m = 9999.6) is 1.000e4, as the decimal conversion gives.
     if (const std::optional<double> fast = printed_without_conversion(x)) return *fast;
     char text[32];
     const std::to_chars_result written =
@@ -76,6 +76,8 @@ double printed_figure(double x) {
 std::optional<double> printed_figure(const std::optional<double>& x) {
     return x ? std::optional<double>(printed_figure(*x)) : std::nullopt;
 }
+
+std::string format_figure(const std::optional<double>& x) { return x ? format_figure(*x) : std::string("-"); }
 
 std::string format_figure(double x) {
     if (std::isnan(x)) return "nan";

@@ -38,6 +38,8 @@ std::optional<double> printed_figure(const std::optional<double>& x);
 // The printed figure as text for tables and sentences: "0.1235", "1.235e+04",
 // "0", "inf", "nan".
 std::string format_figure(double x);
+// The same of a figure that may be absent: "-" for none (a table's cell).
+std::string format_figure(const std::optional<double>& x);
 // The rule above in one sentence, as reports state it.
 std::string figure_printing_rule();
 

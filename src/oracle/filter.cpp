@@ -235,10 +235,6 @@ filter_case(const ray_sphere<double>& g, precision prec, const std::optional<bou
         out.sign[i] = sign_of(q.roots[i]);
         out.rounded[i] = round_enclosure(prec, q.roots[i], out.sign[i]);
     }
-    if (!out.sign[0] || !out.sign[1]) return out;
-    const int front = *out.sign[0] > 0 ? 0 : *out.sign[1] > 0 ? 1 : -1;
-    if (front >= 0)
-        for (int axis = 0; axis < 3; ++axis) out.hit[axis] = round_hit_coordinate(prec, g, q.roots[front], axis);
     return out;
 }
 

@@ -142,11 +142,13 @@ struct filtered_case {
     enclosure roots[2];
     uncertain_sign sign[2];
     std::optional<double> rounded[2];
-    std::optional<double> hit[3];  // the front root's, when both signs are known
+    std::optional<double> hit[3];  // the front root's: static_filter_case at oracle_depth::everything only
 };
 
 // The filter on one case: Δ′'s sign, the roots' enclosures, signs and
-// roundings, and the front root's hit point, as far as the bounds settle them.
+// roundings, as far as the bounds settle them (no hit point: solve_exact
+// rounds none, and rounded_hit_coordinate rounds one from a root's enclosure
+// when asked).
 // `discriminant`, when given, is a tighter enclosure of Δ′ than the filter's
 // own (refinement.h's, from an expansion, for a near-tangent line). With
 // `unit_direction`, a is taken to be 1 (what a unit-direction formula solves).

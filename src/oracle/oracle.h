@@ -268,7 +268,7 @@ struct stage_tally {
     std::uint64_t total() const { return filter + expansion + exact; }
 };
 struct oracle_stage_counts {
-    stage_tally solutions;    // solve_exact: class, root signs, rounded roots and hit point (the deepest stage)
+    stage_tally solutions;    // solve_exact: class, root signs and rounded roots (the deepest stage)
     stage_tally ulp_errors;   // root_ulp_error and hit_point_ulp_error
     stage_tally comparisons;  // a root, the midpoint, Δ′, a hit coordinate or |d|² against a value; two roots
     stage_tally roundings;    // rounded hit coordinates asked for after solving

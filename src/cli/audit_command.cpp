@@ -247,7 +247,7 @@ int run(const audit_options& options, const std::string& command_line) {
             write_shard_state(*state_file, options, context, stream, shard, targets, audited,
                               per_case_location_in_shard, per_case_digest ? &*per_case_digest : nullptr, *report);
     }
-    return publish_audit(totals, report, outputs, options.plots, options.presentation,
+    return publish_audit(totals, std::move(report), outputs, options.plots, options.presentation,
                          render_contract_hints(contract_hints_json(targets, audited.lint.hints())) +
                              render_cases_to_open(cases_to_open_json(targets, audited.examples)));
 }
@@ -321,17 +321,17 @@ void print_libraries(const std::vector<audit_target>& targets) {
     }
 }
 
-int publish_audit(const audit_totals& totals, const std::optional<nlohmann::ordered_json>& report,
+int publish_audit(const audit_totals& totals, std::optional<nlohmann::ordered_json> report,
                   audit_outputs& outputs, bool plots, const audit_presentation& presentation,
                   const std::string& hints) {
     const std::string table = render_summary_table(totals);
     plot_outcome drawn;
+    if (outputs.summary_md != nullptr) outputs.summary_md->stream() << render_summary_markdown(*report);
     if (outputs.report) {
         outputs.summary->stream() << table;
         outputs.table_csv->stream() << audit_table_csv(*report);
-        drawn = outputs.report->write(*report, plots);
+        drawn = outputs.report->write(std::move(*report), plots);
     }
-    if (outputs.summary_md != nullptr) outputs.summary_md->stream() << render_summary_markdown(*report);
     fmt::print("{}", presentation.summary ? render_family_summary(totals) : table);
     fmt::print("{}", hints);
     fmt::print("build: {}\n", build_summary());

@@ -469,7 +469,7 @@ int run(const builds_options& options, const std::string& command_line) {
         report = audit_report_document(audited, totals, context, 1);
         (*report)["builds"] = builds;
     }
-    publish_audit(totals, report, outputs, options.plots, {}, printed);
+    publish_audit(totals, std::move(report), outputs, options.plots, {}, printed);
     if (!options.baseline.empty()) return gate_status;
     bool findings = false;
     for (const build_row& r : rows) findings = findings || r.status == build_row::outcome::failed_in_audit;

@@ -297,7 +297,9 @@ void print_libraries(const std::vector<audit_target>& targets);
 // outputs, and returns
 // exit_findings when any target disagrees with the oracle on some case.
 // `hints`: the contract lint's lines (report/contract_hints.h), printed after the table.
-int publish_audit(const audit_totals& totals, const std::optional<nlohmann::ordered_json>& report,
+// `report` is taken whole (a large document: the plot sample, every target's
+// tallies) and moved into report.json rather than copied.
+int publish_audit(const audit_totals& totals, std::optional<nlohmann::ordered_json> report,
                   audit_outputs& outputs, bool plots, const audit_presentation& presentation = {},
                   const std::string& hints = {});
 

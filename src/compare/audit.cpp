@@ -164,17 +164,31 @@ void error_summary::add(double error, std::size_t index, const std::string& id) 
 
 void error_summary::add_to_bucket(std::uint64_t bucket, std::size_t n) { count_in(bucket, n); }
 
-namespace {
-// Fibonacci hashing: the top bits of key·2^64/φ index a table of 2^bits slots.
-std::size_t slot_of(std::uint64_t key, std::size_t mask) {
-    const int bits = std::countr_zero(mask + 1);
-    return static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> (64 - bits)) & mask;
-}
-}  // namespace
-
 void error_summary::prefetch(double error) const {
-    if (table_.empty() || error == 0) return;
-    __builtin_prefetch(&table_[slot_of(bucket_of(error), table_.size() - 1)], 1);
+    const std::uint64_t bucket = bucket_of(error);
+    if (bucket == 0) return;
+    const auto binade = static_cast<std::uint32_t>((bucket - 1) >> resolution_bits);
+    if (binade < first_binade_ || binade - first_binade_ >= block_of_.size()) return;
+    const std::uint32_t block = block_of_[binade - first_binade_];
+    if (block != no_block) __builtin_prefetch(&counts_[block * block_size + ((bucket - 1) & (block_size - 1))], 1);
+}
+
+std::uint64_t* error_summary::block_for(std::uint32_t binade) {
+    if (block_of_.empty()) {
+        first_binade_ = binade;
+        block_of_.assign(1, no_block);
+    } else if (binade < first_binade_) {  // the directory extended downwards
+        block_of_.insert(block_of_.begin(), first_binade_ - binade, no_block);
+        first_binade_ = binade;
+    } else if (binade - first_binade_ >= block_of_.size()) {  // upwards
+        block_of_.resize(binade - first_binade_ + 1, no_block);
+    }
+    std::uint32_t& block = block_of_[binade - first_binade_];
+    if (block == no_block) {
+        block = static_cast<std::uint32_t>(counts_.size() / block_size);
+        counts_.resize(counts_.size() + block_size, 0);
+    }
+    return &counts_[block * block_size];
 }
 
 void error_summary::count_in(std::uint64_t bucket, std::size_t n) {
@@ -183,44 +197,29 @@ void error_summary::count_in(std::uint64_t bucket, std::size_t n) {
         zeros_ += n;
         return;
     }
-    if (2 * (used_ + 1) > table_.size()) grow(used_ + 1);
-    const std::size_t mask = table_.size() - 1;
-    for (std::size_t i = slot_of(bucket, mask);; i = (i + 1) & mask) {
-        slot& s = table_[i];
-        if (s.key == bucket) {
-            s.n += n;
-            break;
-        }
-        if (s.key == empty_key) {
-            s = {bucket, n};
-            ++used_;
-            break;
+    const auto binade = static_cast<std::uint32_t>((bucket - 1) >> resolution_bits);
+    const std::size_t within = (bucket - 1) & (block_size - 1);
+    if (binade >= first_binade_ && binade - first_binade_ < block_of_.size()) {
+        const std::uint32_t block = block_of_[binade - first_binade_];
+        if (block != no_block) {
+            counts_[block * block_size + within] += n;
+            return;
         }
     }
-}
-
-void error_summary::grow(std::size_t entries) {
-    std::size_t size = table_.empty() ? 16 : 2 * table_.size();
-    while (2 * entries > size) size *= 2;
-    std::vector<slot> old = std::move(table_);
-    table_.assign(size, slot{});
-    const std::size_t mask = table_.size() - 1;
-    for (const slot& s : old) {
-        if (s.key == empty_key) continue;
-        std::size_t i = slot_of(s.key, mask);
-        while (table_[i].key != empty_key) i = (i + 1) & mask;
-        table_[i] = s;
-    }
+    block_for(binade)[within] += n;
 }
 
 const error_summary::histogram_map& error_summary::histogram() const {
     if (sorted_current_) return sorted_;
     std::vector<std::pair<std::uint64_t, std::size_t>> entries;
-    entries.reserve(used_ + 1);
     if (zeros_ > 0) entries.emplace_back(0, zeros_);
-    for (const slot& s : table_)
-        if (s.key != empty_key) entries.emplace_back(s.key, s.n);
-    std::sort(entries.begin(), entries.end());
+    for (std::size_t d = 0; d < block_of_.size(); ++d) {
+        if (block_of_[d] == no_block) continue;
+        const std::uint64_t first_key = ((first_binade_ + d) << resolution_bits) + 1;
+        const std::uint64_t* counts = &counts_[block_of_[d] * block_size];
+        for (std::size_t k = 0; k < block_size; ++k)
+            if (counts[k] != 0) entries.emplace_back(first_key + k, counts[k]);
+    }
     sorted_.clear();
     sorted_.insert(boost::container::ordered_unique_range, entries.begin(), entries.end());
     sorted_current_ = true;
@@ -237,14 +236,18 @@ void error_summary::merge(const error_summary& other) {
     count += other.count;
     zeros_ += other.zeros_;
     sorted_current_ = false;
-    if (used_ == 0) {  // nothing to merge into (a family's summary into a whole run's): the table copied
-        table_ = other.table_;
-        used_ = other.used_;
+    if (block_of_.empty()) {  // nothing to merge into (a family's summary into a whole run's): the blocks copied
+        counts_ = other.counts_;
+        block_of_ = other.block_of_;
+        first_binade_ = other.first_binade_;
         return;
     }
-    if (2 * (used_ + other.used_) > table_.size()) grow(used_ + other.used_);  // one rehash, not many
-    for (const slot& s : other.table_)
-        if (s.key != empty_key) count_in(s.key, s.n);
+    for (std::size_t d = 0; d < other.block_of_.size(); ++d) {
+        if (other.block_of_[d] == no_block) continue;
+        const std::uint64_t* from = &other.counts_[other.block_of_[d] * block_size];
+        std::uint64_t* into = block_for(other.first_binade_ + static_cast<std::uint32_t>(d));
+        for (std::size_t k = 0; k < block_size; ++k) into[k] += from[k];
+    }
 }
 
 double error_summary::quantile(double q) const {
@@ -526,8 +529,10 @@ audit_accumulator audit_stream(const case_source& next, const std::vector<audit_
                 }
             }
             if (failure) break;
-            if (hooks.ordered)
-                for (std::size_t i = 0; i < cases.size(); ++i) hooks.ordered(audited[i], indices[i], i);
+            for (std::size_t i = 0; i < cases.size(); ++i) {
+                if (hooks.ordered) hooks.ordered(audited[i], indices[i], i);
+                if (hooks.in_order) hooks.in_order(indices[i], i);
+            }
             done += cases.size();
             if (hooks.progress) hooks.progress(done);
             if (read_failure) {

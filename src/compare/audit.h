@@ -73,8 +73,8 @@ struct error_statistics {
 // Quantiles are nearest-rank, reported as the upper edge of the bucket holding
 // that rank, or as the maximum when it lies in the maximum's bucket: an upper
 // bound of the exact nearest-rank value, within that factor, and exact when 0.
-// Memory does not grow with the count (at most ~2^(11 + resolution_bits)
-// buckets, in practice a few hundred), and merging summaries of disjoint sets
+// Memory does not grow with the count (at most 2^11 binades of
+// 2^resolution_bits buckets, in practice a few dozen binades), and merging summaries of disjoint sets
 // of cases, in any order, gives exactly the summary of their union.
 struct error_summary {
     static constexpr int resolution_bits = 7;
@@ -86,14 +86,15 @@ struct error_summary {
     using histogram_map = boost::container::flat_map<std::uint64_t, std::size_t>;
 
     void add(double error, std::size_t index, const std::string& id);
-    // Starts loading the table slot an add of `error` counts in: an
+    // Starts loading the counter an add of `error` counts in: an
     // accumulator prefetches every figure of a case before adding them, so
     // that their cache misses overlap (figure_batch).
     void prefetch(double error) const;
     void merge(const error_summary& other);
     // bucket key → number of errors in it, sorted by key.
     const histogram_map& histogram() const;
-    // Adds n errors to a bucket (reading a histogram back).
+    // Adds n errors to a bucket (reading a histogram back), one of bucket_of's
+    // keys: at most bucket_of(+inf).
     void add_to_bucket(std::uint64_t bucket, std::size_t n);
     error_statistics statistics() const;
     // How many errors are at least `threshold` (+inf and NaN included): exact
@@ -106,22 +107,24 @@ struct error_summary {
     static double upper_edge(std::uint64_t bucket);
 
 private:
-    // add() runs for every error of every target: the counts live in an
-    // open-addressing hash table (key → count, linear probing, at most half
-    // full), a few nanoseconds an add whatever the number of buckets; the
-    // sorted histogram is built from it when something reads it. Exact
-    // zeros, the commonest error by far (a correctly rounded root), are
-    // counted apart, without touching the table.
-    struct slot {
-        std::uint64_t key = empty_key;
-        std::size_t n = 0;
-    };
-    static constexpr std::uint64_t empty_key = ~std::uint64_t{0};  // no bucket key is this large
+    // add() runs for every error of every target: the counts live in dense
+    // blocks of 2^resolution_bits counters, one block per binade (exponent)
+    // in use, found through a directory over the binades between the
+    // smallest and the largest in use; an add is two loads and an increment,
+    // and the histogram is read in key order without sorting. An audit's
+    // figures fill a few dozen neighbouring binades, each about half full,
+    // which this holds in about half the memory of a hash table of the
+    // buckets. Exact zeros, the commonest error by far (a correctly rounded
+    // root), are counted apart.
+    static constexpr std::size_t block_size = std::size_t{1} << resolution_bits;
+    static constexpr std::uint32_t no_block = ~std::uint32_t{0};
     void count_in(std::uint64_t bucket, std::size_t n);
-    void grow(std::size_t entries);  // to hold `entries` keys at most half full
-    std::vector<slot> table_;  // size 0 or a power of two
-    std::size_t used_ = 0;     // slots holding a key
-    std::size_t zeros_ = 0;    // errors in bucket 0 (exact zeros), kept out of the table
+    // The counters of `binade`'s block, made (zeros) when it has none.
+    std::uint64_t* block_for(std::uint32_t binade);
+    std::vector<std::uint64_t> counts_;    // block_size counters per block, blocks in order of first use
+    std::vector<std::uint32_t> block_of_;  // binade − first_binade_ → its block, or no_block
+    std::uint32_t first_binade_ = 0;
+    std::size_t zeros_ = 0;                // errors in bucket 0 (exact zeros), kept out of the blocks
     mutable histogram_map sorted_;
     mutable bool sorted_current_ = true;
 };
@@ -298,8 +301,13 @@ struct audit_hooks {
     // its chunk, `worker` < the thread count in use.
     std::function<void(const audited_case&, std::size_t index, std::size_t slot, unsigned worker)> parallel;
     // Called on the calling thread for each case of a chunk, in input order,
-    // after the chunk's parallel work.
+    // after the chunk's parallel work, with the audited case: the chunk's
+    // audited cases are kept until then (about 15 KB a case of 28 targets,
+    // a few thousand cases, each first touched anew in a short run).
     std::function<void(const audited_case&, std::size_t index, std::size_t slot)> ordered;
+    // The same without the audited case, which is then not kept: for a hook
+    // that needs only what `parallel` saved by slot (a rendered line).
+    std::function<void(std::size_t index, std::size_t slot)> in_order;
     // Called on the calling thread after each chunk with the cases audited so far.
     std::function<void(std::size_t done)> progress;
 };

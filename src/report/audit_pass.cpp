@@ -15,35 +15,51 @@ audit_state run_audit_pass(const case_source& next, const std::vector<audit_targ
                            bool with_points, std::ostream* per_case,
                            const std::function<void(std::size_t done)>& progress, std::ostream* failures,
                            const std::function<void(const audited_case&, std::size_t index)>& observe) {
-    // Per thread: the state, and the chunk's rendered per-case lines (written in order).
-    std::vector<per_worker<audit_state>> workers(threads, {audit_state(targets)});
+    // Per thread: the state, and the storage a line is rendered in (json_line
+    // sizes it generously once). Per slot of the chunk: the rendered per-case
+    // line, copied to its own size, and the case's corpus line when some
+    // target disagrees on it, both written in input order (the audited cases
+    // themselves are not kept).
+    struct worker_state {
+        audit_state state;
+        std::string rendering;
+    };
+    std::vector<per_worker<worker_state>> workers(threads, {worker_state{audit_state(targets), {}}});
     std::vector<std::string> lines(per_case != nullptr ? case_stream::default_chunk : 0);
+    std::vector<std::string> failing_lines(failures != nullptr ? case_stream::default_chunk : 0);
     audit_hooks hooks;
     hooks.parallel = [&](const audited_case& c, std::size_t index, std::size_t slot, unsigned worker) {
-        workers[worker].state.stability.add(c, index);
-        if (with_points) workers[worker].state.points.add(c, index);
-        workers[worker].state.lint.add(c);
-        workers[worker].state.examples.add(c, index);
-        if (per_case == nullptr) return;
-        lines[slot] = per_case_line(c, targets, std::move(lines[slot]));
-    };
-    if (per_case != nullptr || failures != nullptr || observe)
-        hooks.ordered = [&](const audited_case& c, std::size_t index, std::size_t slot) {
-            if (observe) observe(c, index);
-            if (per_case != nullptr) *per_case << lines[slot] << '\n';
-            if (failures == nullptr) return;
+        audit_state& state = workers[worker].state.state;
+        state.stability.add(c, index);
+        if (with_points) state.points.add(c, index);
+        state.lint.add(c);
+        state.examples.add(c, index);
+        if (per_case != nullptr) {
+            std::string& rendering = workers[worker].state.rendering;
+            rendering = per_case_line(c, targets, std::move(rendering));
+            lines[slot].assign(rendering);
+        }
+        if (failures != nullptr) {
             const bool failing = std::any_of(c.outcomes.begin(), c.outcomes.end(),
                                              [](const target_outcome& o) { return is_disagreement(o.score.verdict); });
-            if (failing) *failures << format_case_line(*c.source) << '\n';
+            failing_lines[slot] = failing ? format_case_line(*c.source) : std::string();
+        }
+    };
+    if (observe) hooks.ordered = [&](const audited_case& c, std::size_t index, std::size_t) { observe(c, index); };
+    if (per_case != nullptr || failures != nullptr)
+        hooks.in_order = [&](std::size_t, std::size_t slot) {
+            if (per_case != nullptr) *per_case << lines[slot] << '\n';
+            if (failures != nullptr && !failing_lines[slot].empty()) *failures << failing_lines[slot] << '\n';
         };
     hooks.progress = progress;
-    audit_state& state = workers[0].state;
+    audit_state& state = workers[0].state.state;
     state.audit = audit_stream(next, targets, threads, hooks);
     for (unsigned w = 1; w < threads; ++w) {
-        state.stability.merge(workers[w].state.stability);
-        state.points.merge(workers[w].state.points);
-        state.lint.merge(workers[w].state.lint);
-        state.examples.merge(workers[w].state.examples);
+        const audit_state& other = workers[w].state.state;
+        state.stability.merge(other.stability);
+        state.points.merge(other.points);
+        state.lint.merge(other.lint);
+        state.examples.merge(other.examples);
     }
     return std::move(state);
 }

@@ -10,6 +10,8 @@
 #include <limits>
 #include <optional>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 #include "corpus/case_stream.h"
 #include "core/input_error.h"
@@ -66,8 +68,9 @@ std::string buckets_text(const error_summary::histogram_map& buckets) {
     return text;
 }
 
-// False when `text` is not such a list; `summary` then holds part of it.
-bool buckets_from_text(std::string_view text, error_summary& summary) {
+// The (bucket, count) pairs of such a list, in key order; nullopt when `text` is not one.
+std::optional<std::vector<std::pair<std::uint64_t, std::size_t>>> buckets_from_text(std::string_view text) {
+    std::vector<std::pair<std::uint64_t, std::size_t>> buckets;
     std::uint64_t key = 0;
     for (std::size_t at = 0; at < text.size();) {
         const std::size_t comma = std::min(text.find(',', at), text.size());
@@ -77,12 +80,12 @@ bool buckets_from_text(std::string_view text, error_summary& summary) {
         std::size_t n = 0;
         if (colon == std::string_view::npos || !parse_unsigned(pair.substr(0, colon), step) ||
             !parse_unsigned(pair.substr(colon + 1), n) || (at > 0 && step == 0) || key + step < key)
-            return false;
+            return std::nullopt;
         key += step;
-        summary.add_to_bucket(key, n);
+        buckets.emplace_back(key, n);
         at = comma + 1;
     }
-    return true;
+    return buckets;
 }
 
 // The header a document is read against: the shard's cases, targets and families.
@@ -152,20 +155,22 @@ static void map_json(json_io& io, error_summary& s) {
     if (std::isnan(s.max) || s.max < 0)
         io.fail("max", fmt::format("is {}, expected an error ≥ 0 (never NaN)", hex_float(s.max)));
     const std::size_t count = s.count;
-    if (!buckets_from_text(buckets, s))
-        io.fail("buckets", "is not a list of key:count pairs, each key after the first above the one before");
+    const auto stored = buckets_from_text(buckets);
+    if (!stored) io.fail("buckets", "is not a list of key:count pairs, each key after the first above the one before");
+    // Each bucket checked before the summary holds it: a key beyond the last
+    // bucket has no place in the summary's blocks.
     std::size_t in_buckets = 0;
     std::uint64_t last = 0;
     const std::uint64_t last_bucket = error_summary::bucket_of(std::numeric_limits<double>::infinity());
-    for (const auto& [key, size] : s.histogram()) {
+    for (const auto& [key, size] : *stored) {
         const std::string at = fmt::format("buckets (key {})", key);
         if (key > last_bucket) io.fail(at, fmt::format("is beyond the last bucket ({}, infinity)", last_bucket));
         if (size == 0) io.fail(at, "holds 0 errors: an empty bucket is not stored");
         if (in_buckets + size < in_buckets) io.fail(at, "overflows the count");
         in_buckets += size;
         last = key;
+        s.add_to_bucket(key, size);
     }
-    s.count = count;  // add_to_bucket counted the buckets' errors too
     if (in_buckets != count) io.fail("count", fmt::format("is {}, but its buckets hold {} errors", count, in_buckets));
     if (count == 0 && (s.max != 0 || s.max_index != 0 || !s.max_id.empty()))
         io.fail("max", "is set although the summary holds no error");

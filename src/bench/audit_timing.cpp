@@ -125,15 +125,19 @@ audit_timing_row time_family(const std::string& family, const std::vector<corpus
                        static_cast<double>(solve_case(c, precision::binary32).cls);
         return classes;
     };
-    const auto cases_judged = [&] {
-        double agreed = 0;
-        audited_case judged;
-        for (const corpus_case& c : cases) {
-            judged = audit_case(c, targets);
-            for (const target_outcome& o : judged.outcomes) agreed += o.score.verdict == verdict_kind::agree;
-        }
-        return agreed;
+    const auto judged_with = [&](const figure_request& wanted) {
+        return [&cases, &targets, wanted] {
+            double agreed = 0;
+            audited_case judged;
+            for (const corpus_case& c : cases) {
+                audit_case_into(judged, c, targets, {}, wanted);
+                for (const target_outcome& o : judged.outcomes) agreed += o.score.verdict == verdict_kind::agree;
+            }
+            return agreed;
+        };
     };
+    const auto cases_judged = judged_with({});
+    const auto verdicts_judged = judged_with(figure_request::verdict_only());
     const auto stream_only = [&] { return static_cast<double>(audit_stream(chunks_of(cases), targets, 1, {}).cases); };
     // Each repetition times naive, the audit and the audit with per-case
     // lines back to back, and the figures are medians of each repetition's
@@ -142,7 +146,7 @@ audit_timing_row time_family(const std::string& family, const std::vector<corpus
     discarding_buffer discarded;
     std::ostream discard(&discarded);
     std::vector<double> naive, audit, ratio, per_case_ratio;
-    std::array<std::vector<double>, 5> parts;  // as audit_parts::named orders them
+    std::array<std::vector<double>, 6> parts;  // as audit_parts::named orders them
     for (int r = 0; r < repetitions; ++r) {
         naive.push_back(time_naive(inputs, {1, std::max(min_time_s, 0.05)}, family));
         audit.push_back(audit_ns(nullptr));
@@ -150,10 +154,12 @@ audit_timing_row time_family(const std::string& family, const std::vector<corpus
         per_case_ratio.push_back(audit_ns(&discard) / audit.back());
         const double answered = ns_per_case_target([&] { return answers.run(); });
         const double solved = ns_per_case_target(oracle_only);
+        const double verdicts = ns_per_case_target(verdicts_judged);
         const double judged = ns_per_case_target(cases_judged);
         const double streamed = ns_per_case_target(stream_only);
         const double whole = audit_ns(nullptr);
-        const double in_naive[] = {answered, solved, judged - answered - solved, streamed - judged, whole - streamed};
+        const double in_naive[] = {answered, solved, verdicts - answered - solved, judged - verdicts,
+                                   streamed - judged, whole - streamed};
         for (std::size_t k = 0; k < parts.size(); ++k) parts[k].push_back(in_naive[k] / naive.back());
     }
     row.naive_ns = median_of(naive);
@@ -163,8 +169,8 @@ audit_timing_row time_family(const std::string& family, const std::vector<corpus
     discarded.bytes = 0;
     pass(&discard);
     row.per_case_bytes = static_cast<double>(discarded.bytes) / case_targets;
-    double* const fields[] = {&row.parts.targets, &row.parts.oracle, &row.parts.judge, &row.parts.accumulate,
-                              &row.parts.stability};
+    double* const fields[] = {&row.parts.targets,  &row.parts.oracle,     &row.parts.verdicts,
+                              &row.parts.figures,  &row.parts.accumulate, &row.parts.stability};
     for (std::size_t k = 0; k < parts.size(); ++k) *fields[k] = median_of(parts[k]);
 
     // How the oracle settled the figures: one more pass, counted.
@@ -198,8 +204,8 @@ std::vector<audit_target> audit_timing_targets() {
 }
 
 std::vector<std::pair<std::string, double>> audit_parts::named() const {
-    return {{"targets", targets}, {"oracle", oracle}, {"judge", judge}, {"accumulate", accumulate},
-            {"stability", stability}};
+    return {{"targets", targets},       {"oracle", oracle},          {"verdicts", verdicts},
+            {"figures", figures},       {"accumulate", accumulate},  {"stability", stability}};
 }
 
 audit_timing measure_audit_timing(const std::vector<corpus_case>& cases, int repetitions, double min_time_s,

@@ -45,10 +45,11 @@ struct audit_cost_goals {
 struct audit_parts {
     double targets = 0;     // every target's own answers (answer_of on run_input's inputs)
     double oracle = 0;      // solve_case on the double and the float inputs
-    double judge = 0;       // audit_case less the two above: outputs widened, ULP errors, verdicts
+    double verdicts = 0;    // audit_case asked for verdicts alone, less the two above: outputs widened, verdicts
+    double figures = 0;     // audit_case less audit_case asked for verdicts alone: every error figure, exactly
     double accumulate = 0;  // audit_stream less audit_case: verdict tallies, error histograms
     double stability = 0;   // the whole pass less audit_stream: stability figures, plot sample
-    double sum() const { return targets + oracle + judge + accumulate + stability; }
+    double sum() const { return targets + oracle + verdicts + figures + accumulate + stability; }
     // The parts in the order they are printed, with their names.
     std::vector<std::pair<std::string, double>> named() const;
 };

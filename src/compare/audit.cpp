@@ -27,7 +27,7 @@ std::vector<audit_target> targets_for(std::span<const variant> variants) {
 }
 
 void audit_case_into(audited_case& out, const corpus_case& c, std::span<const audit_target> targets,
-                     std::span<const given_answer> given) {
+                     std::span<const given_answer> given, const figure_request& wanted) {
     const case_in_progress announced(c);  // named by a plugin that crashes or hangs on it
     out.source = &c;
     out.exact_double = solve_case(c, precision::binary64);
@@ -43,7 +43,7 @@ void audit_case_into(audited_case& out, const corpus_case& c, std::span<const au
     out.outcomes.resize(targets.size());
     for (std::size_t t = 0; t < targets.size(); ++t) {
         const case_frame& frame = targets[t].prec == precision::binary32 ? *at_float : at_double;
-        out.outcomes[t] = given.empty() ? judge_target(targets[t], c, frame) : judge_target(targets[t], c, frame, given[t]);
+        out.outcomes[t] = judge_target(targets[t], c, frame, given.empty() ? given_answer{} : given[t], wanted);
     }
     out.stability.at_double = at_double.stability();
     if (at_float)
@@ -53,9 +53,9 @@ void audit_case_into(audited_case& out, const corpus_case& c, std::span<const au
 }
 
 audited_case audit_case(const corpus_case& c, std::span<const audit_target> targets,
-                        std::span<const given_answer> given) {
+                        std::span<const given_answer> given, const figure_request& wanted) {
     audited_case result;
-    audit_case_into(result, c, targets, given);
+    audit_case_into(result, c, targets, given, wanted);
     return result;
 }
 

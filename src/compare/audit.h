@@ -42,12 +42,14 @@ struct audited_case {
 // Every target judged on the case: the oracle once per precision in use,
 // one case_frame per precision shared by the targets. `given`: empty, or one
 // entry per target (an answer computed ahead by a batch call, or monostate).
+// `wanted`: the figures measured, every one unless asked otherwise
+// (`bench --audit` times the verdicts alone, to tell the figures' share).
 audited_case audit_case(const corpus_case& c, std::span<const audit_target> targets,
-                        std::span<const given_answer> given = {});
+                        std::span<const given_answer> given = {}, const figure_request& wanted = {});
 // The same into `out`, whose storage (the outcomes' vector) is reused:
 // the audit's workers judge case after case into one audited_case each.
 void audit_case_into(audited_case& out, const corpus_case& c, std::span<const audit_target> targets,
-                     std::span<const given_answer> given = {});
+                     std::span<const given_answer> given = {}, const figure_request& wanted = {});
 
 // The answers of the targets that have a batch function (variant::batch_*)
 // on `cases`, each target called once for all the cases it runs on:

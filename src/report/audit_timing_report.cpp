@@ -54,11 +54,13 @@ std::string format_parts(const bench::audit_timing& timing) {
         out += fmt::format(" {:>10.1f}x {:>10.1f}x\n", r.parts.sum(), r.audit_ratio);
     }
     out += fmt::format("targets = the {} targets' own answers; oracle = solve_case on the double and the float inputs; "
-                       "judge = ", timing.target_count);
-    out += "audit_case less those two (outputs widened, ULP errors, verdicts, and each case's frame, formed once "
-           "per precision and shared by the targets: its stability measures, unit-direction checks); accumulate = "
+                       "verdicts = ", timing.target_count);
+    out += "audit_case asked for verdicts alone (figure_request::verdict_only) less those two (outputs widened, "
+           "verdicts and their causes, and each case's frame, formed once per precision and shared by the targets: "
+           "its stability measures, unit-direction checks); figures = audit_case less that (every error figure of "
+           "every agreeing answer, exactly: root, hit-point and scale errors, bits, bounds); accumulate = "
            "audit_stream less audit_case (tallies, error histograms); stability = the whole pass less audit_stream "
-           "(stability tallies, plot sample, contract lint, example cases). The last three are differences of "
+           "(stability tallies, plot sample, contract lint, example cases). The last four are differences of "
            "timings, so noise can leave one a little below 0.\n";
     return out;
 }

@@ -249,10 +249,11 @@ int merge_audits(const merge_options& options) {
 
     const unsigned threads = thread_count();
     const audit_totals totals = merged.audit.finish(threads);
-    const std::optional<json> report = audit_report_document(merged, totals, context, threads);
-    return publish_audit(totals, std::move(report), outputs, options.plots, options.presentation,
-                         render_contract_hints(report->at("contract_hints")) +
-                             render_cases_to_open(report->at("cases_to_open")));
+    std::optional<json> report = audit_report_document(merged, totals, context, threads);
+    // Read from the report before it is moved into publish_audit.
+    std::string hints = render_contract_hints(report->at("contract_hints")) +
+                        render_cases_to_open(report->at("cases_to_open"));
+    return publish_audit(totals, std::move(report), outputs, options.plots, options.presentation, hints);
 }
 
 // Audit shards are directories; hunt outputs are files.

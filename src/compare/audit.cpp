@@ -164,13 +164,18 @@ void error_summary::add(double error, std::size_t index, const std::string& id) 
 
 void error_summary::add_to_bucket(std::uint64_t bucket, std::size_t n) { count_in(bucket, n); }
 
+std::optional<std::size_t> error_summary::counter_of(std::uint64_t bucket) const {
+    const auto binade = static_cast<std::uint32_t>((bucket - 1) >> resolution_bits);
+    if (binade < first_binade_ || binade - first_binade_ >= block_of_.size()) return std::nullopt;
+    const std::uint32_t block = block_of_[binade - first_binade_];
+    if (block == no_block) return std::nullopt;
+    return block * block_size + ((bucket - 1) & (block_size - 1));
+}
+
 void error_summary::prefetch(double error) const {
     const std::uint64_t bucket = bucket_of(error);
     if (bucket == 0) return;
-    const auto binade = static_cast<std::uint32_t>((bucket - 1) >> resolution_bits);
-    if (binade < first_binade_ || binade - first_binade_ >= block_of_.size()) return;
-    const std::uint32_t block = block_of_[binade - first_binade_];
-    if (block != no_block) __builtin_prefetch(&counts_[block * block_size + ((bucket - 1) & (block_size - 1))], 1);
+    if (const std::optional<std::size_t> counter = counter_of(bucket)) __builtin_prefetch(&counts_[*counter], 1);
 }
 
 std::uint64_t* error_summary::block_for(std::uint32_t binade) {
@@ -197,16 +202,11 @@ void error_summary::count_in(std::uint64_t bucket, std::size_t n) {
         zeros_ += n;
         return;
     }
-    const auto binade = static_cast<std::uint32_t>((bucket - 1) >> resolution_bits);
-    const std::size_t within = (bucket - 1) & (block_size - 1);
-    if (binade >= first_binade_ && binade - first_binade_ < block_of_.size()) {
-        const std::uint32_t block = block_of_[binade - first_binade_];
-        if (block != no_block) {
-            counts_[block * block_size + within] += n;
-            return;
-        }
+    if (const std::optional<std::size_t> counter = counter_of(bucket)) {
+        counts_[*counter] += n;
+        return;
     }
-    block_for(binade)[within] += n;
+    block_for(static_cast<std::uint32_t>((bucket - 1) >> resolution_bits))[(bucket - 1) & (block_size - 1)] += n;
 }
 
 const error_summary::histogram_map& error_summary::histogram() const {

@@ -121,6 +121,8 @@ private:
     static constexpr std::size_t block_size = std::size_t{1} << resolution_bits;
     static constexpr std::uint32_t no_block = ~std::uint32_t{0};
     void count_in(std::uint64_t bucket, std::size_t n);
+    // Where in counts_ a bucket (not 0) is counted, when its binade has a block.
+    std::optional<std::size_t> counter_of(std::uint64_t bucket) const;
     // The counters of `binade`'s block, made (zeros) when it has none.
     std::uint64_t* block_for(std::uint32_t binade);
     std::vector<std::uint64_t> counts_;    // block_size counters per block, blocks in order of first use

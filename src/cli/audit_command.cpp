@@ -39,6 +39,7 @@ struct audit_options {
     unsigned threads = 0;  // 0: every hardware thread
     std::string shard;
     std::string scene;  // audit a scene's rays instead (cli/scene_audit.cpp)
+    std::string oracle_route = std::string(oracle_route_name(rayverify::oracle_route::filtered));
     results_options results;
 };
 
@@ -180,7 +181,8 @@ int run(const audit_options& options, const std::string& command_line) {
             throw input_error("", 0, "--scene",
                               "a scene makes its own rays: no --corpus, --generate, --shard, --per-case or --plots");
         return run_scene_audit({options.scene, options.variants, options.plugins, options.precisions,
-                                options.isolation, options.report_dir, command_line, options.results});
+                                options.isolation, options.report_dir, command_line, options.results,
+                                *oracle_route_from_name(options.oracle_route)});
     }
     check_audit_options(options);
     const shard_spec shard = options.shard.empty() ? shard_spec{} : chosen_shard(options.shard, "audit");
@@ -231,7 +233,8 @@ int run(const audit_options& options, const std::string& command_line) {
                                        per_case_stream                ? &*per_case_stream
                                        : outputs.per_case != nullptr ? &outputs.per_case->stream()
                                                                      : nullptr,
-                                       progress.reporter(), failures != nullptr ? &failures->stream() : nullptr);
+                                       progress.reporter(), failures != nullptr ? &failures->stream() : nullptr, {},
+                                       *oracle_route_from_name(options.oracle_route));
     progress.finish();
     finish_outside_answers(targets);  // nothing may follow a program's last answer
     if (!stream.reading().arguments.empty()) terminal::note("audit: read " + stream.reading().text());
@@ -392,6 +395,12 @@ command add_audit_command(CLI::App& app, const std::string& command_line) {
     sub->add_option("--failures", options->failures_file,
                     "Write every case some target disagrees on to this file as a corpus (input order), to audit, "
                     "explain or hunt from again");
+    sub->add_option("--oracle-route", options->oracle_route,
+                    "filtered (the default): the oracle's filters settle what they can and exact arithmetic the "
+                    "rest; reference: exact arithmetic for every answer, several times slower. Both give the same "
+                    "report, bit for bit: the reference route shows it on your own cases")
+        ->check(CLI::IsMember({std::string(oracle_route_name(rayverify::oracle_route::filtered)),
+                               std::string(oracle_route_name(rayverify::oracle_route::reference))}));
     sub->add_option("--threads", options->threads,
                     "Threads auditing cases (default: every hardware thread); the output is the same for any number")
         ->check(whole_number(1, 4096));

@@ -94,6 +94,7 @@ struct scene_audit_request {
     std::string report_dir;    // scene_report.json goes there when not empty
     std::string command_line;
     results_options results;  // answers for the scene's (ray, sphere) pairs
+    oracle_route route = oracle_route::filtered;
 };
 int run_scene_audit(const scene_audit_request& request);
 // The chosen variants (all by default), each in the scene's precision.

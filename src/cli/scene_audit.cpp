@@ -59,7 +59,7 @@ int run_scene_audit(const scene_audit_request& request) {
         report = &outputs.file(std::filesystem::path(request.report_dir) / "scene_report.json", "--report");
     }
 
-    const scene_audit_result result = audit_scene(s, targets);  // the rays streamed
+    const scene_audit_result result = audit_scene(s, targets, {}, request.route);  // the rays streamed
 
     const std::string text = scene_audit_text(s, result);
     fmt::print("{}", text);

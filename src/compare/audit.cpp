@@ -27,14 +27,14 @@ std::vector<audit_target> targets_for(std::span<const variant> variants) {
 }
 
 void audit_case_into(audited_case& out, const corpus_case& c, std::span<const audit_target> targets,
-                     std::span<const given_answer> given, const figure_request& wanted) {
+                     std::span<const given_answer> given, const figure_request& wanted, oracle_route route) {
     const case_in_progress announced(c);  // named by a plugin that crashes or hangs on it
     out.source = &c;
-    out.exact_double = solve_case(c, precision::binary64);
+    out.exact_double = solve_case(c, precision::binary64, route);
     const bool float_used = std::any_of(targets.begin(), targets.end(),
                                         [](const audit_target& t) { return t.prec == precision::binary32; });
     if (float_used)
-        out.exact_float = solve_case(c, precision::binary32);
+        out.exact_float = solve_case(c, precision::binary32, route);
     else
         out.exact_float.reset();
     const case_frame at_double(out.exact_double, c.geometry);
@@ -53,9 +53,9 @@ void audit_case_into(audited_case& out, const corpus_case& c, std::span<const au
 }
 
 audited_case audit_case(const corpus_case& c, std::span<const audit_target> targets,
-                        std::span<const given_answer> given, const figure_request& wanted) {
+                        std::span<const given_answer> given, const figure_request& wanted, oracle_route route) {
     audited_case result;
-    audit_case_into(result, c, targets, given, wanted);
+    audit_case_into(result, c, targets, given, wanted, route);
     return result;
 }
 
@@ -426,7 +426,7 @@ unsigned audit_threads(const std::vector<audit_target>& targets, unsigned reques
 }
 
 audit_accumulator audit_stream(const case_source& next, const std::vector<audit_target>& targets, unsigned threads,
-                               const audit_hooks& hooks) {
+                               const audit_hooks& hooks, oracle_route route) {
     threads = audit_threads(targets, threads);
     std::vector<per_worker<audit_accumulator>> accumulators(threads, {audit_accumulator(targets)});
     std::vector<corpus_case> cases, next_cases;
@@ -445,10 +445,8 @@ audit_accumulator audit_stream(const case_source& next, const std::vector<audit_
         for (std::size_t begin; (begin = claimed.fetch_add(grain)) < cases.size();)
             for (std::size_t i = begin; i < std::min(begin + grain, cases.size()); ++i) {
                 audited_case& c = hooks.ordered ? audited[i] : own;
-                if (ahead.empty())
-                    audit_case_into(c, cases[i], targets);
-                else
-                    audit_case_into(c, cases[i], targets, ahead[i]);
+                audit_case_into(c, cases[i], targets, ahead.empty() ? std::span<const given_answer>{} : ahead[i], {},
+                                route);
                 accumulators[worker].state.add(c, indices[i]);
                 if (hooks.parallel) hooks.parallel(c, indices[i], i, worker);
             }

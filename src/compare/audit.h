@@ -44,12 +44,16 @@ struct audited_case {
 // entry per target (an answer computed ahead by a batch call, or monostate).
 // `wanted`: the figures measured, every one unless asked otherwise
 // (`bench --audit` times the verdicts alone, to tell the figures' share).
+// `route`: the oracle's route (oracle/oracle.h), the filtered one unless the
+// reference route is asked for, to show that it gives the same audit.
 audited_case audit_case(const corpus_case& c, std::span<const audit_target> targets,
-                        std::span<const given_answer> given = {}, const figure_request& wanted = {});
+                        std::span<const given_answer> given = {}, const figure_request& wanted = {},
+                        oracle_route route = oracle_route::filtered);
 // The same into `out`, whose storage (the outcomes' vector) is reused:
 // the audit's workers judge case after case into one audited_case each.
 void audit_case_into(audited_case& out, const corpus_case& c, std::span<const audit_target> targets,
-                     std::span<const given_answer> given = {}, const figure_request& wanted = {});
+                     std::span<const given_answer> given = {}, const figure_request& wanted = {},
+                     oracle_route route = oracle_route::filtered);
 
 // The answers of the targets that have a batch function (variant::batch_*)
 // on `cases`, each target called once for all the cases it runs on:
@@ -320,7 +324,7 @@ struct audit_hooks {
 unsigned audit_threads(const std::vector<audit_target>& targets, unsigned requested);
 
 audit_accumulator audit_stream(const case_source& next, const std::vector<audit_target>& targets, unsigned threads,
-                               const audit_hooks& hooks = {});
+                               const audit_hooks& hooks = {}, oracle_route route = oracle_route::filtered);
 
 // Run the whole audit over cases in memory (global index = position). `on_case`
 // sees every audited case in corpus order (for per-case output);

@@ -1008,7 +1008,10 @@ comparison case_frame::squared_length_against_one() const {
 }
 
 const exact_solution& case_frame::unit_direction_design() const {
-    if (!unit_direction_design_) unit_direction_design_ = solve_exact_unit_direction(input_, exact_.prec);
+    if (!unit_direction_design_)
+        unit_direction_design_ = exact_.route() == oracle_route::reference
+                                     ? solve_exact_unit_direction_reference(input_, exact_.prec)
+                                     : solve_exact_unit_direction(input_, exact_.prec);
     return *unit_direction_design_;
 }
 
@@ -1055,7 +1058,7 @@ std::optional<std::string> unit_direction_breach_of(const ray_sphere<double>& in
                        above == comparison::larger ? "above" : "below", above == comparison::larger ? "+" : "−", tolerance);
 }
 
-exact_solution solve_case(const corpus_case& c, precision p) {
+exact_solution solve_case(const corpus_case& c, precision p, oracle_route route) {
     const invalid_reason reason = with_precision(p, [&]<class T>(std::type_identity<T>) { return case_validity<T>(c); });
     if (reason != invalid_reason::none) {
         exact_solution invalid;
@@ -1069,12 +1072,15 @@ exact_solution solve_case(const corpus_case& c, precision p) {
         // direction their exact difference (not input.direction, rounded).
         const vec3<double> p1 = with_precision(
             p, [&]<class T>(std::type_identity<T>) { return vec3_cast<double>(segment_end_input<T>(c)); });
-        return solve_exact_segment(input.origin, p1, input.centre, input.radius, p);
+        return route == oracle_route::reference
+                   ? solve_exact_segment_reference(input.origin, p1, input.centre, input.radius, p)
+                   : solve_exact_segment(input.origin, p1, input.centre, input.radius, p);
     }
     const auto bound = [p](std::optional<double> t) -> std::optional<double> {
         return t ? std::optional<double>(rounded_to(p, *t)) : t;
     };
-    return solve_exact(input, p, bound(c.tmin), bound(c.tmax));
+    return route == oracle_route::reference ? solve_exact_reference(input, p, bound(c.tmin), bound(c.tmax))
+                                            : solve_exact(input, p, bound(c.tmin), bound(c.tmax));
 }
 
 namespace {

@@ -255,7 +255,8 @@ public:
     const std::optional<std::string>& unit_direction_breach() const;
     // compare(|d|², 1), exactly.
     comparison squared_length_against_one() const;
-    // The a = 1 idealisation (solve_exact_unit_direction) of the inputs.
+    // The a = 1 idealisation (solve_exact_unit_direction) of the inputs, on
+    // the route that solved the case.
     const exact_solution& unit_direction_design() const;
 
 private:
@@ -323,8 +324,9 @@ std::optional<std::string> unit_direction_breach_of(const ray_sphere<double>& in
 
 // The oracle's answer for a case at precision p: on the inputs rounded to p
 // (a float target's exact answer is for its float inputs); invalid when the
-// case is invalid at p (then the oracle never sees it).
-exact_solution solve_case(const corpus_case& c, precision p);
+// case is invalid at p (then the oracle never sees it). On the route asked
+// for: the filtered oracle, or the reference route (the same answers).
+exact_solution solve_case(const corpus_case& c, precision p, oracle_route route = oracle_route::filtered);
 
 // The range a target answers on for a case: its contract's, with the case's
 // tmin and tmax rounded to the target's precision (as the variant receives them).

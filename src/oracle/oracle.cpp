@@ -39,6 +39,16 @@ const char* line_class_name(line_class c) {
     return "?";
 }
 
+std::string_view oracle_route_name(oracle_route r) {
+    return r == oracle_route::reference ? "reference" : "filtered";
+}
+
+std::optional<oracle_route> oracle_route_from_name(std::string_view name) {
+    for (oracle_route r : {oracle_route::filtered, oracle_route::reference})
+        if (name == oracle_route_name(r)) return r;
+    return std::nullopt;
+}
+
 oracle_stage_counts& oracle_stage_counts_this_thread() {
     thread_local oracle_stage_counts counts;
     return counts;
@@ -286,6 +296,7 @@ struct exact_solution::internal {
         solution.prec = prec;
         solution.geometry_ = g;
         solution.direction_low_ = direction_low;
+        solution.route_ = oracle_route::reference;
         solution.unit_direction_ = unit_direction;
         solution.invalid = check_case(g, tmin, tmax);
         if (!solution.valid()) return solution;

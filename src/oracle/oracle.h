@@ -15,6 +15,7 @@
 #include <limits>
 #include <memory>
 #include <optional>
+#include <string_view>
 
 #include "core/comparison.h"
 #include "core/ray_sphere_case.h"
@@ -30,6 +31,17 @@ enum class line_class { miss, tangent, two_hit };
 const char* line_class_name(line_class c);
 
 enum class root_index { near_root, far_root };
+
+// Which route answers a case: the filtered oracle (solve_exact and its kin:
+// double-word filters, expansions, exact arithmetic only where they cannot
+// settle), or the reference route (solve_exact_reference and its kin: exact
+// arithmetic for every answer, and every later question on the solution
+// asked of the exact state). Their answers are the same, bit for bit: the
+// tests require it, and `rayverify audit --oracle-route reference` shows it
+// on a user's own cases (the same report, slower).
+enum class oracle_route : std::uint8_t { filtered, reference };
+std::string_view oracle_route_name(oracle_route r);
+std::optional<oracle_route> oracle_route_from_name(std::string_view name);
 
 // Bounds on a figure that was not computed to every digit: lower ≤ x ≤
 // upper, both doubles, so that they also bound x correctly rounded (RN is
@@ -69,6 +81,9 @@ public:
     oracle_stage stage = oracle_stage::exact;
 
     bool valid() const { return invalid == invalid_reason::none; }
+    // The route that solved this case; a later solve for the same case (the
+    // judge's a = 1 idealisation) takes the same one.
+    oracle_route route() const { return route_; }
     // False for a segment whose exact direction p1 − p0 is not a double.
     bool direction_is_double() const { return direction_low_ == vec3<double>{}; }
     const exact_root& root(root_index i) const {
@@ -178,6 +193,7 @@ private:
     // segment whose difference is a double. Nonzero: only the exact route
     // answers (the filters and expansions take d to be a double).
     vec3<double> direction_low_{};
+    oracle_route route_ = oracle_route::filtered;
     bool unit_direction_ = false;  // a taken to be 1 (solve_exact_unit_direction)
     enclosure roots_[2];  // near, far
     enclosure midpoint_;  // of the two roots, −b′/a

@@ -14,7 +14,8 @@ namespace rayverify {
 audit_state run_audit_pass(const case_source& next, const std::vector<audit_target>& targets, unsigned threads,
                            bool with_points, std::ostream* per_case,
                            const std::function<void(std::size_t done)>& progress, std::ostream* failures,
-                           const std::function<void(const audited_case&, std::size_t index)>& observe) {
+                           const std::function<void(const audited_case&, std::size_t index)>& observe,
+                           oracle_route route) {
     // Per thread: the state, and the storage a line is rendered in (json_line
     // sizes it generously once). Per slot of the chunk: the rendered per-case
     // line, copied to its own size, and the case's corpus line when some
@@ -53,7 +54,7 @@ audit_state run_audit_pass(const case_source& next, const std::vector<audit_targ
         };
     hooks.progress = progress;
     audit_state& state = workers[0].state.state;
-    state.audit = audit_stream(next, targets, threads, hooks);
+    state.audit = audit_stream(next, targets, threads, hooks, route);
     for (unsigned w = 1; w < threads; ++w) {
         const audit_state& other = workers[w].state.state;
         state.stability.merge(other.stability);

@@ -17,11 +17,13 @@ namespace rayverify {
 // its per-case JSON line written there in input order, and when `failures`
 // is not null, every case some target disagrees on as a corpus line, in
 // input order; `observe`, when set, sees every audited case in input order
-// with its index in the whole input. Returns the state of all the workers merged.
+// with its index in the whole input; `route` is the oracle's. Returns the
+// state of all the workers merged.
 audit_state run_audit_pass(const case_source& next, const std::vector<audit_target>& targets, unsigned threads,
                            bool with_points, std::ostream* per_case,
                            const std::function<void(std::size_t done)>& progress = {},
                            std::ostream* failures = nullptr,
-                           const std::function<void(const audited_case&, std::size_t index)>& observe = {});
+                           const std::function<void(const audited_case&, std::size_t index)>& observe = {},
+                           oracle_route route = oracle_route::filtered);
 
 }  // namespace rayverify

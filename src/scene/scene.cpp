@@ -724,12 +724,12 @@ std::vector<scene_ray> generate_rays(const scene& s) {
     return rays;
 }
 
-std::vector<sphere_solution> solve_spheres(const scene& s, const scene_ray& r) {
+std::vector<sphere_solution> solve_spheres(const scene& s, const scene_ray& r, oracle_route route) {
     std::vector<sphere_solution> solved;
     solved.reserve(r.spheres.size());
     for (int k : r.spheres) {
         sphere_solution one{k, case_for(s, r, k), {}};
-        one.exact = solve_case(one.pair, s.prec);
+        one.exact = solve_case(one.pair, s.prec, route);
         solved.push_back(std::move(one));
     }
     return solved;

@@ -185,8 +185,9 @@ struct sphere_solution {
     exact_solution exact;
 };
 
-// Every sphere on the ray, solved.
-std::vector<sphere_solution> solve_spheres(const scene& s, const scene_ray& r);
+// Every sphere on the ray, solved on `route`.
+std::vector<sphere_solution> solve_spheres(const scene& s, const scene_ray& r,
+                                           oracle_route route = oracle_route::filtered);
 
 // The ray's exact nearest hit: over the spheres, the nearest root in the
 // ray's (tmin, tmax) (the renderer's contract, compare/judge.h), roots of

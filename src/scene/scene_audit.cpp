@@ -154,8 +154,8 @@ void judge_nearest(ray_query q, const std::vector<renderer_outcome>& pairs, std:
 
 }  // namespace
 
-scene_auditor::scene_auditor(const scene& s, const std::vector<audit_target>& targets)
-    : scene_(s), targets_(targets), skip_(targets.size()) {
+scene_auditor::scene_auditor(const scene& s, const std::vector<audit_target>& targets, oracle_route route)
+    : scene_(s), targets_(targets), skip_(targets.size()), route_(route) {
     for (std::size_t i = 0; i < targets.size(); ++i) {
         scene_target_figures f;
         f.target = targets[i];
@@ -172,7 +172,7 @@ void scene_auditor::judge(const scene_ray& r, const std::function<void(const jud
     const std::size_t kind = static_cast<std::size_t>(r.kind);
 
     // Exact: every sphere, then the nearest root in the interval.
-    const std::vector<sphere_solution> solved = solve_spheres(s, r);
+    const std::vector<sphere_solution> solved = solve_spheres(s, r, route_);
     result_.pairs += solved.size();
     const std::optional<exact_nearest> nearest = exact_nearest_hit(r, solved);
     judged_ray judged;
@@ -224,8 +224,8 @@ void scene_auditor::judge(const scene_ray& r, const std::function<void(const jud
 }
 
 scene_audit_result audit_scene(const scene& s, const std::vector<audit_target>& targets,
-                               const std::function<void(const judged_ray&)>& on_ray) {
-    scene_auditor auditor(s, targets);
+                               const std::function<void(const judged_ray&)>& on_ray, oracle_route route) {
+    scene_auditor auditor(s, targets, route);
     for_each_ray(s, [&](const scene_ray& r) { auditor.judge(r, on_ray); });
     return auditor.result();
 }

@@ -101,10 +101,13 @@ std::vector<audit_target> scene_targets(const scene& s, std::span<const variant>
 std::optional<std::string> not_applicable_reason(const scene& s, const audit_target& t);
 
 // Judges rays one at a time, as for_each_ray streams them: memory is the
-// figures (bounded accumulators), whatever the number of rays.
+// figures (bounded accumulators), whatever the number of rays. Each ray's
+// spheres are solved on `route` (the rays themselves are the scene's, spawned
+// as for_each_ray makes them).
 class scene_auditor {
 public:
-    scene_auditor(const scene& s, const std::vector<audit_target>& targets);
+    scene_auditor(const scene& s, const std::vector<audit_target>& targets,
+                  oracle_route route = oracle_route::filtered);
     // Judge one ray; `on_ray` (if given) sees it judged (for pictures).
     void judge(const scene_ray& r, const std::function<void(const judged_ray&)>& on_ray = {});
     const scene_audit_result& result() const { return result_; }
@@ -115,12 +118,14 @@ private:
     std::vector<std::optional<std::string>> skip_;  // why a target is not applicable
     scene_audit_result result_;
     std::size_t ray_index_ = 0;
+    oracle_route route_;
 };
 
 // Judge every ray the scene casts, streamed. `on_ray` sees each judged ray in
 // order (for pictures).
 scene_audit_result audit_scene(const scene& s, const std::vector<audit_target>& targets,
-                               const std::function<void(const judged_ray&)>& on_ray = {});
+                               const std::function<void(const judged_ray&)>& on_ray = {},
+                               oracle_route route = oracle_route::filtered);
 
 // Judge the given rays (a scene's, or some of them).
 scene_audit_result audit_scene(const scene& s, std::span<const scene_ray> rays,

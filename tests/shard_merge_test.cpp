@@ -97,6 +97,32 @@ TEST(ErrorSummary, MergingAnySplitGivesTheWholeAndTiesGoToTheFirstCase) {
     EXPECT_EQ(whole.max_index, first_at_max);
 }
 
+// Counters are 32 bits wide with their carries kept apart: counts beyond
+// 2^32 in one bucket, added one by one, in bulk (a shard's histogram read
+// back) and merged, stay whole.
+TEST(ErrorSummary, CountsBeyondThirtyTwoBitsCarry) {
+    constexpr std::uint64_t two_32 = std::uint64_t{1} << 32;
+    const std::uint64_t bucket = error_summary::bucket_of(1.5);
+    error_summary a;
+    a.add_to_bucket(bucket, two_32 - 1);
+    a.add(1.5, 0, "a");  // the counter wraps: its carry holds 1
+    EXPECT_EQ(a.histogram().at(bucket), two_32);
+    a.add_to_bucket(bucket, 3 * two_32 + 7);
+    EXPECT_EQ(a.histogram().at(bucket), 4 * two_32 + 7);
+    error_summary b;  // as a shard's summary is read back: its count, then its buckets
+    b.count = two_32 + 4;
+    b.add_to_bucket(bucket, two_32 - 1);
+    b.add_to_bucket(error_summary::bucket_of(2.5), 5);
+    error_summary merged;  // the first merge copies, carries and all; the second adds
+    merged.merge(a);
+    merged.merge(b);
+    EXPECT_EQ(merged.histogram().at(bucket), 5 * two_32 + 6);
+    EXPECT_EQ(merged.histogram().at(error_summary::bucket_of(2.5)), 5u);
+    error_summary copied;
+    copied.merge(merged);
+    EXPECT_EQ(copied.histogram(), merged.histogram());
+}
+
 TEST(ErrorSummary, InfinityAndZeroAreExact) {
     error_summary s;
     for (std::size_t i = 0; i < 10; ++i) s.add(0, i, "z");

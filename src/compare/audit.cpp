@@ -178,7 +178,7 @@ void error_summary::prefetch(double error) const {
     if (const std::optional<std::size_t> counter = counter_of(bucket)) __builtin_prefetch(&counts_[*counter], 1);
 }
 
-std::uint64_t* error_summary::block_for(std::uint32_t binade) {
+std::size_t error_summary::block_for(std::uint32_t binade) {
     if (block_of_.empty()) {
         first_binade_ = binade;
         block_of_.assign(1, no_block);
@@ -193,7 +193,18 @@ std::uint64_t* error_summary::block_for(std::uint32_t binade) {
         block = static_cast<std::uint32_t>(counts_.size() / block_size);
         counts_.resize(counts_.size() + block_size, 0);
     }
-    return &counts_[block * block_size];
+    return block * block_size;
+}
+
+void error_summary::add_to_counter(std::size_t i, std::uint64_t n) {
+    const std::uint64_t sum = counts_[i] + n;
+    counts_[i] = static_cast<std::uint32_t>(sum);
+    if (sum >> 32) carries_[i] += sum >> 32;
+}
+
+std::uint64_t error_summary::counter_value(std::size_t i) const {
+    const auto carry = carries_.empty() ? carries_.end() : carries_.find(i);
+    return counts_[i] + (carry == carries_.end() ? 0 : carry->second << 32);
 }
 
 void error_summary::count_in(std::uint64_t bucket, std::size_t n) {
@@ -202,11 +213,11 @@ void error_summary::count_in(std::uint64_t bucket, std::size_t n) {
         zeros_ += n;
         return;
     }
-    if (const std::optional<std::size_t> counter = counter_of(bucket)) {
-        counts_[*counter] += n;
-        return;
-    }
-    block_for(static_cast<std::uint32_t>((bucket - 1) >> resolution_bits))[(bucket - 1) & (block_size - 1)] += n;
+    const std::optional<std::size_t> counter = counter_of(bucket);
+    add_to_counter(counter ? *counter
+                           : block_for(static_cast<std::uint32_t>((bucket - 1) >> resolution_bits)) +
+                                 ((bucket - 1) & (block_size - 1)),
+                   n);
 }
 
 const error_summary::histogram_map& error_summary::histogram() const {
@@ -216,9 +227,9 @@ const error_summary::histogram_map& error_summary::histogram() const {
     for (std::size_t d = 0; d < block_of_.size(); ++d) {
         if (block_of_[d] == no_block) continue;
         const std::uint64_t first_key = ((first_binade_ + d) << resolution_bits) + 1;
-        const std::uint64_t* counts = &counts_[block_of_[d] * block_size];
+        const std::size_t first = block_of_[d] * block_size;
         for (std::size_t k = 0; k < block_size; ++k)
-            if (counts[k] != 0) entries.emplace_back(first_key + k, counts[k]);
+            if (const std::uint64_t n = counter_value(first + k); n != 0) entries.emplace_back(first_key + k, n);
     }
     sorted_.clear();
     sorted_.insert(boost::container::ordered_unique_range, entries.begin(), entries.end());
@@ -238,15 +249,17 @@ void error_summary::merge(const error_summary& other) {
     sorted_current_ = false;
     if (block_of_.empty()) {  // nothing to merge into (a family's summary into a whole run's): the blocks copied
         counts_ = other.counts_;
+        carries_ = other.carries_;
         block_of_ = other.block_of_;
         first_binade_ = other.first_binade_;
         return;
     }
     for (std::size_t d = 0; d < other.block_of_.size(); ++d) {
         if (other.block_of_[d] == no_block) continue;
-        const std::uint64_t* from = &other.counts_[other.block_of_[d] * block_size];
-        std::uint64_t* into = block_for(other.first_binade_ + static_cast<std::uint32_t>(d));
-        for (std::size_t k = 0; k < block_size; ++k) into[k] += from[k];
+        const std::size_t from = other.block_of_[d] * block_size;
+        const std::size_t into = block_for(other.first_binade_ + static_cast<std::uint32_t>(d));
+        for (std::size_t k = 0; k < block_size; ++k)
+            if (const std::uint64_t n = other.counter_value(from + k); n != 0) add_to_counter(into + k, n);
     }
 }
 

@@ -127,9 +127,18 @@ private:
     void count_in(std::uint64_t bucket, std::size_t n);
     // Where in counts_ a bucket (not 0) is counted, when its binade has a block.
     std::optional<std::size_t> counter_of(std::uint64_t bucket) const;
-    // The counters of `binade`'s block, made (zeros) when it has none.
-    std::uint64_t* block_for(std::uint32_t binade);
-    std::vector<std::uint64_t> counts_;    // block_size counters per block, blocks in order of first use
+    // The index in counts_ of `binade`'s first counter, its block made (zeros) when it has none.
+    std::size_t block_for(std::uint32_t binade);
+    // Adds n to counter i, carrying beyond 32 bits into carries_.
+    void add_to_counter(std::size_t i, std::uint64_t n);
+    // The whole count of counter i.
+    std::uint64_t counter_value(std::size_t i) const;
+    // The counters are 32 bits wide, their carries kept apart: a short audit
+    // makes every histogram anew, and the pages its counters first touch
+    // were a tenth of its time with 64-bit counters (the shipped corpus with
+    // the 14 textbook variants: 0.43 s against 0.39 s, user and system).
+    std::vector<std::uint32_t> counts_;    // block_size counters per block, blocks in order of first use
+    std::map<std::size_t, std::uint64_t> carries_;  // counter → its count above 32 bits (rare: 2^32 errors in one bucket)
     std::vector<std::uint32_t> block_of_;  // binade − first_binade_ → its block, or no_block
     std::uint32_t first_binade_ = 0;
     std::size_t zeros_ = 0;                // errors in bucket 0 (exact zeros), kept out of the blocks

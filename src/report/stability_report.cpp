@@ -211,21 +211,29 @@ json case_points::to_json() const {
             cause[t].push_back(r->cause[t] ? json(cause_name(*r->cause[t])) : json());
         }
     }
+    // The columns are moved into place: a brace-initialised json copies
+    // every value it is given, and these hold a value per kept case and target.
     json targets = json::object();
-    for (std::size_t t = 0; t < targets_.size(); ++t)
-        targets[labels_[t]] = {{"variant", targets_[t].subject.name},
-                               {"precision_of_inputs", precision_name(targets_[t].prec)},
-                               {"verdict", verdict[t]},
-                               {"near_ulp", near_ulp[t]},
-                               {"cause", cause[t]}};
-    return {{"cases", rows.size()},
-            {"sample", fmt::format("per family, the {} cases with the smallest hash of their id (every case of a "
-                                   "smaller family), in input order",
-                                   per_family)},
-            {"family", family},
-            {"distance_ratio", ratio},
-            {"condition", {{"float", kappa_float}, {"double", kappa_double}}},
-            {"targets", targets}};
+    for (std::size_t t = 0; t < targets_.size(); ++t) {
+        json& entry = targets[labels_[t]];
+        entry["variant"] = targets_[t].subject.name;
+        entry["precision_of_inputs"] = precision_name(targets_[t].prec);
+        entry["verdict"] = std::move(verdict[t]);
+        entry["near_ulp"] = std::move(near_ulp[t]);
+        entry["cause"] = std::move(cause[t]);
+    }
+    json out = json::object();
+    out["cases"] = rows.size();
+    out["sample"] = fmt::format(
+        "per family, the {} cases with the smallest hash of their id (every case of a smaller family), in input order",
+        per_family);
+    out["family"] = std::move(family);
+    out["distance_ratio"] = std::move(ratio);
+    json& condition = out["condition"];
+    condition["float"] = std::move(kappa_float);
+    condition["double"] = std::move(kappa_double);
+    out["targets"] = std::move(targets);
+    return out;
 }
 
 namespace {

@@ -664,11 +664,15 @@ TEST(RobustSphere, HitPointErrorBoundsHold) {
         const double point[3] = {p.point.x, p.point.y, p.point.z}, error[3] = {p.error.x, p.error.y, p.error.z};
         for (int axis = 0; axis < 3; ++axis) {
             if (!std::isfinite(point[axis])) continue;
-            // |point − p*| from the oracle: its ulps times the ulp at p* (within a factor 2 of RN(p*)'s).
+            // |point − p*| from the oracle: its ulps times the ulp at p* (within a factor 2 of RN(p*)'s),
+            // compared as ulps against the bound in ulps: a point far from a tiny p* is more ulps away
+            // than a double holds (+inf), and so may its bound be.
             const double exact = e.rounded_hit_coordinate(which, axis);
             const double ulps = e.hit_point_ulp_error(which, axis, point[axis]);
             const double ulp = ulp_of(exact);
-            EXPECT_LE(ulps * ulp, error[axis] * 2.0001) << "seed " << seed - 3 << " case " << i << " axis " << axis;
+            EXPECT_LE(ulps, error[axis] * 2.0001 / ulp)
+                << "seed " << seed - 3 << " case " << i << " axis " << axis << ": exact " << exact << ", point "
+                << point[axis] << ", bound " << error[axis];
             // And the bound is not vacuous: a few ulps of the coordinate.
             ++checked;
         }

@@ -1,8 +1,9 @@
 // The oracle's two routes give the same audit, byte for byte: the filtered
-// oracle (double-word filters and expansions, exact arithmetic only where
-// they cannot settle an answer) and the reference route (exact arithmetic
-// for every answer: the class, the signs, the rounded roots, every ULP figure
-// and every comparison a verdict is decided by). Every verdict count and
+// oracle (static and double-word filters, expansions, exact arithmetic only
+// where they cannot settle an answer) and the reference route (no filter: the
+// class, the signs and the rounded roots in exact arithmetic, and every ULP
+// figure and comparison a verdict is decided by without the filters'
+// enclosures). Every verdict count and
 // every printed figure of every output must be the same on the shipped
 // corpus, the edge and segment corpora, generated cases, a scene and a
 // sharded run merged: a change in how the filtered route computes a figure

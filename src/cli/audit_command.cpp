@@ -397,8 +397,9 @@ command add_audit_command(CLI::App& app, const std::string& command_line) {
                     "explain or hunt from again");
     sub->add_option("--oracle-route", options->oracle_route,
                     "filtered (the default): the oracle's filters settle what they can and exact arithmetic the "
-                    "rest; reference: exact arithmetic for every answer, several times slower. Both give the same "
-                    "report, bit for bit: the reference route shows it on your own cases")
+                    "rest; reference: no filter, each case solved in exact arithmetic and every figure and "
+                    "comparison decided exactly without the filters, slower. Both give the same report, bit for "
+                    "bit: the reference route shows it on your own cases")
         ->check(CLI::IsMember({std::string(oracle_route_name(rayverify::oracle_route::filtered)),
                                std::string(oracle_route_name(rayverify::oracle_route::reference))}));
     sub->add_option("--threads", options->threads,

@@ -33,12 +33,15 @@ const char* line_class_name(line_class c);
 enum class root_index { near_root, far_root };
 
 // Which route answers a case: the filtered oracle (solve_exact and its kin:
-// double-word filters, expansions, exact arithmetic only where they cannot
-// settle), or the reference route (solve_exact_reference and its kin: exact
-// arithmetic for every answer, and every later question on the solution
-// asked of the exact state). Their answers are the same, bit for bit: the
-// tests require it, and `rayverify audit --oracle-route reference` shows it
-// on a user's own cases (the same report, slower).
+// the static and double-word filters first, expansions, exact arithmetic
+// only where they cannot settle), or the reference route
+// (solve_exact_reference and its kin: the class, signs and rounded roots in
+// exact arithmetic, and no filter's enclosures kept, so that every later
+// question — a ULP figure, a comparison — is decided without the filters, by
+// exact expansions where they decide it, else in exact arithmetic). Their
+// answers are the same, bit for bit: the tests require it, and `rayverify
+// audit --oracle-route reference` shows it on a user's own cases (the same
+// report, slower).
 enum class oracle_route : std::uint8_t { filtered, reference };
 std::string_view oracle_route_name(oracle_route r);
 std::optional<oracle_route> oracle_route_from_name(std::string_view name);

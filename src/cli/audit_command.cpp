@@ -175,14 +175,14 @@ void write_shard_state(output_file& state_file, const audit_options& options, co
 }
 
 int run(const audit_options& options, const std::string& command_line) {
+    const oracle_route route = *oracle_route_from_name(options.oracle_route);  // checked by the option
     if (!options.scene.empty()) {
         if (!options.corpus.empty() || !options.generate.empty() || !options.shard.empty() ||
             !options.per_case_file.empty() || options.plots)
             throw input_error("", 0, "--scene",
                               "a scene makes its own rays: no --corpus, --generate, --shard, --per-case or --plots");
         return run_scene_audit({options.scene, options.variants, options.plugins, options.precisions,
-                                options.isolation, options.report_dir, command_line, options.results,
-                                *oracle_route_from_name(options.oracle_route)});
+                                options.isolation, options.report_dir, command_line, options.results, route});
     }
     check_audit_options(options);
     const shard_spec shard = options.shard.empty() ? shard_spec{} : chosen_shard(options.shard, "audit");
@@ -234,7 +234,7 @@ int run(const audit_options& options, const std::string& command_line) {
                                        : outputs.per_case != nullptr ? &outputs.per_case->stream()
                                                                      : nullptr,
                                        progress.reporter(), failures != nullptr ? &failures->stream() : nullptr, {},
-                                       *oracle_route_from_name(options.oracle_route));
+                                       route);
     progress.finish();
     finish_outside_answers(targets);  // nothing may follow a program's last answer
     if (!stream.reading().arguments.empty()) terminal::note("audit: read " + stream.reading().text());
@@ -400,8 +400,7 @@ command add_audit_command(CLI::App& app, const std::string& command_line) {
                     "rest; reference: no filter, each case solved in exact arithmetic and every figure and "
                     "comparison decided exactly without the filters, slower. Both give the same report, bit for "
                     "bit: the reference route shows it on your own cases")
-        ->check(CLI::IsMember({std::string(oracle_route_name(rayverify::oracle_route::filtered)),
-                               std::string(oracle_route_name(rayverify::oracle_route::reference))}));
+        ->check(CLI::IsMember(oracle_route_names()));
     sub->add_option("--threads", options->threads,
                     "Threads auditing cases (default: every hardware thread); the output is the same for any number")
         ->check(whole_number(1, 4096));

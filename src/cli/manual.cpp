@@ -48,6 +48,7 @@ value_kind value_of(const CLI::Option* opt, const std::string& command) {
     if (name == "family") return {value_kind::words, family_names()};
     if (name == "objective") return {value_kind::words, hunt_objective_names()};
     if (name == "strategy") return {value_kind::words, hunt_strategy_names()};
+    if (name == "oracle-route") return {value_kind::words, oracle_route_names()};
     static const std::vector<std::string> typed = {
         "threads", "seed",  "count",  "repetitions", "min-time", "sweep",   "evaluations", "finds",
         "examples", "seconds", "budget", "plugin-timeout", "shard", "tolerance", "generate", "case"};

@@ -203,7 +203,7 @@ void error_summary::add_to_counter(std::size_t i, std::uint64_t n) {
 }
 
 std::uint64_t error_summary::counter_value(std::size_t i) const {
-    const auto carry = carries_.empty() ? carries_.end() : carries_.find(i);
+    const auto carry = carries_.find(i);
     return counts_[i] + (carry == carries_.end() ? 0 : carry->second << 32);
 }
 

@@ -18,6 +18,7 @@
 #include "oracle/oracle.h"
 
 #include "core/fp_environment.h"
+#include "core/name_table.h"
 
 #include "oracle/filter.h"
 #include "oracle/internal/correct_rounding.h"
@@ -39,15 +40,14 @@ const char* line_class_name(line_class c) {
     return "?";
 }
 
-std::string_view oracle_route_name(oracle_route r) {
-    return r == oracle_route::reference ? "reference" : "filtered";
-}
+namespace {
+constexpr name_table<oracle_route, 2> route_names{
+    {{oracle_route::filtered, "filtered"}, {oracle_route::reference, "reference"}}};
+}  // namespace
 
-std::optional<oracle_route> oracle_route_from_name(std::string_view name) {
-    for (oracle_route r : {oracle_route::filtered, oracle_route::reference})
-        if (name == oracle_route_name(r)) return r;
-    return std::nullopt;
-}
+std::string_view oracle_route_name(oracle_route r) { return name_in(route_names, r); }
+std::optional<oracle_route> oracle_route_from_name(std::string_view name) { return value_in(route_names, name); }
+std::vector<std::string> oracle_route_names() { return names_in(route_names); }
 
 oracle_stage_counts& oracle_stage_counts_this_thread() {
     thread_local oracle_stage_counts counts;

@@ -15,7 +15,9 @@
 #include <limits>
 #include <memory>
 #include <optional>
+#include <string>
 #include <string_view>
+#include <vector>
 
 #include "core/comparison.h"
 #include "core/ray_sphere_case.h"
@@ -45,6 +47,8 @@ enum class root_index { near_root, far_root };
 enum class oracle_route : std::uint8_t { filtered, reference };
 std::string_view oracle_route_name(oracle_route r);
 std::optional<oracle_route> oracle_route_from_name(std::string_view name);
+// Every route's name, in order (the option's choices, its completion).
+std::vector<std::string> oracle_route_names();
 
 // Bounds on a figure that was not computed to every digit: lower ≤ x ≤
 // upper, both doubles, so that they also bound x correctly rounded (RN is

@@ -116,6 +116,7 @@ const regime regimes[] = {
 
 struct tally {
     std::size_t solutions = 0, certified = 0, misses = 0;
+    std::size_t signs_certified = 0;  // by static_class_and_signs
 };
 
 // Whatever the static filter certifies for g in precision p is the exact
@@ -125,14 +126,36 @@ struct tally {
 // so within a relative 2^−53), and must meet [hi + lo − y − err, hi + lo − y + err].
 testing::AssertionResult certified_answers_are_exact(const ray_sphere<double>& g, precision p, tally& t) {
     ++t.solutions;
+    oracle_internal::certified_signs signs;
+    const bool signs_certified = oracle_internal::static_class_and_signs(g, signs);
     std::optional<oracle_internal::filtered_case> quick(std::in_place);
-    if (!oracle_internal::static_filter_case(g, p, *quick)) return testing::AssertionSuccess();
-    ++t.certified;
+    const bool certified = oracle_internal::static_filter_case(g, p, *quick);
+    if (!signs_certified && !certified) return testing::AssertionSuccess();
     const exact_solution ref = solve_exact_reference(g, p);
     std::ostringstream why;
     const auto check = [&](bool ok, const std::string& what) {
         if (!ok) why << "\n  " << what;
     };
+    // The class and signs alone (static_class_and_signs): the reference's,
+    // and settled wherever the whole static filter settles the case.
+    check(signs_certified || !certified, "the whole static filter settled a case the class and signs alone did not");
+    if (signs_certified) {
+        ++t.signs_certified;
+        check(ref.valid(), "class and signs certified for an invalid case");
+        const line_class cls = signs.discriminant_sign > 0 ? line_class::two_hit : line_class::miss;
+        check(cls == ref.cls, std::string("class and signs: class ") + line_class_name(cls) + ", exact " +
+                                  line_class_name(ref.cls));
+        if (ref.valid() && cls == line_class::two_hit && ref.cls == line_class::two_hit)
+            for (root_index i : {root_index::near_root, root_index::far_root})
+                check(signs.root_sign[i == root_index::near_root ? 0 : 1] == ref.root(i).sign,
+                      std::string("class and signs: ") + (i == root_index::near_root ? "near" : "far") +
+                          " sign differs");
+    }
+    if (!certified) {
+        if (why.str().empty()) return testing::AssertionSuccess();
+        return testing::AssertionFailure() << precision_name(p) << " " << describe(g) << why.str();
+    }
+    ++t.certified;
     check(ref.valid(), "certified an invalid case");
     if (!ref.valid()) return testing::AssertionFailure() << describe(g) << why.str();
     const line_class cls = *quick->discriminant_sign > 0 ? line_class::two_hit : line_class::miss;
@@ -200,17 +223,18 @@ TEST(StaticFilter, CertifiedAnswersAreExact) {
     const std::uint64_t seed = 20261127;
     std::printf("seed %llu\n", static_cast<unsigned long long>(seed));
     const tally t = sweep(seed, test_support::sweep_size(20000), 1e9);
-    std::printf("%zu solutions, %zu certified by the static filter (%zu misses)\n", t.solutions, t.certified,
-                t.misses);
+    std::printf("%zu solutions, %zu certified by the static filter (%zu misses), %zu classes and signs\n",
+                t.solutions, t.certified, t.misses, t.signs_certified);
     EXPECT_GT(t.certified, t.solutions / 3);
+    EXPECT_GE(t.signs_certified, t.certified);
 }
 
 TEST(LongSweepStaticFilter, CertifiedAnswersAreExactOnMillions) {
     const std::uint64_t seed = std::random_device{}();
     std::printf("seed %llu\n", static_cast<unsigned long long>(seed));
     const tally t = sweep(seed, 400000, 80);
-    std::printf("%zu solutions, %zu certified by the static filter (%zu misses)\n", t.solutions, t.certified,
-                t.misses);
+    std::printf("%zu solutions, %zu certified by the static filter (%zu misses), %zu classes and signs\n",
+                t.solutions, t.certified, t.misses, t.signs_certified);
 }
 
 // What it settles and what it leaves: ordinary cases all certified; a
@@ -239,6 +263,47 @@ TEST(StaticFilter, SettlesOrdinaryCasesAndDeclinesStiffOnes) {
     // The oracle counts it as its filter stage.
     EXPECT_EQ(solve_exact({{0.25, 0.125, -5}, {0, 0, 1}, {0, 0, 0}, 1}, precision::binary64).stage,
               oracle_stage::filter);
+}
+
+// The class and signs alone, worked by hand: d = (0, 0, 1), c = 0, r = 1, so
+// a = 1, b′ = o_z, C = |o|² − 1 and Δ′ = 1 − o_x² − o_y².
+TEST(StaticFilter, ClassAndSignsWorkedByHand) {
+    const auto signs_of = [](const ray_sphere<double>& g) {
+        oracle_internal::certified_signs signs;
+        return oracle_internal::static_class_and_signs(g, signs) ? std::optional(signs) : std::nullopt;
+    };
+    // In front: b′ = −5, C = 24.078125 > 0, Δ′ = 0.921875: both roots ahead.
+    const auto ahead = signs_of({{0.25, 0.125, -5}, {0, 0, 1}, {0, 0, 0}, 1});
+    ASSERT_TRUE(ahead);
+    EXPECT_EQ(ahead->discriminant_sign, 1);
+    EXPECT_EQ(ahead->root_sign[0], 1);
+    EXPECT_EQ(ahead->root_sign[1], 1);
+    // Behind: b′ = 5, the same C: both roots behind.
+    const auto behind = signs_of({{0.25, 0.125, 5}, {0, 0, 1}, {0, 0, 0}, 1});
+    ASSERT_TRUE(behind);
+    EXPECT_EQ(behind->root_sign[0], -1);
+    EXPECT_EQ(behind->root_sign[1], -1);
+    // Inside: C = −0.75: one root behind, one ahead, whatever b′.
+    const auto inside = signs_of({{0, 0, 0.5}, {0, 0, 1}, {0, 0, 0}, 1});
+    ASSERT_TRUE(inside);
+    EXPECT_EQ(inside->root_sign[0], -1);
+    EXPECT_EQ(inside->root_sign[1], 1);
+    // A miss: Δ′ = 1 − 9 < 0.
+    const auto miss = signs_of({{3, 0, -5}, {0, 0, 1}, {0, 0, 0}, 1});
+    ASSERT_TRUE(miss);
+    EXPECT_EQ(miss->discriminant_sign, -1);
+    // Declined: a tangent (Δ′ = 0), an origin on the sphere (C = 0), a zero
+    // direction and a negative radius (not valid), an input outside the range.
+    EXPECT_FALSE(signs_of({{1, 0, -5}, {0, 0, 1}, {0, 0, 0}, 1}));
+    EXPECT_FALSE(signs_of({{0, 0, -1}, {0, 0, 1}, {0, 0, 0}, 1}));
+    EXPECT_FALSE(signs_of({{0.25, 0.125, -5}, {0, 0, 0}, {0, 0, 0}, 1}));
+    EXPECT_FALSE(signs_of({{0.25, 0.125, -5}, {0, 0, 1}, {0, 0, 0}, -1}));
+    EXPECT_FALSE(signs_of({{0, 0, -0x1p900}, {0, 0, 1}, {0, 0, 0}, 0x1p899}));
+    // A far sphere, where b′² − aC cancels: Lagrange's form settles it.
+    const auto far = signs_of({{0, 0.5, -0x1p40}, {0, 0, 1}, {0, 0, 0}, 1});
+    ASSERT_TRUE(far);
+    EXPECT_EQ(far->discriminant_sign, 1);
+    EXPECT_EQ(far->root_sign[0], 1);
 }
 
 }  // namespace

@@ -246,19 +246,19 @@ std::string format_oracle_timing(const oracle_timing& t) {
         if (r.family != "uniform" && r.family != "far_sphere") continue;
         if (!target(fmt::format("oracle class and signs / naive, {}", r.family), r.class_over_naive, class_limit, true))
             out += fmt::format("      needs {:.1f}x of {:.1f}x gone ({:.0f}%); the static filter stopped after the "
-                               "class and signs takes {:.1f}x (a, b', C and Lagrange's Δ' in plain double with "
-                               "their a-priori bounds, √Δ' and q, where naive computes a, b', C and b'² - aC "
-                               "unbounded), the rest {:.1f}x (the case's validity check, the IEEE environment's "
-                               "restore, the result): meeting it needs {}\n",
+                               "class and signs takes {:.1f}x (the range check, a, b', C and b'² - aC in plain double "
+                               "with their a-priori bounds, Lagrange's Δ' only where b'² - aC cancels; no root, "
+                               "square root or division, where naive computes a, b', C and b'² - aC unbounded, "
+                               "√Δ' and a root), the rest {:.1f}x (the IEEE environment's check, the stage count, "
+                               "the result): meeting it needs {}\n",
                                r.class_over_naive - class_limit, r.class_over_naive,
                                100 * (r.class_over_naive - class_limit) / r.class_over_naive,
                                r.static_class_over_naive, r.class_over_naive - r.static_class_over_naive,
                                r.static_class_over_naive > class_limit
-                                   ? "a sign from fewer products than Lagrange's identity (b'² - aC with a bound "
-                                     "that holds where it does not cancel, Δ' only where it does), not only less "
-                                     "around it"
-                                   : "less around the filter: the validity check and the environment's restore "
-                                     "done once per batch of cases, not per case");
+                                   ? "fewer operations than the coefficients naive computes and their bounds: "
+                                     "several cases at once (a batch, vectorised), not one case faster"
+                                   : "less around the filter: the environment's check done once per batch of "
+                                     "cases, not per case");
         if (!target(fmt::format("oracle roots rounded / naive, {}", r.family), r.roots_over_naive, roots_limit, true))
             out += fmt::format("      needs {:.1f}x of {:.1f}x gone ({:.0f}%); the class and signs take {:.1f}x, "
                                "rounding both roots {:.1f}x more (a Newton step each, its residual from error-free "

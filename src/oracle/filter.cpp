@@ -139,13 +139,6 @@ std::optional<double> ulp_error_from(precision p, const enclosure& x, double val
     return ulp_error_from(x, known(x) ? ulp_exponent_of(p, x) : std::nullopt, value);
 }
 
-bool in_filter_range(const ray_sphere<double>& g) {
-    for (int axis = 0; axis < 3; ++axis)
-        if (!in_filter_range(g.origin[axis]) || !in_filter_range(g.direction[axis]) || !in_filter_range(g.centre[axis]))
-            return false;
-    return in_filter_range(g.radius);
-}
-
 namespace {
 
 // What the filter computed for one case.
@@ -160,9 +153,7 @@ filtered_quadratic filter_quadratic(const ray_sphere<double>& g, const std::opti
     const double o[3] = {g.origin.x, g.origin.y, g.origin.z};
     const double d[3] = {g.direction.x, g.direction.y, g.direction.z};
     const double c[3] = {g.centre.x, g.centre.y, g.centre.z};
-    for (int axis = 0; axis < 3; ++axis)
-        if (!in_filter_range(o[axis]) || !in_filter_range(d[axis]) || !in_filter_range(c[axis])) return out;
-    if (!in_filter_range(g.radius)) return out;
+    if (!in_filter_range(g)) return out;
 
     // f = o − c exactly, as double-words (two_sum).
     bounded f[3];

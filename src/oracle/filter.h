@@ -72,8 +72,25 @@ inline int ulp_exponent_in(precision p, long e) {
     return static_cast<int>(with_precision(p, [e]<class T>(std::type_identity<T>) { return ulp_exponent_of_binade<T>(e); }));
 }
 
-// Every input of the case in the filter range.
-bool in_filter_range(const ray_sphere<double>& g);
+// Every input of the case in the filter range. Every filtered answer asks
+// it first, so it is branch-free over the ten inputs: a non-negative double
+// orders as its bits do, so |x| lies in [2^−80, 2^80] where its bits, less
+// those of 2^−80, are at most the span between the two (unsigned: below
+// 2^−80 wraps around); NaN and ±inf lie above.
+inline bool in_filter_range(const ray_sphere<double>& g) {
+    constexpr std::uint64_t magnitude_bits = ~(std::uint64_t{1} << 63);
+    constexpr std::uint64_t lowest = std::bit_cast<std::uint64_t>(0x1p-80);
+    constexpr std::uint64_t span = std::bit_cast<std::uint64_t>(0x1p80) - lowest;
+    const double inputs[10] = {g.origin.x, g.origin.y, g.origin.z, g.direction.x, g.direction.y,
+                               g.direction.z, g.centre.x, g.centre.y, g.centre.z, g.radius};
+    bool outside = false;
+#pragma GCC unroll 10
+    for (const double x : inputs) {
+        const std::uint64_t m = std::bit_cast<std::uint64_t>(x) & magnitude_bits;
+        outside |= (m != 0) & (m - lowest > span);
+    }
+    return !outside;
+}
 
 // RN(x) in T in a few operations, where the rounding y of hi to T is normal
 // in T and far from overflow: x − y = (hi − y) + lo ± err, hi − y exact (y is hi rounded

@@ -742,22 +742,30 @@ exact_solution solve_exact(const ray_sphere<double>& g, precision prec, std::opt
 exact_roots solve_exact_roots(const ray_sphere<double>& g, precision prec, oracle_depth depth) {
     restore_ieee_default();  // as solve_exact: the filters' bounds assume the IEEE default
     exact_roots out;
-    out.invalid = check_case(g, std::nullopt, std::nullopt);
-    if (!out.valid()) return out;
+    // The static filter settles valid cases only: a case it settles needs no validity check.
+    if (depth == oracle_depth::class_and_signs) {
+        if (oracle_internal::certified_signs signs; oracle_internal::static_class_and_signs(g, signs)) {
+            ++oracle_stage_counts_this_thread().solutions.filter;
+            if (signs.discriminant_sign < 0) return out;
+            out.cls = line_class::two_hit;
+            out.near_root.sign = signs.root_sign[0];
+            out.far_root.sign = signs.root_sign[1];
+            return out;
+        }
+    }
     oracle_internal::filtered_case filter;
-    if (depth != oracle_depth::everything && oracle_internal::static_filter_case(g, prec, filter, depth)) {
+    if (depth == oracle_depth::roots_rounded && oracle_internal::static_filter_case(g, prec, filter, depth)) {
         ++oracle_stage_counts_this_thread().solutions.filter;
         if (*filter.discriminant_sign < 0) return out;
         out.cls = line_class::two_hit;  // the static filter certifies no tangent
         out.near_root.sign = *filter.sign[0];
         out.far_root.sign = *filter.sign[1];
-        if (depth == oracle_depth::roots_rounded) {
-            out.near_root.rounded = *filter.rounded[0];
-            out.far_root.rounded = *filter.rounded[1];
-        }
+        out.near_root.rounded = *filter.rounded[0];
+        out.far_root.rounded = *filter.rounded[1];
         return out;
     }
-    // What the static filter cannot certify (or everything): the whole solution's answer.
+    // What the static filter cannot certify (or everything): the whole
+    // solution's answer, an invalid case's reason among them.
     const exact_solution whole = solve_exact(g, prec);
     out.invalid = whole.invalid;
     out.cls = whole.cls;

@@ -164,61 +164,152 @@ enclosure hit_enclosure(double o, double d, const enclosure& t) {
     return {z.h, z.l, err};
 }
 
-}  // namespace
 
-RAYVERIFY_CLONED_FOR_FMA bool static_filter_case(const ray_sphere<double>& g, precision prec, filtered_case& out,
-                                                  oracle_depth depth) {
+// The quadratic's coefficients in plain double, each with its a-priori
+// bound: the first part of every answer below.
+struct plain_quadratic {
+    dword f[3];  // f = o − c exactly (two_sum): f = fh + fl, |fl| ≤ u·|fh|
+    double N = 0;  // (Σ|fh_i|)·(Σ|d_i|), which bounds Σ|d_i·fh_i| and each |fh_j·d_i| + |fh_i·d_j|
+    double a = 0;  // |â − a| ≤ 3.01u·â
+    double b = 0, err_b = 0;
+    double ff = 0, rr = 0, C = 0, err_C = 0;  // Σfh², r², Ĉ = ff − rr
+};
+
+// The coefficients of g, when every input is in the filter range and the
+// radius is not negative (an invalid case is never settled here; a zero
+// direction has Δ′ = 0, whose sign no bound settles).
+bool plain_quadratic_of(const ray_sphere<double>& g, plain_quadratic& q) {
+    if (!in_filter_range(g) || !(g.radius >= 0)) return false;
     const double o[3] = {g.origin.x, g.origin.y, g.origin.z};
     const double d[3] = {g.direction.x, g.direction.y, g.direction.z};
     const double c[3] = {g.centre.x, g.centre.y, g.centre.z};
     const double r = g.radius;
-    for (int axis = 0; axis < 3; ++axis)
-        if (!in_filter_range(o[axis]) || !in_filter_range(d[axis]) || !in_filter_range(c[axis])) return false;
-    if (!in_filter_range(r)) return false;
 
-    // f = o − c exactly (two_sum): f = fh + fl, |fl| ≤ u·|fh|. The plain
-    // evaluations below use fh; fl is an input perturbation of relative size u.
-    const dword f[3] = {two_sum(o[0], -c[0]), two_sum(o[1], -c[1]), two_sum(o[2], -c[2])};
-    const double fh[3] = {f[0].h, f[1].h, f[2].h};
-    // N = (Σ|fh_i|)·(Σ|d_i|) bounds Σ|d_i·fh_i| and each |fh_j·d_i| + |fh_i·d_j|.
-    const double N = ((std::fabs(fh[0]) + std::fabs(fh[1])) + std::fabs(fh[2])) *
-                     ((std::fabs(d[0]) + std::fabs(d[1])) + std::fabs(d[2]));
+    // The plain evaluations below use fh; fl is an input perturbation of relative size u.
+#pragma GCC unroll 3
+    for (int axis = 0; axis < 3; ++axis) q.f[axis] = two_sum(o[axis], -c[axis]);
+    const double fh[3] = {q.f[0].h, q.f[1].h, q.f[2].h};
+    q.N = ((std::fabs(fh[0]) + std::fabs(fh[1])) + std::fabs(fh[2])) *
+          ((std::fabs(d[0]) + std::fabs(d[1])) + std::fabs(d[2]));
 
     // a = d·d: three squares and two sums of non-negative terms, at most 3
     // roundings each: |â − a| ≤ γ3·a, so a = â·(1 + η_a) with |η_a| ≤ 3.01u.
-    const double a = (d[0] * d[0] + d[1] * d[1]) + d[2] * d[2];
+    q.a = (d[0] * d[0] + d[1] * d[1]) + d[2] * d[2];
 
     // b′ = d·f: a sum of three products (γ3 of Σ|d_i·fh_i|) plus the
     // perturbation d·fl (u of the same): |b̂ − b′| ≤ 5u·N.
-    const double b = (d[0] * fh[0] + d[1] * fh[1]) + d[2] * fh[2];
-    const double err_b = 5 * u * N;
+    q.b = (d[0] * fh[0] + d[1] * fh[1]) + d[2] * fh[2];
+    q.err_b = 5 * u * q.N;
 
     // C = f·f − r²: fh_i² through 4 roundings (square, two sums, the final
     // difference), r² through 2: γ4·(Σfh² + r²); f² = fh²·(1 + φ)², |φ| ≤ u,
     // adds (2u + u²)·Σfh²: |Ĉ − C| ≤ 7u·(Σfh² + r²).
-    const double ff = (fh[0] * fh[0] + fh[1] * fh[1]) + fh[2] * fh[2];
-    const double rr = r * r;
-    const double C = ff - rr;
-    const double err_C = 7 * u * (ff + rr);
+    q.ff = (fh[0] * fh[0] + fh[1] * fh[1]) + fh[2] * fh[2];
+    q.rr = r * r;
+    q.C = q.ff - q.rr;
+    q.err_C = 7 * u * (q.ff + q.rr);
+    return true;
+}
 
-    // Δ′ = a·r² − |d × f|² (Lagrange's identity, as the double-word filter:
-    // b′² − aC cancels for far spheres, this form only near tangency).
-    // Each component x_k = fh_j·d_i − fh_i·d_j: two products and a
-    // difference (γ2 of |fh_j·d_i| + |fh_i·d_j|) plus the fl perturbation
-    // (u of the same): |x̂_k − x_k| ≤ 4u·N =: e_x.
-    // s = Σx̂_k² (γ3: ≤ 4u·ŝ), and |Σx̂_k² − Σx_k²| ≤ Σe_x·(2|x̂_k| + e_x).
-    // â·r̂² goes through 5 roundings of non-negative terms (γ5: ≤ 6u·âr̂²),
-    // and Δ̂ = RN(âr̂² − ŝ) adds u·|Δ̂| (2u with slack).
+// A value in plain double within `err` of an exact one.
+struct bounded_value {
+    double value = 0, err = 0;
+};
+
+// Δ′ = b′² − aC as the formula reads, for its sign alone: it cancels where
+// b′² and aC nearly agree (a far sphere, a near-tangent line), and there its
+// bound leaves the sign open; elsewhere it settles it with two products.
+// |b̂² − b′²| = |b̂ − b′|·|b̂ + b′| ≤ e_b·(2|b̂| + e_b); |âĈ − aC| ≤
+// â·e_C·(1 + 3.01u) + 3.01u·â|Ĉ|; the roundings of b̂², âĈ and their
+// difference add u·b̂², u·|âĈ| and u·|Δ̂|. With B = RN(b̂²) and A = RN(âĈ)
+// (b̂² ≤ B(1 + u), â|Ĉ| ≤ |A|(1 + u)) that is at most
+// e_b·(2|b̂| + e_b) + â·e_C + 2u·B + 5u·|A| + 2u·|Δ̂|, times 1 + 2^−18 for
+// the factor 1 + 3.01u and the roundings of the bound's own evaluation.
+bounded_value discriminant_as_written(const plain_quadratic& q) {
+    const double B = q.b * q.b, A = q.a * q.C;
+    const double value = B - A;
+    const double err = (((q.err_b * (2 * std::fabs(q.b) + q.err_b) + q.a * q.err_C) + 2 * u * B) +
+                        (5 * u * std::fabs(A) + 2 * u * std::fabs(value))) *
+                       second_order;
+    return {value, err};
+}
+
+// Δ′ = a·r² − |d × f|² (Lagrange's identity, as the double-word filter:
+// b′² − aC cancels for far spheres, this form only near tangency).
+// Each component x_k = fh_j·d_i − fh_i·d_j: two products and a
+// difference (γ2 of |fh_j·d_i| + |fh_i·d_j|) plus the fl perturbation
+// (u of the same): |x̂_k − x_k| ≤ 4u·N =: e_x.
+// s = Σx̂_k² (γ3: ≤ 4u·ŝ), and |Σx̂_k² − Σx_k²| ≤ Σe_x·(2|x̂_k| + e_x).
+// â·r̂² goes through 5 roundings of non-negative terms (γ5: ≤ 6u·âr̂²),
+// and Δ̂ = RN(âr̂² − ŝ) adds u·|Δ̂| (2u with slack).
+bounded_value discriminant_by_lagrange(const plain_quadratic& q, const double d[3]) {
+    const double fh[3] = {q.f[0].h, q.f[1].h, q.f[2].h};
     const double x0 = fh[2] * d[1] - fh[1] * d[2];
     const double x1 = fh[0] * d[2] - fh[2] * d[0];
     const double x2 = fh[1] * d[0] - fh[0] * d[1];
     const double s = (x0 * x0 + x1 * x1) + x2 * x2;
-    const double ar = a * rr;
-    const double discriminant = ar - s;
-    const double err_x = 4 * u * N;
-    const double err_discriminant =
-        (2 * u * std::fabs(discriminant) + (6 * u * ar + 4 * u * s)) +
-        err_x * (2 * ((std::fabs(x0) + std::fabs(x1)) + std::fabs(x2)) + 3 * err_x);
+    const double ar = q.a * q.rr;
+    const double value = ar - s;
+    const double err_x = 4 * u * q.N;
+    const double err = (2 * u * std::fabs(value) + (6 * u * ar + 4 * u * s)) +
+                       err_x * (2 * ((std::fabs(x0) + std::fabs(x1)) + std::fabs(x2)) + 3 * err_x);
+    return {value, err};
+}
+
+// The sign of a bounded value, when it exceeds its bound strictly.
+uncertain_sign certain_sign_of(const bounded_value& x) {
+    if (x.value > x.err) return +1;
+    if (x.value < -x.err) return -1;
+    return std::nullopt;
+}
+
+}  // namespace
+
+// The roots' signs follow from the coefficients once Δ′ > 0: their product
+// is C/a and their sum −2b′/a (a > 0). C < 0: one behind, one in front.
+// C > 0: both on the side of −b′ (b′ ≠ 0 then, as b′² > aC > 0). Each sign
+// is taken only where |Ĉ| exceeds e_C, and for C > 0 |b̂| exceeds e_b.
+RAYVERIFY_CLONED_FOR_FMA bool static_class_and_signs(const ray_sphere<double>& g, certified_signs& out) {
+    plain_quadratic q;
+    if (!plain_quadratic_of(g, q)) return false;
+    uncertain_sign discriminant_sign = certain_sign_of(discriminant_as_written(q));
+    if (!discriminant_sign) {
+        const double d[3] = {g.direction.x, g.direction.y, g.direction.z};
+        discriminant_sign = certain_sign_of(discriminant_by_lagrange(q, d));
+        if (!discriminant_sign) return false;  // a tangent, a near-tangent line, or a zero direction
+    }
+    out.discriminant_sign = *discriminant_sign;
+    if (out.discriminant_sign < 0) return true;
+    if (q.C < -q.err_C) {
+        out.root_sign[0] = -1;
+        out.root_sign[1] = +1;
+        return true;
+    }
+    if (!(q.C > q.err_C) || !(std::fabs(q.b) > q.err_b)) return false;
+    out.root_sign[0] = out.root_sign[1] = q.b > 0 ? -1 : +1;
+    return true;
+}
+
+RAYVERIFY_CLONED_FOR_FMA bool static_filter_case(const ray_sphere<double>& g, precision prec, filtered_case& out,
+                                                  oracle_depth depth) {
+    if (depth == oracle_depth::class_and_signs) {
+        certified_signs signs;
+        if (!static_class_and_signs(g, signs)) return false;
+        out.discriminant_sign = signs.discriminant_sign;
+        if (signs.discriminant_sign > 0)
+            for (int k = 0; k < 2; ++k) out.sign[k] = signs.root_sign[k];
+        return true;
+    }
+    plain_quadratic coefficients;
+    if (!plain_quadratic_of(g, coefficients)) return false;
+    const double o[3] = {g.origin.x, g.origin.y, g.origin.z};
+    const double d[3] = {g.direction.x, g.direction.y, g.direction.z};
+    const double r = g.radius;
+    const dword(&f)[3] = coefficients.f;
+    const double a = coefficients.a, b = coefficients.b, err_b = coefficients.err_b, C = coefficients.C,
+                 err_C = coefficients.err_C;
+    const bounded_value lagrange = discriminant_by_lagrange(coefficients, d);
+    const double discriminant = lagrange.value, err_discriminant = lagrange.err;
 
     // Class: the sign of Δ′ where |Δ̂| exceeds its bound.
     if (discriminant < -err_discriminant) {

@@ -18,6 +18,8 @@
 // that every rounding error below is relative: |RN(x) − x| ≤ u·|x|, u = 2^−53.
 #pragma once
 
+#include <optional>
+
 #include "core/ray_sphere_case.h"
 #include "oracle/filter.h"
 #include "oracle/oracle.h"
@@ -35,9 +37,27 @@ namespace rayverify::oracle_internal {
 // Written in place rather than returned: building and copying the result
 // cost a fifth of the whole stage.
 // `depth`: how much it must settle before it answers true: the class and
-// the roots' signs (class_and_signs; roots, roundings and hit point left
-// unset), those and the rounded roots (roots_rounded; no hit point), or all
+// the roots' signs (class_and_signs, as static_class_and_signs answers them;
+// roots, roundings and hit point left unset), those and the rounded roots (roots_rounded; no hit point), or all
 // of the above (everything).
+// The class and the roots' signs alone, what a question about where a line
+// meets the sphere needs: Δ′'s sign from b′² − aC where its bound settles it
+// (two products; it cancels for far spheres and near tangency), else from
+// Lagrange's identity as static_filter_case computes it, and the roots'
+// signs from C's and b′'s (their product is C/a, their sum −2b′/a): no
+// square root, no division, no root. False where a bound straddles a
+// decision, an input is outside the filter range, or the case is not valid
+// (a negative radius, a zero direction): a case it settles is valid. The
+// roots' signs are set only when Δ′ > 0 (a tangent is never certified).
+// Written into the caller's `out`, as static_filter_case's answers are
+// (returned, the small struct was assembled through the stack, a sixth of
+// the function's time).
+struct certified_signs {
+    int discriminant_sign = 0;
+    int root_sign[2] = {0, 0};  // near, far
+};
+bool static_class_and_signs(const ray_sphere<double>& g, certified_signs& out);
+
 bool static_filter_case(const ray_sphere<double>& g, precision prec, filtered_case& out,
                         oracle_depth depth = oracle_depth::everything);
 

@@ -3,7 +3,9 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <tuple>
 #include <limits>
 #include <utility>
@@ -653,7 +655,7 @@ struct scaled {
 
     static scaled of(double x) {
         scaled s;
-        s.m = std::frexp(std::fabs(x), &s.e);
+        s.m = split(std::fabs(x), s.e);
         return s;
     }
     friend scaled operator*(scaled a, scaled b) { return {a.m * b.m, a.e + b.e}; }
@@ -664,12 +666,27 @@ struct scaled {
     double value() const {
         if (m == 0) return 0;
         int k = 0;
-        const double mantissa = std::frexp(m, &k);
+        const double mantissa = split(m, k);
         const long exponent = static_cast<long>(e) + k;
+        // A normal result: the product with 2^exponent is exact, as ldexp's.
+        if (exponent >= -1021 && exponent <= 1023) return mantissa * exact_power_of_two(static_cast<int>(exponent));
         if (exponent > 1100) return std::numeric_limits<double>::infinity();
         if (exponent < -1100) return std::numeric_limits<double>::denorm_min();
         const double x = std::ldexp(mantissa, static_cast<int>(exponent));
         return x == 0 ? std::numeric_limits<double>::denorm_min() : x;
+    }
+
+private:
+    // std::frexp: x = significand·2^e with 0.5 ≤ |significand| < 1. A normal
+    // x from its bits (the judge splits several values for every agreeing
+    // answer, and the libm calls were a few percent of an audit); the rest
+    // (0, subnormals, non-finite) by std::frexp.
+    static double split(double x, int& e) {
+        const std::uint64_t bits = std::bit_cast<std::uint64_t>(x);
+        const int biased = static_cast<int>((bits >> 52) & 0x7FF);
+        if (biased == 0 || biased == 0x7FF) return std::frexp(x, &e);
+        e = biased - 1022;
+        return std::bit_cast<double>((bits & 0x800FFFFFFFFFFFFFull) | (std::uint64_t{1022} << 52));
     }
 };
 
@@ -689,8 +706,11 @@ scaled distance_between(double a, double b) {
 scaled euclidean_length(const vec3<double>& v) {
     const double largest = std::max({std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)});
     if (largest == 0) return {};
-    const int k = std::ilogb(largest);
-    const vec3<double> w{std::ldexp(v.x, -k), std::ldexp(v.y, -k), std::ldexp(v.z, -k)};
+    const int k = binade_of(largest);
+    // Scaled by 2^−k: a product with a power of two rounds as ldexp does.
+    const double scale = k >= -1023 ? exact_power_of_two(-k) : 0;
+    const vec3<double> w = k >= -1023 ? vec3<double>{v.x * scale, v.y * scale, v.z * scale}
+                                      : vec3<double>{std::ldexp(v.x, -k), std::ldexp(v.y, -k), std::ldexp(v.z, -k)};
     scaled s = scaled::of(std::sqrt(dot(w, w)));
     s.e += k;
     return s;
@@ -718,7 +738,7 @@ scaled root_error(const exact_solution& exact, root_index i, double t) {
     const double ulps = exact.root_ulp_error(i, t);
     if (!std::isfinite(ulps)) return distance_between(t, exact.root(i).rounded);
     scaled s = scaled::of(ulps);
-    s.e += std::ilogb(ulp_of_root(exact, i));
+    s.e += binade_of(ulp_of_root(exact, i));
     return s;
 }
 

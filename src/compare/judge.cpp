@@ -288,16 +288,17 @@ namespace {
 // A whole answer as the judge takes it: widened, with the outputs beside t
 // its contract names, and its hit point — the answer's own when the contract
 // says it gives one, else o + t·d evaluated in T for the value the contract
-// makes the hit (see variant_output).
+// makes the hit (see variant_output). Written into `out`, an empty
+// variant_output (a target_outcome's, as made): returned, it was zeroed and
+// copied again for every case-target.
 template <class T>
-variant_output widen_answer(const contract& promises, const answer<T>& a, const ray_sphere<T>& input,
-                            const t_range& range) {
+void widen_answer_into(variant_output& out, const contract& promises, const answer<T>& a,
+                       const ray_sphere<T>& input, const t_range& range) {
     const root_pair<T>& r = a.roots;
-    variant_output out;
     out.roots = {r.count, static_cast<double>(r.t0), static_cast<double>(r.t1)};
-    if (r.count <= 0) return out;
+    if (r.count <= 0) return;
     switch (promises.query) {
-        case query_kind::any_hit: return out;
+        case query_kind::any_hit: return;
         case query_kind::nearest_hit: out.hit_root = 0; break;
         case query_kind::line_roots:
             if (range.contains(r.t0))
@@ -311,7 +312,7 @@ variant_output widen_answer(const contract& promises, const answer<T>& a, const 
         out.t_bounds = {{{static_cast<double>(a.t_lower[0]), static_cast<double>(a.t_upper[0])},
                          {static_cast<double>(a.t_lower[1]), static_cast<double>(a.t_upper[1])}}};
     if (promises.outputs.normal) out.normal = widened(a.normal);
-    if (!out.hit_root) return out;
+    if (!out.hit_root) return;
     if (gives_hit_point(promises)) {
         out.hit_point = widened(a.point);
         if (promises.outputs.point_error != point_bound::none) out.point_error = widened(a.point_error);
@@ -319,7 +320,6 @@ variant_output widen_answer(const contract& promises, const answer<T>& a, const 
         const T t = *out.hit_root == 0 ? r.t0 : r.t1;
         out.hit_point = widened(input.origin + t * input.direction);
     }
-    return out;
 }
 
 // A recorded answer's outputs beside t are judged as it gives them, answer by
@@ -1182,7 +1182,7 @@ target_outcome judge_target_in(const audit_target& target, const corpus_case& c,
         outcome.score = judge_degenerate(outcome.output, frame.exact().invalid);
         return outcome;
     }
-    outcome.output = widen_answer(promises, given_answer, input, outcome.range);
+    widen_answer_into(outcome.output, promises, given_answer, input, outcome.range);
     if (target.recorded && !ahead) add_recorded_outputs(outcome.output, target.recorded->find(c.id));
     outcome.score = judge_output(promises, outcome.output, frame, outcome.range, wanted);
     return outcome;

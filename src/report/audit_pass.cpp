@@ -20,14 +20,20 @@ audit_state run_audit_pass(const case_source& next, const std::vector<audit_targ
     // sizes it generously once). Per slot of the chunk: the rendered per-case
     // line, copied to its own size, and the case's corpus line when some
     // target disagrees on it, both written in input order (the audited cases
-    // themselves are not kept).
+    // themselves are not kept). With one worker the cases reach the parallel
+    // hook in input order (one thread takes the chunk's cases in turn), so
+    // each line is written as it is rendered and no slot is kept: a short
+    // run's slots were each a fresh allocation, first touched, and a single-
+    // threaded run's lines cost half as much again for them.
     struct worker_state {
         audit_state state;
         std::string rendering;
     };
     std::vector<per_worker<worker_state>> workers(threads, {worker_state{audit_state(targets), {}}});
-    std::vector<std::string> lines(per_case != nullptr ? case_stream::default_chunk : 0);
-    std::vector<std::string> failing_lines(failures != nullptr ? case_stream::default_chunk : 0);
+    const bool written_as_rendered = audit_threads(targets, threads) == 1;
+    const std::size_t slots = written_as_rendered ? 0 : case_stream::default_chunk;
+    std::vector<std::string> lines(per_case != nullptr ? slots : 0);
+    std::vector<std::string> failing_lines(failures != nullptr ? slots : 0);
     audit_hooks hooks;
     hooks.parallel = [&](const audited_case& c, std::size_t index, std::size_t slot, unsigned worker) {
         audit_state& state = workers[worker].state.state;
@@ -38,16 +44,23 @@ audit_state run_audit_pass(const case_source& next, const std::vector<audit_targ
         if (per_case != nullptr) {
             std::string& rendering = workers[worker].state.rendering;
             rendering = per_case_line(c, targets, std::move(rendering));
-            lines[slot].assign(rendering);
+            if (written_as_rendered)
+                *per_case << rendering << '\n';
+            else
+                lines[slot].assign(rendering);
         }
         if (failures != nullptr) {
             const bool failing = std::any_of(c.outcomes.begin(), c.outcomes.end(),
                                              [](const target_outcome& o) { return is_disagreement(o.score.verdict); });
-            failing_lines[slot] = failing ? format_case_line(*c.source) : std::string();
+            if (written_as_rendered) {
+                if (failing) *failures << format_case_line(*c.source) << '\n';
+            } else {
+                failing_lines[slot] = failing ? format_case_line(*c.source) : std::string();
+            }
         }
     };
     if (observe) hooks.ordered = [&](const audited_case& c, std::size_t index, std::size_t) { observe(c, index); };
-    if (per_case != nullptr || failures != nullptr)
+    if (!written_as_rendered && (per_case != nullptr || failures != nullptr))
         hooks.in_order = [&](std::size_t, std::size_t slot) {
             if (per_case != nullptr) *per_case << lines[slot] << '\n';
             if (failures != nullptr && !failing_lines[slot].empty()) *failures << failing_lines[slot] << '\n';

@@ -315,7 +315,8 @@ using case_source = std::function<bool(std::vector<corpus_case>& cases, std::vec
 struct audit_hooks {
     // Called on a worker thread, concurrently for different cases: per-case
     // work such as stability or rendering. `slot` is the case's position in
-    // its chunk, `worker` < the thread count in use.
+    // its chunk, `worker` < the thread count in use. With one thread in use
+    // (audit_threads) it is called in input order, on the calling thread.
     std::function<void(const audited_case&, std::size_t index, std::size_t slot, unsigned worker)> parallel;
     // Called on the calling thread for each case of a chunk, in input order,
     // after the chunk's parallel work, with the audited case: the chunk's

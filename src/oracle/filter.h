@@ -61,10 +61,18 @@ inline uncertain_sign sign_of(const enclosure& x) {
     return c ? uncertain_sign(static_cast<int>(*c)) : std::nullopt;
 }
 
-// Filter range: 0 or 2^−80 ≤ |x| ≤ 2^80 (see the range note above).
+// Filter range: 0 or 2^−80 ≤ |x| ≤ 2^80 (see the range note above). From
+// the bits, without a branch (every filtered answer asks it of ten inputs
+// first): a non-negative double orders as its bits do, so |x| lies in
+// [2^−80, 2^80] where its bits, less those of 2^−80, are at most the span
+// between the two (unsigned: below 2^−80 wraps around); NaN and ±inf lie
+// above.
 inline bool in_filter_range(double x) {
-    const double m = std::fabs(x);
-    return m == 0 || (m >= 0x1p-80 && m <= 0x1p80);
+    constexpr std::uint64_t magnitude_bits = ~(std::uint64_t{1} << 63);
+    constexpr std::uint64_t lowest = std::bit_cast<std::uint64_t>(0x1p-80);
+    constexpr std::uint64_t span = std::bit_cast<std::uint64_t>(0x1p80) - lowest;
+    const std::uint64_t m = std::bit_cast<std::uint64_t>(x) & magnitude_bits;
+    return (m == 0) | (m - lowest <= span);
 }
 
 // The exponent of ulp(x) in precision p for 2^e ≤ |x| < 2^(e+1) (core/float_bits.h).
@@ -72,24 +80,14 @@ inline int ulp_exponent_in(precision p, long e) {
     return static_cast<int>(with_precision(p, [e]<class T>(std::type_identity<T>) { return ulp_exponent_of_binade<T>(e); }));
 }
 
-// Every input of the case in the filter range. Every filtered answer asks
-// it first, so it is branch-free over the ten inputs: a non-negative double
-// orders as its bits do, so |x| lies in [2^−80, 2^80] where its bits, less
-// those of 2^−80, are at most the span between the two (unsigned: below
-// 2^−80 wraps around); NaN and ±inf lie above.
+// Every input of the case in the filter range, tested without a branch.
 inline bool in_filter_range(const ray_sphere<double>& g) {
-    constexpr std::uint64_t magnitude_bits = ~(std::uint64_t{1} << 63);
-    constexpr std::uint64_t lowest = std::bit_cast<std::uint64_t>(0x1p-80);
-    constexpr std::uint64_t span = std::bit_cast<std::uint64_t>(0x1p80) - lowest;
     const double inputs[10] = {g.origin.x, g.origin.y, g.origin.z, g.direction.x, g.direction.y,
                                g.direction.z, g.centre.x, g.centre.y, g.centre.z, g.radius};
-    bool outside = false;
+    bool inside = true;
 #pragma GCC unroll 10
-    for (const double x : inputs) {
-        const std::uint64_t m = std::bit_cast<std::uint64_t>(x) & magnitude_bits;
-        outside |= (m != 0) & (m - lowest > span);
-    }
-    return !outside;
+    for (const double x : inputs) inside &= in_filter_range(x);
+    return inside;
 }
 
 // RN(x) in T in a few operations, where the rounding y of hi to T is normal

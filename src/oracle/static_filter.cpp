@@ -164,7 +164,6 @@ enclosure hit_enclosure(double o, double d, const enclosure& t) {
     return {z.h, z.l, err};
 }
 
-
 // The quadratic's coefficients in plain double, each with its a-priori
 // bound: the first part of every answer below.
 struct plain_quadratic {
@@ -312,12 +311,9 @@ RAYVERIFY_CLONED_FOR_FMA bool static_filter_case(const ray_sphere<double>& g, pr
     const double discriminant = lagrange.value, err_discriminant = lagrange.err;
 
     // Class: the sign of Δ′ where |Δ̂| exceeds its bound.
-    if (discriminant < -err_discriminant) {
-        out.discriminant_sign = -1;
-        return true;
-    }
-    if (!(discriminant > err_discriminant)) return false;
-    out.discriminant_sign = +1;
+    out.discriminant_sign = certain_sign_of(lagrange);
+    if (!out.discriminant_sign) return false;
+    if (*out.discriminant_sign < 0) return true;
 
     // √Δ′: |√Δ′ − √Δ̂| = |Δ′ − Δ̂|/(√Δ′ + √Δ̂) ≤ E_Δ/√Δ̂ ≤ (1 + u)·E_Δ/ŝq,
     // plus the rounding of the square root, u·ŝq: computed as

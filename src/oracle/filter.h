@@ -153,6 +153,10 @@ std::optional<double> round_hit_coordinate(precision p, const ray_sphere<double>
 // 0 with a root not provably nonzero, an empty optional) the exact state
 // answers.
 struct filtered_case {
+    // Written out, so that GCC 12 sets the members one by one: the implicit
+    // constructor had it clear all 152 bytes with a `rep stos` first, whose
+    // start-up was a tenth of a filtered solve.
+    filtered_case() noexcept {}
     uncertain_sign discriminant_sign;  // empty: the next stage must classify
     enclosure roots[2];
     uncertain_sign sign[2];

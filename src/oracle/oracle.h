@@ -17,6 +17,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <vector>
 
 #include "core/comparison.h"
@@ -28,6 +29,36 @@ namespace oracle_internal {
 struct exact_quadratic;     // the exact route's state (internal/exact_number.h)
 struct exact_coefficients;  // the quadratic's coefficients as expansions (refinement.h)
 }  // namespace oracle_internal
+
+// Storage for a value built on first use and kept, as std::optional holds
+// one, but left untouched until it is built: std::optional, as GCC 12 builds
+// it, zeroes its whole storage, and a solution carries eight ULP frames and
+// two refined enclosures that most solutions never build (zeroing them was a
+// tenth of a filtered solve). For trivially copyable values: a copy copies
+// the bytes, built or not.
+template <class T>
+class built_on_first_use {
+    static_assert(std::is_trivially_copyable_v<T> && std::is_trivially_destructible_v<T>);
+
+public:
+    built_on_first_use() {}
+    built_on_first_use& operator=(const T& v) {
+        value_ = v;
+        built_ = true;
+        return *this;
+    }
+    explicit operator bool() const { return built_; }
+    T& operator*() { return value_; }
+    const T& operator*() const { return value_; }
+    T* operator->() { return &value_; }
+    const T* operator->() const { return &value_; }
+
+private:
+    union {
+        T value_;
+    };
+    bool built_ = false;
+};
 
 enum class line_class { miss, tangent, two_hit };
 const char* line_class_name(line_class c);
@@ -177,7 +208,6 @@ public:
     struct ulp_frame {
         enclosure x;
         std::optional<int> ulp_exponent;
-        bool built = false;
         // The last ULP error measured against this value, and for which
         // answer: variants often return the same double, and the judge asks
         // for a root's error more than once.
@@ -205,10 +235,9 @@ private:
     enclosure roots_[2];  // near, far
     enclosure midpoint_;  // of the two roots, −b′/a
     // Built on first use by a ULP query roots_ cannot settle, kept like exact_.
-    mutable refined_enclosure refined_[2];
-    mutable bool refined_built_[2] = {false, false};
-    mutable ulp_frame root_frames_[2];     // near, far
-    mutable ulp_frame hit_frames_[2][3];   // per root, per axis
+    mutable built_on_first_use<refined_enclosure> refined_[2];
+    mutable built_on_first_use<ulp_frame> root_frames_[2];    // near, far
+    mutable built_on_first_use<ulp_frame> hit_frames_[2][3];  // per root, per axis
     mutable std::shared_ptr<const oracle_internal::exact_coefficients> expansions_;  // built on first use, like exact_
     mutable std::shared_ptr<const oracle_internal::exact_quadratic> exact_;
 };
@@ -220,7 +249,7 @@ enum class oracle_depth { class_and_signs, roots_rounded, everything };
 
 // The class and roots of a case, with nothing kept beyond them: no
 // enclosures, no hit point, no state for later questions (40 bytes against
-// exact_solution's 824, GCC 12 on x86-64). `rounded` is set at oracle_depth::roots_rounded
+// exact_solution's 808, GCC 12 on x86-64). `rounded` is set at oracle_depth::roots_rounded
 // only (0 at class_and_signs); both roots equal for a tangent, nothing for a
 // miss.
 struct exact_roots {

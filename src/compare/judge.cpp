@@ -1141,26 +1141,26 @@ case_score judge_degenerate(const variant_output& output, invalid_reason why) {
                                     invalid_reason_name(why), output.roots.count, output.roots.t0, output.roots.t1));
 }
 
-// Invalid or outside the contract: the outcome, else nullopt.
-std::optional<case_score> unscored(const contract& promises, const corpus_case& c, const case_frame& frame) {
-    case_score s;
-    if (ray_case_for_segment_target(promises, c)) {
-        s.verdict = verdict_kind::contract_violation;
-        s.detail = "a ray case: this target takes a segment's end points (cast=segment) and runs on segment cases only";
-        return s;
-    }
-    if (!frame.exact().valid() && !runs_degenerate(promises, frame.exact())) {
-        s.verdict = verdict_kind::invalid;
-        s.detail = invalid_reason_name(frame.exact().invalid);
-        return s;
-    }
-    if (!promises.assumes_unit_direction) return std::nullopt;
-    if (const std::optional<std::string>& breach = frame.unit_direction_breach()) {
-        s.verdict = verdict_kind::contract_violation;
-        s.detail = *breach;
-        return s;
-    }
-    return std::nullopt;
+// Invalid or outside the contract: the outcome written into `score` (a
+// default one), and true; else false, `score` untouched. Written in place:
+// returned, the optional case_score (about 250 bytes, a string among them)
+// was built, cleared and destroyed for every case-target, most of which it
+// does not concern.
+bool judged_unscored(const contract& promises, const corpus_case& c, const case_frame& frame, case_score& score) {
+    const auto set = [&score](verdict_kind verdict, std::string detail) {
+        score.verdict = verdict;
+        score.detail = std::move(detail);
+        return true;
+    };
+    if (ray_case_for_segment_target(promises, c))
+        return set(verdict_kind::contract_violation,
+                   "a ray case: this target takes a segment's end points (cast=segment) and runs on segment cases only");
+    if (!frame.exact().valid() && !runs_degenerate(promises, frame.exact()))
+        return set(verdict_kind::invalid, invalid_reason_name(frame.exact().invalid));
+    if (!promises.assumes_unit_direction) return false;
+    if (const std::optional<std::string>& breach = frame.unit_direction_breach())
+        return set(verdict_kind::contract_violation, *breach);
+    return false;
 }
 
 template <class T>
@@ -1168,10 +1168,7 @@ target_outcome judge_target_in(const audit_target& target, const corpus_case& c,
                                const given_answer& given, const figure_request& wanted) {
     target_outcome outcome;
     const contract& promises = target.subject.promises;
-    if (auto s = unscored(promises, c, frame)) {
-        outcome.score = std::move(*s);
-        return outcome;
-    }
+    if (judged_unscored(promises, c, frame, outcome.score)) return outcome;
     const ray_sphere<T> input = target_input<T>(c);
     outcome.range = range_for(promises, c, target.prec);
     const answer<T>* ahead = std::get_if<answer<T>>(&given);
@@ -1318,10 +1315,7 @@ renderer_outcome judge_for_renderer_in(const audit_target& target, const corpus_
     const ray_sphere<T> input = target_input<T>(c);
     const case_frame frame(exact, rounded_to<double>(input));
     const contract& promises = target.subject.promises;
-    if (auto s = unscored(promises, c, frame)) {
-        outcome.score = std::move(*s);
-        return outcome;
-    }
+    if (judged_unscored(promises, c, frame, outcome.score)) return outcome;
     contract renderer = renderer_contract(q, lower_end, upper_end);
     renderer.accuracy = q == ray_query::any_hit ? accuracy_requirement{} : promises.accuracy;
     outcome.range = range_for(renderer, c, target.prec);

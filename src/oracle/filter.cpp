@@ -7,7 +7,7 @@
 #include <type_traits>
 
 #include "core/float_bits.h"
-#include "oracle/internal/fma_clones.h"
+#include "core/fma_clones.h"
 
 namespace rayverify::oracle_internal {
 namespace {
@@ -63,12 +63,13 @@ std::optional<int> ulp_exponent_of(const enclosure& x) {
 
 }  // namespace
 
-// RN(|difference| / 2^ulp_exponent) when the bound settles it: the
+// RN(|difference| / 2^ulp_exponent) when the bound settles it, else NaN: the
 // difference's sign is certain and the whole scaled enclosure lies inside one
 // rounding interval of a double (the contract of ulp_error: every digit right).
-std::optional<double> rounded_ulp_ratio(bounded difference, int ulp_exponent) {
+double rounded_ulp_ratio_or_nan(bounded difference, int ulp_exponent) {
+    constexpr double undecided = std::numeric_limits<double>::quiet_NaN();
     const uncertain_sign position = sign_of(difference);
-    if (!position) return std::nullopt;
+    if (!position) return undecided;
     if (*position < 0) difference = -difference;
     // Most ratios settle at once: scaled by 2^−k with one multiplication
     // (exact while the words stay normal), the ratio is h + l within e, and
@@ -86,19 +87,15 @@ std::optional<double> rounded_ulp_ratio(bounded difference, int ulp_exponent) {
             const double below = power_of_two ? half_ulp / 2 : half_ulp, above = half_ulp;
             if (l + e < above * (1 - 0x1p-50) && l - e > -below * (1 - 0x1p-50)) return h;
             // A bound as wide as half an ulp cannot fit in a rounding interval.
-            if (e >= half_ulp) return std::nullopt;
+            if (e >= half_ulp) return undecided;
         }
     }
     const int scaled_exponent = std::ilogb(difference.v.h) - ulp_exponent;
-    if (scaled_exponent < -900 || scaled_exponent > 1000) return std::nullopt;
+    if (scaled_exponent < -900 || scaled_exponent > 1000) return undecided;
     const enclosure ratio{std::ldexp(difference.v.h, -ulp_exponent), std::ldexp(difference.v.l, -ulp_exponent),
                           std::max(std::ldexp(difference.err, -ulp_exponent), 0x1p-1000)};
-    return round_enclosure<double>(ratio, +1);
+    return round_enclosure<double>(ratio, +1).value_or(undecided);
 }
-
-namespace {
-
-}  // namespace
 
 std::optional<double> round_enclosure(precision p, const enclosure& x, uncertain_sign sign) {
     return with_precision(p, [&]<class T>(std::type_identity<T>) { return round_enclosure<T>(x, sign); });

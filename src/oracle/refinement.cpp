@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-#include "oracle/internal/fma_clones.h"
+#include "core/fma_clones.h"
 
 namespace rayverify::oracle_internal {
 

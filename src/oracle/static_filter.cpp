@@ -18,7 +18,7 @@
 #include <cmath>
 
 #include "core/double_word.h"
-#include "oracle/internal/fma_clones.h"
+#include "core/fma_clones.h"
 
 namespace rayverify::oracle_internal {
 namespace {

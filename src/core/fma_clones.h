@@ -1,4 +1,4 @@
-// The oracle's hot arithmetic built twice, for FMA hardware and without:
+// Hot double-word arithmetic built twice, for FMA hardware and without:
 // std::fma (every two_prod and double-word product) is one instruction on
 // the first and a library call on the other, and the loader picks the clone
 // the CPU runs. Both compute the same bits: every operation is correctly
@@ -6,7 +6,9 @@
 // function calls are compiled into each clone. clang (the fuzz build)
 // rejects flatten beside target_clones, so it only clones.
 //
-// Private to the oracle's .cpp files (tests/architecture_test.cpp).
+// For the oracle's filters and refinements and the judge's stability
+// measures (compare/conditioning.cpp), in .cpp files only: a clone is a
+// definition's attribute, never a header's.
 #pragma once
 
 #if defined(__clang__)

@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -170,6 +171,64 @@ TEST(ParseExactDouble, DecimalAndHexFormsAgree) {
     EXPECT_TRUE(std::signbit(parse("-0x0p+0")));
     EXPECT_EQ(parse("-0x1p-1074"), -limits::denorm_min());
     EXPECT_EQ(parse("0x0.0000000000001p-1022"), limits::denorm_min());
+}
+
+// Hex floats written every way a person or another tool might write one (a
+// point anywhere or none, leading and trailing zeros, either case, exponents
+// from below the subnormals to past the largest double), read as exactly
+// what they spell or refused: against strtod's reading (exact for a value a
+// double holds) and an exactness decided apart from both, from the odd part
+// of the significand and of the value. Covers the short path for the forms a
+// corpus holds (at most 16 significant digits) and the general one.
+TEST(ParseExactDouble, HexFormsReadExactlyOrRefused) {
+    const unsigned seed = 20261130;
+    std::mt19937_64 random(seed);
+    const auto draw = [&](int lo, int hi) { return std::uniform_int_distribution<int>(lo, hi)(random); };
+    int accepted = 0, refused = 0;
+    for (int i = 0; i < 100000; ++i) {
+        // m: 1 to 16 hex digits, the point after `integer` of them.
+        const int digits = draw(1, 16);
+        std::uint64_t m = 0;
+        std::string text;
+        for (int k = 0; k < digits; ++k) {
+            const int d = k == 0 ? draw(0, 15) : (draw(0, 3) == 0 ? 0 : draw(0, 15));
+            m = m << 4 | static_cast<std::uint64_t>(d);
+            text += "0123456789abcdef"[d];
+        }
+        const int integer = draw(0, digits);
+        const int fraction = digits - integer;
+        std::string token = draw(0, 1) ? "-" : "";
+        token += draw(0, 1) ? "0x" : "0X";
+        token += std::string(static_cast<std::size_t>(draw(0, 2)), '0') + text.substr(0, integer);
+        if (fraction > 0 || draw(0, 1)) token += "." + text.substr(integer);
+        token += std::string(static_cast<std::size_t>(fraction > 0 ? draw(0, 3) : 0), '0');  // zeros past 16 digits
+        if (integer == 0 && fraction == 0) token += "0";
+        const int exponent = draw(-1150, 1100);
+        token += fmt::format("{}{}{}", draw(0, 1) ? 'p' : 'P', exponent >= 0 && draw(0, 1) ? "+" : "", exponent);
+        for (char& c : token)
+            if (draw(0, 3) == 0 && c >= 'a' && c <= 'f') c = static_cast<char>(c - 'a' + 'A');
+
+        // Exact iff m·2^p is 0 or a double: its odd part below 2^53, its lowest bit at or above
+        // 2^−1074, its highest below 2^1024.
+        const long long p = exponent - 4LL * fraction;
+        bool exact = true;
+        if (m != 0) {
+            const int trailing = std::countr_zero(m);
+            const std::uint64_t odd = m >> trailing;
+            const long long low = p + trailing, high = low + std::bit_width(odd) - 1;
+            exact = std::bit_width(odd) <= 53 && low >= -1074 && high <= 1023;
+        }
+        if (!exact) {
+            EXPECT_FALSE(error_of([&] { parse(token); }).empty()) << token << " (seed " << seed << ")";
+            ++refused;
+            continue;
+        }
+        const double read = parse(token), reference = std::strtod(token.c_str(), nullptr);
+        EXPECT_TRUE(same_bits(read, reference)) << token << " read " << hex_float(read) << " (seed " << seed << ")";
+        ++accepted;
+    }
+    EXPECT_GT(accepted, 10000);
+    EXPECT_GT(refused, 10000);
 }
 
 TEST(ParseExactDouble, AcceptsNanAndInfinitySpellings) {

@@ -143,8 +143,15 @@ inline std::optional<double> rounded_ulp_ratio(bounded difference, int ulp_expon
 // settles x's sign, its binade, value ≠ x and the rounding of the ratio
 // (+inf for a non-finite value).
 std::optional<double> ulp_error_from(precision p, const enclosure& x, double value);
-// The same with ulp(x)'s exponent already known (empty: the binade is open).
-std::optional<double> ulp_error_from(const enclosure& x, std::optional<int> ulp_exponent, double value);
+// The same with ulp(x)'s exponent already known (empty: the binade is open),
+// as a double, NaN where unsettled (returned in a register, as
+// rounded_ulp_ratio_or_nan), and as an optional.
+double ulp_error_or_nan(const enclosure& x, std::optional<int> ulp_exponent, double value);
+inline std::optional<double> ulp_error_from(const enclosure& x, std::optional<int> ulp_exponent, double value) {
+    const double error = ulp_error_or_nan(x, ulp_exponent, value);
+    if (std::isnan(error)) return std::nullopt;
+    return error;
+}
 
 // Bounds on |value − x| / ulp(x), ulp(x) = 2^ulp_exponent, from the
 // enclosure alone; value finite. Empty where the enclosure is unknown, the

@@ -150,8 +150,8 @@ std::optional<double> exact_hex_magnitude(std::string_view body) {
     const int trailing = std::countr_zero(significand);
     const std::uint64_t odd = significand >> trailing;
     const int power = (negative_exponent ? -exponent : exponent) - 4 * fraction_digits + trailing;
-    const int high = std::bit_width(odd) - 1 + power;
-    if (std::bit_width(odd) > 53 || high > 1023 || power < -1074) return std::nullopt;
+    const int width = std::bit_width(odd);
+    if (width > 53 || width - 1 + power > 1023 || power < -1074) return std::nullopt;
     return std::ldexp(static_cast<double>(odd), power);  // exact: odd < 2^53, the result a double
 }
 
@@ -533,9 +533,10 @@ double parse_exact_double(std::string_view token, const std::string& file, std::
         return sign * std::numeric_limits<double>::infinity();
 
     const bool hex = body.size() >= 2 && body[0] == '0' && ascii_lower(body[1]) == 'x';
-    if (hex) body.remove_prefix(2);
-    if (hex)
+    if (hex) {
+        body.remove_prefix(2);
         if (const std::optional<double> magnitude = exact_hex_magnitude(body)) return negative ? -*magnitude : *magnitude;
+    }
     // from_chars would also take "inf", "nan(...)" or a second sign here.
     const char first = body.empty() ? '\0' : body.front();
     const bool starts_as_number =

@@ -126,17 +126,20 @@ std::optional<double> round_enclosure(precision p, const enclosure& x, uncertain
 // sign and binade.
 std::optional<int> ulp_exponent_of(precision p, const enclosure& x);
 
-// RN(|difference| / 2^ulp_exponent) when the bound settles it, else NaN (a
-// ratio never is one). A double comes back in a register; an
-// optional<double> came back through the stack, written as two words and
-// read as one, a load that waits for both stores (a third of the function's
-// time in an audit).
+// The figures below come in two forms: a double, NaN where the bound does
+// not settle the figure (never a figure's value), and an optional built from
+// it here. A double comes back in a register; an optional<double> came back
+// through the stack, written as two words and read as one, a load that waits
+// for both stores (a third of such a function's time in an audit).
+inline std::optional<double> settled_unless_nan(double figure) {
+    if (std::isnan(figure)) return std::nullopt;
+    return figure;
+}
+
+// RN(|difference| / 2^ulp_exponent) when the bound settles it, else NaN.
 double rounded_ulp_ratio_or_nan(bounded difference, int ulp_exponent);
-// The same as an optional: empty where the bound does not settle it.
 inline std::optional<double> rounded_ulp_ratio(bounded difference, int ulp_exponent) {
-    const double ratio = rounded_ulp_ratio_or_nan(difference, ulp_exponent);
-    if (std::isnan(ratio)) return std::nullopt;
-    return ratio;
+    return settled_unless_nan(rounded_ulp_ratio_or_nan(difference, ulp_exponent));
 }
 
 // |value − x| / ulp(x) in precision p, correctly rounded, when the enclosure
@@ -144,13 +147,10 @@ inline std::optional<double> rounded_ulp_ratio(bounded difference, int ulp_expon
 // (+inf for a non-finite value).
 std::optional<double> ulp_error_from(precision p, const enclosure& x, double value);
 // The same with ulp(x)'s exponent already known (empty: the binade is open),
-// as a double, NaN where unsettled (returned in a register, as
-// rounded_ulp_ratio_or_nan), and as an optional.
+// NaN where unsettled, and as an optional.
 double ulp_error_or_nan(const enclosure& x, std::optional<int> ulp_exponent, double value);
 inline std::optional<double> ulp_error_from(const enclosure& x, std::optional<int> ulp_exponent, double value) {
-    const double error = ulp_error_or_nan(x, ulp_exponent, value);
-    if (std::isnan(error)) return std::nullopt;
-    return error;
+    return settled_unless_nan(ulp_error_or_nan(x, ulp_exponent, value));
 }
 
 // Bounds on |value − x| / ulp(x), ulp(x) = 2^ulp_exponent, from the

@@ -88,12 +88,7 @@ auto settle(stage_tally& tally, Filter&& filter, Exact&& exact) -> decltype(exac
 }
 
 invalid_reason check_case(const ray_sphere<double>& g, std::optional<double> tmin, std::optional<double> tmax) {
-    // Every input in the filter range (finite), r ≥ 0 and d ≠ 0: valid, as
-    // validity<double> finds, tested without its twenty branches (a seventh of
-    // a filtered solve); anything else is classified by it.
-    const bool plainly_valid = in_filter_range(g) && g.radius >= 0 &&
-                               (g.direction.x != 0 || g.direction.y != 0 || g.direction.z != 0);
-    invalid_reason reason = plainly_valid ? invalid_reason::none : validity<double>(g);
+    invalid_reason reason = validity<double>(g);
     if (reason == invalid_reason::none && (tmin || tmax)) {
         const double lo = tmin.value_or(-std::numeric_limits<double>::infinity());
         const double hi = tmax.value_or(std::numeric_limits<double>::infinity());
@@ -235,10 +230,11 @@ struct exact_solution::internal {
     // the coefficients from a double d).
     static const refined_enclosure* refined(const exact_solution& s, root_index i) {
         if (!s.direction_is_double()) return nullptr;
-        built_on_first_use<refined_enclosure>& fine = s.refined_[slot_of(i)];
+        const int k = slot_of(i);
+        built_on_first_use<refined_enclosure>& fine = s.refined_[k];
         if (!fine)
-            fine = s.cls == line_class::tangent ? refine_tangent_root(coefficients(s), s.roots_[slot_of(i)])
-                                                : refine_root(coefficients(s), s.roots_[slot_of(i)], s.roots_[1 - slot_of(i)]);
+            fine = s.cls == line_class::tangent ? refine_tangent_root(coefficients(s), s.roots_[k])
+                                                : refine_root(coefficients(s), s.roots_[k], s.roots_[1 - k]);
         return known(fine->correction) ? &*fine : nullptr;
     }
 

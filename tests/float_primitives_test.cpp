@@ -6,7 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <boost/multiprecision/cpp_int.hpp>
-
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -214,6 +214,34 @@ TEST(DoubleWord, ErrorFreeTransformationsAreExact) {
         const dword p = two_prod(a, b);
         if (compare(of(p.h) + of(p.l), of(a) * of(b)) != 0 || p.h != a * b)
             ++failures, ADD_FAILURE() << "two_prod " << a << " " << b;
+    }
+    EXPECT_EQ(failures, 0) << "seed " << seed;
+}
+
+// Two lanes (double_word.h) hold, lane by lane, the bits the scalar code computes.
+TEST(DoubleWord, TwoLanesComputeWhatTheScalarCodeComputes) {
+    const std::uint64_t seed = seed_for_run();
+    operand_source source(seed, 300);
+    const auto same = [](double x, double y) { return std::bit_cast<std::uint64_t>(x) == std::bit_cast<std::uint64_t>(y); };
+    int failures = 0;
+    for (int i = 0; i < operands && failures < 5; ++i) {
+        const double a[2] = {source.next(), source.next()}, b[2] = {source.next(), source.next()};
+        const double_pair x = {a[0], a[1]}, y = {b[0], b[1]};
+        const dword_pair s = two_sum(x, y), p = two_prod(x, y);
+        const double_pair magnitude = fabs_lanes(x);
+        for (int lane = 0; lane < 2; ++lane) {
+            const dword scalar_sum = two_sum(a[lane], b[lane]), scalar_product = two_prod(a[lane], b[lane]);
+            const double big = std::fabs(a[lane]) >= std::fabs(b[lane]) ? a[lane] : b[lane];
+            const double small = std::fabs(a[lane]) >= std::fabs(b[lane]) ? b[lane] : a[lane];
+            const dword scalar_fast = fast_two_sum(big, small);
+            const dword_pair fast = fast_two_sum(double_pair{big, big}, double_pair{small, small});
+            if (!same(s.h[lane], scalar_sum.h) || !same(s.l[lane], scalar_sum.l) || !same(p.h[lane], scalar_product.h) ||
+                !same(p.l[lane], scalar_product.l) || !same(fast.h[lane], scalar_fast.h) ||
+                !same(fast.l[lane], scalar_fast.l) || !same(magnitude[lane], std::fabs(a[lane])))
+                ++failures, ADD_FAILURE() << "lane " << lane << ": " << a[lane] << " " << b[lane];
+        }
+        const bool both_greater = a[0] > b[0] && a[1] > b[1];
+        if (in_both_lanes(x > y) != both_greater) ++failures, ADD_FAILURE() << "in_both_lanes " << a[0] << " " << a[1];
     }
     EXPECT_EQ(failures, 0) << "seed " << seed;
 }

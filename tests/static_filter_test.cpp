@@ -20,6 +20,7 @@
 #include <string>
 
 #include "corpus/corpus_io.h"
+#include "oracle/filter.h"
 #include "oracle/oracle.h"
 #include "oracle/static_filter.h"
 #include "support/random_geometry.h"
@@ -235,6 +236,43 @@ TEST(LongSweepStaticFilter, CertifiedAnswersAreExactOnMillions) {
     const tally t = sweep(seed, 400000, 80);
     std::printf("%zu solutions, %zu certified by the static filter (%zu misses), %zu classes and signs\n",
                 t.solutions, t.certified, t.misses, t.signs_certified);
+}
+
+// The filter range of a whole case (two inputs at a time) against its
+// definition, input by input: every input 0 or 2^−80 ≤ |x| ≤ 2^80. Each case
+// puts one value from the range's edges (and beyond them: subnormals,
+// infinities, NaN) into a random slot among in-range values, or two such
+// values, or none.
+TEST(FilterRange, AWholeCaseIsInRangeWhenEachInputIs) {
+    const std::uint64_t seed = std::random_device{}();
+    std::printf("seed %llu\n", static_cast<unsigned long long>(seed));
+    std::mt19937_64 rng(seed);
+    const double edges[] = {0.0, -0.0, 0x1p-80, -0x1p-80, std::nextafter(0x1p-80, 0.0), std::nextafter(0x1p-80, 1.0),
+                            0x1p80, -0x1p80, std::nextafter(0x1p80, inf), std::nextafter(0x1p80, 0.0), 0x1p-1074,
+                            -0x1p-1022, inf, -inf, std::numeric_limits<double>::quiet_NaN(), 1.5, -3.0, 0x1p-81,
+                            0x1.8p80, std::numeric_limits<double>::max()};
+    const auto defined_in_range = [](double x) {
+        return x == 0 || (std::fabs(x) >= 0x1p-80 && std::fabs(x) <= 0x1p80);
+    };
+    const auto random_in_range = [&rng] {
+        return std::ldexp(test_support::uniform(rng, 1, 2), static_cast<int>(rng() % 161) - 80) * ((rng() & 1) ? 1 : -1);
+    };
+    int failures = 0, inside = 0;
+    for (int i = 0; i < 200000 && failures < 5; ++i) {
+        double inputs[10];
+        for (double& x : inputs) x = random_in_range();
+        for (int k = static_cast<int>(rng() % 3); k > 0; --k) inputs[rng() % 10] = edges[rng() % std::size(edges)];
+        const ray_sphere<double> g{{inputs[0], inputs[1], inputs[2]},
+                                   {inputs[3], inputs[4], inputs[5]},
+                                   {inputs[6], inputs[7], inputs[8]},
+                                   inputs[9]};
+        bool expected = true;
+        for (const double x : inputs) expected = expected && defined_in_range(x) && oracle_internal::in_filter_range(x);
+        inside += expected;
+        if (oracle_internal::in_filter_range(g) != expected) ++failures, ADD_FAILURE() << describe(g);
+    }
+    EXPECT_EQ(failures, 0) << "seed " << seed;
+    EXPECT_GT(inside, 20000);
 }
 
 // What it settles and what it leaves: ordinary cases all certified; a

@@ -34,6 +34,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstdint>
 #include <optional>
 
 namespace rayverify {
@@ -42,22 +43,65 @@ struct dword {
     double h = 0, l = 0;
 };
 
-inline dword two_sum(double a, double b) {
-    const double s = a + b;
-    const double bb = s - a;
+// ---- Two lanes -----------------------------------------------------------------
+// Two doubles side by side (GCC's vector extension, which clang reads too), for
+// one formula evaluated for two inputs at once: the static filter corrects the
+// near and the far root together. Each lane's operations are the scalar code's,
+// rounded alike, so a lane holds the bits the scalar code would compute;
+// tests/float_primitives_test.cpp checks that for the transformations below.
+typedef double double_pair __attribute__((vector_size(16)));
+// Two 64-bit lanes of bits: a lane's bit pattern, or a comparison's result
+// (all ones where it holds).
+typedef std::int64_t double_pair_bits __attribute__((vector_size(16)));
+
+struct dword_pair {
+    double_pair h, l;
+};
+
+inline double_pair both_lanes(double x) { return double_pair{x, x}; }
+inline double_pair fabs_lanes(double_pair x) {
+    return (double_pair)((double_pair_bits)x & INT64_C(0x7fffffffffffffff));
+}
+inline double fused_multiply_add(double a, double b, double c) { return std::fma(a, b, c); }
+// One correctly rounded fma per lane: without SLP vectorisation (CMakeLists.txt)
+// GCC issues two scalar ones, a lane each.
+inline double_pair fused_multiply_add(double_pair a, double_pair b, double_pair c) {
+    return double_pair{std::fma(a[0], b[0], c[0]), std::fma(a[1], b[1], c[1])};
+}
+// Whether a comparison of two lanes holds in both.
+template <class Mask>
+inline bool in_both_lanes(Mask holds) {
+    return holds[0] && holds[1];
+}
+
+// The transformations' bodies, for a double (Word = dword) or two lanes
+// (Word = dword_pair): the same operations on each lane.
+template <class Word, class T>
+inline Word two_sum_of(T a, T b) {
+    const T s = a + b;
+    const T bb = s - a;
     return {s, (a - (s - bb)) + (b - bb)};
 }
-
-// Requires |a| ≥ |b| or a = 0.
-inline dword fast_two_sum(double a, double b) {
-    const double s = a + b;
+template <class Word, class T>
+inline Word fast_two_sum_of(T a, T b) {
+    const T s = a + b;
     return {s, b - (s - a)};
 }
-
-inline dword two_prod(double a, double b) {
-    const double p = a * b;
-    return {p, std::fma(a, b, -p)};
+template <class Word, class T>
+inline Word two_prod_of(T a, T b) {
+    const T p = a * b;
+    return {p, fused_multiply_add(a, b, -p)};
 }
+
+inline dword two_sum(double a, double b) { return two_sum_of<dword>(a, b); }
+inline dword_pair two_sum(double_pair a, double_pair b) { return two_sum_of<dword_pair>(a, b); }
+
+// Requires |a| ≥ |b| or a = 0 (in each lane).
+inline dword fast_two_sum(double a, double b) { return fast_two_sum_of<dword>(a, b); }
+inline dword_pair fast_two_sum(double_pair a, double_pair b) { return fast_two_sum_of<dword_pair>(a, b); }
+
+inline dword two_prod(double a, double b) { return two_prod_of<dword>(a, b); }
+inline dword_pair two_prod(double_pair a, double_pair b) { return two_prod_of<dword_pair>(a, b); }
 
 // AccurateDWPlusDW.
 inline dword dw_add(dword x, dword y) {

@@ -80,14 +80,22 @@ inline int ulp_exponent_in(precision p, long e) {
     return static_cast<int>(with_precision(p, [e]<class T>(std::type_identity<T>) { return ulp_exponent_of_binade<T>(e); }));
 }
 
-// Every input of the case in the filter range, tested without a branch.
+// Every input of the case in the filter range, tested two inputs at a time
+// (double_word.h's two lanes) without a branch: |x| = 0, or 2^−80 ≤ |x| ≤
+// 2^80 (a NaN fails every comparison). The same answer as the scalar test's
+// on each input, in a third of its instructions.
 inline bool in_filter_range(const ray_sphere<double>& g) {
-    const double inputs[10] = {g.origin.x, g.origin.y, g.origin.z, g.direction.x, g.direction.y,
-                               g.direction.z, g.centre.x, g.centre.y, g.centre.z, g.radius};
-    bool inside = true;
-#pragma GCC unroll 10
-    for (const double x : inputs) inside &= in_filter_range(x);
-    return inside;
+    const double_pair inputs[5] = {{g.origin.x, g.origin.y},       {g.origin.z, g.direction.x},
+                                   {g.direction.y, g.direction.z}, {g.centre.x, g.centre.y},
+                                   {g.centre.z, g.radius}};
+    const auto in_range = [](double_pair x) {
+        const double_pair m = fabs_lanes(x);
+        return (m == 0.0) | ((m >= 0x1p-80) & (m <= 0x1p80));
+    };
+    auto inside = in_range(inputs[0]);
+#pragma GCC unroll 4
+    for (int k = 1; k < 5; ++k) inside &= in_range(inputs[k]);
+    return in_both_lanes(inside);
 }
 
 // RN(x) in T in a few operations, where the rounding y of hi to T is normal

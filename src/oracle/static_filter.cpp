@@ -35,13 +35,19 @@ struct approximation {
     double t = 0, err = 0;
 };
 
+// The near and the far root's values side by side, one per lane (lane 0 the
+// near root's): both roots are corrected by the same operations at once
+// (double_word.h's two lanes), which cost little more than one root's.
+constexpr int near_lane = 0, far_lane = 1;
+
 // At a double t̂: P(t̂) = |f + t̂·d|² − r² = a·t̂² + 2b′·t̂ + C within
 // `bound` of `value`, and β = P′(t̂)/2 = d·(f + t̂·d) within `slope_bound` of
 // `slope`.
 struct residual {
-    double value = 0, bound = 0;
-    double slope = 0, slope_bound = 0;
+    double_pair value, bound;
+    double_pair slope, slope_bound;
 };
+
 
 // The residual at t̂, from f = o − c exactly (f.h + f.l) and r² exactly.
 //
@@ -52,15 +58,18 @@ struct residual {
 // |ε| ≤ 2.02u²·W.
 //
 // P = Σs² − r² + Σ(2s + g)·g + Σ(2(s + g) + ε)·ε. The first sum is an
-// expansion: (qh, ql) = two_prod(s, s), (rh, rl) = r², and a chain of
-// two_sums of qh0, qh1, qh2, −rh leaves a3 and errors e1, e2, e3, exactly.
+// expansion: (qh, ql) = two_prod(s, s), (rh, rl) = r², and two_sums in a
+// tree, qh0 + qh1 (error e1) and qh2 − rh (e2), then their sum a3 (e3), leave
+// a3 and errors e1, e2, e3, exactly (a tree, not a chain, so that a3 waits for
+// two two_sums, not three).
 // With V = Σ(|s| + u·W)·W and M = Σqh + rh:
 //   - |(2s + g)·g| ≤ 2.03u·(|s| + uW)·W, so |Σ(2s + g)g| ≤ 2.03u·V, and its
 //     evaluation (an add, a product, two sums: γ4) errs by ≤ 8.15u²·V;
 //   - |(2(s + g) + ε)·ε| ≤ 2.02u²W·(2|s| + 2.03uW), summed ≤ 4.1u²·V;
 //   - the low sum λ of e1, e2, e3, ql0, ql1, ql2, −rl and T2 = Σ(2s + g)g
-//     (7 additions: γ7) errs by ≤ 7.01u·(3.01u·M + u·|a3| + 2.04u·V), since
-//     |e1| + |e2| + |ql| + |rl| ≤ 3.01u·M and |e3| ≤ u|a3|;
+//     (7 additions, in any order: γ7) errs by ≤ 7.01u·(3.01u·M + u·|a3| +
+//     2.04u·V), since |e1| + |e2| + |ql| + |rl| ≤ 3.01u·M and |e3| ≤ u|a3|;
+//     e3 is added last, so that the rest of λ does not wait for a3;
 //   - R = RN(a3 + λ) adds u·|R|.
 // Total ≤ u|R| + 21.1u²·M + 7.01u²·|a3| + 26.6u²·V, rounded up below.
 // A square s² or a product (2s + g)·g of tiny values may underflow (s can be
@@ -70,80 +79,104 @@ struct residual {
 // β = d·p: p̂ = RN(s + g) is within u|p̂| + |ε| of p, and Σd·p̂ (three
 // products, two sums: γ3) within γ3·Σ|d·p̂|: |β̂ − β| ≤ 5u·Σ|d||p̂| +
 // 3u²·Σ|d|·W (slack included), plus the floor.
-residual residual_at(double t, const dword f[3], const double d[3], dword r_squared) {
-    double s[3], g[3], V = 0, slope = 0, slope_magnitude = 0, slope_low = 0;
+residual residual_at(double_pair t, const dword f[3], const double d[3], dword r_squared) {
+    double_pair s[3], g[3], V{}, slope{}, slope_magnitude{}, slope_low{};
     for (int axis = 0; axis < 3; ++axis) {
-        const dword p = two_prod(t, d[axis]);
-        const dword sum = two_sum(f[axis].h, p.h);
+        const double_pair d_axis = both_lanes(d[axis]), fh = both_lanes(f[axis].h);
+        const dword_pair p = two_prod(t, d_axis);
+        const dword_pair sum = two_sum(fh, p.h);
         s[axis] = sum.h;
         g[axis] = (sum.l + f[axis].l) + p.l;
-        const double W = (std::fabs(sum.h) + std::fabs(f[axis].h)) + std::fabs(p.h);
-        V += (std::fabs(sum.h) + u * W) * W;
-        const double point = s[axis] + g[axis];
-        slope += d[axis] * point;
-        slope_magnitude += std::fabs(d[axis] * point);
-        slope_low += std::fabs(d[axis]) * W;
+        const double_pair W = (fabs_lanes(sum.h) + fabs_lanes(fh)) + fabs_lanes(p.h);
+        V += (fabs_lanes(sum.h) + u * W) * W;
+        const double_pair point = s[axis] + g[axis];
+        slope += d_axis * point;
+        slope_magnitude += fabs_lanes(d_axis * point);
+        slope_low += fabs_lanes(d_axis) * W;
     }
-    const dword q0 = two_prod(s[0], s[0]), q1 = two_prod(s[1], s[1]), q2 = two_prod(s[2], s[2]);
-    const dword a1 = two_sum(q0.h, q1.h);
-    const dword a2 = two_sum(a1.h, q2.h);
-    const dword a3 = two_sum(a2.h, -r_squared.h);
-    const double T2 = (2 * s[0] + g[0]) * g[0] + (2 * s[1] + g[1]) * g[1] + (2 * s[2] + g[2]) * g[2];
-    const double low = ((((((a1.l + a2.l) + a3.l) + q0.l) + q1.l) + q2.l) - r_squared.l) + T2;
-    const double R = a3.h + low;
-    const double M = ((q0.h + q1.h) + q2.h) + r_squared.h;
-    return {R, (2 * u * std::fabs(R) + u2 * ((24 * M + 8 * std::fabs(a3.h)) + 30 * V)) + 0x1p-1000, slope,
-            (5 * u * slope_magnitude + 3 * u2 * slope_low) + 0x1p-1000};
+    const dword_pair q0 = two_prod(s[0], s[0]), q1 = two_prod(s[1], s[1]), q2 = two_prod(s[2], s[2]);
+    const dword_pair a1 = two_sum(q0.h, q1.h);
+    const dword_pair a2 = two_sum(q2.h, both_lanes(-r_squared.h));
+    const dword_pair a3 = two_sum(a1.h, a2.h);
+    const double_pair T2 = (2.0 * s[0] + g[0]) * g[0] + (2.0 * s[1] + g[1]) * g[1] + (2.0 * s[2] + g[2]) * g[2];
+    const double_pair low = (((q0.l + q1.l) + (q2.l - r_squared.l)) + ((a1.l + a2.l) + T2)) + a3.l;
+    const double_pair R = a3.h + low;
+    const double_pair M = ((q0.h + q1.h) + q2.h) + r_squared.h;
+    return {R, (2.0 * u * fabs_lanes(R) + u2 * ((24.0 * M + 8.0 * fabs_lanes(a3.h)) + 30.0 * V)) + 0x1p-1000, slope,
+            (5.0 * u * slope_magnitude + 3.0 * u2 * slope_low) + 0x1p-1000};
 }
 
-// One Newton step for the root t* approximated by t̂ within `root.err`.
-// With t_o the other root and δ = t* − t̂, P(t) = a·(t − t*)·(t − t_o) gives
-// the identity δ = −P(t̂)/D, D = a·(t̂ − t_o) = 2β + a·δ (β = P′(t̂)/2). The
-// term a·δ matters where t is large beside the roots' gap (far spheres), so
-// D is estimated as 2β̂ + â·δ0 with δ0 = −R/(2β̂), and bounded in three steps
-// (ι = RN(1/(2β̂)); â′ = RN(â(1 + 8u)) ≥ â(1 + 3.01u) ≥ a):
-//   1. |D| ≥ L1 = 2|β̂| − 2E_β − â′·err > |β̂| (required), as |δ| ≤ err; so
-//      |δ| ≤ e1 = (|R| + E_R)·2|ι|, since 1/L1 < 1/|β̂| ≤ 2|ι|(1 + u);
-//   2. likewise L2 = 2|β̂| − 2E_β − â′·e1 > |β̂| (required) bounds |D| below,
-//      and |D − 2β̂| ≤ 2E_β + a·|δ|: δ0 = RN(−R·ι) (two roundings) is within
-//      e2 = (E_R + |δ0|(1 + u)·(2E_β + â′·e1))·2|ι| + 3u|δ0| of δ;
-//   3. D̂ = RN(2β̂ + RN(â·δ0)) is within E_D = 2E_β + â′·e2 + 5u·â|δ0| +
-//      2u·|D̂| of D (a·δ against â·δ0: a − â and the product's rounding,
-//      4.02u·â|δ0|; the sum's rounding); E_D < |D̂|/2 is required.
-// Then δ̂ = RN(−R·RN(1/D̂)) is within (E_R + |δ̂|(1 + u)·E_D)·|ι_D|·
-// (1 + 2E_D·|ι_D|) + 3u|δ̂| of δ (ι_D = RN(1/D̂); 1/|D| ≤ 1/(|D̂| − E_D) and
-// 1/(1 − x) ≤ 1 + 2x for x ≤ 1/2), times 1 + 2^−18 for the roundings of
-// every bound here (each a factor 1 ± u, a few dozen at most). The
-// enclosure is t̂ + δ̂ normalised by fast_two_sum (|δ̂| ≤ 2^−10·|t̂| is
+// One Newton step for the root t* approximated by t̂ within `root.err`, with
+// its second-order term. With δ = t* − t̂ and β = P′(t̂)/2, P(t̂ + δ) = 0
+// reads, exactly (P is quadratic),
+//     P(t̂) + 2β·δ + a·δ² = 0.
+// The term a·δ² matters where t is large beside the roots' gap (far spheres).
+// Write ι = RN(1/(2β̂)) and â′ = RN(â(1 + 8u)) ≥ â(1 + 3.01u) ≥ a. Then δ is
+// bounded in three steps:
+//   1. With D = P(t̂)/(−δ) = 2β + a·δ (= a·(t̂ − t_o), t_o the other root):
+//      |D| ≥ L1 = 2|β̂| − 2E_β − â′·err > |β̂| (required), as |δ| ≤ err; so
+//      |δ| ≤ e1 = (|R| + E_R)·2|ι|, since 1/L1 < 1/|β̂| ≤ 2|ι|(1 + u).
+//   2. Likewise L2 = 2|β̂| − 2E_β − â′·e1 > |β̂| (required) bounds |D| below,
+//      and |D − 2β̂| ≤ 2E_β + a·|δ|. So δ0 = RN(−R·ι) (two roundings) is
+//      within e2 = (E_R + |δ0|(1 + u)·(2E_β + â′·e1))·2|ι| + 3u|δ0| of δ.
+//   3. The identity with 2β = 2β̂ + ε_β (|ε_β| ≤ 2E_β) and δ* = −R/(2β̂):
+//          δ = δ* − (P(t̂) − R)/(2β̂) − a·δ²/(2β̂) − δ·ε_β/(2β̂).
+//      The computed δ1 = RN(δ0 − w), with w = RN(RN(κ·δ0)·δ0) and
+//      κ = RN(â·ι), stands for δ* − a·δ²/(2β̂). Term by term, with
+//      m = |δ0| + e2 ≥ |δ| and 1/(2|β̂|) ≤ |ι|(1 + 1.01u):
+//        - |δ* − δ0| ≤ 2.02u·|δ0| (two roundings);
+//        - |(P(t̂) − R)/(2β̂)| ≤ E_R·|ι|(1 + 1.01u);
+//        - |a·δ² − â·δ0²| ≤ |a − â|·δ² + â·|δ − δ0|·|δ + δ0|
+//                         ≤ â′·(3.01u·m² + e2·(2|δ0| + e2));
+//        - w is â·δ0²/(2β̂) with four roundings: within 4.02u·|w|;
+//        - |δ·ε_β/(2β̂)| ≤ m·2E_β·|ι|(1 + 1.01u);
+//        - the subtraction's rounding adds u·|δ1|.
+//      So |δ − δ1| ≤ (E_R + m·2E_β + â′·(3.01u·m² + e2·(2|δ0| + e2)))·|ι| +
+//      2.02u|δ0| + 4.02u|w| + u|δ1|, times 1 + 2^−18 for the factor
+//      1 + 1.01u and the roundings of the bound's own evaluation (each a
+//      factor 1 ± u, a few dozen at most).
+// Where a·δ²/(2β) is negligible (most cases) δ1 is Newton's step δ0; where it
+// is not, the bound's second-order terms are products of small errors (e2
+// times a·δ/β), as small as a second Newton step's, without its division.
+// The enclosure is t̂ + δ1 normalised by fast_two_sum (|δ1| ≤ 2^−10·|t̂| is
 // required), so that the double-word operations later applied to it keep
 // their bounds.
-std::optional<enclosure> corrected(const approximation& root, double a, const dword f[3], const double d[3],
-                                   dword r_squared) {
-    const residual P = residual_at(root.t, f, d, r_squared);
+//
+// Both roots at once, a lane each (near_lane, far_lane): false unless every
+// requirement above holds for both, as the filter needs both roots.
+bool corrected(const approximation& near, const approximation& far, double a, const dword f[3], const double d[3],
+               dword r_squared, enclosure roots[2]) {
+    const double_pair t = {near.t, far.t}, t_err = {near.err, far.err};
+    const residual P = residual_at(t, f, d, r_squared);
     const double a_up = a * (1 + 8 * u);
-    const double inverse = 1 / (2 * P.slope);
-    const double two_beta = 2 * std::fabs(P.slope), two_err_beta = 2 * P.slope_bound;
-    const double R = P.value, E_R = P.bound;
-    if (!((two_beta - two_err_beta) - a_up * root.err > 0.5 * two_beta)) return std::nullopt;
-    const double e1 = (std::fabs(R) + E_R) * 2 * std::fabs(inverse) * second_order;
-    if (!((two_beta - two_err_beta) - a_up * e1 > 0.5 * two_beta)) return std::nullopt;
-    const double delta0 = -R * inverse;
-    const double e2 = ((E_R + std::fabs(delta0) * (1 + u) * (two_err_beta + a_up * e1)) * 2 * std::fabs(inverse) +
-                       3 * u * std::fabs(delta0)) *
-                      second_order;
-    const double D = 2 * P.slope + a * delta0;
-    const double err_D =
-        ((two_err_beta + a_up * e2) + 5 * u * a * std::fabs(delta0) + 2 * u * std::fabs(D)) * second_order;
-    if (!(err_D < 0.5 * std::fabs(D))) return std::nullopt;
-    const double inverse_D = 1 / D;
-    const double delta = -R * inverse_D;
-    if (!(std::fabs(delta) <= 0x1p-10 * std::fabs(root.t))) return std::nullopt;
-    const double err = ((E_R + std::fabs(delta) * (1 + u) * err_D) * std::fabs(inverse_D) *
-                            (1 + 2 * err_D * std::fabs(inverse_D)) +
-                        3 * u * std::fabs(delta)) *
-                       second_order;
-    const dword t = fast_two_sum(root.t, delta);
-    return enclosure{t.h, t.l, err};
+    const double_pair inverse = 1.0 / (2.0 * P.slope);
+    const double_pair two_beta = 2.0 * fabs_lanes(P.slope), two_err_beta = 2.0 * P.slope_bound;
+    const double_pair R = P.value, E_R = P.bound;
+    const double_pair e1 = (fabs_lanes(R) + E_R) * 2.0 * fabs_lanes(inverse) * second_order;
+    const double_pair delta0 = -R * inverse;
+    const double_pair e2 =
+        ((E_R + fabs_lanes(delta0) * (1 + u) * (two_err_beta + a_up * e1)) * 2.0 * fabs_lanes(inverse) +
+         3 * u * fabs_lanes(delta0)) *
+        second_order;
+    const double_pair kappa = a * inverse;
+    const double_pair w = (kappa * delta0) * delta0;
+    const double_pair delta = delta0 - w;
+    // The requirements, tested once: a lane that fails one may have computed
+    // nonsense (an infinity, a NaN) after it, but no answer is taken from it.
+    const bool required = in_both_lanes((two_beta - two_err_beta) - a_up * t_err > 0.5 * two_beta) &&
+                          in_both_lanes((two_beta - two_err_beta) - a_up * e1 > 0.5 * two_beta) &&
+                          in_both_lanes(fabs_lanes(delta) <= 0x1p-10 * fabs_lanes(t));
+    if (!required) return false;
+    const double_pair m = fabs_lanes(delta0) + e2;
+    const double_pair err =
+        (((E_R + m * two_err_beta) + a_up * (3.01 * u * m * m + e2 * (2.0 * fabs_lanes(delta0) + e2))) *
+             fabs_lanes(inverse) +
+         ((2.02 * u * fabs_lanes(delta0) + 4.02 * u * fabs_lanes(w)) + u * fabs_lanes(delta))) *
+        second_order;
+    const dword_pair corrected_t = fast_two_sum(t, delta);
+    for (int lane : {near_lane, far_lane})
+        roots[lane] = enclosure{corrected_t.h[lane], corrected_t.l[lane], err[lane]};
+    return true;
 }
 
 // A hit coordinate o + t*·d (d ≠ 0) from t*'s enclosure y + e ± E:
@@ -356,12 +389,7 @@ RAYVERIFY_CLONED_FOR_FMA bool static_filter_case(const ray_sphere<double>& g, pr
 
     // Each root corrected once and rounded from its enclosure.
     const dword r_squared = two_prod(r, r);
-    const std::optional<enclosure> near_root = corrected(near, a, f, d, r_squared);
-    if (!near_root) return false;
-    const std::optional<enclosure> far_root = corrected(far, a, f, d, r_squared);
-    if (!far_root) return false;
-    out.roots[0] = *near_root;
-    out.roots[1] = *far_root;
+    if (!corrected(near, far, a, f, d, r_squared, out.roots)) return false;
     for (int k = 0; k < 2; ++k) {
         out.rounded[k] = round_normalised(prec, out.roots[k]);
         if (!out.rounded[k]) out.rounded[k] = round_enclosure(prec, out.roots[k], out.sign[k]);

@@ -261,9 +261,10 @@ std::string format_oracle_timing(const oracle_timing& t) {
                                      "cases, not per case");
         if (!target(fmt::format("oracle roots rounded / naive, {}", r.family), r.roots_over_naive, roots_limit, true))
             out += fmt::format("      needs {:.1f}x of {:.1f}x gone ({:.0f}%); the class and signs take {:.1f}x, "
-                               "rounding both roots {:.1f}x more (a Newton step each, its residual from error-free "
-                               "products, and the rounding of its enclosure): meeting it needs a root rounded from "
-                               "one correction cheaper than that step, or only the root a question asks for\n",
+                               "rounding both roots {:.1f}x more (their residuals from error-free products and one "
+                               "Newton step, both roots at once, and the roundings of their enclosures): meeting it "
+                               "needs a root rounded from one correction cheaper than that step, or only the root a "
+                               "question asks for\n",
                                r.roots_over_naive - roots_limit, r.roots_over_naive,
                                100 * (r.roots_over_naive - roots_limit) / r.roots_over_naive, r.class_over_naive,
                                r.roots_over_naive - r.class_over_naive);

@@ -61,40 +61,30 @@ inline uncertain_sign sign_of(const enclosure& x) {
     return c ? uncertain_sign(static_cast<int>(*c)) : std::nullopt;
 }
 
-// Filter range: 0 or 2^−80 ≤ |x| ≤ 2^80 (see the range note above). From
-// the bits, without a branch (every filtered answer asks it of ten inputs
-// first): a non-negative double orders as its bits do, so |x| lies in
-// [2^−80, 2^80] where its bits, less those of 2^−80, are at most the span
-// between the two (unsigned: below 2^−80 wraps around); NaN and ±inf lie
-// above.
-inline bool in_filter_range(double x) {
-    constexpr std::uint64_t magnitude_bits = ~(std::uint64_t{1} << 63);
-    constexpr std::uint64_t lowest = std::bit_cast<std::uint64_t>(0x1p-80);
-    constexpr std::uint64_t span = std::bit_cast<std::uint64_t>(0x1p80) - lowest;
-    const std::uint64_t m = std::bit_cast<std::uint64_t>(x) & magnitude_bits;
-    return (m == 0) | (m - lowest <= span);
+// Filter range: 0 or 2^−80 ≤ |x| ≤ 2^80 (see the range note above), for the
+// magnitude of a double or of two lanes (double_word.h), without a branch; a
+// NaN fails every comparison, ±inf the upper one.
+template <class T>
+inline auto within_filter_range(T magnitude) {
+    return (magnitude == 0.0) | ((magnitude >= 0x1p-80) & (magnitude <= 0x1p80));
 }
+
+inline bool in_filter_range(double x) { return within_filter_range(std::fabs(x)); }
 
 // The exponent of ulp(x) in precision p for 2^e ≤ |x| < 2^(e+1) (core/float_bits.h).
 inline int ulp_exponent_in(precision p, long e) {
     return static_cast<int>(with_precision(p, [e]<class T>(std::type_identity<T>) { return ulp_exponent_of_binade<T>(e); }));
 }
 
-// Every input of the case in the filter range, tested two inputs at a time
-// (double_word.h's two lanes) without a branch: |x| = 0, or 2^−80 ≤ |x| ≤
-// 2^80 (a NaN fails every comparison). The same answer as the scalar test's
-// on each input, in a third of its instructions.
+// Every input of the case in the filter range, tested two inputs at a time:
+// every filtered answer asks it first.
 inline bool in_filter_range(const ray_sphere<double>& g) {
     const double_pair inputs[5] = {{g.origin.x, g.origin.y},       {g.origin.z, g.direction.x},
                                    {g.direction.y, g.direction.z}, {g.centre.x, g.centre.y},
                                    {g.centre.z, g.radius}};
-    const auto in_range = [](double_pair x) {
-        const double_pair m = fabs_lanes(x);
-        return (m == 0.0) | ((m >= 0x1p-80) & (m <= 0x1p80));
-    };
-    auto inside = in_range(inputs[0]);
+    auto inside = within_filter_range(fabs_lanes(inputs[0]));
 #pragma GCC unroll 4
-    for (int k = 1; k < 5; ++k) inside &= in_range(inputs[k]);
+    for (int k = 1; k < 5; ++k) inside &= within_filter_range(fabs_lanes(inputs[k]));
     return in_both_lanes(inside);
 }
 

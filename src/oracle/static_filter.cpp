@@ -48,7 +48,6 @@ struct residual {
     double_pair slope, slope_bound;
 };
 
-
 // The residual at t̂, from f = o − c exactly (f.h + f.l) and r² exactly.
 //
 // Per axis, p = f + t̂·d = s + g + ε: (ph, pl) = two_prod(t̂, d) and
@@ -106,14 +105,14 @@ residual residual_at(double_pair t, const dword f[3], const double d[3], dword r
             (5.0 * u * slope_magnitude + 3.0 * u2 * slope_low) + 0x1p-1000};
 }
 
-// One Newton step for the root t* approximated by t̂ within `root.err`, with
-// its second-order term. With δ = t* − t̂ and β = P′(t̂)/2, P(t̂ + δ) = 0
-// reads, exactly (P is quadratic),
+// One Newton step, with its second-order term, for the root t* that an
+// approximation t̂ holds within err. With δ = t* − t̂ and β = P′(t̂)/2,
+// P(t̂ + δ) = 0 reads, exactly (P is quadratic),
 //     P(t̂) + 2β·δ + a·δ² = 0.
 // The term a·δ² matters where t is large beside the roots' gap (far spheres).
 // Write ι = RN(1/(2β̂)) and â′ = RN(â(1 + 8u)) ≥ â(1 + 3.01u) ≥ a. Then δ is
 // bounded in three steps:
-//   1. With D = P(t̂)/(−δ) = 2β + a·δ (= a·(t̂ − t_o), t_o the other root):
+//   1. With D = 2β + a·δ (= a·(t̂ − t_o), t_o the other root), P(t̂) = −D·δ:
 //      |D| ≥ L1 = 2|β̂| − 2E_β − â′·err > |β̂| (required), as |δ| ≤ err; so
 //      |δ| ≤ e1 = (|R| + E_R)·2|ι|, since 1/L1 < 1/|β̂| ≤ 2|ι|(1 + u).
 //   2. Likewise L2 = 2|β̂| − 2E_β − â′·e1 > |β̂| (required) bounds |D| below,

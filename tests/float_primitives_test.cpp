@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <boost/multiprecision/cpp_int.hpp>
+
 #include <bit>
 #include <chrono>
 #include <cmath>

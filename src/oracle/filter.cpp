@@ -167,39 +167,38 @@ filtered_quadratic filter_quadratic(const ray_sphere<double>& g, const std::opti
     const bounded a = unit_direction ? exactly(1.0)
                                      : exactly(two_prod(d[0], d[0])) + exactly(two_prod(d[1], d[1])) +
                                            exactly(two_prod(d[2], d[2]));
-    // b′ and C are formed first only where Δ′ needs them (unit_direction):
-    // elsewhere after Δ′'s sign, which a tangent or a miss stops at.
-    const auto b_prime_of = [&] { return f[0] * d[0] + f[1] * d[1] + f[2] * d[2]; };
-    const auto C_of = [&] { return f[0] * f[0] + f[1] * f[1] + f[2] * f[2] - r2; };
-    std::optional<bounded> b_prime_early, C_early;
-    if (unit_direction && !known_discriminant) {
-        b_prime_early = b_prime_of();
-        C_early = C_of();
-    }
-    const auto lagrange = [&] {
+    // Δ′: given, or with a taken to be 1 (unit_direction), where Lagrange's
+    // identity does not hold, b′² − C, whose bound settles its sign less
+    // often; else Lagrange's form. b′ and C are formed before Δ′ only where it
+    // needs them: elsewhere after its sign, which a tangent or a miss stops at.
+    std::optional<bounded> b_prime, C;
+    const auto form_b_prime_and_C = [&] {
+        b_prime = f[0] * d[0] + f[1] * d[1] + f[2] * d[2];
+        C = f[0] * f[0] + f[1] * f[1] + f[2] * f[2] - r2;
+    };
+    const bounded discriminant = [&] {
+        if (known_discriminant) return *known_discriminant;
+        if (unit_direction) {
+            form_b_prime_and_C();
+            return *b_prime * *b_prime - *C;
+        }
         const bounded cross[3] = {f[2] * d[1] - f[1] * d[2], f[0] * d[2] - f[2] * d[0], f[1] * d[0] - f[0] * d[1]};
         return a * r2 - (cross[0] * cross[0] + cross[1] * cross[1] + cross[2] * cross[2]);
-    };
-    // With a taken to be 1 (unit_direction) Lagrange's identity does not
-    // hold: Δ′ = b′² − C, whose bound settles its sign less often.
-    const bounded discriminant = known_discriminant ? *known_discriminant
-                                 : unit_direction   ? *b_prime_early * *b_prime_early - *C_early
-                                                    : lagrange();
+    }();
 
     // Class: the sign of Δ′ when its bound settles it.
     out.discriminant_sign = sign_of(discriminant);
     if (!out.discriminant_sign || *out.discriminant_sign < 0) return out;
-    const bounded b_prime = b_prime_early ? *b_prime_early : b_prime_of();
-    const bounded C = C_early ? *C_early : C_of();
+    if (!b_prime) form_b_prime_and_C();
 
     // Roots without cancellation: q = −(b′ + σ√Δ′), σ the sign of b′'s
     // estimate (either choice is rigorous, this one keeps |q| ≥ √Δ′); the
     // roots are q/a and C/q. σ = +1: q/a is the near root; σ = −1: the far.
     const std::optional<bounded> root = square_root(discriminant);
     if (!root) return out;
-    const bool positive_b = b_prime.v.h >= 0;
-    const bounded q = positive_b ? -(b_prime + *root) : *root - b_prime;
-    const std::optional<bounded> t_q = quotient(q, a), t_c = quotient(C, q);
+    const bool positive_b = b_prime->v.h >= 0;
+    const bounded q = positive_b ? -(*b_prime + *root) : *root - *b_prime;
+    const std::optional<bounded> t_q = quotient(q, a), t_c = quotient(*C, q);
     if (!t_q || !t_c) return out;
     const bounded& near = positive_b ? *t_q : *t_c;
     const bounded& far = positive_b ? *t_c : *t_q;

@@ -40,9 +40,9 @@ struct approximation {
 // (double_word.h's two lanes), which cost little more than one root's.
 constexpr int near_lane = 0, far_lane = 1;
 
-// At a double t̂: P(t̂) = |f + t̂·d|² − r² = a·t̂² + 2b′·t̂ + C within
-// `bound` of `value`, and β = P′(t̂)/2 = d·(f + t̂·d) within `slope_bound` of
-// `slope`.
+// At t̂ (a double in each lane): P(t̂) = |f + t̂·d|² − r² = a·t̂² + 2b′·t̂ + C
+// within `bound` of `value`, and β = P′(t̂)/2 = d·(f + t̂·d) within
+// `slope_bound` of `slope`.
 struct residual {
     double_pair value, bound;
     double_pair slope, slope_bound;
@@ -386,7 +386,7 @@ RAYVERIFY_CLONED_FOR_FMA bool static_filter_case(const ray_sphere<double>& g, pr
     out.sign[1] = positive_b ? sign_c : sign_q;
     if (depth == oracle_depth::class_and_signs) return true;
 
-    // Each root corrected once and rounded from its enclosure.
+    // Both roots corrected once, together, and each rounded from its enclosure.
     const dword r_squared = two_prod(r, r);
     if (!corrected(near, far, a, f, d, r_squared, out.roots)) return false;
     for (int k = 0; k < 2; ++k) {

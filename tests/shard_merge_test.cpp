@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <map>
 #include <random>
 #include <sstream>
 
@@ -97,9 +98,9 @@ TEST(ErrorSummary, MergingAnySplitGivesTheWholeAndTiesGoToTheFirstCase) {
     EXPECT_EQ(whole.max_index, first_at_max);
 }
 
-// Counters are 32 bits wide with their carries kept apart: counts beyond
-// 2^32 in one bucket, added one by one, in bulk (a shard's histogram read
-// back) and merged, stay whole.
+// Counters are a byte wide, the count above it kept in blocks of carries of
+// their own: counts beyond 2^32 in one bucket, added one by one, in bulk (a
+// shard's histogram read back) and merged, stay whole.
 TEST(ErrorSummary, CountsBeyondThirtyTwoBitsCarry) {
     constexpr std::uint64_t two_32 = std::uint64_t{1} << 32;
     const std::uint64_t bucket = error_summary::bucket_of(1.5);
@@ -121,6 +122,37 @@ TEST(ErrorSummary, CountsBeyondThirtyTwoBitsCarry) {
     error_summary copied;
     copied.merge(merged);
     EXPECT_EQ(copied.histogram(), merged.histogram());
+}
+
+// A byte's carries, as an audit makes them: many errors, some buckets far
+// past 255 and most not, in binades whose blocks carry and whose blocks do
+// not, added one by one, in bulk and merged (into a summary with blocks and
+// into an empty one), against a plain count of each bucket.
+TEST(ErrorSummary, CountsPastAByteMatchAPlainCount) {
+    const std::uint64_t seed = std::random_device{}();
+    SCOPED_TRACE(fmt::format("seed {}", seed));
+    std::mt19937_64 random(seed);
+    std::map<std::uint64_t, std::size_t> expected;
+    error_summary one_by_one, in_bulk, merged_into_blocks;
+    // Hot values (a few buckets with thousands of errors each) and a spread
+    // over 2^-40 to 2^40 (most buckets with a few).
+    const double hot[] = {0.5, 0.75, 1.0, 0x1.0101p3, 0x1.ffp-20};
+    std::uniform_real_distribution<double> exponent(-40, 40);
+    for (std::size_t i = 0; i < 60'000; ++i) {
+        const double error = random() % 3 == 0 ? std::exp2(exponent(random)) : hot[random() % std::size(hot)];
+        ++expected[error_summary::bucket_of(error)];
+        one_by_one.add(error, i, "c");
+        (i % 2 ? merged_into_blocks : in_bulk).add(error, i, "c");
+    }
+    EXPECT_EQ(one_by_one.histogram(), error_summary::histogram_map(expected.begin(), expected.end()));
+    error_summary copied;  // the first merge copies its blocks, carries and all
+    copied.merge(in_bulk);
+    merged_into_blocks.merge(copied);  // the second adds block by block, carrying
+    EXPECT_EQ(merged_into_blocks.histogram(), one_by_one.histogram());
+    error_summary read_back;  // a shard's histogram read back: bulk adds of any size
+    for (const auto& [bucket, n] : one_by_one.histogram()) read_back.add_to_bucket(bucket, n);
+    for (const auto& [bucket, n] : one_by_one.histogram()) read_back.add_to_bucket(bucket, 255 * n);
+    for (const auto& [bucket, n] : one_by_one.histogram()) EXPECT_EQ(read_back.histogram().at(bucket), 256 * n);
 }
 
 TEST(ErrorSummary, InfinityAndZeroAreExact) {

@@ -198,13 +198,27 @@ std::size_t error_summary::block_for(std::uint32_t binade) {
 
 void error_summary::add_to_counter(std::size_t i, std::uint64_t n) {
     const std::uint64_t sum = counts_[i] + n;
-    counts_[i] = static_cast<std::uint32_t>(sum);
-    if (sum >> 32) carries_[i] += sum >> 32;
+    counts_[i] = static_cast<std::uint8_t>(sum);
+    if (sum >> counter_bits) [[unlikely]]
+        carry_into(i, sum >> counter_bits);
+}
+
+void error_summary::carry_into(std::size_t i, std::uint64_t carry) {
+    const std::size_t block = i / block_size;
+    if (carry_block_of_.size() <= block) carry_block_of_.resize(block + 1, no_block);
+    if (carry_block_of_[block] == no_block) {
+        carry_block_of_[block] = static_cast<std::uint32_t>(carries_.size() / block_size);
+        carries_.resize(carries_.size() + block_size, 0);
+    }
+    carries_[carry_block_of_[block] * block_size + i % block_size] += carry;
 }
 
 std::uint64_t error_summary::counter_value(std::size_t i) const {
-    const auto carry = carries_.find(i);
-    return counts_[i] + (carry == carries_.end() ? 0 : carry->second << 32);
+    const std::size_t block = i / block_size;
+    const std::uint64_t carried = block < carry_block_of_.size() && carry_block_of_[block] != no_block
+                                      ? carries_[carry_block_of_[block] * block_size + i % block_size]
+                                      : 0;
+    return counts_[i] + (carried << counter_bits);
 }
 
 void error_summary::count_in(std::uint64_t bucket, std::size_t n) {
@@ -249,6 +263,7 @@ void error_summary::merge(const error_summary& other) {
     sorted_current_ = false;
     if (block_of_.empty()) {  // nothing to merge into (a family's summary into a whole run's): the blocks copied
         counts_ = other.counts_;
+        carry_block_of_ = other.carry_block_of_;
         carries_ = other.carries_;
         block_of_ = other.block_of_;
         first_binade_ = other.first_binade_;

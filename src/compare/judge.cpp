@@ -632,6 +632,7 @@ void measure_hit_point(const contract& promises, const variant_output& output, c
         errors[axis] = root ? exact.hit_point_ulp_error(*root, axis, p[axis])
                             : std::fabs(p[axis] - input.origin[axis]) / ulp_of_in(exact.prec, input.origin[axis]);
     s.hit_point_ulp = errors;
+    s.hit_point_worst_ulp = std::max({errors[0], errors[1], errors[2]});
 }
 
 // ulp(t*) of the exact root as the oracle's ULP errors use it: RN(t*)'s,

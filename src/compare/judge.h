@@ -198,8 +198,10 @@ struct case_score {
     // is counted in ulps of r/|d| (the radius along the ray) instead of ulps
     // of 0: a figure a zero root cannot blow up (agree).
     std::optional<double> near_scaled_ulp;
-    // Error of the hit point per coordinate, in ulps (agree, and a hit).
+    // Error of the hit point per coordinate, in ulps (agree, and a hit), and
+    // the largest of the three (the figure tallied), set together.
     std::optional<std::array<double, 3>> hit_point_ulp;
+    std::optional<double> hit_point_worst_ulp;
     // The largest of |t − t*|·|d|/r and of |t − t*|·|d|/|o − c| over the
     // returned roots (agree; finite t; each when its length is not 0): the
     // error in the scene's length scale.

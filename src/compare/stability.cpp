@@ -40,22 +40,6 @@ void stability_samples::merge(const stability_samples& other) {
     well_conditioned_above += other.well_conditioned_above;
 }
 
-std::optional<double> excess_over_line(const case_score& score, const stability_measures& m,
-                                       const exact_solution& exact, precision prec) {
-    std::optional<double> excess;
-    if (score.near_ulp && m.near_condition && std::isfinite(*m.near_condition))
-        excess = *score.near_ulp / std::max(*m.near_condition, 1.0);
-    if (score.zero_root_error) {
-        const std::optional<double>& absolute_condition =
-            exact.near_root.sign == 0 ? m.near_absolute_condition : m.far_absolute_condition;
-        if (absolute_condition && std::isfinite(*absolute_condition) && *absolute_condition > 0) {
-            const double u = unit_roundoff(prec);
-            excess = std::max(excess.value_or(0.0), *score.zero_root_error / (u * *absolute_condition));
-        }
-    }
-    return excess;
-}
-
 stability_accumulator::stability_accumulator(std::vector<audit_target> t) : targets(std::move(t)) {}
 
 void stability_accumulator::add(const audited_case& c, std::size_t index) {

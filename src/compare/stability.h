@@ -4,13 +4,14 @@
 // backward-stable algorithm stays below. Pure functions: no I/O, no state.
 #pragma once
 
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
-
-#include <array>
-#include <map>
-#include <span>
 
 #include "compare/audit.h"
 #include "compare/conditioning.h"
@@ -39,8 +40,23 @@ inline constexpr double stability_factor = 16;
 // exactly at 0, where κ is not, |t| / (u·κ·|t|), the same line in absolute
 // terms (κ·|t| is finite there; the finite-κ form equals it up to
 // ulp(t*)/(u·|t*|) ∈ (1, 2]); the larger of the two where both apply.
-std::optional<double> excess_over_line(const case_score& score, const stability_measures& m,
-                                       const exact_solution& exact, precision prec);
+// Inline: the stability tallies call it for every agreeing case-target, and
+// a call returned its optional through memory, a stall each time.
+inline std::optional<double> excess_over_line(const case_score& score, const stability_measures& m,
+                                              const exact_solution& exact, precision prec) {
+    std::optional<double> excess;
+    if (score.near_ulp && m.near_condition && std::isfinite(*m.near_condition))
+        excess = *score.near_ulp / std::max(*m.near_condition, 1.0);
+    if (score.zero_root_error) {
+        const std::optional<double>& absolute_condition =
+            exact.near_root.sign == 0 ? m.near_absolute_condition : m.far_absolute_condition;
+        if (absolute_condition && std::isfinite(*absolute_condition) && *absolute_condition > 0) {
+            const double u = unit_roundoff(prec);
+            excess = std::max(excess.value_or(0.0), *score.zero_root_error / (u * *absolute_condition));
+        }
+    }
+    return excess;
+}
 
 // Per target and condition bucket.
 struct bucket_tally {

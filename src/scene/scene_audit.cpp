@@ -131,9 +131,8 @@ void judge_nearest(ray_query q, const std::vector<renderer_outcome>& pairs, std:
         if (answer.verdict != verdict_kind::agree) return;
         if (mine.score.near_ulp) figures.nearest_ulp.add(*mine.score.near_ulp, ray_index, ray_id);
         answer.nearest_ulp = mine.score.near_ulp;
-        if (query_needs(q).hit_point && mine.score.hit_point_ulp) {
-            const auto& e = *mine.score.hit_point_ulp;
-            answer.hit_point_ulp = std::max({e[0], e[1], e[2]});
+        if (query_needs(q).hit_point && mine.score.hit_point_worst_ulp) {
+            answer.hit_point_ulp = mine.score.hit_point_worst_ulp;
             figures.hit_point_ulp.add(*answer.hit_point_ulp, ray_index, ray_id);
         }
         return;

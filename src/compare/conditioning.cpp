@@ -29,9 +29,9 @@ int max_exponent(std::initializer_list<double> values) {
 }
 
 // κ's numerator Σ_k |p_k|·(|o_k| + |c_k| + |t|·|d_k|) + r² for root t (scaled
-// coordinates), see conditioning.h: κ = it / (√Δ′·|t|), κ·|t| = it / √Δ′.
-double condition_numerator(dword t, const dd3& f, const dd3& o, const dd3& d, const dd3& c, dword r) {
-    double numerator = dw_value(r * r);
+// coordinates, r² its double), see conditioning.h: κ = it / (√Δ′·|t|), κ·|t| = it / √Δ′.
+double condition_numerator(dword t, const dd3& f, const dd3& o, const dd3& d, const dd3& c, double r_squared) {
+    double numerator = r_squared;
     const double abs_t = std::fabs(dw_value(t));
     for (int k = 0; k < 3; ++k) {
         const double p = std::fabs(dw_value(f[k] + t * d[k]));
@@ -110,20 +110,22 @@ RAYVERIFY_CLONED_FOR_FMA stability_measures measure_stability(const ray_sphere<d
     if (dw_value(t_near) > dw_value(t_far)) std::swap(t_near, t_far);
     m.near_root = std::ldexp(dw_value(t_near), position_exponent - direction_exponent);
     const bool resolved = dw_value(discriminant) > 0;  // dd resolves Δ′ (else κ is beyond its reach)
-    // κ·|t| in the inputs' own units: t scales by 2^(position − direction exponent).
-    const auto absolute_kappa = [&](dword t) {
-        if (!resolved) return infinity;
-        return std::ldexp(condition_numerator(t, f, o, d, c, r) / dw_value(sqrt_discriminant),
-                          position_exponent - direction_exponent);
+    // κ = numerator / (√Δ′·|t|), and κ·|t| = numerator / √Δ′ in the inputs'
+    // own units (t scales by 2^(position − direction exponent)): the
+    // numerator formed once per root for both.
+    const double r_squared = dw_value(r * r);
+    const auto set_conditions = [&](dword t, int sign, std::optional<double>& kappa,
+                                    std::optional<double>& absolute_kappa) {
+        if (!resolved) {
+            kappa = absolute_kappa = infinity;
+            return;
+        }
+        const double numerator = condition_numerator(t, f, o, d, c, r_squared);
+        kappa = sign == 0 ? infinity : numerator / (dw_value(sqrt_discriminant) * std::fabs(dw_value(t)));
+        absolute_kappa = std::ldexp(numerator / dw_value(sqrt_discriminant), position_exponent - direction_exponent);
     };
-    const auto kappa = [&](dword t, int sign) {
-        if (sign == 0 || !resolved) return infinity;
-        return condition_numerator(t, f, o, d, c, r) / (dw_value(sqrt_discriminant) * std::fabs(dw_value(t)));
-    };
-    m.near_condition = kappa(t_near, exact.near_root.sign);
-    m.far_condition = kappa(t_far, exact.far_root.sign);
-    m.near_absolute_condition = absolute_kappa(t_near);
-    m.far_absolute_condition = absolute_kappa(t_far);
+    set_conditions(t_near, exact.near_root.sign, m.near_condition, m.near_absolute_condition);
+    set_conditions(t_far, exact.far_root.sign, m.far_condition, m.far_absolute_condition);
     return m;
 }
 

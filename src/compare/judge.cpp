@@ -656,52 +656,6 @@ bool holds(double lower, double upper, const std::function<comparison(double)>& 
     return above && below;
 }
 
-// A positive length or error as m·2^e (m a double, e an int): the scale
-// figures multiply and divide values from 2^−1074 to 2^1024 whose products
-// leave the double range although the figure itself does not. Scaling by
-// powers of two is exact, so where nothing under- or overflows the figure is
-// the same double as the plain formula's.
-struct scaled {
-    double m = 0;  // 0 only for an exact zero
-    int e = 0;
-
-    static scaled of(double x) {
-        scaled s;
-        s.m = split(std::fabs(x), s.e);
-        return s;
-    }
-    friend scaled operator*(scaled a, scaled b) { return {a.m * b.m, a.e + b.e}; }
-    friend scaled operator/(scaled a, scaled b) { return {a.m / b.m, a.e - b.e}; }
-    // RN to double of m·2^e (one rounding, in ldexp), except that a nonzero
-    // value below the smallest subnormal is that subnormal, never 0; above
-    // the largest double, +inf.
-    double value() const {
-        if (m == 0) return 0;
-        int k = 0;
-        const double mantissa = split(m, k);
-        const long exponent = static_cast<long>(e) + k;
-        // A normal result: the product with 2^exponent is exact, as ldexp's.
-        if (exponent >= -1021 && exponent <= 1023) return mantissa * exact_power_of_two(static_cast<int>(exponent));
-        if (exponent > 1100) return std::numeric_limits<double>::infinity();
-        if (exponent < -1100) return std::numeric_limits<double>::denorm_min();
-        const double x = std::ldexp(mantissa, static_cast<int>(exponent));
-        return x == 0 ? std::numeric_limits<double>::denorm_min() : x;
-    }
-
-private:
-    // std::frexp: x = significand·2^e with 0.5 ≤ |significand| < 1. A normal
-    // x from its bits (the judge splits several values for every agreeing
-    // answer, and the libm calls were a few percent of an audit); the rest
-    // (0, subnormals, non-finite) by std::frexp.
-    static double split(double x, int& e) {
-        const std::uint64_t bits = std::bit_cast<std::uint64_t>(x);
-        const int biased = static_cast<int>((bits >> 52) & 0x7FF);
-        if (biased == 0 || biased == 0x7FF) return std::frexp(x, &e);
-        e = biased - 1022;
-        return std::bit_cast<double>((bits & 0x800FFFFFFFFFFFFFull) | (std::uint64_t{1022} << 52));
-    }
-};
-
 // |a − b| for finite doubles, without overflow: halved first where either is
 // that large (halving is exact there).
 scaled distance_between(double a, double b) {
@@ -766,11 +720,11 @@ struct scale_errors {
     std::optional<double> radius, distance;
 };
 scale_errors measure_scale_errors(const judged_list& judged, const double (&t)[2], const exact_solution& exact,
-                                  const ray_sphere<double>& input) {
+                                  const ray_sphere<double>& input, const input_lengths& lengths) {
     scale_errors out;
     if (!judged.size) return out;
-    const scaled d_length = euclidean_length(input.direction);
-    const scaled distance = origin_to_centre(input);
+    const scaled& d_length = lengths.direction;
+    const scaled& distance = lengths.origin_to_centre;
     for (const judged_value& j : judged) {
         const double value = t[j.slot];
         if (!std::isfinite(value) || (j.root && !std::isfinite(exact.root(*j.root).rounded))) continue;
@@ -831,8 +785,9 @@ std::optional<std::string> accuracy_shortfall(const contract& promises, const va
 // formula works at) in precision p: the error of a value judged against a
 // root exactly at 0, whose own ulp is the smallest subnormal. The ulp is that
 // of the binade holding r/|d| (2^(max(E, emin) − p + 1) for 2^E ≤ r/|d| < 2^(E+1)).
-double zero_root_error_in_radius_ulps(double t, const ray_sphere<double>& input, precision p) {
-    const scaled along = scaled::of(input.radius) / euclidean_length(input.direction);
+double zero_root_error_in_radius_ulps(double t, const ray_sphere<double>& input, const input_lengths& lengths,
+                                      precision p) {
+    const scaled along = scaled::of(input.radius) / lengths.direction;
     if (along.m == 0 || !std::isfinite(along.m)) return std::numeric_limits<double>::infinity();
     int k = 0;
     std::frexp(along.m, &k);
@@ -926,17 +881,18 @@ double normal_angle(const vec3<double>& normal, const exact_solution& exact, roo
 // leaves out the exact value, what is wrong, in words (verdict row 12,
 // unsound_bound).
 std::optional<std::string> measure_outputs(const contract& promises, const variant_output& output,
-                                           const exact_solution& exact, const t_range& range,
-                                           const expected_hit& want, const ray_sphere<double>& input,
+                                           const case_frame& frame, const t_range& range, const expected_hit& want,
                                            bool with_scale_errors, case_score& s) {
+    const exact_solution& exact = frame.exact();
+    const ray_sphere<double>& input = frame.input();
     const judged_list judged = judged_values(promises.query, exact, want);
     const double t[2] = {output.roots.t0, output.roots.t1};
     s.near_scaled_ulp = s.near_ulp;
     for (const judged_value& j : judged)
         if (j.slot == 0 && j.root && exact.root(*j.root).sign == 0 && s.near_ulp)
-            s.near_scaled_ulp = zero_root_error_in_radius_ulps(t[0], input, exact.prec);
+            s.near_scaled_ulp = zero_root_error_in_radius_ulps(t[0], input, frame.lengths(), exact.prec);
     if (with_scale_errors) {
-        const scale_errors scale = measure_scale_errors(judged, t, exact, input);
+        const scale_errors scale = measure_scale_errors(judged, t, exact, input, frame.lengths());
         s.scale_error_radius = scale.radius;
         s.scale_error_distance = scale.distance;
     }
@@ -1026,6 +982,11 @@ const stability_measures& case_frame::stability() const {
     return *stability_;
 }
 
+const input_lengths& case_frame::lengths() const {
+    if (!lengths_) lengths_ = input_lengths{euclidean_length(input_.direction), origin_to_centre(input_)};
+    return *lengths_;
+}
+
 const std::optional<std::string>& case_frame::unit_direction_breach() const {
     if (!unit_direction_breach_) {
         unit_direction_breach_ = unit_direction_breach_of(input_, exact_.prec);
@@ -1057,7 +1018,7 @@ case_score judge_output(const contract& promises, const variant_output& output, 
     if (s.verdict == verdict_kind::agree) {
         if (wanted.hit_point) measure_hit_point(promises, output, exact, range, want, frame.input(), s);
         const std::optional<std::string> unsound =
-            measure_outputs(promises, output, exact, range, want, frame.input(), wanted.scale_errors, s);
+            measure_outputs(promises, output, frame, range, want, wanted.scale_errors, s);
         if (!unsound) return s;
         s.verdict = verdict_kind::unsound_bound;
         s.detail = *unsound;

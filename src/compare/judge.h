@@ -53,6 +53,7 @@
 #include <variant>
 
 #include "compare/conditioning.h"
+#include "compare/scaled.h"
 #include "core/contract.h"
 #include "core/intersection.h"
 #include "core/ray_sphere_case.h"
@@ -242,6 +243,13 @@ struct figure_request {
 // check (|d|² against 1 ± 8ε and against 1) and the a = 1 idealisation of a
 // unit-direction formula. It refers to `exact`, which must outlive it; it is
 // not shared between threads.
+// The lengths of a case's input that the scale figures divide by, each as
+// m·2^e, formed without overflow.
+struct input_lengths {
+    scaled direction;         // |d|
+    scaled origin_to_centre;  // |o − c|
+};
+
 class case_frame {
 public:
     case_frame(const exact_solution& exact, const ray_sphere<double>& input) : exact_(exact), input_(input) {}
@@ -252,6 +260,9 @@ public:
     const ray_sphere<double>& input() const { return input_; }
     precision prec() const { return exact_.prec; }
     const stability_measures& stability() const;
+    // |d| and |o − c|, formed on first use: every agreeing answer's scale
+    // errors are measured against them.
+    const input_lengths& lengths() const;
     // Why the case breaks a unit-direction assumption at this precision
     // (contract_breach's words), or nullopt when |d|² is within 1 ± 8ε.
     const std::optional<std::string>& unit_direction_breach() const;
@@ -265,6 +276,7 @@ private:
     const exact_solution& exact_;
     ray_sphere<double> input_;
     mutable std::optional<stability_measures> stability_;
+    mutable std::optional<input_lengths> lengths_;
     mutable std::optional<std::optional<std::string>> unit_direction_breach_;
     mutable std::optional<comparison> squared_length_against_one_;
     mutable std::optional<exact_solution> unit_direction_design_;

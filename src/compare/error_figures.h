@@ -13,7 +13,6 @@
 // on its exact value, never on the printed one.
 #pragma once
 
-#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <optional>

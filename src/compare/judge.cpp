@@ -744,7 +744,8 @@ scale_errors measure_scale_errors(const judged_list& judged, const double (&t)[2
 // exact comparison's).
 std::optional<std::string> accuracy_shortfall(const contract& promises, const variant_output& output,
                                               const exact_solution& exact, const expected_hit& want,
-                                              const ray_sphere<double>& input) {
+                                              const case_frame& frame) {
+    const ray_sphere<double>& input = frame.input();
     const accuracy_requirement& required = promises.accuracy;
     if (!required.required() || output.roots.count <= 0) return std::nullopt;
     const double t[2] = {output.roots.t0, output.roots.t1};
@@ -766,7 +767,7 @@ std::optional<std::string> accuracy_shortfall(const contract& promises, const va
                 const bool radii = required.unit == accuracy_unit::radius;
                 against = exact.compare_root_distance(k, value, required.bound, radii ? input.radius : 1.0);
                 if (against != comparison::larger) break;
-                const scaled along = root_error(exact, k, value) * euclidean_length(input.direction);
+                const scaled along = root_error(exact, k, value) * frame.lengths().direction;
                 figure = radii ? format_figure((along / scaled::of(input.radius)).value()) + " r"
                                : format_figure(along.value());
                 break;
@@ -1013,7 +1014,7 @@ case_score judge_output(const contract& promises, const variant_output& output, 
     const expected_hit want = expected_answer(promises, exact, range);
     case_score s = judge_verdict(promises, output, exact, range, want, wanted.roots);
     if (s.verdict == verdict_kind::agree)
-        if (std::optional<std::string> shortfall = accuracy_shortfall(promises, output, exact, want, frame.input()))
+        if (std::optional<std::string> shortfall = accuracy_shortfall(promises, output, exact, want, frame))
             s = disagreement(s, verdict_kind::imprecise, std::move(*shortfall));
     if (s.verdict == verdict_kind::agree) {
         if (wanted.hit_point) measure_hit_point(promises, output, exact, range, want, frame.input(), s);
@@ -1298,7 +1299,7 @@ renderer_outcome judge_for_renderer_in(const audit_target& target, const corpus_
     const expected_hit want = expected_answer(renderer, exact, outcome.range);
     case_score s = judge_verdict(renderer, outcome.view, exact, outcome.range, want);
     if (s.verdict == verdict_kind::agree)
-        if (std::optional<std::string> shortfall = accuracy_shortfall(renderer, outcome.view, exact, want, frame.input()))
+        if (std::optional<std::string> shortfall = accuracy_shortfall(renderer, outcome.view, exact, want, frame))
             s = disagreement(s, verdict_kind::imprecise, std::move(*shortfall));
     if (s.verdict == verdict_kind::agree) {
         measure_hit_point(renderer, outcome.view, exact, outcome.range, want, frame.input(), s);

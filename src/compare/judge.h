@@ -234,15 +234,6 @@ struct figure_request {
     static constexpr figure_request verdict_only() { return {root_errors::none, false, false}; }
 };
 
-// What judging one case at one precision needs that no target changes,
-// formed once and shared by every target judged on the case: the inputs as
-// a variant in that precision receives them (widened to double), their
-// exact answer, and, each on first use, the stability measures (the
-// rounding cause of a disagreement; the audit keeps them for its stability
-// tallies, plot sample and per-case lines), the unit-direction assumption's
-// check (|d|² against 1 ± 8ε and against 1) and the a = 1 idealisation of a
-// unit-direction formula. It refers to `exact`, which must outlive it; it is
-// not shared between threads.
 // The lengths of a case's input that the scale figures divide by, each as
 // m·2^e, formed without overflow.
 struct input_lengths {
@@ -250,6 +241,16 @@ struct input_lengths {
     scaled origin_to_centre;  // |o − c|
 };
 
+// What judging one case at one precision needs that no target changes,
+// formed once and shared by every target judged on the case: the inputs as
+// a variant in that precision receives them (widened to double), their
+// exact answer, and, each on first use, the stability measures (the
+// rounding cause of a disagreement; the audit keeps them for its stability
+// tallies, plot sample and per-case lines), the input's lengths (the scale
+// figures' and the accuracy clause's), the unit-direction assumption's
+// check (|d|² against 1 ± 8ε and against 1) and the a = 1 idealisation of a
+// unit-direction formula. It refers to `exact`, which must outlive it; it is
+// not shared between threads.
 class case_frame {
 public:
     case_frame(const exact_solution& exact, const ray_sphere<double>& input) : exact_(exact), input_(input) {}
@@ -261,7 +262,7 @@ public:
     precision prec() const { return exact_.prec; }
     const stability_measures& stability() const;
     // |d| and |o − c|, formed on first use: every agreeing answer's scale
-    // errors are measured against them.
+    // errors, and an accuracy clause's figure, are measured against them.
     const input_lengths& lengths() const;
     // Why the case breaks a unit-direction assumption at this precision
     // (contract_breach's words), or nullopt when |d|² is within 1 ± 8ε.

@@ -40,10 +40,11 @@ void audit_case_into(audited_case& out, const corpus_case& c, std::span<const au
     const case_frame at_double(out.exact_double, c.geometry);
     std::optional<case_frame> at_float;
     if (float_used) at_float.emplace(*out.exact_float, target_input(precision::binary32, c));
-    out.outcomes.resize(targets.size());
+    out.outcomes.clear();  // the outcomes' storage is kept from case to case
     for (std::size_t t = 0; t < targets.size(); ++t) {
         const case_frame& frame = targets[t].prec == precision::binary32 ? *at_float : at_double;
-        out.outcomes[t] = judge_target(targets[t], c, frame, given.empty() ? given_answer{} : given[t], wanted);
+        judge_target_into(out.outcomes.emplace_back(), targets[t], c, frame,
+                          given.empty() ? given_answer{} : given[t], wanted);
     }
     out.stability.at_double = at_double.stability();
     if (at_float)

@@ -374,10 +374,9 @@ std::string describe_output(const variant_output& out, query_kind query) {
 
 const char* root_word(root_index i) { return i == root_index::near_root ? "near" : "far"; }
 
-case_score disagreement(case_score s, verdict_kind k, std::string detail) {
+void disagree(case_score& s, verdict_kind k, std::string detail) {
     s.verdict = k;
     s.detail = std::move(detail);
-    return s;
 }
 
 // Which side of the range a root and a value are on, and the verdict when
@@ -463,15 +462,16 @@ figure_bracket bracket_root_errors(const judged_list& judged, const double (&t)[
 // rows (a row that cannot apply to a query is skipped). `want` is
 // expected_answer's. `measure` says how the root errors are measured (none:
 // only the verdict is formed); a cause is set only where the verdict itself
-// shows it (line_not_ray).
-case_score judge_verdict(const contract& promises, const variant_output& out, const exact_solution& exact,
-                         const t_range& range, const expected_hit& want,
-                         figure_request::root_errors measure = figure_request::root_errors::exact) {
-    case_score s;
+// shows it (line_not_ray). It writes into `s`, a fresh score, the caller's:
+// returned, a score (about 280 bytes) was moved on every judgement, 3% of an
+// audit's instructions.
+void judge_verdict(case_score& s, const contract& promises, const variant_output& out, const exact_solution& exact,
+                   const t_range& range, const expected_hit& want,
+                   figure_request::root_errors measure = figure_request::root_errors::exact) {
     const auto& r = out.roots;
     const query_kind query = promises.query;
     const bool line = query == query_kind::line_roots, any = query == query_kind::any_hit;
-    const auto fail = [&](verdict_kind k, std::string why) { return disagreement(s, k, std::move(why)); };
+    const auto fail = [&](verdict_kind k, std::string why) { disagree(s, k, std::move(why)); };
     const auto both = [&] {
         return (line ? describe_exact(exact) : describe_expected(promises, exact, range)) + "; " +
                describe_output(out, query);
@@ -505,7 +505,7 @@ case_score judge_verdict(const contract& promises, const variant_output& out, co
     if (any && r.count == 1 && out.nan_seen) return fail(verdict_kind::non_finite, both());
     // 3. false_hit: no hit expected, one reported.
     if (!hit_expected) {
-        if (r.count == 0) return s;
+        if (r.count == 0) return;
         // A t that stands for a root outside the range, itself outside it: the formula tests the line.
         if (query == query_kind::nearest_hit && exact.cls != line_class::miss && std::isfinite(r.t0) &&
             !root_in_range(exact, stands_for(exact, r.t0, root_index::near_root), range) && !range.contains(r.t0))
@@ -515,7 +515,7 @@ case_score judge_verdict(const contract& promises, const variant_output& out, co
     // 4, 5. tangent_missed, false_miss: a hit expected, none reported.
     if (r.count == 0)
         return fail(exact.cls == line_class::tangent ? verdict_kind::tangent_missed : verdict_kind::false_miss, both());
-    if (any) return s;
+    if (any) return;
     // 6. non_finite: an infinity that is not the value it is judged against.
     for (const judged_value& j : judged) {
         const double want_value = j.root ? exact.root(*j.root).rounded : j.start;
@@ -577,7 +577,6 @@ case_score judge_verdict(const contract& promises, const variant_output& out, co
     }
     // 12. imprecise is decided on the contract's accuracy clause (accuracy_shortfall); 13. unsound_bound on the
     // outputs beside t (measure_outputs); 14. agree.
-    return s;
 }
 
 // Hit point error of an agreeing answer: for the root that is the hit, when
@@ -968,8 +967,8 @@ disagreement_cause cause_of(const contract& promises, const variant_output& outp
         const exact_solution& solved = frame.unit_direction_design();
         if (solved.valid()) {
             const expected_hit want = expected_answer(promises, solved, range);
-            const case_score designed =
-                judge_verdict(promises, output, solved, range, want, figure_request::root_errors::none);
+            case_score designed;
+            judge_verdict(designed, promises, output, solved, range, want, figure_request::root_errors::none);
             if (designed.verdict == verdict_kind::agree) return disagreement_cause::unit_direction;
         }
     }
@@ -1008,23 +1007,34 @@ const exact_solution& case_frame::unit_direction_design() const {
     return *unit_direction_design_;
 }
 
-case_score judge_output(const contract& promises, const variant_output& output, const case_frame& frame,
-                        const t_range& range, const figure_request& wanted) {
+namespace {
+
+// judge_output into `s`, a fresh score (judge_target_into's, in place).
+void judge_output_into(case_score& s, const contract& promises, const variant_output& output, const case_frame& frame,
+                       const t_range& range, const figure_request& wanted) {
     const exact_solution& exact = frame.exact();
     const expected_hit want = expected_answer(promises, exact, range);
-    case_score s = judge_verdict(promises, output, exact, range, want, wanted.roots);
+    judge_verdict(s, promises, output, exact, range, want, wanted.roots);
     if (s.verdict == verdict_kind::agree)
         if (std::optional<std::string> shortfall = accuracy_shortfall(promises, output, exact, want, frame))
-            s = disagreement(s, verdict_kind::imprecise, std::move(*shortfall));
+            disagree(s, verdict_kind::imprecise, std::move(*shortfall));
     if (s.verdict == verdict_kind::agree) {
         if (wanted.hit_point) measure_hit_point(promises, output, exact, range, want, frame.input(), s);
         const std::optional<std::string> unsound =
             measure_outputs(promises, output, frame, range, want, wanted.scale_errors, s);
-        if (!unsound) return s;
+        if (!unsound) return;
         s.verdict = verdict_kind::unsound_bound;
         s.detail = *unsound;
     }
     if (!s.cause) s.cause = cause_of(promises, output, frame, range, s.verdict);
+}
+
+}  // namespace
+
+case_score judge_output(const contract& promises, const variant_output& output, const case_frame& frame,
+                        const t_range& range, const figure_request& wanted) {
+    case_score s;
+    judge_output_into(s, promises, output, frame, range, wanted);
     return s;
 }
 
@@ -1104,14 +1114,15 @@ case_score judge_degenerate(const variant_output& output, invalid_reason why) {
     if (output.roots.count == 0) return s;
     s.cause = disagreement_cause::algorithmic;
     if (output.roots.count < 0)
-        return disagreement(s, verdict_kind::degenerate_hit,
-                            fmt::format("degenerate cast ({}): no answer (count {}), where degenerate=miss asks for "
-                                        "a miss",
-                                        invalid_reason_name(why), output.roots.count));
-    return disagreement(s, verdict_kind::degenerate_hit,
-                        fmt::format("degenerate cast ({}): answered count {}, t0 = {}, t1 = {}, where degenerate=miss "
-                                    "asks for a miss",
-                                    invalid_reason_name(why), output.roots.count, output.roots.t0, output.roots.t1));
+        disagree(s, verdict_kind::degenerate_hit,
+                 fmt::format("degenerate cast ({}): no answer (count {}), where degenerate=miss asks for a miss",
+                             invalid_reason_name(why), output.roots.count));
+    else
+        disagree(s, verdict_kind::degenerate_hit,
+                 fmt::format("degenerate cast ({}): answered count {}, t0 = {}, t1 = {}, where degenerate=miss "
+                             "asks for a miss",
+                             invalid_reason_name(why), output.roots.count, output.roots.t0, output.roots.t1));
+    return s;
 }
 
 // Invalid or outside the contract: the outcome written into `score` (a
@@ -1137,11 +1148,10 @@ bool judged_unscored(const contract& promises, const corpus_case& c, const case_
 }
 
 template <class T>
-target_outcome judge_target_in(const audit_target& target, const corpus_case& c, const case_frame& frame,
-                               const given_answer& given, const figure_request& wanted) {
-    target_outcome outcome;
+void judge_target_in(target_outcome& outcome, const audit_target& target, const corpus_case& c,
+                     const case_frame& frame, const given_answer& given, const figure_request& wanted) {
     const contract& promises = target.subject.promises;
-    if (judged_unscored(promises, c, frame, outcome.score)) return outcome;
+    if (judged_unscored(promises, c, frame, outcome.score)) return;
     const ray_sphere<T> input = target_input<T>(c);
     outcome.range = range_for(promises, c, target.prec);
     const answer<T>* ahead = std::get_if<answer<T>>(&given);
@@ -1150,21 +1160,27 @@ target_outcome judge_target_in(const audit_target& target, const corpus_case& c,
         outcome.output.roots = {given_answer.roots.count, static_cast<double>(given_answer.roots.t0),
                                 static_cast<double>(given_answer.roots.t1)};
         outcome.score = judge_degenerate(outcome.output, frame.exact().invalid);
-        return outcome;
+        return;
     }
     widen_answer_into(outcome.output, promises, given_answer, input, outcome.range);
     if (target.recorded && !ahead) add_recorded_outputs(outcome.output, target.recorded->find(c.id));
-    outcome.score = judge_output(promises, outcome.output, frame, outcome.range, wanted);
-    return outcome;
+    judge_output_into(outcome.score, promises, outcome.output, frame, outcome.range, wanted);
 }
 
 }  // namespace
 
+void judge_target_into(target_outcome& outcome, const audit_target& target, const corpus_case& c,
+                       const case_frame& frame, const given_answer& given, const figure_request& wanted) {
+    with_precision(target.prec, [&]<class T>(std::type_identity<T>) {
+        judge_target_in<T>(outcome, target, c, frame, given, wanted);
+    });
+}
+
 target_outcome judge_target(const audit_target& target, const corpus_case& c, const case_frame& frame,
                             const given_answer& given, const figure_request& wanted) {
-    return with_precision(target.prec, [&]<class T>(std::type_identity<T>) {
-        return judge_target_in<T>(target, c, frame, given, wanted);
-    });
+    target_outcome outcome;
+    judge_target_into(outcome, target, c, frame, given, wanted);
+    return outcome;
 }
 
 target_outcome judge_target(const audit_target& target, const corpus_case& c, const exact_solution& exact,
@@ -1297,10 +1313,11 @@ renderer_outcome judge_for_renderer_in(const audit_target& target, const corpus_
     const root_pair<T> raw = answer_of(target, c, input, interval_in<T>(own_range)).roots;
     outcome.view = renderer_view(promises, raw, input, outcome.range, q);
     const expected_hit want = expected_answer(renderer, exact, outcome.range);
-    case_score s = judge_verdict(renderer, outcome.view, exact, outcome.range, want);
+    case_score s;
+    judge_verdict(s, renderer, outcome.view, exact, outcome.range, want);
     if (s.verdict == verdict_kind::agree)
         if (std::optional<std::string> shortfall = accuracy_shortfall(renderer, outcome.view, exact, want, frame))
-            s = disagreement(s, verdict_kind::imprecise, std::move(*shortfall));
+            disagree(s, verdict_kind::imprecise, std::move(*shortfall));
     if (s.verdict == verdict_kind::agree) {
         measure_hit_point(renderer, outcome.view, exact, outcome.range, want, frame.input(), s);
     } else if (!s.cause) {

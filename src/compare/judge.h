@@ -384,6 +384,11 @@ target_outcome judge_target(const audit_target& target, const corpus_case& c, co
 // every target of a case against one frame per precision).
 target_outcome judge_target(const audit_target& target, const corpus_case& c, const case_frame& frame,
                             const given_answer& given = {}, const figure_request& wanted = {});
+// The same into `outcome`, a fresh (default) one: the audit judges into its
+// case's outcomes in place, where a returned outcome (about 400 bytes) was
+// moved there on every judgement.
+void judge_target_into(target_outcome& outcome, const audit_target& target, const corpus_case& c,
+                       const case_frame& frame, const given_answer& given = {}, const figure_request& wanted = {});
 
 // ---- The renderer's view ------------------------------------------------------
 

@@ -173,12 +173,6 @@ std::optional<std::size_t> error_summary::counter_of(std::uint64_t bucket) const
     return block * block_size + ((bucket - 1) & (block_size - 1));
 }
 
-void error_summary::prefetch(double error) const {
-    const std::uint64_t bucket = bucket_of(error);
-    if (bucket == 0) return;
-    if (const std::optional<std::size_t> counter = counter_of(bucket)) __builtin_prefetch(&counts_[*counter], 1);
-}
-
 std::size_t error_summary::block_for(std::uint32_t binade) {
     if (block_of_.empty()) {
         first_binade_ = binade;
@@ -340,9 +334,8 @@ void audit_accumulator::add(const audited_case& c, std::size_t index) {
         if (score.cause) ++s.causes[static_cast<int>(*score.cause)];
         if (score.verdict != verdict_kind::agree) continue;
         for (const error_figure_definition& f : error_figures)
-            if (const std::optional<double> e = f.of_case(score)) figures_.push(s.errors[f.figure], *e);
+            if (const std::optional<double>& e = f.of_case(score)) s.errors[f.figure].add(*e, index, c.source->id);
     }
-    figures_.add_all(index, c.source->id);
 }
 
 void audit_accumulator::merge(const audit_accumulator& other) {

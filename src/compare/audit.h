@@ -92,10 +92,6 @@ struct error_summary {
     using histogram_map = boost::container::flat_map<std::uint64_t, std::size_t>;
 
     void add(double error, std::size_t index, const std::string& id);
-    // Starts loading the counter an add of `error` counts in: an
-    // accumulator prefetches every figure of a case before adding them, so
-    // that their cache misses overlap (figure_batch).
-    void prefetch(double error) const;
     void merge(const error_summary& other);
     // bucket key → number of errors in it, sorted by key.
     const histogram_map& histogram() const;
@@ -152,24 +148,6 @@ private:
     std::size_t zeros_ = 0;                // errors in bucket 0 (exact zeros), kept out of the blocks
     mutable histogram_map sorted_;
     mutable bool sorted_current_ = true;
-};
-
-// The figures of one case, each bound for its own summary: pushed (and
-// their slots prefetched) first, then added together. A case's figures go
-// to a few hundred histograms, each a cache miss when added one by one.
-class figure_batch {
-public:
-    void push(error_summary& summary, double error) {
-        summary.prefetch(error);
-        items_.push_back({&summary, error});
-    }
-    void add_all(std::size_t index, const std::string& id) {
-        for (const auto& [summary, error] : items_) summary->add(error, index, id);
-        items_.clear();
-    }
-
-private:
-    std::vector<std::pair<error_summary*, double>> items_;
 };
 
 // Runs job(k) for every k in [0, count) on `threads` threads, the calling one
@@ -296,9 +274,6 @@ struct audit_accumulator {
     std::array<std::size_t, 2> invalid{};
     std::vector<invalid_case> invalid_list;  // sorted by index
     std::map<std::string, std::vector<target_samples>> by_family;  // family → aligned with targets
-
-private:
-    figure_batch figures_;
 };
 
 // The family name a case is tallied under ("-" when unknown).

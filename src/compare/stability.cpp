@@ -63,11 +63,11 @@ void stability_accumulator::add(const audited_case& c, std::size_t index) {
             if (is_by_design(*cause)) ++b.by_design;
         }
         if (score.verdict != verdict_kind::agree) continue;
-        if (score.near_ulp) figures_.push(out.near_ulp[bucket], *score.near_ulp);
+        if (score.near_ulp) out.near_ulp[bucket].add(*score.near_ulp, index, id);
         const std::optional<double> excess =
             excess_over_line(score, m, c.exact_for(targets[t].prec), targets[t].prec);
         if (!excess) continue;
-        figures_.push(out.excess, *excess);
+        out.excess.add(*excess, index, id);
         const bool above = !(*excess <= stability_factor);
         out.above_line += above;
         if (m.near_condition && *m.near_condition < 1e3) {
@@ -75,7 +75,6 @@ void stability_accumulator::add(const audited_case& c, std::size_t index) {
             out.well_conditioned_above += above;
         }
     }
-    figures_.add_all(index, id);
 }
 
 void stability_accumulator::merge(const stability_accumulator& other) {

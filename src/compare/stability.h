@@ -110,9 +110,6 @@ struct stability_accumulator {
 
     std::vector<audit_target> targets;
     std::map<std::string, std::vector<stability_samples>> by_family;  // family → aligned with targets
-
-private:
-    figure_batch figures_;
 };
 
 }  // namespace rayverify

@@ -23,7 +23,9 @@
 
 #include "compare/audit.h"
 #include "compare/error_figures.h"
+#include "corpus/case_stream.h"
 #include "corpus/corpus_io.h"
+#include "intersectors/registry.h"
 #include "intersectors/seed004_early_out.h"
 
 namespace rayverify {
@@ -860,6 +862,49 @@ TEST(Degenerate, TheTextbookFormulaHitsAZeroLengthCastAndRobustDoesNot) {
         const verdict_kind got = judge_target(target, zero, solve_case(zero, precision::binary64)).score.verdict;
         EXPECT_EQ(got, std::string_view(name) == "naive" ? verdict_kind::degenerate_hit : verdict_kind::agree) << name;
     }
+}
+
+// An audit that prints no per-case line asks the judge to leave each
+// disagreement's sentence unformed (figure_request::details): everything
+// else it decides is the same. Every shipped case with every built-in
+// variant, judged both ways.
+TEST(Judge, SentencesLeftOutChangeNothingElse) {
+    const std::vector<audit_target> targets = targets_for(builtin_variants());
+    case_stream stream(std::vector<std::filesystem::path>{RAYVERIFY_CORPUS_DIR}, {});
+    std::vector<corpus_case> chunk;
+    std::vector<std::size_t> indices;
+    figure_request without;
+    without.details = false;
+    std::size_t disagreements = 0;
+    while (stream.next(chunk, indices)) {
+        for (const corpus_case& c : chunk) {
+            const audited_case with = audit_case(c, targets);
+            const audited_case bare = audit_case(c, targets, {}, without);
+            ASSERT_EQ(with.outcomes.size(), bare.outcomes.size());
+            for (std::size_t t = 0; t < targets.size(); ++t) {
+                const case_score& a = with.outcomes[t].score;
+                const case_score& b = bare.outcomes[t].score;
+                const std::string where = c.id + " " + targets[t].subject.name;
+                ASSERT_EQ(a.verdict, b.verdict) << where;
+                ASSERT_EQ(a.cause, b.cause) << where;
+                for (const error_figure_definition& f : error_figures)
+                    ASSERT_EQ(f.of_case(a), f.of_case(b)) << where << " " << f.name;
+                ASSERT_EQ(a.hit_point_ulp, b.hit_point_ulp) << where;
+                ASSERT_EQ(a.far_bits, b.far_bits) << where;
+                ASSERT_EQ(a.zero_root_error, b.zero_root_error) << where;
+                if (!is_disagreement(a.verdict) || a.verdict == verdict_kind::imprecise ||
+                    a.verdict == verdict_kind::unsound_bound)
+                    continue;
+                // The judge's own rows: their sentence formed only when asked.
+                ++disagreements;
+                EXPECT_FALSE(a.detail.empty()) << where;
+                EXPECT_TRUE(b.detail.empty()) << where;
+            }
+        }
+        chunk.clear();
+        indices.clear();
+    }
+    EXPECT_GT(disagreements, 1000u);
 }
 
 }  // namespace

@@ -136,9 +136,16 @@ audit_timing_row time_family(const std::string& family, const std::vector<corpus
             return agreed;
         };
     };
-    const auto cases_judged = judged_with({});
-    const auto verdicts_judged = judged_with(figure_request::verdict_only());
-    const auto stream_only = [&] { return static_cast<double>(audit_stream(chunks_of(cases), targets, 1, {}).cases); };
+    // As the audit timed asks (no per-case lines: no disagreement's sentence).
+    figure_request every_figure, verdicts_alone = figure_request::verdict_only();
+    every_figure.details = verdicts_alone.details = false;
+    const auto cases_judged = judged_with(every_figure);
+    const auto verdicts_judged = judged_with(verdicts_alone);
+    audit_hooks no_hooks;
+    no_hooks.details = false;
+    const auto stream_only = [&] {
+        return static_cast<double>(audit_stream(chunks_of(cases), targets, 1, no_hooks).cases);
+    };
     // Each repetition times naive, the audit and the audit with per-case
     // lines back to back, and the figures are medians of each repetition's
     // ratios: on a shared machine whose speed drifts, a ratio of neighbours

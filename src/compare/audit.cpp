@@ -462,13 +462,15 @@ audit_accumulator audit_stream(const case_source& next, const std::vector<audit_
     // thread's allocations contends on malloc's arenas).
     constexpr std::size_t grain = 8;
     std::atomic<std::size_t> claimed{0};
+    figure_request wanted;
+    wanted.details = hooks.details;
     const auto work = [&](unsigned worker) {
         audited_case own;
         for (std::size_t begin; (begin = claimed.fetch_add(grain)) < cases.size();)
             for (std::size_t i = begin; i < std::min(begin + grain, cases.size()); ++i) {
                 audited_case& c = hooks.ordered ? audited[i] : own;
-                audit_case_into(c, cases[i], targets, ahead.empty() ? std::span<const given_answer>{} : ahead[i], {},
-                                route);
+                audit_case_into(c, cases[i], targets, ahead.empty() ? std::span<const given_answer>{} : ahead[i],
+                                wanted, route);
                 accumulators[worker].state.add(c, indices[i]);
                 if (hooks.parallel) hooks.parallel(c, indices[i], i, worker);
             }

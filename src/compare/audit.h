@@ -311,6 +311,9 @@ struct audit_hooks {
     std::function<void(std::size_t index, std::size_t slot)> in_order;
     // Called on the calling thread after each chunk with the cases audited so far.
     std::function<void(std::size_t done)> progress;
+    // Whether a hook reads a disagreement's sentence (case_score::detail):
+    // otherwise the judge leaves it unformed (figure_request::details).
+    bool details = true;
 };
 
 // The thread count actually used for `targets` when `requested` are asked for.

@@ -462,23 +462,28 @@ figure_bracket bracket_root_errors(const judged_list& judged, const double (&t)[
 // rows (a row that cannot apply to a query is skipped). `want` is
 // expected_answer's. `measure` says how the root errors are measured (none:
 // only the verdict is formed); a cause is set only where the verdict itself
-// shows it (line_not_ray). It writes into `s`, a fresh score, the caller's:
+// shows it (line_not_ray); `details`, whether a disagreement's sentence is
+// formed (figure_request::details). It writes into `s`, a fresh score, the caller's:
 // returned, a score (about 280 bytes) was moved on every judgement, 3% of an
 // audit's instructions.
 void judge_verdict(case_score& s, const contract& promises, const variant_output& out, const exact_solution& exact,
                    const t_range& range, const expected_hit& want,
-                   figure_request::root_errors measure = figure_request::root_errors::exact) {
+                   figure_request::root_errors measure = figure_request::root_errors::exact, bool details = true) {
     const auto& r = out.roots;
     const query_kind query = promises.query;
     const bool line = query == query_kind::line_roots, any = query == query_kind::any_hit;
-    const auto fail = [&](verdict_kind k, std::string why) { disagree(s, k, std::move(why)); };
+    // A disagreement, its sentence formed only when it is read (`details`).
+    const auto fail = [&](verdict_kind k, const auto& sentence) {
+        s.verdict = k;
+        if (details) s.detail = sentence();
+    };
     const auto both = [&] {
         return (line ? describe_exact(exact) : describe_expected(promises, exact, range)) + "; " +
                describe_output(out, query);
     };
     // 1. malformed_output: a hit count the query does not allow.
     const int allowed = line ? 2 : 1;
-    if (r.count < 0 || r.count > allowed) return fail(verdict_kind::malformed_output, fmt::format("hit count {}", r.count));
+    if (r.count < 0 || r.count > allowed) return fail(verdict_kind::malformed_output, [&] { return fmt::format("hit count {}", r.count); });
     // The values judged (line_roots: t0 and t1 whatever the count, t1 of a
     // reported tangent too; nearest_hit: t0) and what each is judged against.
     const int values = r.count == 0 || any ? 0 : (line ? 2 : 1);
@@ -501,8 +506,8 @@ void judge_verdict(case_score& s, const contract& promises, const variant_output
                 s.zero_root_error = std::max(s.zero_root_error.value_or(0.0), std::fabs(t[j.slot]));
     // 2. non_finite: a NaN among the values judged (any_hit: one the renderer looked at).
     for (int i = 0; i < values; ++i)
-        if (std::isnan(t[i])) return fail(verdict_kind::non_finite, both());
-    if (any && r.count == 1 && out.nan_seen) return fail(verdict_kind::non_finite, both());
+        if (std::isnan(t[i])) return fail(verdict_kind::non_finite, both);
+    if (any && r.count == 1 && out.nan_seen) return fail(verdict_kind::non_finite, both);
     // 3. false_hit: no hit expected, one reported.
     if (!hit_expected) {
         if (r.count == 0) return;
@@ -510,23 +515,23 @@ void judge_verdict(case_score& s, const contract& promises, const variant_output
         if (query == query_kind::nearest_hit && exact.cls != line_class::miss && std::isfinite(r.t0) &&
             !root_in_range(exact, stands_for(exact, r.t0, root_index::near_root), range) && !range.contains(r.t0))
             s.cause = disagreement_cause::line_not_ray;
-        return fail(verdict_kind::false_hit, both());
+        return fail(verdict_kind::false_hit, both);
     }
     // 4, 5. tangent_missed, false_miss: a hit expected, none reported.
     if (r.count == 0)
-        return fail(exact.cls == line_class::tangent ? verdict_kind::tangent_missed : verdict_kind::false_miss, both());
+        return fail(exact.cls == line_class::tangent ? verdict_kind::tangent_missed : verdict_kind::false_miss, both);
     if (any) return;
     // 6. non_finite: an infinity that is not the value it is judged against.
     for (const judged_value& j : judged) {
         const double want_value = j.root ? exact.root(*j.root).rounded : j.start;
-        if (std::isinf(t[j.slot]) && t[j.slot] != want_value) return fail(verdict_kind::non_finite, both());
+        if (std::isinf(t[j.slot]) && t[j.slot] != want_value) return fail(verdict_kind::non_finite, both);
     }
     if (line) {
         // 7. malformed_output: roots out of order.
         if (t[0] > t[1])
-            return fail(verdict_kind::malformed_output, "roots out of order: " + describe_output(out, query));
+            return fail(verdict_kind::malformed_output, [&] { return "roots out of order: " + describe_output(out, query); });
         // 8. tangent_split: exactly tangent, two distinct roots.
-        if (exact.cls == line_class::tangent && t[0] != t[1]) return fail(verdict_kind::tangent_split, both());
+        if (exact.cls == line_class::tangent && t[0] != t[1]) return fail(verdict_kind::tangent_split, both);
         // 9. false_tangent: two roots distinct after rounding, one reported
         // (two equal values that are the side-preserving rounding of both
         // roots, say +denorm_min for two positive roots below it, are two).
@@ -538,7 +543,7 @@ void judge_verdict(case_score& s, const contract& promises, const variant_output
                                         answers(root_index::far_root, t[0]);
         if (exact.cls == line_class::two_hit && distinct_after_rounding && (r.count == 1 || t[0] == t[1]) &&
             !one_value_for_both)
-            return fail(verdict_kind::false_tangent, both());
+            return fail(verdict_kind::false_tangent, both);
     }
     // Which exact root each t stands for: a clamp's range start stands for
     // itself; any other t of a clamp for the root on its side of the midpoint.
@@ -555,7 +560,7 @@ void judge_verdict(case_score& s, const contract& promises, const variant_output
     // 10. wrong_side: a t and the exact root it stands for on opposite sides of a range bound.
     for (std::size_t i = 0; i < standing; ++i)
         if (auto why = side_difference(exact, stands[i].root, t[stands[i].j->slot], range))
-            return fail(verdict_kind::wrong_side, *why);
+            return fail(verdict_kind::wrong_side, [&] { return std::move(*why); });
     // 11. wrong_root: a t stands for another root than the one asked for (a clamp: any t but the start).
     for (std::size_t i = 0; i < standing; ++i) {
         const judged_value& j = *stands[i].j;
@@ -566,14 +571,17 @@ void judge_verdict(case_score& s, const contract& promises, const variant_output
         if (!line && !root_in_range(exact, k, range) && (j.root || !range.contains(value)))
             s.cause = disagreement_cause::line_not_ray;
         if (line)
-            return fail(verdict_kind::wrong_root,
-                        fmt::format("t{} = {} stands for the {} root: {}", j.slot, value, root_word(k), both()));
+            return fail(verdict_kind::wrong_root, [&] {
+                return fmt::format("t{} = {} stands for the {} root: {}", j.slot, value, root_word(k), both());
+            });
         if (!j.root)
-            return fail(verdict_kind::wrong_root,
-                        fmt::format("t = {} stands for the {} root, where the contract clamps to {}: {}", value,
-                                    root_word(k), j.start, both()));
-        return fail(verdict_kind::wrong_root,
-                    fmt::format("t = {} stands for the {} root: {}", value, root_word(k), both()));
+            return fail(verdict_kind::wrong_root, [&] {
+                return fmt::format("t = {} stands for the {} root, where the contract clamps to {}: {}", value,
+                                   root_word(k), j.start, both());
+            });
+        return fail(verdict_kind::wrong_root, [&] {
+            return fmt::format("t = {} stands for the {} root: {}", value, root_word(k), both());
+        });
     }
     // 12. imprecise is decided on the contract's accuracy clause (accuracy_shortfall); 13. unsound_bound on the
     // outputs beside t (measure_outputs); 14. agree.
@@ -968,7 +976,7 @@ disagreement_cause cause_of(const contract& promises, const variant_output& outp
         if (solved.valid()) {
             const expected_hit want = expected_answer(promises, solved, range);
             case_score designed;
-            judge_verdict(designed, promises, output, solved, range, want, figure_request::root_errors::none);
+            judge_verdict(designed, promises, output, solved, range, want, figure_request::root_errors::none, false);
             if (designed.verdict == verdict_kind::agree) return disagreement_cause::unit_direction;
         }
     }
@@ -1014,7 +1022,7 @@ void judge_output_into(case_score& s, const contract& promises, const variant_ou
                        const t_range& range, const figure_request& wanted) {
     const exact_solution& exact = frame.exact();
     const expected_hit want = expected_answer(promises, exact, range);
-    judge_verdict(s, promises, output, exact, range, want, wanted.roots);
+    judge_verdict(s, promises, output, exact, range, want, wanted.roots, wanted.details);
     if (s.verdict == verdict_kind::agree)
         if (std::optional<std::string> shortfall = accuracy_shortfall(promises, output, exact, want, frame))
             disagree(s, verdict_kind::imprecise, std::move(*shortfall));

@@ -186,7 +186,7 @@ root_index stands_for(const exact_solution& exact, double t, root_index wanted);
 struct case_score {
     verdict_kind verdict = verdict_kind::agree;
     std::optional<disagreement_cause> cause;  // set for every disagreement
-    std::string detail;                       // one sentence a person can act on; empty for agree
+    std::string detail;                       // one sentence a person can act on; empty for agree (and unasked: figure_request::details)
     // Error of each returned root against the exact root it is judged against:
     // |t − t*| / ulp(t*) and Herbie bits log2(1 + ulps between t and RN(t*)).
     // Present when both exist and t is finite.
@@ -231,6 +231,12 @@ struct figure_request {
     root_errors roots = root_errors::exact;
     bool hit_point = true;     // hit_point_ulp
     bool scale_errors = true;  // scale_error_radius, scale_error_distance
+    // A disagreement's sentence (case_score::detail, whose verdict is decided
+    // either way): per-case lines, explain, the hunter and the builds
+    // comparison print it; an audit that prints none leaves it unformed (on
+    // far spheres, where most formulas miss, formatting the sentences was a
+    // seventh of an audit's instructions).
+    bool details = true;
     static constexpr figure_request verdict_only() { return {root_errors::none, false, false}; }
 };
 

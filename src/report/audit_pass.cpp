@@ -66,6 +66,7 @@ audit_state run_audit_pass(const case_source& next, const std::vector<audit_targ
             if (failures != nullptr && !failing_lines[slot].empty()) *failures << failing_lines[slot] << '\n';
         };
     hooks.progress = progress;
+    hooks.details = per_case != nullptr || static_cast<bool>(observe);  // the lines print it; an observer may read it
     audit_state& state = workers[0].state.state;
     state.audit = audit_stream(next, targets, threads, hooks, route);
     for (unsigned w = 1; w < threads; ++w) {

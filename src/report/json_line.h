@@ -213,17 +213,36 @@ private:
     }
     // The length of s's prefix written as it is: eight bytes at a time while
     // no byte of the word can be one to escape (the word tests below may
-    // report a byte that is not, never miss one), then byte by byte.
-    static std::size_t plain_prefix(std::string_view s) {
+    // report a byte that is not, never miss one), then byte by byte. Most
+    // texts are short names with nothing to escape: the last eight bytes (or
+    // the first and last four) are tested as one word, overlapping those
+    // before, rather than byte by byte.
+    static bool may_escape(std::uint64_t w) {
         constexpr std::uint64_t ones = 0x0101010101010101ull, highs = 0x8080808080808080ull;
-        const auto any_below = [&](std::uint64_t w, unsigned n) { return (w - ones * n) & ~w & highs; };
+        const auto any_below = [&](std::uint64_t v, unsigned n) { return (v - ones * n) & ~v & highs; };
+        return (any_below(w, 0x20) | any_below(w ^ (ones * '"'), 1) | any_below(w ^ (ones * '\\'), 1)) != 0;
+    }
+    static std::size_t plain_prefix(std::string_view s) {
+        const std::size_t n = s.size();
         std::size_t i = 0;
-        for (; i + 8 <= s.size(); i += 8) {
+        if (n >= 8) {
             std::uint64_t w;
-            std::memcpy(&w, s.data() + i, 8);
-            if (any_below(w, 0x20) | any_below(w ^ (ones * '"'), 1) | any_below(w ^ (ones * '\\'), 1)) break;
+            for (; i + 8 <= n; i += 8) {
+                std::memcpy(&w, s.data() + i, 8);
+                if (may_escape(w)) break;
+            }
+            if (i == n) return n;
+            if (i + 8 > n) {  // the rest, within the last eight bytes
+                std::memcpy(&w, s.data() + n - 8, 8);
+                if (!may_escape(w)) return n;
+            }
+        } else if (n >= 4) {
+            std::uint32_t first, last;
+            std::memcpy(&first, s.data(), 4);
+            std::memcpy(&last, s.data() + n - 4, 4);
+            if (!may_escape(first | std::uint64_t{last} << 32)) return n;
         }
-        while (i < s.size() && !json_escapes(s[i])) ++i;
+        while (i < n && !json_escapes(s[i])) ++i;
         return i;
     }
     void quoted(std::string_view s) {

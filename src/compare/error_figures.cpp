@@ -6,6 +6,8 @@
 #include "compare/error_figures.h"
 
 #include <array>
+#include <bit>
+#include <cstdint>
 #include <charconv>
 #include <cmath>
 #include <system_error>
@@ -60,10 +62,8 @@ std::optional<double> printed_without_conversion(double x) {
     return std::nullopt;
 }
 
-}  // namespace
-
-double printed_figure(double x) {
-    if (!std::isfinite(x) || x == 0) return x;
+// printed_figure, worked out.
+double rounded_to_printed_digits(double x) {
     if (const std::optional<double> fast = printed_without_conversion(x)) return *fast;
     char text[32];
     const std::to_chars_result written =
@@ -71,6 +71,25 @@ double printed_figure(double x) {
     double rounded = 0;
     const std::from_chars_result read = std::from_chars(text, written.ptr, rounded);
     return read.ec == std::errc{} ? rounded : x;
+}
+
+}  // namespace
+
+// A per-case line prints a few hundred figures, and targets that answer
+// alike give the same ones: the figures of recent values are kept, per
+// thread, in a small table indexed by a hash of the bits (a slot holds the
+// last value that hashed to it), as json_line keeps their texts.
+double printed_figure(double x) {
+    if (!std::isfinite(x) || x == 0) return x;
+    struct remembered {
+        std::uint64_t bits = 0;  // 0 is never looked up (returned above)
+        double printed = 0;
+    };
+    static thread_local std::array<remembered, 256> recent;
+    const auto bits = std::bit_cast<std::uint64_t>(x);
+    remembered& slot = recent[(bits * 0x9E3779B97F4A7C15ull) >> 56];
+    if (slot.bits != bits) slot = {bits, rounded_to_printed_digits(x)};
+    return slot.printed;
 }
 
 std::optional<double> printed_figure(const std::optional<double>& x) {

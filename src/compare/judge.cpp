@@ -463,9 +463,9 @@ figure_bracket bracket_root_errors(const judged_list& judged, const double (&t)[
 // expected_answer's. `measure` says how the root errors are measured (none:
 // only the verdict is formed); a cause is set only where the verdict itself
 // shows it (line_not_ray); `details`, whether a disagreement's sentence is
-// formed (figure_request::details). It writes into `s`, a fresh score, the caller's:
-// returned, a score (about 280 bytes) was moved on every judgement, 3% of an
-// audit's instructions.
+// formed (figure_request::details). It writes into `s`, the caller's fresh
+// score: returned, a score (about 280 bytes) was moved on every judgement,
+// 3% of an audit's instructions.
 void judge_verdict(case_score& s, const contract& promises, const variant_output& out, const exact_solution& exact,
                    const t_range& range, const expected_hit& want,
                    figure_request::root_errors measure = figure_request::root_errors::exact, bool details = true) {
@@ -483,7 +483,8 @@ void judge_verdict(case_score& s, const contract& promises, const variant_output
     };
     // 1. malformed_output: a hit count the query does not allow.
     const int allowed = line ? 2 : 1;
-    if (r.count < 0 || r.count > allowed) return fail(verdict_kind::malformed_output, [&] { return fmt::format("hit count {}", r.count); });
+    if (r.count < 0 || r.count > allowed)
+        return fail(verdict_kind::malformed_output, [&] { return fmt::format("hit count {}", r.count); });
     // The values judged (line_roots: t0 and t1 whatever the count, t1 of a
     // reported tangent too; nearest_hit: t0) and what each is judged against.
     const int values = r.count == 0 || any ? 0 : (line ? 2 : 1);
@@ -529,7 +530,8 @@ void judge_verdict(case_score& s, const contract& promises, const variant_output
     if (line) {
         // 7. malformed_output: roots out of order.
         if (t[0] > t[1])
-            return fail(verdict_kind::malformed_output, [&] { return "roots out of order: " + describe_output(out, query); });
+            return fail(verdict_kind::malformed_output,
+                        [&] { return "roots out of order: " + describe_output(out, query); });
         // 8. tangent_split: exactly tangent, two distinct roots.
         if (exact.cls == line_class::tangent && t[0] != t[1]) return fail(verdict_kind::tangent_split, both);
         // 9. false_tangent: two roots distinct after rounding, one reported

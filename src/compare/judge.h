@@ -186,7 +186,9 @@ root_index stands_for(const exact_solution& exact, double t, root_index wanted);
 struct case_score {
     verdict_kind verdict = verdict_kind::agree;
     std::optional<disagreement_cause> cause;  // set for every disagreement
-    std::string detail;                       // one sentence a person can act on; empty for agree (and unasked: figure_request::details)
+    // One sentence a person can act on; empty for agree, and where it was
+    // not asked for (figure_request::details).
+    std::string detail;
     // Error of each returned root against the exact root it is judged against:
     // |t − t*| / ulp(t*) and Herbie bits log2(1 + ulps between t and RN(t*)).
     // Present when both exist and t is finite.

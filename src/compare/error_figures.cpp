@@ -6,13 +6,13 @@
 #include "compare/error_figures.h"
 
 #include <array>
-#include <bit>
 #include <charconv>
 #include <cmath>
-#include <cstdint>
 #include <system_error>
 
 #include <fmt/format.h>
+
+#include "core/remembered_by_bits.h"
 
 namespace rayverify {
 
@@ -76,20 +76,12 @@ double rounded_to_printed_digits(double x) {
 }  // namespace
 
 // A per-case line prints a few hundred figures, and targets that answer
-// alike give the same ones: the figures of recent values are kept, per
-// thread, in a small table indexed by a hash of the bits (a slot holds the
-// last value that hashed to it), as json_line keeps their texts.
+// alike give the same ones: the figures of recent values are remembered, per
+// thread, as json_line remembers their texts.
 double printed_figure(double x) {
     if (!std::isfinite(x) || x == 0) return x;
-    struct remembered {
-        std::uint64_t bits = 0;  // 0 is never looked up (returned above)
-        double printed = 0;
-    };
-    static thread_local std::array<remembered, 256> recent;
-    const auto bits = std::bit_cast<std::uint64_t>(x);
-    remembered& slot = recent[(bits * 0x9E3779B97F4A7C15ull) >> 56];
-    if (slot.bits != bits) slot = {bits, rounded_to_printed_digits(x)};
-    return slot.printed;
+    static thread_local remembered_by_bits<double> recent;
+    return recent.of(x, rounded_to_printed_digits);
 }
 
 std::optional<double> printed_figure(const std::optional<double>& x) {

@@ -474,8 +474,7 @@ void judge_verdict(case_score& s, const contract& promises, const variant_output
     const bool line = query == query_kind::line_roots, any = query == query_kind::any_hit;
     // A disagreement, its sentence formed only when it is read (`details`).
     const auto fail = [&](verdict_kind k, const auto& sentence) {
-        s.verdict = k;
-        if (details) s.detail = sentence();
+        disagree(s, k, details ? sentence() : std::string());
     };
     const auto both = [&] {
         return (line ? describe_exact(exact) : describe_expected(promises, exact, range)) + "; " +
@@ -1033,8 +1032,7 @@ void judge_output_into(case_score& s, const contract& promises, const variant_ou
         const std::optional<std::string> unsound =
             measure_outputs(promises, output, frame, range, want, wanted.scale_errors, s);
         if (!unsound) return;
-        s.verdict = verdict_kind::unsound_bound;
-        s.detail = *unsound;
+        disagree(s, verdict_kind::unsound_bound, *unsound);
     }
     if (!s.cause) s.cause = cause_of(promises, output, frame, range, s.verdict);
 }

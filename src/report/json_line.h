@@ -16,17 +16,16 @@
 
 #include <algorithm>
 #include <array>
-#include <bit>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <limits>
 #include <span>
 #include <string>
 #include <string_view>
 #include <utility>
 
+#include "core/remembered_by_bits.h"
 #include "corpus/corpus_io.h"
 
 namespace rayverify {
@@ -283,20 +282,17 @@ private:
     // texts of recent values are kept, per thread, in a small table indexed
     // by a hash of the bits (a slot holds the last value that hashed to it).
     static std::string_view shortest_text_of(double x) {
-        struct remembered {
-            std::uint64_t bits = std::bit_cast<std::uint64_t>(std::numeric_limits<double>::quiet_NaN());
+        struct number_text {
             std::uint32_t size = 0;
             std::array<char, 28> text{};  // at most 24: "-1.2345678901234567e-308"
         };
-        static thread_local std::array<remembered, 256> recent;
-        const auto bits = std::bit_cast<std::uint64_t>(x);
-        remembered& slot = recent[(bits * 0x9E3779B97F4A7C15ull) >> 56];
-        if (slot.bits != bits) {
-            char* const begin = slot.text.data();
-            slot.size = static_cast<std::uint32_t>(json_number_text(begin, x) - begin);
-            slot.bits = bits;
-        }
-        return {slot.text.data(), slot.size};
+        static thread_local remembered_by_bits<number_text> recent;
+        const number_text& remembered = recent.of(x, [](double v) {
+            number_text t;
+            t.size = static_cast<std::uint32_t>(json_number_text(t.text.data(), v) - t.text.data());
+            return t;
+        });
+        return {remembered.text.data(), remembered.size};
     }
 
     std::string out_;         // the text is its first used_ bytes

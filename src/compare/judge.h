@@ -186,7 +186,8 @@ root_index stands_for(const exact_solution& exact, double t, root_index wanted);
 struct case_score {
     verdict_kind verdict = verdict_kind::agree;
     std::optional<disagreement_cause> cause;  // set for every disagreement
-    // One sentence a person can act on; empty for agree, and where it was
+    // One sentence a person can act on; empty for agree, and for a verdict
+    // of the table's rows before imprecise (docs/verdicts.md) where it was
     // not asked for (figure_request::details).
     std::string detail;
     // Error of each returned root against the exact root it is judged against:
@@ -235,9 +236,11 @@ struct figure_request {
     bool scale_errors = true;  // scale_error_radius, scale_error_distance
     // A disagreement's sentence (case_score::detail, whose verdict is decided
     // either way): per-case lines, explain, the hunter and the builds
-    // comparison print it; an audit that prints none leaves it unformed (on
-    // far spheres, where most formulas miss, formatting the sentences was a
-    // seventh of an audit's instructions).
+    // comparison print it; an audit that prints none leaves it unformed for
+    // the verdicts of the table's rows before imprecise (on far spheres,
+    // where most formulas miss, formatting them was a seventh of an audit's
+    // instructions). The rarer verdicts decided with their sentence
+    // (imprecise, unsound_bound, an unscored case) keep it.
     bool details = true;
     static constexpr figure_request verdict_only() { return {root_errors::none, false, false}; }
 };

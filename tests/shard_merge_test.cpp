@@ -153,6 +153,40 @@ TEST(ErrorSummary, CountsPastAByteMatchAPlainCount) {
     for (const auto& [bucket, n] : one_by_one.histogram()) read_back.add_to_bucket(bucket, n);
     for (const auto& [bucket, n] : one_by_one.histogram()) read_back.add_to_bucket(bucket, 255 * n);
     for (const auto& [bucket, n] : one_by_one.histogram()) EXPECT_EQ(read_back.histogram().at(bucket), 256 * n);
+
+    // The statistics walk the counters (carries and all) without building
+    // the histogram: each quantile is the plain count's nearest-rank bucket
+    // (its upper edge, or the maximum in the maximum's bucket), several in one
+    // walk the same as each alone, and the counts at least a threshold the
+    // plain count's.
+    const double qs[] = {0.001, 0.25, 0.5, 0.9, 0.99, 1.0};
+    double together[std::size(qs)];
+    for (const error_summary* s : {&one_by_one, &merged_into_blocks}) {
+        s->quantiles(qs, together);
+        for (std::size_t k = 0; k < std::size(qs); ++k) {
+            const auto rank = static_cast<std::size_t>(std::ceil(qs[k] * static_cast<double>(s->count)));
+            std::size_t seen = 0;
+            std::uint64_t holding = 0;
+            for (const auto& [bucket, n] : expected)
+                if ((seen += n) >= rank) {
+                    holding = bucket;
+                    break;
+                }
+            const double bound =
+                holding == error_summary::bucket_of(s->max) ? s->max : error_summary::upper_edge(holding);
+            EXPECT_EQ(s->quantile(qs[k]), bound) << "q " << qs[k];
+            EXPECT_EQ(together[k], bound) << "q " << qs[k];
+        }
+        const rayverify::error_statistics stats = s->statistics();
+        EXPECT_EQ(stats.median, s->quantile(0.5));
+        EXPECT_EQ(stats.p99, s->quantile(0.99));
+        for (const double threshold : {0x1p-41, 0x1p-20, 0.5, 1.0, 8.0, 0x1p40}) {
+            std::size_t at_least = 0;
+            for (const auto& [bucket, n] : expected)
+                if (bucket >= error_summary::bucket_of(threshold)) at_least += n;
+            EXPECT_EQ(s->count_at_least(threshold), at_least) << "threshold " << threshold;
+        }
+    }
 }
 
 TEST(ErrorSummary, InfinityAndZeroAreExact) {

@@ -7,6 +7,7 @@
 #include <barrier>
 #include <bit>
 #include <cmath>
+#include <cstring>
 #include <exception>
 #include <iterator>
 #include <mutex>
@@ -141,8 +142,10 @@ std::uint64_t error_summary::bucket_of(double error) {
 std::size_t error_summary::count_at_least(double threshold) const {
     std::size_t n = 0;
     const std::uint64_t first = bucket_of(threshold);
-    for (const auto& [bucket, count] : histogram())
+    for_each_bucket([&](std::uint64_t bucket, std::uint64_t count) {
         if (bucket >= first) n += count;
+        return true;
+    });
     return n;
 }
 
@@ -208,14 +211,6 @@ void error_summary::carry_into(std::size_t i, std::uint64_t carry) {
     carries_[carry_block_of_[block] * block_size + i % block_size] += carry;
 }
 
-std::uint64_t error_summary::counter_value(std::size_t i) const {
-    const std::size_t block = i / block_size;
-    const std::uint64_t carried = block < carry_block_of_.size() && carry_block_of_[block] != no_block
-                                      ? carries_[carry_block_of_[block] * block_size + i % block_size]
-                                      : 0;
-    return counts_[i] + (carried << counter_bits);
-}
-
 void error_summary::count_in(std::uint64_t bucket, std::size_t n) {
     sorted_current_ = false;
     if (bucket == 0) {
@@ -229,17 +224,47 @@ void error_summary::count_in(std::uint64_t bucket, std::size_t n) {
                    n);
 }
 
+template <class Visit>
+bool error_summary::for_each_counter_of(std::uint32_t block, Visit visit) const {
+    static_assert(block_size % 8 == 0);
+    const std::size_t first = block * block_size;
+    if (block < carry_block_of_.size() && carry_block_of_[block] != no_block) {
+        const std::uint64_t* carried = &carries_[carry_block_of_[block] * block_size];
+        for (std::size_t i = first; i < first + block_size; ++i)
+            if (const std::uint64_t n = counts_[i] + (carried[i - first] << counter_bits); n != 0 && !visit(i, n))
+                return false;
+        return true;
+    }
+    for (std::size_t k = first; k < first + block_size; k += 8) {
+        std::uint64_t eight = 0;
+        std::memcpy(&eight, &counts_[k], sizeof eight);
+        if (eight == 0) continue;
+        for (std::size_t i = k; i < k + 8; ++i)
+            if (counts_[i] != 0 && !visit(i, std::uint64_t{counts_[i]})) return false;
+    }
+    return true;
+}
+
+template <class Visit>
+void error_summary::for_each_bucket(Visit visit) const {
+    if (zeros_ > 0 && !visit(std::uint64_t{0}, std::uint64_t{zeros_})) return;
+    for (std::size_t d = 0; d < block_of_.size(); ++d) {
+        if (block_of_[d] == no_block) continue;
+        // Counter i of the block holds key first_key + (i − first).
+        const std::uint64_t first_key = ((first_binade_ + d) << resolution_bits) + 1;
+        const std::size_t first = block_of_[d] * block_size;
+        const auto visit_bucket = [&](std::size_t i, std::uint64_t n) { return visit(first_key + (i - first), n); };
+        if (!for_each_counter_of(block_of_[d], visit_bucket)) return;
+    }
+}
+
 const error_summary::histogram_map& error_summary::histogram() const {
     if (sorted_current_) return sorted_;
     std::vector<std::pair<std::uint64_t, std::size_t>> entries;
-    if (zeros_ > 0) entries.emplace_back(0, zeros_);
-    for (std::size_t d = 0; d < block_of_.size(); ++d) {
-        if (block_of_[d] == no_block) continue;
-        const std::uint64_t first_key = ((first_binade_ + d) << resolution_bits) + 1;
-        const std::size_t first = block_of_[d] * block_size;
-        for (std::size_t k = 0; k < block_size; ++k)
-            if (const std::uint64_t n = counter_value(first + k); n != 0) entries.emplace_back(first_key + k, n);
-    }
+    for_each_bucket([&entries](std::uint64_t bucket, std::uint64_t n) {
+        entries.emplace_back(bucket, n);
+        return true;
+    });
     sorted_.clear();
     sorted_.insert(boost::container::ordered_unique_range, entries.begin(), entries.end());
     sorted_current_ = true;
@@ -268,22 +293,37 @@ void error_summary::merge(const error_summary& other) {
         if (other.block_of_[d] == no_block) continue;
         const std::size_t from = other.block_of_[d] * block_size;
         const std::size_t into = block_for(other.first_binade_ + static_cast<std::uint32_t>(d));
-        for (std::size_t k = 0; k < block_size; ++k)
-            if (const std::uint64_t n = other.counter_value(from + k); n != 0) add_to_counter(into + k, n);
+        other.for_each_counter_of(other.block_of_[d], [&](std::size_t i, std::uint64_t n) {
+            add_to_counter(into + (i - from), n);
+            return true;
+        });
     }
 }
 
 double error_summary::quantile(double q) const {
-    if (count == 0) return 0;
-    const auto rank = std::clamp<std::size_t>(
-        static_cast<std::size_t>(std::ceil(q * static_cast<double>(count))), 1, count);
-    std::size_t seen = 0;
-    for (const auto& [bucket, n] : histogram()) {
-        seen += n;
-        if (seen < rank) continue;
-        return bucket == bucket_of(max) ? max : upper_edge(bucket);
+    double bound = 0;
+    quantiles({&q, 1}, {&bound, 1});
+    return bound;
+}
+
+void error_summary::quantiles(std::span<const double> qs, std::span<double> bounds) const {
+    if (count == 0) {
+        std::fill(bounds.begin(), bounds.end(), 0.0);
+        return;
     }
-    return max;
+    const auto rank_of = [this](double q) {
+        return std::clamp<std::size_t>(static_cast<std::size_t>(std::ceil(q * static_cast<double>(count))), 1, count);
+    };
+    std::fill(bounds.begin(), bounds.end(), max);
+    if (qs.empty()) return;
+    std::size_t next = 0, seen = 0, rank = rank_of(qs[0]);
+    for_each_bucket([&](std::uint64_t bucket, std::uint64_t n) {
+        seen += n;
+        if (seen < rank) return true;
+        const double bound = bucket == bucket_of(max) ? max : upper_edge(bucket);
+        for (; next < qs.size() && seen >= rank; rank = ++next < qs.size() ? rank_of(qs[next]) : 0) bounds[next] = bound;
+        return next < qs.size();
+    });
 }
 
 error_statistics error_summary::statistics() const {
@@ -292,8 +332,12 @@ error_statistics error_summary::statistics() const {
     if (count == 0) return stats;
     stats.max = max;
     stats.max_case = max_id;
-    stats.p99 = quantile(0.99);
-    stats.median = quantile(0.5);
+    // One walk of the histogram for both (ascending, as quantiles asks).
+    const double qs[] = {0.5, 0.99};
+    double bounds[2];
+    quantiles(qs, bounds);
+    stats.median = bounds[0];
+    stats.p99 = bounds[1];
     return stats;
 }
 

@@ -104,6 +104,8 @@ struct error_summary {
     std::size_t count_at_least(double threshold) const;
     // Nearest-rank q-quantile (0 < q ≤ 1) as the upper bound described above.
     double quantile(double q) const;
+    // The same for several, in ascending order, in one walk of the histogram.
+    void quantiles(std::span<const double> qs, std::span<double> bounds) const;
 
     static std::uint64_t bucket_of(double error);
     static double upper_edge(std::uint64_t bucket);
@@ -129,8 +131,17 @@ private:
     void add_to_counter(std::size_t i, std::uint64_t n);
     // Adds `carry` 256s to counter i's carries (out of line: one add in 256 at most).
     [[gnu::noinline]] void carry_into(std::size_t i, std::uint64_t carry);
-    // The whole count of counter i.
-    std::uint64_t counter_value(std::size_t i) const;
+    // visit(i, n) for each counter i of `block` whose whole count n (its
+    // byte and its carries) is not 0, in order, while visit returns true
+    // (false when it stopped the walk).
+    // Eight counters at a time where the block has no carries: most are 0.
+    template <class Visit>
+    bool for_each_counter_of(std::uint32_t block, Visit visit) const;
+    // visit(bucket, n) for each bucket holding n > 0 errors, in key order,
+    // while visit returns true: what the histogram holds, without building
+    // it (a summary's statistics read it once or twice and stop early).
+    template <class Visit>
+    void for_each_bucket(Visit visit) const;
     // The counters are one byte wide, the count above it (in units of 256)
     // kept in a block of carries of their own, made when one of the block's
     // counters first passes 255. Every case adds a few hundred figures to

@@ -20,6 +20,8 @@ json json_number(double x) {
 
 json optional_number(const std::optional<double>& x) { return x ? json_number(*x) : json(nullptr); }
 
+void reserve_members(json& object, std::size_t members) { object.get_ref<json::object_t&>().reserve(members); }
+
 std::optional<std::optional<double>> number_from_json(const json& j) {
     using value = std::optional<double>;
     if (j.is_null()) return value();

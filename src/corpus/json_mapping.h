@@ -37,6 +37,13 @@ namespace rayverify {
 nlohmann::ordered_json json_number(double x);
 // json_number of a value, null for none.
 nlohmann::ordered_json optional_number(const std::optional<double>& x);
+// Room for `members` members in all in an object, before they are added.
+// ordered_json keeps an object's members in a vector of (const name, value)
+// pairs, and a vector that grows copies them, values and all (the const name
+// makes a pair's move a copy): an object given large values (a column of a
+// value per case, a report's sections) gets room for every member first, so
+// that adding one copies none.
+void reserve_members(nlohmann::ordered_json& object, std::size_t members);
 // What json_number or optional_number wrote: a JSON number, "inf", "-inf" or
 // "nan" (the value), null (nullopt inside); nullopt outside for anything else.
 std::optional<std::optional<double>> number_from_json(const nlohmann::ordered_json& j);

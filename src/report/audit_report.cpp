@@ -258,7 +258,11 @@ std::string render_summary_table(const audit_totals& totals) {
 
 json audit_report_json(const audit_totals& totals, const run_context& context) {
     constexpr const char* scope = "maximum over this finite corpus";
-    json report;
+    // Room for every member an audit's report gets, the eight below, the
+    // four sections audit_report_document adds and the plots' note that
+    // report_bundle adds, so that adding a section copies none before it.
+    json report = json::object();
+    reserve_members(report, 16);
     report["schema_version"] = schema_version::report;
     report["tool"] = "rayverify audit";
     report["build"] = build_json();
@@ -273,9 +277,9 @@ json audit_report_json(const audit_totals& totals, const run_context& context) {
         json entry = {{"id", c.id}, {"source", c.source}};
         if (c.at_float != invalid_reason::none) entry["float"] = invalid_reason_name(c.at_float);
         if (c.at_double != invalid_reason::none) entry["double"] = invalid_reason_name(c.at_double);
-        invalid_list.push_back(entry);
+        invalid_list.push_back(std::move(entry));
     }
-    report["corpus"]["invalid_case_list"] = invalid_list;
+    report["corpus"]["invalid_case_list"] = std::move(invalid_list);
     report["definitions"] = {
         {"ulp", "for 2^e <= |x| < 2^(e+1): ulp(x) = 2^(max(e, emin) - p + 1); p = 24, emin = -126 (float); "
                 "p = 53, emin = -1022 (double); ulp(0) = smallest subnormal"},
@@ -303,7 +307,7 @@ json audit_report_json(const audit_totals& totals, const run_context& context) {
         const auto kind = static_cast<verdict_kind>(k);
         meanings[std::string(verdict_name(kind))] = std::string(verdict_meaning(kind));
     }
-    report["verdicts"] = meanings;
+    report["verdicts"] = std::move(meanings);
 
     json results = json::array();
     for (std::size_t i = 0; i < totals.targets.size(); ++i) {
@@ -312,10 +316,10 @@ json audit_report_json(const audit_totals& totals, const run_context& context) {
         entry.update(tally_json(totals.overall[i], scope));
         json families = json::object();
         for (const auto& [family, tallies] : totals.by_family) families[family] = tally_json(tallies[i], scope);
-        entry["by_family"] = families;
-        results.push_back(entry);
+        entry["by_family"] = std::move(families);
+        results.push_back(std::move(entry));
     }
-    report["results"] = results;
+    report["results"] = std::move(results);
     return report;
 }
 

@@ -35,6 +35,27 @@ void write_indent(std::string& out, int indent, int depth) {
     out.append(static_cast<std::size_t>(indent) * static_cast<std::size_t>(depth), ' ');
 }
 
+// A string as dump() writes it: ASCII escaped here (as dump() escapes it),
+// anything else by dump() itself, which checks that it is valid UTF-8 (and
+// throws where it is not). A report holds thousands of strings; dump() sets
+// up a serializer, an output adapter and the locale's decimal point for each.
+void write_string(std::string& out, const std::string& text) {
+    if (!std::all_of(text.begin(), text.end(), [](char ch) { return static_cast<unsigned char>(ch) < 0x80; })) {
+        out += nlohmann::ordered_json(text).dump();
+        return;
+    }
+    out += '"';
+    json_escaped(text, [&out](std::string_view piece) { out += piece; });
+    out += '"';
+}
+
+// An integer as dump() writes it: its decimal digits.
+template <class Integer>
+void write_integer(std::string& out, Integer n) {
+    char text[24];
+    out.append(text, std::to_chars(text, text + sizeof text, n).ptr);
+}
+
 void write_value(std::string& out, const nlohmann::ordered_json& value, int indent, int depth) {
     using value_t = nlohmann::ordered_json::value_t;
     const bool pretty = indent >= 0;
@@ -50,7 +71,7 @@ void write_value(std::string& out, const nlohmann::ordered_json& value, int inde
                 if (!first) out += ',';
                 first = false;
                 if (pretty) write_indent(out, indent, depth + 1);
-                out += nlohmann::ordered_json(key).dump();
+                write_string(out, key);
                 out += pretty ? ": " : ":";
                 write_value(out, member, indent, depth + 1);
             }
@@ -85,7 +106,22 @@ void write_value(std::string& out, const nlohmann::ordered_json& value, int inde
             out.append(text, json_number_text(text, x));
             return;
         }
-        default:  // strings, integers, booleans, null: nlohmann's own text
+        case value_t::string:
+            write_string(out, value.get_ref<const std::string&>());
+            return;
+        case value_t::number_integer:
+            write_integer(out, value.get<std::int64_t>());
+            return;
+        case value_t::number_unsigned:
+            write_integer(out, value.get<std::uint64_t>());
+            return;
+        case value_t::boolean:
+            out += value.get<bool>() ? "true" : "false";
+            return;
+        case value_t::null:
+            out += "null";
+            return;
+        default:  // binary, discarded: nlohmann's own text
             out += value.dump();
             return;
     }

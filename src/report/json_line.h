@@ -47,6 +47,75 @@ constexpr bool json_escapes(char ch) {
     return byte <= 0x1F || ch == '"' || ch == '\\';
 }
 
+namespace json_escaping {
+// Might one of the eight bytes of w be one JSON escapes? The word test may report
+// a byte that is not one (a borrow from the byte below), never misses one.
+inline bool may_escape(std::uint64_t w) {
+    constexpr std::uint64_t ones = 0x0101010101010101ull, highs = 0x8080808080808080ull;
+    const auto any_below = [&](std::uint64_t v, unsigned n) { return (v - ones * n) & ~v & highs; };
+    return (any_below(w, 0x20) | any_below(w ^ (ones * '"'), 1) | any_below(w ^ (ones * '\\'), 1)) != 0;
+}
+// The length of s's prefix written as it is: eight bytes at a time while no
+// byte of the word can be one to escape, then byte by byte. Most texts are
+// short names with nothing to escape: the last eight bytes (or the first and
+// last four) are tested as one word, overlapping those before, rather than
+// byte by byte.
+inline std::size_t plain_prefix(std::string_view s) {
+    const std::size_t n = s.size();
+    std::size_t i = 0;
+    if (n >= 8) {
+        std::uint64_t w;
+        for (; i + 8 <= n; i += 8) {
+            std::memcpy(&w, s.data() + i, 8);
+            if (may_escape(w)) break;
+        }
+        if (i == n) return n;
+        if (i + 8 > n) {  // the rest, within the last eight bytes
+            std::memcpy(&w, s.data() + n - 8, 8);
+            if (!may_escape(w)) return n;
+        }
+    } else if (n >= 4) {
+        std::uint32_t first, last;
+        std::memcpy(&first, s.data(), 4);
+        std::memcpy(&last, s.data() + n - 4, 4);
+        if (!may_escape(first | std::uint64_t{last} << 32)) return n;
+    }
+    while (i < n && !json_escapes(s[i])) ++i;
+    return i;
+}
+}  // namespace json_escaping
+
+// s escaped as nlohmann escapes valid UTF-8 (bytes from 0x80 as they are),
+// handed to put(std::string_view) piece by piece in order; the quotes
+// around it are the caller's. Runs of characters written as they are go in
+// one piece.
+template <class Put>
+void json_escaped(std::string_view s, Put&& put) {
+    const std::size_t plain = json_escaping::plain_prefix(s);
+    put(s.substr(0, plain));
+    for (std::size_t i = plain; i < s.size(); ++i) {
+        const char ch = s[i];
+        const auto byte = static_cast<unsigned char>(ch);
+        switch (byte) {
+            case '\b': put("\\b"); break;
+            case '\t': put("\\t"); break;
+            case '\n': put("\\n"); break;
+            case '\f': put("\\f"); break;
+            case '\r': put("\\r"); break;
+            case '"': put("\\\""); break;
+            case '\\': put("\\\\"); break;
+            default:
+                if (byte <= 0x1F) {
+                    constexpr char hex[] = "0123456789abcdef";
+                    const char escape[] = {'\\', 'u', '0', '0', hex[byte >> 4], hex[byte & 0xF]};
+                    put(std::string_view(escape, sizeof escape));
+                } else {
+                    put(s.substr(i, 1));
+                }
+        }
+    }
+}
+
 // A member name fixed in the code ("t0", "near_ulp"): checked when compiled
 // to need no escaping, so that json_line copies it as it is.
 class json_name {
@@ -210,40 +279,6 @@ private:
         if (!first_ && used_ != 0) put(',');
         first_ = false;
     }
-    // The length of s's prefix written as it is: eight bytes at a time while
-    // no byte of the word can be one to escape (the word tests below may
-    // report a byte that is not, never miss one), then byte by byte. Most
-    // texts are short names with nothing to escape: the last eight bytes (or
-    // the first and last four) are tested as one word, overlapping those
-    // before, rather than byte by byte.
-    static bool may_escape(std::uint64_t w) {
-        constexpr std::uint64_t ones = 0x0101010101010101ull, highs = 0x8080808080808080ull;
-        const auto any_below = [&](std::uint64_t v, unsigned n) { return (v - ones * n) & ~v & highs; };
-        return (any_below(w, 0x20) | any_below(w ^ (ones * '"'), 1) | any_below(w ^ (ones * '\\'), 1)) != 0;
-    }
-    static std::size_t plain_prefix(std::string_view s) {
-        const std::size_t n = s.size();
-        std::size_t i = 0;
-        if (n >= 8) {
-            std::uint64_t w;
-            for (; i + 8 <= n; i += 8) {
-                std::memcpy(&w, s.data() + i, 8);
-                if (may_escape(w)) break;
-            }
-            if (i == n) return n;
-            if (i + 8 > n) {  // the rest, within the last eight bytes
-                std::memcpy(&w, s.data() + n - 8, 8);
-                if (!may_escape(w)) return n;
-            }
-        } else if (n >= 4) {
-            std::uint32_t first, last;
-            std::memcpy(&first, s.data(), 4);
-            std::memcpy(&last, s.data() + n - 4, 4);
-            if (!may_escape(first | std::uint64_t{last} << 32)) return n;
-        }
-        while (i < n && !json_escapes(s[i])) ++i;
-        return i;
-    }
     void quoted(std::string_view s) {
         put('"');
         escaped(s);
@@ -251,30 +286,7 @@ private:
     }
     // s escaped as JSON requires (the quotes around it are the caller's).
     void escaped(std::string_view s) {
-        // Runs of characters written as they are go in one copy.
-        const std::size_t plain = plain_prefix(s);
-        put(s.substr(0, plain));
-        for (const char ch : s.substr(plain)) {
-            const auto byte = static_cast<unsigned char>(ch);
-            switch (byte) {
-                case '\b': put("\\b"); break;
-                case '\t': put("\\t"); break;
-                case '\n': put("\\n"); break;
-                case '\f': put("\\f"); break;
-                case '\r': put("\\r"); break;
-                case '"': put("\\\""); break;
-                case '\\': put("\\\\"); break;
-                default:
-                    if (byte <= 0x1F) {
-                        constexpr char hex[] = "0123456789abcdef";
-                        put("\\u00");
-                        put(hex[byte >> 4]);
-                        put(hex[byte & 0xF]);
-                    } else {
-                        put(ch);
-                    }
-            }
-        }
+        json_escaped(s, [this](std::string_view piece) { put(piece); });
     }
 
     // json_number_text of a finite double. A per-case line repeats many

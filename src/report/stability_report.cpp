@@ -6,6 +6,7 @@
 #include <cmath>
 #include <iterator>
 #include <map>
+#include <utility>
 
 #include "compare/error_figures.h"
 #include "core/hash.h"
@@ -36,7 +37,7 @@ json bucket_json(const bucket_tally& b) {
         ulp["max_is"] = scope;
         ulp["p99_median_are"] = quantile_scope;
     }
-    out["near_root_ulp"] = ulp;
+    out["near_root_ulp"] = std::move(ulp);
     return out;
 }
 
@@ -46,7 +47,7 @@ json tally_json(const stability_tally& t) {
         if (t.buckets[b].cases == 0) continue;
         json entry = {{"condition", condition_bucket_label(b)}};
         entry.update(bucket_json(t.buckets[b]));
-        buckets.push_back(entry);
+        buckets.push_back(std::move(entry));
     }
     json line = {{"judged", t.judged},
                  {"above_line", t.above_line},
@@ -62,8 +63,8 @@ json tally_json(const stability_tally& t) {
         line["p99_median_are"] = quantile_scope;
     }
     json out = bucket_json(t.all);
-    out["reference_line"] = line;
-    out["buckets"] = buckets;
+    out["reference_line"] = std::move(line);
+    out["buckets"] = std::move(buckets);
     return out;
 }
 
@@ -108,10 +109,10 @@ json stability_json(const audit_totals& totals, const stability_totals& stabilit
         entry.update(tally_json(stability.overall[i]));
         json families = json::object();
         for (const auto& [family, tallies] : stability.by_family) families[family] = tally_json(tallies[i]);
-        entry["by_family"] = families;
-        results.push_back(entry);
+        entry["by_family"] = std::move(families);
+        results.push_back(std::move(entry));
     }
-    out["results"] = results;
+    out["results"] = std::move(results);
     return out;
 }
 
@@ -214,8 +215,11 @@ json case_points::to_json() const {
     // The columns are moved into place: a brace-initialised json copies
     // every value it is given, and these hold a value per kept case and target.
     json targets = json::object();
+    reserve_members(targets, targets_.size());
     for (std::size_t t = 0; t < targets_.size(); ++t) {
         json& entry = targets[labels_[t]];
+        entry = json::object();
+        reserve_members(entry, 5);
         entry["variant"] = targets_[t].subject.name;
         entry["precision_of_inputs"] = precision_name(targets_[t].prec);
         entry["verdict"] = std::move(verdict[t]);
@@ -223,6 +227,7 @@ json case_points::to_json() const {
         entry["cause"] = std::move(cause[t]);
     }
     json out = json::object();
+    reserve_members(out, 6);
     out["cases"] = rows.size();
     out["sample"] = fmt::format(
         "per family, the {} cases with the smallest hash of their id (every case of a smaller family), in input order",
@@ -230,6 +235,8 @@ json case_points::to_json() const {
     out["family"] = std::move(family);
     out["distance_ratio"] = std::move(ratio);
     json& condition = out["condition"];
+    condition = json::object();
+    reserve_members(condition, 2);
     condition["float"] = std::move(kappa_float);
     condition["double"] = std::move(kappa_double);
     out["targets"] = std::move(targets);

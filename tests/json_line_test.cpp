@@ -130,7 +130,27 @@ TEST(JsonLine, EveryEscapeIsFoundWhereverItStands) {
                 json_line line;
                 line.value(text);
                 ASSERT_EQ(line.take(), json(text).dump()) << "length " << length << ", byte " << k << " at " << at;
+                // json_text escapes an ASCII string itself, as a value and as a name.
+                const json as_value = json::array({text}), as_name = {{text, 1}};
+                ASSERT_EQ(json_text(as_value), as_value.dump()) << "length " << length << ", byte " << k;
+                ASSERT_EQ(json_text(as_name, 2), as_name.dump(2)) << "length " << length << ", byte " << k;
             }
+}
+
+// json_text writes integers, booleans and null as dump() does, and leaves a
+// string with a byte from 0x80 to dump(): valid UTF-8 as it is, invalid
+// UTF-8 refused with nlohmann's own error.
+TEST(JsonLine, JsonTextWritesEveryScalarAsDumpDoes) {
+    const json scalars = json::array({std::numeric_limits<std::int64_t>::min(), std::int64_t{-1}, 0,
+                                      std::numeric_limits<std::uint64_t>::max(), true, false, nullptr, "κ·u ≈ 5",
+                                      json{{"t* ≈ 5", "ASCII \"quoted\""}}});
+    EXPECT_EQ(json_text(scalars), scalars.dump());
+    EXPECT_EQ(json_text(scalars, 2), scalars.dump(2));
+    const json invalid = json::array({std::string("ab\xff")});
+    EXPECT_THROW((void)invalid.dump(), json::type_error);
+    EXPECT_THROW((void)json_text(invalid), json::type_error);
+    const json invalid_name = {{std::string("\xc3("), 1}};
+    EXPECT_THROW((void)json_text(invalid_name), json::type_error);
 }
 
 // A member's name written from pieces is the name they make, escaped as one

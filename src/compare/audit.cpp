@@ -316,13 +316,14 @@ void error_summary::quantiles(std::span<const double> qs, std::span<double> boun
     };
     std::fill(bounds.begin(), bounds.end(), max);
     if (qs.empty()) return;
-    std::size_t next = 0, seen = 0, rank = rank_of(qs[0]);
+    std::size_t next = 0, seen = 0, rank = rank_of(qs[0]);  // rank: qs[next]'s
     for_each_bucket([&](std::uint64_t bucket, std::uint64_t n) {
         seen += n;
-        if (seen < rank) return true;
-        const double bound = bucket == bucket_of(max) ? max : upper_edge(bucket);
-        for (; next < qs.size() && seen >= rank; rank = ++next < qs.size() ? rank_of(qs[next]) : 0) bounds[next] = bound;
-        return next < qs.size();
+        while (next < qs.size() && seen >= rank) {  // qs[next]'s rank is in this bucket
+            bounds[next] = bucket == bucket_of(max) ? max : upper_edge(bucket);
+            if (++next < qs.size()) rank = rank_of(qs[next]);
+        }
+        return next < qs.size();  // on to the next bucket while a quantile is left
     });
 }
 

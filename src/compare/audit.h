@@ -139,7 +139,7 @@ private:
     bool for_each_counter_of(std::uint32_t block, Visit visit) const;
     // visit(bucket, n) for each bucket holding n > 0 errors, in key order,
     // while visit returns true: what the histogram holds, without building
-    // it (a summary's statistics read it once or twice and stop early).
+    // it (a summary's statistics walk it once, as far as the p99).
     template <class Visit>
     void for_each_bucket(Visit visit) const;
     // The counters are one byte wide, the count above it (in units of 256)

@@ -273,7 +273,8 @@ struct audit_accumulator {
     explicit audit_accumulator(std::vector<audit_target> targets = {});
     void add(const audited_case& c, std::size_t index);
     void merge(const audit_accumulator& other);
-    // The statistics (histograms sorted, quantiles), formed on `threads` threads.
+    // The statistics (counts, maxima, quantiles read from each histogram's
+    // counters in one walk), formed on `threads` threads.
     audit_totals finish(unsigned threads = 1) const;
 
     // The whole run's tallies of each target (aligned with targets).

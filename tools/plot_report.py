@@ -520,7 +520,10 @@ def plot_histograms(report, directory):
                 xs.append(beyond_at)
             else:
                 xs.append(min(max(math.log10(v), -3.0), 19.99))
-        counts, _, _ = ax.hist(xs, bins=edges, color=colour(t["variant"]))
+        # One filled outline per panel, not a patch per bin: the same pixels (on the shipped corpus's report,
+        # the same bytes), and the figure's three drawings (layout, tight bounding box, image) take a fraction
+        # of the time.
+        counts, _, _ = ax.hist(xs, bins=edges, color=colour(t["variant"]), histtype="stepfilled")
         top = max(top, max(counts))
         ax.axvline(math.log10(0.5), color="black", lw=0.8, ls=":")
         ax.set_title("%s (%d cases)" % (label, len(values)))

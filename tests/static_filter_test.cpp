@@ -170,8 +170,13 @@ testing::AssertionResult certified_answers_are_exact(const ray_sphere<double>& g
             check(quick->rounded[k] && same_bits(*quick->rounded[k], ref.root(i).rounded),
                   name + " rounded: static " + (quick->rounded[k] ? hex_float(*quick->rounded[k]) : "-") + ", exact " +
                       hex_float(ref.root(i).rounded));
-            // The enclosure holds t*.
+            // The enclosure holds t*: exactly 0 for a root 0 (an origin on the sphere).
             const exact_solution::enclosure& e = quick->roots[k];
+            if (ref.root(i).sign == 0) {
+                check(e.hi == 0 && e.lo == 0 && e.err == 0, name + " root is 0, its enclosure " + hex_float(e.hi) +
+                                                                " + " + hex_float(e.lo) + " ± " + hex_float(e.err));
+                continue;
+            }
             const double y = e.hi + e.lo;
             const int side = static_cast<int>(ref.compare_to_root(y, i));  // sign(y − t*)
             const double ratio = solve_exact_reference(g, precision::binary64).root_ulp_error(i, y);
@@ -279,9 +284,10 @@ TEST(FilterRange, AWholeCaseIsInRangeWhenEachInputIs) {
     EXPECT_GT(inside, 20000);
 }
 
-// What it settles and what it leaves: ordinary cases all certified; a
-// tangent, an origin on the sphere, a root on a rounding midpoint, inputs
-// outside the filter range and the unit-direction idealisation never.
+// What it settles and what it leaves: ordinary cases all certified, and an
+// origin exactly on the sphere (C = 0 decided exactly); a tangent, an origin
+// near the sphere, a root on a rounding midpoint, inputs outside the filter
+// range and the unit-direction idealisation never.
 TEST(StaticFilter, SettlesOrdinaryCasesAndDeclinesStiffOnes) {
     std::mt19937_64 rng(5);
     int certified = 0;
@@ -293,11 +299,33 @@ TEST(StaticFilter, SettlesOrdinaryCasesAndDeclinesStiffOnes) {
         return oracle_internal::static_filter_case(g, p, out);
     };
     EXPECT_FALSE(certifies({{1, 0, -5}, {0, 0, 1}, {0, 0, 0.25}, 1}));          // tangent: Δ′ = 0
-    EXPECT_FALSE(certifies({{0, 0, -1}, {0, 0, 1}, {0, 0, 0}, 1}));             // origin on the sphere: C = 0
+    EXPECT_FALSE(certifies({{0, 0, -(1 + 0x1p-52)}, {0, 0, 1}, {0, 0, 0}, 1}));  // origin near the sphere: C ≈ 2^−51
+    EXPECT_FALSE(certifies({{0, 0x1p-30, -1}, {0, 0, 1}, {0, 0, 0}, 1}));        // the same, C = 2^−60
     EXPECT_FALSE(certifies(tie_case(rng, 53)));                                  // a root on a midpoint
     EXPECT_FALSE(certifies({{0, 0, -0x1p900}, {0, 0, 1}, {0, 0, 0}, 0x1p899}));  // outside [2^−80, 2^80]
     EXPECT_FALSE(certifies({{1, 0, -(1 + 0x1p-24)}, {0, 0, 1}, {0, 0, 0}, 1}, precision::binary32));
     EXPECT_TRUE(certifies({{0.25, 0.125, -5}, {0, 0, 1}, {0, 0, 0}, 1}));
+    // An origin on the sphere, worked by hand: o = (0, 0, −1), d = (0, 0, 1),
+    // c = 0, r = 1: a = 1, b′ = −1, C = 0, so t = 0 (sign 0, +0) and t = 2,
+    // the hit point (0, 0, 1).
+    oracle_internal::filtered_case on_sphere;
+    ASSERT_TRUE(oracle_internal::static_filter_case({{0, 0, -1}, {0, 0, 1}, {0, 0, 0}, 1}, precision::binary64, on_sphere));
+    EXPECT_EQ(*on_sphere.discriminant_sign, 1);
+    EXPECT_EQ(*on_sphere.sign[0], 0);
+    EXPECT_TRUE(same_bits(*on_sphere.rounded[0], 0.0));
+    EXPECT_EQ(on_sphere.roots[0].hi, 0);
+    EXPECT_EQ(on_sphere.roots[0].err, 0);
+    EXPECT_EQ(*on_sphere.sign[1], 1);
+    EXPECT_EQ(*on_sphere.rounded[1], 2.0);
+    EXPECT_EQ(*on_sphere.hit[2], 1.0);
+    // Behind it, d reversed: t = −2 and t = 0; no root in front, no hit point.
+    ASSERT_TRUE(oracle_internal::static_filter_case({{0, 0, -1}, {0, 0, -1}, {0, 0, 0}, 1}, precision::binary64, on_sphere = {}));
+    EXPECT_EQ(*on_sphere.rounded[0], -2.0);
+    EXPECT_EQ(*on_sphere.sign[1], 0);
+    EXPECT_TRUE(same_bits(*on_sphere.rounded[1], 0.0));
+    EXPECT_FALSE(on_sphere.hit[2]);
+    // The oracle counts a zero root as settled by expansions (C = 0 exactly).
+    EXPECT_EQ(solve_exact({{0, 0, -1}, {0, 0, 1}, {0, 0, 0}, 1}, precision::binary64).stage, oracle_stage::expansion);
     // A miss, certified.
     oracle_internal::filtered_case miss;
     ASSERT_TRUE(oracle_internal::static_filter_case({{3, 0, -5}, {0, 0, 1}, {0, 0, 0}, 1}, precision::binary64, miss));
@@ -334,10 +362,20 @@ TEST(StaticFilter, ClassAndSignsWorkedByHand) {
     const auto miss = signs_of({{3, 0, -5}, {0, 0, 1}, {0, 0, 0}, 1});
     ASSERT_TRUE(miss);
     EXPECT_EQ(miss->discriminant_sign, -1);
-    // Declined: a tangent (Δ′ = 0), an origin on the sphere (C = 0), a zero
-    // direction and a negative radius (not valid), an input outside the range.
+    // On the sphere: C = 0 exactly, b′ = −1: the roots 0 and 2; b′ = 1: −2 and 0.
+    const auto on_sphere = signs_of({{0, 0, -1}, {0, 0, 1}, {0, 0, 0}, 1});
+    ASSERT_TRUE(on_sphere);
+    EXPECT_EQ(on_sphere->discriminant_sign, 1);
+    EXPECT_EQ(on_sphere->root_sign[0], 0);
+    EXPECT_EQ(on_sphere->root_sign[1], 1);
+    const auto on_sphere_behind = signs_of({{0, 0, 1}, {0, 0, 1}, {0, 0, 0}, 1});
+    ASSERT_TRUE(on_sphere_behind);
+    EXPECT_EQ(on_sphere_behind->root_sign[0], -1);
+    EXPECT_EQ(on_sphere_behind->root_sign[1], 0);
+    // Declined: a tangent (Δ′ = 0), an origin near the sphere (C = 2^−60), a
+    // zero direction and a negative radius (not valid), an input outside the range.
     EXPECT_FALSE(signs_of({{1, 0, -5}, {0, 0, 1}, {0, 0, 0}, 1}));
-    EXPECT_FALSE(signs_of({{0, 0, -1}, {0, 0, 1}, {0, 0, 0}, 1}));
+    EXPECT_FALSE(signs_of({{0, 0x1p-30, -1}, {0, 0, 1}, {0, 0, 0}, 1}));
     EXPECT_FALSE(signs_of({{0.25, 0.125, -5}, {0, 0, 0}, {0, 0, 0}, 1}));
     EXPECT_FALSE(signs_of({{0.25, 0.125, -5}, {0, 0, 1}, {0, 0, 0}, -1}));
     EXPECT_FALSE(signs_of({{0, 0, -0x1p900}, {0, 0, 1}, {0, 0, 0}, 0x1p899}));

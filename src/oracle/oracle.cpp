@@ -69,6 +69,10 @@ auto settle(stage_tally& tally, Filter&& filter, Expansion&& expansion, Exact&& 
     return exact();
 }
 
+// Whether a filter settled a root of sign 0 (the static filter does, for an
+// origin exactly on the sphere, C = 0 decided with an expansion).
+bool has_zero_root(const filtered_case& filter) { return filter.sign[0] == 0 || filter.sign[1] == 0; }
+
 // compare(a, b) from a stage's uncertain sign(a − b), and from its uncertain sign(b − a).
 uncertain_comparison comparison_from(uncertain_sign s) {
     return s ? uncertain_comparison(comparison_of_sign(*s)) : std::nullopt;
@@ -358,7 +362,9 @@ struct exact_solution::internal {
         // No hit point: rounded when asked (hit_point, rounded_hit_coordinate).
         if (unit_direction || !static_filter_case(g, prec, filter, oracle_depth::roots_rounded))
             filter = filter_case(g, prec, std::nullopt, unit_direction);
-        bool expanded = false;
+        // A root of sign 0 (an origin on the sphere, which the static filter
+        // settles) rests on C = 0, decided with an expansion.
+        bool expanded = has_zero_root(filter);
         if (!filter.discriminant_sign) {
             // Δ′ within the filter's bound of 0 (or inputs outside its range):
             // Δ′'s exact sign from an expansion; a tangent's root from its
@@ -747,7 +753,9 @@ exact_roots solve_exact_roots(const ray_sphere<double>& g, precision prec, oracl
     // The static filter settles valid cases only: a case it settles needs no validity check.
     if (depth == oracle_depth::class_and_signs) {
         if (oracle_internal::certified_signs signs; oracle_internal::static_class_and_signs(g, signs)) {
-            ++oracle_stage_counts_this_thread().solutions.filter;
+            stage_tally& solutions = oracle_stage_counts_this_thread().solutions;
+            const bool zero_root = signs.discriminant_sign > 0 && (signs.root_sign[0] == 0 || signs.root_sign[1] == 0);
+            ++(zero_root ? solutions.expansion : solutions.filter);
             if (signs.discriminant_sign < 0) return out;
             out.cls = line_class::two_hit;
             out.near_root.sign = signs.root_sign[0];
@@ -757,7 +765,8 @@ exact_roots solve_exact_roots(const ray_sphere<double>& g, precision prec, oracl
     }
     oracle_internal::filtered_case filter;
     if (depth == oracle_depth::roots_rounded && oracle_internal::static_filter_case(g, prec, filter, depth)) {
-        ++oracle_stage_counts_this_thread().solutions.filter;
+        stage_tally& solutions = oracle_stage_counts_this_thread().solutions;
+        ++(has_zero_root(filter) ? solutions.expansion : solutions.filter);
         if (*filter.discriminant_sign < 0) return out;
         out.cls = line_class::two_hit;  // the static filter certifies no tangent
         out.near_root.sign = *filter.sign[0];

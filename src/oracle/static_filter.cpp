@@ -19,6 +19,7 @@
 
 #include "core/double_word.h"
 #include "core/fma_clones.h"
+#include "oracle/expansion.h"
 
 namespace rayverify::oracle_internal {
 namespace {
@@ -287,6 +288,40 @@ bounded_value discriminant_by_lagrange(const plain_quadratic& q, const double d[
     return {value, err};
 }
 
+// C = |o − c|² − r² exactly 0: an origin exactly on the sphere. Decided
+// where f = o − c is exact in double (two_sum's low words all 0, as they are
+// whenever o and c are within a factor 2 of each other on each axis, or one
+// of them is 0): C is then the sum of the words of four error-free squares,
+// eight doubles, and an expansion of them (expansion.h; no allocation) has
+// its exact sign. In the filter range no square underflows. False where C is
+// not 0 or f is not exact (the double-word filter, then C's own expansion,
+// decide those).
+// Out of line, from the case itself: inlined, or given the filters' words of
+// f, it kept them live through the filters' common path, spilled to the
+// stack (the class and signs on `uniform` about 1 ns slower).
+[[gnu::noinline]] bool origin_exactly_on_sphere(const ray_sphere<double>& g) {
+    double f[3];
+    for (int axis = 0; axis < 3; ++axis) {
+        const dword difference = two_sum(g.origin[axis], -g.centre[axis]);
+        if (difference.l != 0) return false;
+        f[axis] = difference.h;
+    }
+    const double r = g.radius;
+    const expansion<8> C = (expansion_of(f[0]) * f[0] + expansion_of(f[1]) * f[1]) +
+                           (expansion_of(f[2]) * f[2] - expansion_of(r) * r);
+    return sign_of(C) == 0;
+}
+
+// static_class_and_signs' last question, where C is within its bound of 0:
+// with C = 0 exactly the roots are 0 and −2b′/a, on `side` (−b′'s sign).
+// Called last, so that the common path keeps nothing for it.
+[[gnu::noinline]] bool signs_on_sphere(const ray_sphere<double>& g, int side, certified_signs& out) {
+    if (!origin_exactly_on_sphere(g)) return false;
+    out.root_sign[0] = side < 0 ? -1 : 0;
+    out.root_sign[1] = side < 0 ? 0 : +1;
+    return true;
+}
+
 // The sign of a bounded value, when it exceeds its bound strictly.
 uncertain_sign certain_sign_of(const bounded_value& x) {
     if (x.value > x.err) return +1;
@@ -298,8 +333,10 @@ uncertain_sign certain_sign_of(const bounded_value& x) {
 
 // The roots' signs follow from the coefficients once Δ′ > 0: their product
 // is C/a and their sum −2b′/a (a > 0). C < 0: one behind, one in front.
-// C > 0: both on the side of −b′ (b′ ≠ 0 then, as b′² > aC > 0). Each sign
-// is taken only where |Ĉ| exceeds e_C, and for C > 0 |b̂| exceeds e_b.
+// C > 0: both on the side of −b′ (b′ ≠ 0 then, as b′² > aC > 0). C = 0
+// (an origin on the sphere, decided exactly): 0 and −2b′/a, on the side of
+// −b′. Each sign is taken only where |Ĉ| exceeds e_C (or C is exactly 0),
+// and for C ≥ 0 |b̂| exceeds e_b.
 RAYVERIFY_CLONED_FOR_FMA bool static_class_and_signs(const ray_sphere<double>& g, certified_signs& out) {
     plain_quadratic q;
     if (!plain_quadratic_of(g, q)) return false;
@@ -316,10 +353,121 @@ RAYVERIFY_CLONED_FOR_FMA bool static_class_and_signs(const ray_sphere<double>& g
         out.root_sign[1] = +1;
         return true;
     }
-    if (!(q.C > q.err_C) || !(std::fabs(q.b) > q.err_b)) return false;
-    out.root_sign[0] = out.root_sign[1] = q.b > 0 ? -1 : +1;
+    if (!(std::fabs(q.b) > q.err_b)) return false;
+    const int side = q.b > 0 ? -1 : +1;
+    if (q.C > q.err_C) {
+        out.root_sign[0] = out.root_sign[1] = side;
+        return true;
+    }
+    // C = 0 exactly (an origin on the sphere): the roots 0 and −2b′/a.
+    return signs_on_sphere(g, side, out);
+}
+
+namespace {
+
+// q = −(b′ + σ√Δ′) (σ the sign of b̂) and its relative bound, for Δ̂ > 0.
+struct plain_q {
+    bool positive_b = false;
+    double q = 0, inverse_q = 0, relative_q = 0;
+};
+
+// √Δ′: |√Δ′ − √Δ̂| = |Δ′ − Δ̂|/(√Δ′ + √Δ̂) ≤ E_Δ/√Δ̂ ≤ (1 + u)·E_Δ/ŝq,
+// plus the rounding of the square root, u·ŝq: computed as
+// E_Δ·RN(1/ŝq)·(1 + 2^−50) + 2u·ŝq (the factor covers (1 + u) and the
+// two roundings of E_Δ·RN(1/ŝq)).
+// q = −(b′ + σ√Δ′), σ the sign of b̂, so that |q̂| = |b̂| + ŝq without
+// cancellation: one rounding, |q̂ − q| ≤ 2u|q̂| + e_b + e_sq =: E_q. Its
+// relative bound ε_q = E_q·|RN(1/q̂)| (within 2u of E_q/|q̂|, which the
+// factor 1 + 2^−18 below covers) must be at most 2^−20 (q ≠ 0, and
+// first order holds): false where it is not.
+[[gnu::always_inline]] inline bool plain_q_of(const plain_quadratic& c, const bounded_value& discriminant, plain_q& out) {
+    const double sq = std::sqrt(discriminant.value);
+    const double err_sq = discriminant.err * (1 / sq) * (1 + 0x1p-50) + 2 * u * sq;
+    out.positive_b = c.b >= 0;
+    out.q = out.positive_b ? -(c.b + sq) : sq - c.b;
+    out.inverse_q = 1 / out.q;
+    out.relative_q = (2 * u * std::fabs(out.q) + c.err_b + err_sq) * std::fabs(out.inverse_q);
+    return out.relative_q <= small;
+}
+
+// The root q/a as q̂·RN(1/â) (two roundings): with a = â(1 + η_a) and
+// q = q̂(1 + η_q), |t* − t̂| ≤ |t̂|·(ε_q + 3.01u + 2u)·(1 + 2^−18).
+[[gnu::always_inline]] inline approximation root_by_q(const plain_quadratic& c, const plain_q& q) {
+    const double t = q.q * (1 / c.a);
+    return {t, std::fabs(t) * (q.relative_q + 6 * u) * second_order};
+}
+
+// Each root rounded from its enclosure (a root of sign 0 is 0 exactly:
+// RN(0) = +0); false where one does not round.
+[[gnu::always_inline]] inline bool round_roots(precision prec, filtered_case& out) {
+    for (int k = 0; k < 2; ++k) {
+        if (*out.sign[k] == 0) {
+            out.rounded[k] = 0.0;
+            continue;
+        }
+        out.rounded[k] = oracle_internal::round_normalised(prec, out.roots[k]);
+        if (!out.rounded[k]) out.rounded[k] = oracle_internal::round_enclosure(prec, out.roots[k], out.sign[k]);
+        if (!out.rounded[k]) return false;
+    }
     return true;
 }
+
+// The front root's hit point: o exactly where d's coordinate is 0 (RN(0)
+// is +0), else from the coordinate's enclosure; a coordinate that does
+// not settle there gets the double-word filter's rounding from the same
+// root enclosure, and if that fails too, the double-word filter runs
+// from the start (its own root enclosures may be tighter).
+[[gnu::always_inline]] inline bool round_front_hit_point(const ray_sphere<double>& g, precision prec,
+                                                         filtered_case& out) {
+    const int front = *out.sign[0] > 0 ? 0 : *out.sign[1] > 0 ? 1 : -1;
+    if (front < 0) return true;
+    for (int axis = 0; axis < 3; ++axis) {
+        const double o = g.origin[axis], d = g.direction[axis];
+        if (d == 0) {
+            out.hit[axis] = rounded_to(prec, o) + 0.0;
+            continue;
+        }
+        const enclosure h = hit_enclosure(o, d, out.roots[front]);
+        out.hit[axis] = oracle_internal::round_normalised(prec, h);
+        if (!out.hit[axis]) out.hit[axis] = oracle_internal::round_enclosure(prec, h, sign_of(h));
+        if (!out.hit[axis]) out.hit[axis] = round_hit_coordinate(prec, g, out.roots[front], axis);
+        if (!out.hit[axis]) return false;
+    }
+    return true;
+}
+
+// static_filter_case where Ĉ is within its bound of 0 (Δ̂ > 0 certified, q
+// settled): an origin exactly on the sphere (a ray spawned from a point of
+// its surface), C = 0 decided exactly (origin_exactly_on_sphere). Its roots
+// are then 0 exactly (C/q) and q/a = −2b′/a (q = −2b′ when C = 0; b′ ≠ 0, as
+// Δ′ = b′² > 0), q/a corrected and rounded as any root. An origin near the
+// sphere is left to the double-word filter, then to C's expansion.
+// Its own function, called last, from the case itself (the coefficients
+// formed again: the same operations, the same values): so the common path
+// keeps nothing live for it.
+[[gnu::noinline]] RAYVERIFY_CLONED_FOR_FMA bool static_filter_on_sphere(const ray_sphere<double>& g, precision prec,
+                                                                        filtered_case& out, oracle_depth depth) {
+    if (!origin_exactly_on_sphere(g)) return false;
+    plain_quadratic coefficients;
+    plain_quadratic_of(g, coefficients);
+    const double d[3] = {g.direction.x, g.direction.y, g.direction.z};
+    plain_q q;
+    if (!plain_q_of(coefficients, discriminant_by_lagrange(coefficients, d), q)) return false;
+    const int zero = q.positive_b ? 1 : 0;  // q < 0 when b̂ ≥ 0: q/a the near root, 0 the far one
+    out.sign[zero] = 0;
+    out.sign[1 - zero] = q.positive_b ? -1 : +1;
+    if (depth == oracle_depth::class_and_signs) return true;
+    // q/a corrected in both lanes (the same operations as two roots').
+    const approximation by_q = root_by_q(coefficients, q);
+    enclosure lanes[2];
+    if (!corrected(by_q, by_q, coefficients.a, coefficients.f, d, two_prod(g.radius, g.radius), lanes)) return false;
+    out.roots[1 - zero] = lanes[near_lane];
+    out.roots[zero] = enclosure{0, 0, 0};
+    if (!round_roots(prec, out)) return false;
+    return depth == oracle_depth::roots_rounded || round_front_hit_point(g, prec, out);
+}
+
+}  // namespace
 
 RAYVERIFY_CLONED_FOR_FMA bool static_filter_case(const ray_sphere<double>& g, precision prec, filtered_case& out,
                                                   oracle_depth depth) {
@@ -333,88 +481,44 @@ RAYVERIFY_CLONED_FOR_FMA bool static_filter_case(const ray_sphere<double>& g, pr
     }
     plain_quadratic coefficients;
     if (!plain_quadratic_of(g, coefficients)) return false;
-    const double o[3] = {g.origin.x, g.origin.y, g.origin.z};
     const double d[3] = {g.direction.x, g.direction.y, g.direction.z};
     const double r = g.radius;
     const dword(&f)[3] = coefficients.f;
-    const double a = coefficients.a, b = coefficients.b, err_b = coefficients.err_b, C = coefficients.C,
-                 err_C = coefficients.err_C;
+    const double a = coefficients.a, C = coefficients.C, err_C = coefficients.err_C;
     const bounded_value lagrange = discriminant_by_lagrange(coefficients, d);
-    const double discriminant = lagrange.value, err_discriminant = lagrange.err;
 
     // Class: the sign of Δ′ where |Δ̂| exceeds its bound.
     out.discriminant_sign = certain_sign_of(lagrange);
     if (!out.discriminant_sign) return false;
     if (*out.discriminant_sign < 0) return true;
 
-    // √Δ′: |√Δ′ − √Δ̂| = |Δ′ − Δ̂|/(√Δ′ + √Δ̂) ≤ E_Δ/√Δ̂ ≤ (1 + u)·E_Δ/ŝq,
-    // plus the rounding of the square root, u·ŝq: computed as
-    // E_Δ·RN(1/ŝq)·(1 + 2^−50) + 2u·ŝq (the factor covers (1 + u) and the
-    // two roundings of E_Δ·RN(1/ŝq)).
-    const double sq = std::sqrt(discriminant);
-    const double err_sq = err_discriminant * (1 / sq) * (1 + 0x1p-50) + 2 * u * sq;
+    plain_q q;
+    if (!plain_q_of(coefficients, lagrange, q)) return false;
+    // C's sign decides the sign of C/q: |Ĉ| must exceed 2^20·E_C. Where it
+    // does not, an origin exactly on the sphere is settled apart.
+    if (!(err_C <= small * std::fabs(C))) return static_filter_on_sphere(g, prec, out, depth);
 
-    // q = −(b′ + σ√Δ′), σ the sign of b̂, so that |q̂| = |b̂| + ŝq without
-    // cancellation: one rounding, |q̂ − q| ≤ 2u|q̂| + e_b + e_sq =: E_q. Its
-    // relative bound ε_q = E_q·|RN(1/q̂)| (within 2u of E_q/|q̂|, which the
-    // factor 1 + 2^−18 below covers) must be at most 2^−20 (q ≠ 0, and
-    // first order holds).
-    const bool positive_b = b >= 0;
-    const double q = positive_b ? -(b + sq) : sq - b;
-    const double inverse_q = 1 / q;
-    const double relative_q = (2 * u * std::fabs(q) + err_b + err_sq) * std::fabs(inverse_q);
-    if (!(relative_q <= small)) return false;
-    // C's sign decides the sign of C/q: |Ĉ| must exceed 2^20·E_C (an origin
-    // on or near the sphere is left to the double-word filter, then to C's
-    // expansion).
-    if (!(err_C <= small * std::fabs(C))) return false;
-
-    // The roots q/a and C/q as q̂·RN(1/â) and Ĉ·RN(1/q̂) (two roundings each):
-    // with a = â(1 + η_a), q = q̂(1 + η_q), C = Ĉ(1 + η_C),
-    // |t* − t̂| ≤ |t̂|·(ε_q + 3.01u + 2u)·(1 + 2^−18) for q/a and
-    // (|t̂|·(ε_q + 2u) + E_C/|q̂|)·(1 + 2^−18) for C/q (|t̂|·ε_C = E_C/|q̂|
-    // to first order, E_C·|RN(1/q̂)| within 2u of it).
-    const double t_q = q * (1 / a), t_c = C * inverse_q;
-    const approximation by_q{t_q, std::fabs(t_q) * (relative_q + 6 * u) * second_order};
-    const approximation by_c{t_c, (std::fabs(t_c) * (relative_q + 2 * u) + err_C * std::fabs(inverse_q)) * second_order};
+    // The roots q/a (root_by_q) and C/q as Ĉ·RN(1/q̂) (two roundings): with
+    // C = Ĉ(1 + η_C), |t* − t̂| ≤ (|t̂|·(ε_q + 2u) + E_C/|q̂|)·(1 + 2^−18)
+    // (|t̂|·ε_C = E_C/|q̂| to first order, E_C·|RN(1/q̂)| within 2u of it).
+    const double t_c = C * q.inverse_q;
+    const approximation by_q = root_by_q(coefficients, q);
+    const approximation by_c{t_c, (std::fabs(t_c) * (q.relative_q + 2 * u) + err_C * std::fabs(q.inverse_q)) *
+                                      second_order};
     // σ = +1: q < 0 and q/a is the near root; σ = −1: q > 0 and q/a is the far root.
-    const approximation& near = positive_b ? by_q : by_c;
-    const approximation& far = positive_b ? by_c : by_q;
-    const int sign_q = positive_b ? -1 : +1;
+    const approximation& near = q.positive_b ? by_q : by_c;
+    const approximation& far = q.positive_b ? by_c : by_q;
+    const int sign_q = q.positive_b ? -1 : +1;
     const int sign_c = (C > 0 ? 1 : -1) * sign_q;
-    out.sign[0] = positive_b ? sign_q : sign_c;
-    out.sign[1] = positive_b ? sign_c : sign_q;
+    out.sign[0] = q.positive_b ? sign_q : sign_c;
+    out.sign[1] = q.positive_b ? sign_c : sign_q;
     if (depth == oracle_depth::class_and_signs) return true;
 
     // Both roots corrected once, together, and each rounded from its enclosure.
     const dword r_squared = two_prod(r, r);
     if (!corrected(near, far, a, f, d, r_squared, out.roots)) return false;
-    for (int k = 0; k < 2; ++k) {
-        out.rounded[k] = round_normalised(prec, out.roots[k]);
-        if (!out.rounded[k]) out.rounded[k] = round_enclosure(prec, out.roots[k], out.sign[k]);
-        if (!out.rounded[k]) return false;
-    }
-    if (depth == oracle_depth::roots_rounded) return true;
-
-    // The front root's hit point: o exactly where d's coordinate is 0 (RN(0)
-    // is +0), else from the coordinate's enclosure; a coordinate that does
-    // not settle there gets the double-word filter's rounding from the same
-    // root enclosure, and if that fails too, the double-word filter runs
-    // from the start (its own root enclosures may be tighter).
-    const int front = *out.sign[0] > 0 ? 0 : *out.sign[1] > 0 ? 1 : -1;
-    if (front >= 0)
-        for (int axis = 0; axis < 3; ++axis) {
-            if (d[axis] == 0) {
-                out.hit[axis] = rounded_to(prec, o[axis]) + 0.0;
-                continue;
-            }
-            const enclosure h = hit_enclosure(o[axis], d[axis], out.roots[front]);
-            out.hit[axis] = round_normalised(prec, h);
-            if (!out.hit[axis]) out.hit[axis] = round_enclosure(prec, h, sign_of(h));
-            if (!out.hit[axis]) out.hit[axis] = round_hit_coordinate(prec, g, out.roots[front], axis);
-            if (!out.hit[axis]) return false;
-        }
-    return true;
+    if (!round_roots(prec, out)) return false;
+    return depth == oracle_depth::roots_rounded || round_front_hit_point(g, prec, out);
 }
 
 }  // namespace rayverify::oracle_internal

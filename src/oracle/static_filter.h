@@ -16,6 +16,11 @@
 // the true quadratic (not the unit-direction idealisation) and for inputs in
 // the filter range (filter.h), where no product underflows or overflows, so
 // that every rounding error below is relative: |RN(x) − x| ≤ u·|x|, u = 2^−53.
+// One exact test sits in it: where Ĉ's bound leaves C's sign open and o − c
+// is exact in double, whether C = 0 exactly (an origin on the sphere, a ray
+// spawned from its surface), from an expansion of eight doubles; the roots
+// are then 0 exactly and −2b′/a, which is corrected and rounded as any root
+// (the oracle counts such a solution as its expansion stage).
 #pragma once
 
 #include <optional>

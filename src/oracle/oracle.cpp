@@ -72,6 +72,10 @@ auto settle(stage_tally& tally, Filter&& filter, Expansion&& expansion, Exact&& 
 // Whether a filter settled a root of sign 0 (the static filter does, for an
 // origin exactly on the sphere, C = 0 decided with an expansion).
 bool has_zero_root(const filtered_case& filter) { return filter.sign[0] == 0 || filter.sign[1] == 0; }
+// The same for the static filter's class and signs (a miss's signs are unset: 0).
+bool has_zero_root(const certified_signs& signs) {
+    return signs.discriminant_sign > 0 && (signs.root_sign[0] == 0 || signs.root_sign[1] == 0);
+}
 
 // compare(a, b) from a stage's uncertain sign(a − b), and from its uncertain sign(b − a).
 uncertain_comparison comparison_from(uncertain_sign s) {
@@ -754,8 +758,7 @@ exact_roots solve_exact_roots(const ray_sphere<double>& g, precision prec, oracl
     if (depth == oracle_depth::class_and_signs) {
         if (oracle_internal::certified_signs signs; oracle_internal::static_class_and_signs(g, signs)) {
             stage_tally& solutions = oracle_stage_counts_this_thread().solutions;
-            const bool zero_root = signs.discriminant_sign > 0 && (signs.root_sign[0] == 0 || signs.root_sign[1] == 0);
-            ++(zero_root ? solutions.expansion : solutions.filter);
+            ++(has_zero_root(signs) ? solutions.expansion : solutions.filter);
             if (signs.discriminant_sign < 0) return out;
             out.cls = line_class::two_hit;
             out.near_root.sign = signs.root_sign[0];

@@ -444,9 +444,11 @@ struct plain_q {
 // sphere is left to the double-word filter, then to C's expansion.
 // Its own function, called last, from the case itself (the coefficients
 // formed again: the same operations, the same values): so the common path
-// keeps nothing live for it.
-[[gnu::noinline]] RAYVERIFY_CLONED_FOR_FMA bool static_filter_on_sphere(const ray_sphere<double>& g, precision prec,
-                                                                        filtered_case& out, oracle_depth depth) {
+// keeps nothing live for it. A cloned function is not inlined (g++ calls the
+// clone of the caller's target), so it needs no noinline, which clang
+// rejects beside target_clones.
+RAYVERIFY_CLONED_FOR_FMA bool static_filter_on_sphere(const ray_sphere<double>& g, precision prec,
+                                                      filtered_case& out, oracle_depth depth) {
     if (!origin_exactly_on_sphere(g)) return false;
     plain_quadratic coefficients;
     plain_quadratic_of(g, coefficients);

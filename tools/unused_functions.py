@@ -296,7 +296,11 @@ def demangled(names):
 
 def qualified_name(signature):
     """`ns::type::name` of a demangled signature: no return type, template
-    arguments, ABI tags, parameters or qualifiers."""
+    arguments, ABI tags, parameters, qualifiers or compiler-made parts (a
+    `[clone .resolver]` of a function built for several targets, which
+    clang makes global even for a function in an anonymous namespace, is
+    the function's own)."""
+    signature = re.sub(r"(?:\s*\[clone [^\]]*\])+$", "", signature)
     signature = re.sub(r"(?:\s*(?:const|volatile|&&|&))+$", "", signature)
     name = re.sub(r"\[abi:\w+\]", "", signature[:last_balanced(signature, "(", ")")])
     operator = re.search(r"\boperator\b", name)
@@ -327,6 +331,12 @@ def last_balanced(text, opening, closing):
 
 def short_name(name):
     return name.rsplit("::", 1)[-1]
+
+
+def internal_linkage(name):
+    """A function in an anonymous namespace, out of scope like a static one
+    (its resolver symbol may still be global)."""
+    return "(anonymous namespace)::" in name
 
 
 def implicitly_called(name):
@@ -458,7 +468,8 @@ def unused_functions(build_dir):
     by_object = {}
     for c in unreferenced:
         name = qualified_name(signatures[c.function.mangled])
-        if name not in excluded and not name.startswith(PLUGIN_ABI_PREFIX) and not implicitly_called(name):
+        if name not in excluded and not name.startswith(PLUGIN_ABI_PREFIX) and not implicitly_called(name) \
+                and not internal_linkage(name):
             by_object.setdefault(c.obj, []).append(c._replace(name=name))
 
     text = source_text()

@@ -412,7 +412,7 @@ struct exact_solution::internal {
         // known is exactly 0 when C = 0 (an origin on the sphere): decided
         // with an expansion, the root is then the exact enclosure 0.
         int zero_root = -1;
-        if (!filter.sign[0] != !filter.sign[1] && sign_of(coefficients(solution).C()) == 0) {
+        if (!filter.sign[0] != !filter.sign[1] && sign_of(coefficients(solution).C) == 0) {
             zero_root = filter.sign[0] ? 1 : 0;
             solution.roots_[zero_root] = {0, 0, 0};
         }

@@ -25,14 +25,7 @@ struct exact_coefficients {
     expansion<2> f[3];
     expansion<6> a;
     expansion<12> two_b_prime;
-    double radius = 0;
-
-    // C, formed on first use and kept: a tangent (Δ′ from f and a with a
-    // direction not unit, its root −b′/a) never reads it.
-    const expansion<26>& C() const;
-
-  private:
-    mutable std::optional<expansion<26>> C_;
+    expansion<26> C;
 };
 
 // With `unit_direction`, a is taken to be 1 (what a unit-direction formula solves).

@@ -314,7 +314,9 @@ TEST(DoubleWord, BoundedArithmeticContainsTheExactValue) {
 // Expansions (oracle/expansion.h): the degree-4 polynomial the oracle's
 // refined enclosures evaluate, P(u) = a·u² + 2b′·u + C from seven random
 // doubles, equals its exact value; its components stay nonoverlapping (the
-// sign is the largest's), and approximate() bounds the value to 2^−100.
+// sign is the largest's), and approximate() bounds the value to 2^−100. So
+// do a product of two expansions of several components each (2b′·C, the
+// partial sums accumulated in turn in two buffers) and their compressions.
 TEST(Expansion, PolynomialOfDoublesIsExactAndApproximatedWithinItsBound) {
     const std::uint64_t seed = seed_for_run();
     operand_source source(seed, 60);
@@ -344,7 +346,12 @@ TEST(Expansion, PolynomialOfDoublesIsExactAndApproximatedWithinItsBound) {
         for (int k = 0; k < P.n; ++k) sum = sum + of(P.c[k]);
         const bounded approx = approximate(P);
         const exact approx_error = abs(P_exact - of(approx.v.h) - of(approx.v.l));
+        const expansion<624> product = compressed(two_b) * compressed(C);
+        exact product_sum = of(0);
+        for (int k = 0; k < product.n; ++k) product_sum = product_sum + of(product.c[k]);
+        const exact product_exact = b_exact * C_exact;
         const bool ok = compare(sum, P_exact) == 0 && sign_of(P) == P_exact.n.sign() &&
+                        compare(product_sum, product_exact) == 0 && sign_of(product) == product_exact.n.sign() &&
                         compare(approx_error, of(approx.err)) <= 0 &&
                         approx.err <= 0x1p-100 * std::fabs(approx.v.h) + 0x1p-599;
         if (!ok && ++failures <= 5) ADD_FAILURE() << "trial " << trial << " (seed " << seed << ")";

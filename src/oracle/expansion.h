@@ -53,12 +53,13 @@ inline expansion<1> expansion_of(double x) {
     return e;
 }
 
-// e + f exactly (Fast-Expansion-Sum with zero elimination: merge the
-// components by magnitude, then one running two_sum).
-template <int M, int K>
-expansion<M + K> operator+(const expansion<M>& e, const expansion<K>& f) {
-    expansion<M + K> h;
-    if (e.n == 0 && f.n == 0) return h;
+// h = e + f exactly (Fast-Expansion-Sum with zero elimination: merge the
+// components by magnitude, then one running two_sum); h, not e or f, holds
+// at most R components, which the caller's bound on the sum keeps within.
+template <int R, int M, int K>
+void add_into(expansion<R>& h, const expansion<M>& e, const expansion<K>& f) {
+    h.n = 0;
+    if (e.n == 0 && f.n == 0) return;
     int i = 0, j = 0;
     // The next component by magnitude (ties: e's first).
     const auto take = [&]() {
@@ -72,6 +73,12 @@ expansion<M + K> operator+(const expansion<M>& e, const expansion<K>& f) {
         q = s.h;
     }
     if (q != 0) h.c[h.n++] = q;
+}
+
+template <int M, int K>
+expansion<M + K> operator+(const expansion<M>& e, const expansion<K>& f) {
+    expansion<M + K> h;
+    add_into(h, e, f);
     return h;
 }
 
@@ -86,11 +93,12 @@ expansion<M + K> operator-(const expansion<M>& e, const expansion<K>& f) {
     return e + (-f);
 }
 
-// e × b exactly (Scale-Expansion with zero elimination).
-template <int M>
-expansion<2 * M> operator*(const expansion<M>& e, double b) {
-    expansion<2 * M> h;
-    if (e.n == 0 || b == 0) return h;
+// h = e × b exactly (Scale-Expansion with zero elimination); h holds at
+// most 2·e.n components.
+template <int R, int M>
+void scale_into(expansion<R>& h, const expansion<M>& e, double b) {
+    h.n = 0;
+    if (e.n == 0 || b == 0) return;
     const dword first = two_prod(e.c[0], b);
     if (first.l != 0) h.c[h.n++] = first.l;
     double q = first.h;
@@ -103,20 +111,30 @@ expansion<2 * M> operator*(const expansion<M>& e, double b) {
         q = high.h;
     }
     if (q != 0) h.c[h.n++] = q;
+}
+
+template <int M>
+expansion<2 * M> operator*(const expansion<M>& e, double b) {
+    expansion<2 * M> h;
+    scale_into(h, e, b);
     return h;
 }
 
-// e × f exactly: the sum of e scaled by each component of f.
+// e × f exactly: the sum of e scaled by each component of f, accumulated in
+// two buffers in turn (the partial sums are never copied).
 template <int M, int K>
 expansion<2 * M * K> operator*(const expansion<M>& e, const expansion<K>& f) {
-    expansion<2 * M * K> h;
-    for (int j = 0; j < f.n; ++j) {
-        const expansion<2 * M> term = e * f.c[j];
-        const expansion<2 * M * K + 2 * M> sum = h + term;
-        h.n = sum.n;
-        for (int k = 0; k < sum.n; ++k) h.c[k] = sum.c[k];
+    expansion<2 * M * K> sums[2];
+    if (f.n == 0) return sums[0];
+    scale_into(sums[0], e, f.c[0]);
+    int current = 0;
+    expansion<2 * M> term;
+    for (int j = 1; j < f.n; ++j) {
+        scale_into(term, e, f.c[j]);
+        add_into(sums[1 - current], sums[current], term);
+        current = 1 - current;
     }
-    return h;
+    return sums[current];
 }
 
 // sign of the exact value.
@@ -131,9 +149,11 @@ int sign_of(const expansion<N>& e) {
 // relative 2^−52 per component. (A sum or product leaves components that
 // may be adjacent, the second largest as large as the largest's ulp and the
 // third nearly as large as the second.)
-template <int N>
-expansion<N> compressed(const expansion<N>& e) {
-    if (e.n == 0) return e;
+// h holds e compressed, e's n components at most.
+template <int R, int N>
+void compress_into(expansion<R>& h, const expansion<N>& e) {
+    h.n = 0;
+    if (e.n == 0) return;
     std::array<double, N> g;
     int bottom = e.n - 1;
     double q = e.c[e.n - 1];
@@ -147,13 +167,18 @@ expansion<N> compressed(const expansion<N>& e) {
         }
     }
     g[bottom] = q;
-    expansion<N> h;
     for (int i = bottom + 1; i < e.n; ++i) {
         const dword s = fast_two_sum(g[i], q);
         q = s.h;
         if (s.l != 0) h.c[h.n++] = s.l;
     }
     h.c[h.n++] = q;
+}
+
+template <int N>
+expansion<N> compressed(const expansion<N>& e) {
+    expansion<N> h;
+    compress_into(h, e);
     return h;
 }
 

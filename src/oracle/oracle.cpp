@@ -120,8 +120,11 @@ int slot_of(root_index i) { return i == root_index::near_root ? 0 : 1; }
 struct exact_solution::internal {
     // The case's coefficients as expansions, built on first use and kept.
     static const exact_coefficients& coefficients(const exact_solution& s) {
-        if (!s.expansions_)
-            s.expansions_ = std::make_shared<const exact_coefficients>(coefficients_of(s.geometry_, s.unit_direction_));
+        if (!s.expansions_) {
+            auto formed = std::make_shared<exact_coefficients>();
+            form_coefficients(*formed, s.geometry_, s.unit_direction_);
+            s.expansions_ = std::move(formed);
+        }
         return *s.expansions_;
     }
 
@@ -412,7 +415,7 @@ struct exact_solution::internal {
         // known is exactly 0 when C = 0 (an origin on the sphere): decided
         // with an expansion, the root is then the exact enclosure 0.
         int zero_root = -1;
-        if (!filter.sign[0] != !filter.sign[1] && sign_of(coefficients(solution).C) == 0) {
+        if (!filter.sign[0] != !filter.sign[1] && sign_of(coefficients(solution).C()) == 0) {
             zero_root = filter.sign[0] ? 1 : 0;
             solution.roots_[zero_root] = {0, 0, 0};
         }

@@ -9,18 +9,22 @@ namespace rayverify::oracle_internal {
 
 // Each coefficient compressed once (Shewchuk's Compress: the same value in
 // fewer components), which every later product with a double pays for.
-RAYVERIFY_CLONED_FOR_FMA exact_coefficients coefficients_of(const ray_sphere<double>& g, bool unit_direction) {
-    exact_coefficients k;
+RAYVERIFY_CLONED_FOR_FMA void form_coefficients(exact_coefficients& k, const ray_sphere<double>& g,
+                                                bool unit_direction) {
     const double d[3] = {g.direction.x, g.direction.y, g.direction.z};
-    for (int axis = 0; axis < 3; ++axis) k.f[axis] = expansion_of(g.origin[axis]) - expansion_of(g.centre[axis]);
+    for (int axis = 0; axis < 3; ++axis) add_into(k.f[axis], expansion_of(g.origin[axis]), expansion_of(-g.centre[axis]));
     const expansion<2>* f = k.f;
     if (unit_direction)
         k.a = expansion<6>(expansion_of(1.0));
     else
-        k.a = compressed(expansion_of(d[0]) * d[0] + expansion_of(d[1]) * d[1] + expansion_of(d[2]) * d[2]);
-    k.two_b_prime = compressed(f[0] * (2 * d[0]) + f[1] * (2 * d[1]) + f[2] * (2 * d[2]));
-    k.C = compressed(f[0] * f[0] + f[1] * f[1] + f[2] * f[2] - expansion_of(g.radius) * g.radius);
-    return k;
+        compress_into(k.a, expansion_of(d[0]) * d[0] + expansion_of(d[1]) * d[1] + expansion_of(d[2]) * d[2]);
+    compress_into(k.two_b_prime, f[0] * (2 * d[0]) + f[1] * (2 * d[1]) + f[2] * (2 * d[2]));
+    k.radius = g.radius;
+}
+
+RAYVERIFY_CLONED_FOR_FMA expansion<26> constant_term_of(const exact_coefficients& k) {
+    const expansion<2>* f = k.f;
+    return compressed(f[0] * f[0] + f[1] * f[1] + f[2] * f[2] - expansion_of(k.radius) * k.radius);
 }
 
 namespace {
@@ -28,7 +32,7 @@ namespace {
 // Δ′ as an expansion, times 4 with `unit_direction` (4Δ′ = (2b′)² − 4C, with
 // a taken to be 1), else a·r² − |d × f|² (Lagrange's identity).
 expansion<408> scaled_discriminant(const ray_sphere<double>& g, const exact_coefficients& k, bool unit_direction) {
-    if (unit_direction) return expansion<408>(k.two_b_prime * k.two_b_prime - k.C * 4.0);
+    if (unit_direction) return expansion<408>(k.two_b_prime * k.two_b_prime - k.C() * 4.0);
     const double d[3] = {g.direction.x, g.direction.y, g.direction.z};
     const expansion<2>* f = k.f;
     const expansion<8> cross[3] = {compressed(f[2] * d[1] - f[1] * d[2]), compressed(f[0] * d[2] - f[2] * d[0]),
@@ -60,7 +64,7 @@ RAYVERIFY_CLONED_FOR_FMA int tangent_root_side(const exact_coefficients& k, doub
 }
 
 RAYVERIFY_CLONED_FOR_FMA int root_side(const exact_coefficients& k, double m, int other_side) {
-    const int p = sign_of((k.a * m) * m + k.two_b_prime * m + k.C);  // sign(m − t_i)·sign(m − t_j)
+    const int p = sign_of((k.a * m) * m + k.two_b_prime * m + k.C());  // sign(m − t_i)·sign(m − t_j)
     return -p * -other_side;
 }
 
@@ -71,7 +75,7 @@ RAYVERIFY_CLONED_FOR_FMA int tangent_hit_side(const exact_coefficients& k, doubl
 
 RAYVERIFY_CLONED_FOR_FMA int hit_side(const exact_coefficients& k, double o, double d, double v, int other_side) {
     const expansion<2> w = compressed(expansion_of(v) - expansion_of(o));
-    return sign_of(k.a * (w * w) + (k.two_b_prime * w) * d + (k.C * d) * d) * other_side;
+    return sign_of(k.a * (w * w) + (k.two_b_prime * w) * d + (k.C() * d) * d) * other_side;
 }
 
 namespace {
@@ -100,7 +104,7 @@ RAYVERIFY_CLONED_FOR_FMA refined_enclosure refine_root(const exact_coefficients&
                                                       const enclosure& other) {
     const double u = root.hi;
     if (!known(root) || !known(other) || u == 0 || !refinable(u)) return {};
-    const expansion<74> P = (k.a * u) * u + k.two_b_prime * u + k.C;
+    const expansion<74> P = (k.a * u) * u + k.two_b_prime * u + k.C();
     const bounded gap = exactly(u) - bounded_of(other);  // u − t_j
     return correction_from(u, approximate(P), approximate(k.a) * gap);
 }

@@ -16,6 +16,14 @@ namespace rayverify::oracle_internal {
 
 using refined_enclosure = exact_solution::refined_enclosure;
 
+struct exact_coefficients;
+
+// C = f·f − r² from k's f and radius, cloned for FMA where it is defined.
+// exact_coefficients::C() calls it and is itself inline and not cloned:
+// clang++-14 refused that member function cloned, used in oracle.cpp before
+// refinement.cpp defines it in the unity file (docs/testing.md).
+expansion<26> constant_term_of(const exact_coefficients& k);
+
 // The quadratic's coefficients as exact expansions: f = o − c, a = d·d,
 // 2b′ = 2d·f, C = f·f − r² (Δ′ = a·r² − |d × f|², Lagrange's identity as in
 // the filter, is formed by discriminant_of). Exact for inputs in the
@@ -25,11 +33,23 @@ struct exact_coefficients {
     expansion<2> f[3];
     expansion<6> a;
     expansion<12> two_b_prime;
-    expansion<26> C;
+    double radius = 0;
+
+    // C, formed on first use and kept: a tangent (Δ′ from f and a with a
+    // direction not unit, its root −b′/a) never reads it.
+    const expansion<26>& C() const {
+        if (!C_) C_ = constant_term_of(*this);
+        return *C_;
+    }
+
+  private:
+    mutable std::optional<expansion<26>> C_;
 };
 
-// With `unit_direction`, a is taken to be 1 (what a unit-direction formula solves).
-exact_coefficients coefficients_of(const ray_sphere<double>& g, bool unit_direction = false);
+// k's coefficients formed from g, in place (k is held by the solution: formed
+// there, nothing is copied). With `unit_direction`, a is taken to be 1 (what
+// a unit-direction formula solves).
+void form_coefficients(exact_coefficients& k, const ray_sphere<double>& g, bool unit_direction = false);
 
 // Δ′ = a·r² − |d × f|² from its exact expansion: its sign, and a
 // double-word approximation whose bound is about 2^−100 of |Δ′| (tight enough

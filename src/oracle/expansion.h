@@ -53,10 +53,11 @@ inline expansion<1> expansion_of(double x) {
     return e;
 }
 
-// h = e + f exactly (Fast-Expansion-Sum with zero elimination: merge the
-// components by magnitude, then one running two_sum); h, not e or f, holds
-// at most R components, which the caller's bound on the sum keeps within.
-template <int R, int M, int K>
+// h = e + f exactly, or e − f with `subtract` (Fast-Expansion-Sum with zero
+// elimination: merge the components by magnitude, then one running
+// two_sum); h, not e or f, holds at most R components, which the caller's
+// bound on the sum keeps within.
+template <bool subtract = false, int R, int M, int K>
 void add_into(expansion<R>& h, const expansion<M>& e, const expansion<K>& f) {
     h.n = 0;
     if (e.n == 0 && f.n == 0) return;
@@ -64,7 +65,7 @@ void add_into(expansion<R>& h, const expansion<M>& e, const expansion<K>& f) {
     // The next component by magnitude (ties: e's first).
     const auto take = [&]() {
         if (j >= f.n || (i < e.n && std::fabs(e.c[i]) <= std::fabs(f.c[j]))) return e.c[i++];
-        return f.c[j++];
+        return subtract ? -f.c[j++] : f.c[j++];
     };
     double q = take();
     while (i < e.n || j < f.n) {
@@ -82,15 +83,11 @@ expansion<M + K> operator+(const expansion<M>& e, const expansion<K>& f) {
     return h;
 }
 
-template <int M>
-expansion<M> operator-(expansion<M> e) {
-    for (int i = 0; i < e.n; ++i) e.c[i] = -e.c[i];
-    return e;
-}
-
 template <int M, int K>
 expansion<M + K> operator-(const expansion<M>& e, const expansion<K>& f) {
-    return e + (-f);
+    expansion<M + K> h;
+    add_into<true>(h, e, f);
+    return h;
 }
 
 // h = e × b exactly (Scale-Expansion with zero elimination); h holds at
@@ -121,20 +118,23 @@ expansion<2 * M> operator*(const expansion<M>& e, double b) {
 }
 
 // e × f exactly: the sum of e scaled by each component of f, accumulated in
-// two buffers in turn (the partial sums are never copied).
+// two buffers in turn (the partial sums are never copied), the first chosen
+// so that the last sum lands in the one returned.
 template <int M, int K>
 expansion<2 * M * K> operator*(const expansion<M>& e, const expansion<K>& f) {
-    expansion<2 * M * K> sums[2];
-    if (f.n == 0) return sums[0];
-    scale_into(sums[0], e, f.c[0]);
-    int current = 0;
+    expansion<2 * M * K> h, other;
+    if (f.n == 0) return h;
+    // f.n − 1 sums follow the first scaling: an even number ends where it began.
+    expansion<2 * M * K>* from = f.n % 2 == 1 ? &h : &other;
+    expansion<2 * M * K>* to = from == &h ? &other : &h;
+    scale_into(*from, e, f.c[0]);
     expansion<2 * M> term;
     for (int j = 1; j < f.n; ++j) {
         scale_into(term, e, f.c[j]);
-        add_into(sums[1 - current], sums[current], term);
-        current = 1 - current;
+        add_into(*to, *from, term);
+        std::swap(from, to);
     }
-    return sums[current];
+    return h;
 }
 
 // sign of the exact value.
@@ -182,18 +182,24 @@ expansion<N> compressed(const expansion<N>& e) {
     return h;
 }
 
-// The exact value as a double-word with a rigorous error bound: the two
-// largest components of the compressed expansion (summed exactly) and, as the
-// bound, the sum of the others' magnitudes.
+// The exact value of a compressed expansion (compressed, compress_into) as
+// a double-word with a rigorous error bound: its two largest components
+// (summed exactly) and, as the bound, the sum of the others' magnitudes.
 template <int N>
-bounded approximate(const expansion<N>& exact) {
-    if (exact.n == 0) return exactly(0.0);
-    const expansion<N> e = compressed(exact);
+bounded approximate_compressed(const expansion<N>& e) {
+    if (e.n == 0) return exactly(0.0);
     const double high = e.c[e.n - 1], low = e.n >= 2 ? e.c[e.n - 2] : 0.0;
     double tail = 0;
     for (int k = 0; k + 2 < e.n; ++k) tail += std::fabs(e.c[k]);
     // At most N − 1 roundings in the sum, far inside the factor 1 + 2^−40.
     return {two_sum(high, low), tail * (1 + 0x1p-40) + 0x1p-600};
+}
+
+// Any expansion's exact value so approximated, compressed first.
+template <int N>
+bounded approximate(const expansion<N>& exact) {
+    if (exact.n == 0) return exactly(0.0);
+    return approximate_compressed(compressed(exact));
 }
 
 }  // namespace rayverify

@@ -339,7 +339,8 @@ struct exact_solution::internal {
         enclosure t{0, 0, 0};
         root.sign = -sign_of(k.two_b_prime) * sign_of(k.a);
         if (root.sign != 0) {
-            const std::optional<bounded> quotient_found = quotient(-approximate(k.two_b_prime), approximate(k.a) * 2.0);
+            const std::optional<bounded> quotient_found = quotient(-approximate_compressed(k.two_b_prime),
+                                                                         approximate_compressed(k.a) * 2.0);
             if (!quotient_found) return false;
             t = {quotient_found->v.h, quotient_found->v.l, quotient_found->err};
             const std::optional<double> rounded = round_enclosure(solution.prec, t, root.sign);

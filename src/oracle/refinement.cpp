@@ -106,7 +106,7 @@ RAYVERIFY_CLONED_FOR_FMA refined_enclosure refine_root(const exact_coefficients&
     if (!known(root) || !known(other) || u == 0 || !refinable(u)) return {};
     const expansion<74> P = (k.a * u) * u + k.two_b_prime * u + k.C();
     const bounded gap = exactly(u) - bounded_of(other);  // u − t_j
-    return correction_from(u, approximate(P), approximate(k.a) * gap);
+    return correction_from(u, approximate(P), approximate_compressed(k.a) * gap);
 }
 
 // For a tangent's root t = −b′/a: u − t = (2b′ + 2a·u) / 2a, the numerator exact.
@@ -114,7 +114,7 @@ RAYVERIFY_CLONED_FOR_FMA refined_enclosure refine_tangent_root(const exact_coeff
     const double u = root.hi;
     if (!known(root) || u == 0 || !refinable(u)) return {};
     const expansion<36> numerator = k.two_b_prime + (k.a * u) * 2.0;
-    return correction_from(u, approximate(numerator), approximate(k.a) * 2.0);
+    return correction_from(u, approximate(numerator), approximate_compressed(k.a) * 2.0);
 }
 
 // (value − u) is exact, the correction carries the bound.

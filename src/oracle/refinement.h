@@ -26,7 +26,8 @@ expansion<26> constant_term_of(const exact_coefficients& k);
 
 // The quadratic's coefficients as exact expansions: f = o − c, a = d·d,
 // 2b′ = 2d·f, C = f·f − r² (Δ′ = a·r² − |d × f|², Lagrange's identity as in
-// the filter, is formed by discriminant_of). Exact for inputs in the
+// the filter, is formed by discriminant_of); a, 2b′ and C compressed, so
+// that approximate_compressed reads them directly. Exact for inputs in the
 // filter range, where every product stays far from underflow and overflow
 // (degree 4: above 2^−528, below 2^330).
 struct exact_coefficients {

@@ -7,7 +7,7 @@
 // to about 2^−150 relative (what a double's ULP error needs to every digit).
 #pragma once
 
-#include <optional>
+#include <mutex>
 
 #include "oracle/expansion.h"
 #include "oracle/filter.h"
@@ -37,14 +37,16 @@ struct exact_coefficients {
     double radius = 0;
 
     // C, formed on first use and kept: a tangent (Δ′ from f and a with a
-    // direction not unit, its root −b′/a) never reads it.
+    // direction not unit, its root −b′/a) never reads it. Once, whichever
+    // thread asks first: copies of a solution share these coefficients.
     const expansion<26>& C() const {
-        if (!C_) C_ = constant_term_of(*this);
-        return *C_;
+        std::call_once(C_formed_, [this] { C_ = constant_term_of(*this); });
+        return C_;
     }
 
   private:
-    mutable std::optional<expansion<26>> C_;
+    mutable std::once_flag C_formed_;
+    mutable expansion<26> C_;
 };
 
 // k's coefficients formed from g, in place (k is held by the solution: formed

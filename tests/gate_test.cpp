@@ -91,6 +91,16 @@ TEST(Gate, MalformedBaselinesNameFileLineAndField) {
     EXPECT_EQ(parse_error("rayverify-baseline 1\nnaive/float all cases 3\nnaive/float all cases 3\n"),
               "b.txt:3: field 'entry': duplicate entry for naive/float all cases");
     EXPECT_EQ(parse_error("# only a comment\n"), "b.txt: field 'format': empty baseline: no 'rayverify-baseline 1' line");
+    // Lines as every text reader takes them: CRLF ends read, a carriage return
+    // inside a line (a line --update could not write back as it was read) refused.
+    EXPECT_EQ(format_baseline(parse_baseline("b.txt", "rayverify-baseline 1\r\nlibrary embree3 kernel avx2\r\n")),
+              "rayverify-baseline 1\nlibrary embree3 kernel avx2\n");
+    EXPECT_EQ(parse_error("rayverify-baseline 1\r\nlibrary embree3 kernel\r avx2\r\n"),
+              "b.txt:2: line contains a carriage return not followed by a newline (CR-only line endings, as old Mac "
+              "files have?): save the file with \\n or \\r\\n line endings");
+    EXPECT_EQ(parse_error("rayverify-baseline 1\n# a comment\r\r\n"),
+              "b.txt:2: line contains a carriage return not followed by a newline (CR-only line endings, as old Mac "
+              "files have?): save the file with \\n or \\r\\n line endings");
 }
 
 // A library's set-up (the kernel Embree picked for the CPU) is recorded by

@@ -14,6 +14,7 @@
 #include "compare/audit.h"
 #include "core/contract.h"
 #include "core/input_error.h"
+#include "core/text_lines.h"
 
 namespace rayverify {
 namespace {
@@ -114,20 +115,15 @@ baseline parse_baseline(const std::string& file, std::string_view text) {
     baseline b;
     std::vector<std::string> pending;  // comment lines waiting for their entry
     bool seen_format = false;
-    std::size_t line_number = 0;
-    while (!text.empty()) {
-        const std::size_t end = text.find('\n');
-        std::string line(text.substr(0, end));
-        text.remove_prefix(end == std::string_view::npos ? text.size() : end + 1);
-        ++line_number;
-        // Every '\r' at the end, not just a CRLF's: a comment kept with one would
-        // be written back as a line that reads as another comment.
-        while (!line.empty() && line.back() == '\r') line.pop_back();
+    // Lines as every text reader takes them (core/text_lines.h): a carriage
+    // return, NUL byte or invalid UTF-8 inside a line is refused, so that what
+    // --update writes back reads as the same lines.
+    for_each_text_line(file, text, [&](std::size_t line_number, std::string_view line) {
         const std::size_t first = line.find_first_not_of(" \t");
-        if (first == std::string::npos) continue;
+        if (first == std::string_view::npos) return;
         if (line[first] == '#') {
-            pending.push_back(line.substr(first));
-            continue;
+            pending.emplace_back(line.substr(first));
+            return;
         }
         std::vector<std::string> words;
         {
@@ -135,7 +131,7 @@ baseline parse_baseline(const std::string& file, std::string_view text) {
             // A `#` token ends the entry: what follows is a comment on the same line (not kept).
             while ((at = line.find_first_not_of(" \t", at)) != std::string::npos && line[at] != '#') {
                 const std::size_t stop = std::min(line.find_first_of(" \t", at), line.size());
-                words.push_back(line.substr(at, stop - at));
+                words.emplace_back(line.substr(at, stop - at));
                 at = stop;
             }
         }
@@ -160,7 +156,7 @@ baseline parse_baseline(const std::string& file, std::string_view text) {
                                                   format_line));
             seen_format = true;
             b.format_comments = std::exchange(pending, {});
-            continue;
+            return;
         }
         // A count (of cases, of disagreements, count_slack) is a whole number: inf would pass any count.
         const auto count = [&](const std::string& token, const std::string& field, const std::string& what) {
@@ -192,12 +188,12 @@ baseline parse_baseline(const std::string& file, std::string_view text) {
                                                       "them silently)",
                                                       printable(words[1]), words[2]));
             b.policies.push_back({words[1], words[2], value, std::exchange(pending, {})});
-            continue;
+            return;
         }
         if (words[0] == "allow-missing") {
             if (words.size() != 2) throw error("allow-missing", "expected 'allow-missing FAMILY|VARIANT|TARGET'");
             b.allowed_missing.emplace_back(words[1], std::exchange(pending, {}));
-            continue;
+            return;
         }
         if (words[0] == "library") {
             if (words.size() < 3) throw error("library", "expected 'library VARIANT SET-UP'");
@@ -208,7 +204,7 @@ baseline parse_baseline(const std::string& file, std::string_view text) {
             for (std::size_t i = 3; i < words.size(); ++i) text += " " + words[i];
             if (!b.configurations.emplace(words[1], configuration_line{text, std::exchange(pending, {})}).second)
                 throw error("library", fmt::format("duplicate library line for {}", printable(words[1])));
-            continue;
+            return;
         }
         if (words[0] == "contract") {
             if (words.size() != 3) throw error("contract", "expected 'contract VARIANT SPEC'");
@@ -223,7 +219,7 @@ baseline parse_baseline(const std::string& file, std::string_view text) {
             }
             if (!b.contracts.emplace(words[1], configuration_line{spec, std::exchange(pending, {})}).second)
                 throw error("contract", fmt::format("duplicate contract line for {}", printable(words[1])));
-            continue;
+            return;
         }
         if (words.size() != 4) throw error("entry", fmt::format("expected 'TARGET FAMILY FIGURE VALUE', got {} fields",
                                                                 words.size()));
@@ -240,7 +236,7 @@ baseline parse_baseline(const std::string& file, std::string_view text) {
         if (!b.figures.emplace(key, value).second)
             throw error("entry", fmt::format("duplicate entry for {}", printable(key.text())));
         if (!pending.empty()) b.comments[key] = std::exchange(pending, {});
-    }
+    });
     if (!seen_format) throw input_error(file, 0, "format", fmt::format("empty baseline: no '{}' line", format_line));
     b.trailing_comments = std::move(pending);
     return b;

@@ -20,6 +20,7 @@
 #include <utility>
 
 #include "core/target_name.h"
+#include "core/text_lines.h"
 #include "corpus/manifest.h"
 
 namespace rayverify {
@@ -27,8 +28,6 @@ namespace rayverify {
 namespace fs = std::filesystem;
 
 namespace {
-
-constexpr std::size_t max_line_bytes = std::size_t{1} << 20;
 
 // Text-corpus field order; the CSV header uses the same names.
 constexpr std::array<std::string_view, 14> field_names = {
@@ -64,10 +63,6 @@ std::string_view trim(std::string_view s) {
     while (!s.empty() && is_space(s.back())) s.remove_suffix(1);
     return s;
 }
-
-// U+FEFF in UTF-8. Skipped at the start of a file; anywhere else it is refused,
-// since a token starting with it would not read back the same from a new file.
-constexpr std::string_view byte_order_mark = "\xEF\xBB\xBF";
 
 // An id or family must survive a trip through the text format: one token, not a comment.
 // One word: no blank, and no control character (an id is echoed to the
@@ -164,56 +159,6 @@ long long exponent_of(std::string_view text) {
     return negative ? -e : e;
 }
 
-// RFC 3629 well-formed UTF-8: no overlong forms, surrogates or code points past U+10FFFF.
-bool is_valid_utf8(std::string_view s) {
-    for (std::size_t i = 0; i < s.size();) {
-        const auto b = static_cast<unsigned char>(s[i]);
-        if (b < 0x80) {
-            ++i;
-            continue;
-        }
-        if (b < 0xC2 || b > 0xF4) return false;
-        const std::size_t n = b >= 0xF0 ? 3 : b >= 0xE0 ? 2 : 1;  // continuation bytes
-        // The second byte's range is what excludes overlong forms, surrogates and > U+10FFFF.
-        const unsigned lo = b == 0xE0 ? 0xA0 : b == 0xF0 ? 0x90 : 0x80;
-        const unsigned hi = b == 0xED ? 0x9F : b == 0xF4 ? 0x8F : 0xBF;
-        if (s.size() - i <= n) return false;
-        for (std::size_t k = 1; k <= n; ++k) {
-            const unsigned c = static_cast<unsigned char>(s[i + k]);
-            if (c < (k == 1 ? lo : 0x80u) || c > (k == 1 ? hi : 0xBFu)) return false;
-        }
-        i += n + 1;
-    }
-    return true;
-}
-
-// Calls on_line(number, text) for every line, after the checks that keep
-// binary garbage from reaching the parsers.
-template <class F>
-void for_each_line(const std::string& file, std::string_view contents, F&& on_line) {
-    if (contents.starts_with(byte_order_mark)) contents.remove_prefix(byte_order_mark.size());
-    for (std::size_t number = 1; !contents.empty(); ++number) {
-        const std::size_t end = std::min(contents.find('\n'), contents.size());
-        std::string_view line = contents.substr(0, end);
-        contents.remove_prefix(std::min(end + 1, contents.size()));
-        if (line.size() > max_line_bytes)
-            throw input_error(file, number, "", "line is longer than 1 MB");
-        if (line.ends_with('\r')) line.remove_suffix(1);
-        if (line.find('\r') != std::string_view::npos)
-            throw input_error(file, number, "",
-                              "line contains a carriage return not followed by a newline (CR-only line endings, "
-                              "as old Mac files have?): save the file with \\n or \\r\\n line endings");
-        if (line.find('\0') != std::string_view::npos)
-            throw input_error(file, number, "", "line contains a NUL byte (binary file?)");
-        if (!is_valid_utf8(line))
-            throw input_error(file, number, "", "line is not valid UTF-8 text");
-        if (line.find(byte_order_mark) != std::string_view::npos)
-            throw input_error(file, number, "",
-                              "line contains a byte order mark (U+FEFF), as where files were concatenated");
-        on_line(number, line);
-    }
-}
-
 // `segment`: the cells of ox..dz hold p0x..p1z (segment_end_names).
 corpus_case make_case(const case_cells& cells, const std::string& file, std::size_t line, bool segment = false) {
     const auto field = [segment](std::size_t i) { return std::string(field_name(i, segment)); };
@@ -252,7 +197,7 @@ corpus_case make_case(const case_cells& cells, const std::string& file, std::siz
 std::vector<corpus_case> parse_text(const std::string& file, std::string_view contents) {
     std::vector<corpus_case> cases;
     std::vector<std::string_view> tokens;
-    for_each_line(file, contents, [&](std::size_t number, std::string_view line) {
+    for_each_text_line(file, contents, [&](std::size_t number, std::string_view line) {
         tokens.clear();
         for (line = trim(line); !line.empty() && line.front() != '#'; line = trim(line)) {
             const auto end = std::ranges::find_if(line, is_space) - line.begin();
@@ -342,7 +287,7 @@ std::vector<corpus_case> parse_csv(const std::string& file, std::string_view con
     std::array<std::optional<std::size_t>, field_names.size()> column;
     std::size_t header_line = 0, width = 0;
     bool segments = false;  // the header names p0x..p1z: every row is a segment
-    for_each_line(file, contents, [&](std::size_t number, std::string_view line) {
+    for_each_text_line(file, contents, [&](std::size_t number, std::string_view line) {
         if (trim(line).empty() || trim(line).front() == '#') return;
         const std::vector<std::string> cells = csv_row_cells(line, file, number);
         if (header_line == 0) {
@@ -784,11 +729,6 @@ void write_corpus_file(const fs::path& path, const std::vector<corpus_case>& cas
         }
     for (const auto& c : cases) out += format_case_line(c) + '\n';
     write_file_atomically(path, out);
-}
-
-void for_each_text_line(const std::string& file, std::string_view contents,
-                        const std::function<void(std::size_t number, std::string_view line)>& on_line) {
-    for_each_line(file, contents, on_line);
 }
 
 std::vector<std::string> split_csv_row(std::string_view line, const std::string& file, std::size_t number) {

@@ -26,7 +26,6 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
-#include <functional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -120,12 +119,6 @@ struct corpus_reading {
 std::vector<corpus_case> read_corpus(const std::vector<std::filesystem::path>& paths,
                                      corpus_reading* reading = nullptr);
 
-// The corpus readers' line splitting, for other readers of text files
-// (corpus/exchange.h): each line with its number, without its end of line;
-// a byte order mark skipped at the start; an input_error for a line over
-// 1 MB, a NUL byte, invalid UTF-8 or a byte order mark inside.
-void for_each_text_line(const std::string& file, std::string_view contents,
-                        const std::function<void(std::size_t number, std::string_view line)>& on_line);
 // One CSV row's cells, as RFC 4180 quotes them on one line: a cell in double
 // quotes may hold commas, and "" in it stands for a quote; blanks around a
 // cell are trimmed. Throws input_error for a quote left open, text after a

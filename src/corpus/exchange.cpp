@@ -22,6 +22,7 @@
 #include "core/hash.h"
 #include "core/input_error.h"
 #include "core/name_table.h"
+#include "core/text_lines.h"
 #include "corpus/case_stream.h"
 #include "corpus/corpus_io.h"
 #include "corpus/json_input.h"

@@ -125,6 +125,14 @@ TEST_F(Regen, BadManifestIsAnInputErrorNamingLineAndField) {
     EXPECT_EQ(r.exit_code, 2);
     EXPECT_NE(r.output.find("field 'version'"), std::string::npos) << r.output;
     EXPECT_EQ(run_cli("corpus regen --corpus-dir " + (dir_ / "nowhere").string()).exit_code, 2);
+
+    // Lines as every text input is read (core/text_lines.h): CRLF ends read, a NUL byte refused.
+    write_text(dir_ / "MANIFEST", "# CRLF\r\na.txt uniform 10 1 1\r\n");
+    EXPECT_EQ(run_cli("corpus regen --corpus-dir " + dir_.string()).exit_code, 0);
+    write_text(dir_ / "MANIFEST", std::string("a.txt uniform 10 1 1\nb.txt\0 uniform 10 1 1\n", 43));
+    r = run_cli("corpus regen --corpus-dir " + dir_.string());
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.output.find("MANIFEST:2: line contains a NUL byte"), std::string::npos) << r.output;
 }
 
 TEST(CompareLines, NamesTheFirstDifferingLine) {

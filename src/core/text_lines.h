@@ -1,10 +1,10 @@
 // The one way rayverify splits a text input into lines (corpora, results
-// files, gate baselines): each line with its number, without its end of line
-// (\n or \r\n); a byte order mark skipped at the start of the file; an
-// input_error naming the file and line for a line over 1 MB, a carriage
-// return not followed by a newline, a NUL byte, invalid UTF-8 or a byte order
-// mark anywhere else. A reader behind it sees only text that a writer can
-// write back as the same lines.
+// files, gate baselines, the corpus manifest, hunt files): each line with its
+// number, without its end of line (\n or \r\n); a byte order mark skipped at
+// the start of the file; an input_error naming the file and line for a line
+// over 1 MB, a carriage return not followed by a newline, a NUL byte, invalid
+// UTF-8 or a byte order mark anywhere else. A reader behind it sees only text
+// that a writer can write back as the same lines.
 #pragma once
 
 #include <algorithm>

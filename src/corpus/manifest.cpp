@@ -9,6 +9,7 @@
 #include <string_view>
 
 #include "core/input_error.h"
+#include "core/text_lines.h"
 #include "corpus/corpus_io.h"
 
 namespace rayverify {
@@ -42,19 +43,19 @@ std::string_view line_at(std::string_view text, std::size_t start) {
 
 std::vector<manifest_entry> read_manifest(const std::filesystem::path& path) {
     static constexpr const char* field_names[5] = {"file", "family", "count", "seed", "version"};
-    std::ifstream in(path);
+    std::ifstream in(path, std::ios::binary);
     if (!in) throw input_error(path.string(), 0, "", "cannot read the corpus manifest");
+    std::stringstream whole;
+    whole << in.rdbuf();
+    const std::string contents = whole.str();
     const std::string name = path.string();
     std::vector<manifest_entry> entries;
     std::set<std::string> files;
-    std::size_t number = 0;
-    for (std::string text; std::getline(in, text);) {
-        ++number;
-        const std::size_t hash = text.find('#');
-        std::istringstream words(text.substr(0, hash));
+    for_each_text_line(name, contents, [&](std::size_t number, std::string_view text) {
+        std::istringstream words{std::string(text.substr(0, text.find('#')))};
         std::vector<std::string> tokens;
         for (std::string w; words >> w;) tokens.push_back(w);
-        if (tokens.empty()) continue;
+        if (tokens.empty()) return;
         if (tokens.size() != 5)
             throw input_error(name, number, tokens.size() < 5 ? field_names[tokens.size()] : "line",
                               fmt::format("expected 'file family count seed version', got {} fields", tokens.size()));
@@ -78,7 +79,7 @@ std::vector<manifest_entry> read_manifest(const std::filesystem::path& path) {
                                           "generates version {} (update the manifest and regenerate)",
                                           e.file, e.version, e.family, family->version));
         entries.push_back(std::move(e));
-    }
+    });
     return entries;
 }
 

@@ -7,6 +7,7 @@
 
 #include "compare/error_figures.h"
 #include "core/input_error.h"
+#include "core/text_lines.h"
 #include "corpus/case_stream.h"
 #include "corpus/corpus_io.h"
 #include "corpus/generators.h"
@@ -262,13 +263,10 @@ hunt_file read_hunt_file(const fs::path& path) {
     hunt_file file;
     bool hunt_line_seen = false;
     std::vector<std::size_t> find_lines;
-    std::istringstream lines(contents);
-    std::size_t number = 0;
-    for (std::string line; std::getline(lines, line);) {
-        ++number;
+    for_each_text_line(name, contents, [&](std::size_t number, std::string_view line) {
         const bool hunt_line = line.starts_with(hunt_prefix), find_line = line.starts_with(find_prefix);
-        if (!hunt_line && !find_line) continue;
-        const json value = parse_json_input(std::string_view(line).substr(hunt_prefix.size()), name, number);
+        if (!hunt_line && !find_line) return;
+        const json value = parse_json_input(line.substr(hunt_prefix.size()), name, number);
         if (hunt_line) {
             if (hunt_line_seen) throw input_error(name, number, "rayverify-hunt", "a second hunt line");
             hunt_line_seen = true;
@@ -277,7 +275,7 @@ hunt_file read_hunt_file(const fs::path& path) {
             file.finds.push_back({from_json_mapped<hunt_find_provenance>(value, name, nullptr, number), {}, {}});
             find_lines.push_back(number);
         }
-    }
+    });
     if (!hunt_line_seen)
         throw input_error(name, 0, "rayverify-hunt", "not the output of `rayverify hunt` (no rayverify-hunt line)");
 

@@ -88,6 +88,8 @@ configuration_table contracts_of(std::span<const audit_target> targets);
 struct configuration_line {
     std::string text;
     std::vector<std::string> comments;  // the comment lines above it, verbatim
+
+    bool operator==(const configuration_line&) const = default;
 };
 
 struct baseline {

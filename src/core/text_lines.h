@@ -34,6 +34,8 @@ void for_each_text_line(const std::string& file, std::string_view contents, F&& 
         const std::size_t end = std::min(contents.find('\n'), contents.size());
         std::string_view line = contents.substr(0, end);
         contents.remove_prefix(std::min(end + 1, contents.size()));
+        // A CRLF's carriage return goes, but not from a line already too long:
+        // that one is refused for its length, whatever it ends with.
         if (line.size() <= max_text_line_bytes && line.ends_with('\r')) line.remove_suffix(1);
         check_text_line(file, number, line);
         on_line(number, line);

@@ -186,6 +186,14 @@ testing::AssertionResult identical(const route& way, const ray_sphere<double>& g
                             const double b = ref.hit_point_ulp_error(i, axis, v);
                             check(same_bits(a, b), name + " hit_point_ulp_error(" + hex(v) + "): fast " + hex(a) +
                                                        ", reference " + hex(b));
+                            // The audit's bracket holds the error wherever it is formed.
+                            if (std::isfinite(v))
+                                if (const std::optional<figure_bracket> bracket =
+                                        fast.hit_point_ulp_error_bracket(i, axis, v))
+                                    check(bracket->lower <= b && b <= bracket->upper,
+                                          name + " hit_point_ulp_error_bracket(" + hex(v) + ") = [" +
+                                              hex(bracket->lower) + ", " + hex(bracket->upper) + "] leaves out " +
+                                              hex(b));
                         }
                     }
                 }

@@ -25,6 +25,7 @@
 #include "compare/error_figures.h"
 #include "corpus/case_stream.h"
 #include "corpus/corpus_io.h"
+#include "corpus/generators.h"
 #include "intersectors/registry.h"
 #include "intersectors/seed004_early_out.h"
 
@@ -905,6 +906,62 @@ TEST(Judge, SentencesLeftOutChangeNothingElse) {
         indices.clear();
     }
     EXPECT_GT(disagreements, 1000u);
+}
+
+// The audit asks for an agreeing answer's figures to their printed digits
+// (figure_request::audit): each may be a lower bound, with its upper bound
+// kept. Against the figures to every digit, on the shipped corpus and
+// generated ordinary cases with every built-in variant: the same verdicts,
+// causes and figures present; each exact figure within its bounds, and both
+// bounds in its bucket; a disagreement's figures exact; and exact_figures
+// gives the figures to every digit, bit for bit.
+TEST(Judge, FiguresToPrintedDigitsBoundTheExactOnes) {
+    const std::vector<audit_target> targets = targets_for(builtin_variants());
+    std::vector<corpus_case> cases = generate_family("uniform", 300, 5);
+    for (corpus_case& c : generate_family("far_sphere", 300, 5)) cases.push_back(std::move(c));
+    case_stream stream(std::vector<std::filesystem::path>{RAYVERIFY_CORPUS_DIR}, {});
+    std::vector<corpus_case> chunk;
+    std::vector<std::size_t> indices;
+    while (stream.next(chunk, indices)) {
+        cases.insert(cases.end(), chunk.begin(), chunk.end());
+        chunk.clear();
+        indices.clear();
+    }
+    figure_request audit_request = figure_request::audit(), every_digit;
+    audit_request.details = every_digit.details = false;
+    std::size_t bounded = 0;
+    for (const corpus_case& c : cases) {
+        const audited_case fast = audit_case(c, targets, {}, audit_request);
+        const audited_case exact = audit_case(c, targets, {}, every_digit);
+        for (std::size_t t = 0; t < targets.size(); ++t) {
+            const case_score& a = fast.outcomes[t].score;
+            const case_score& b = exact.outcomes[t].score;
+            const std::string where = c.id + " " + targets[t].label();
+            ASSERT_EQ(a.verdict, b.verdict) << where;
+            ASSERT_EQ(a.cause, b.cause) << where;
+            ASSERT_FALSE(b.figure_upper_bounds) << where;
+            if (a.verdict != verdict_kind::agree) ASSERT_FALSE(a.figure_upper_bounds) << where;
+            for (const error_figure_definition& f : error_figures) {
+                ASSERT_EQ(f.of_case(a).has_value(), f.of_case(b).has_value()) << where << " " << f.name;
+                if (!f.of_case(a)) continue;
+                const double lower = *f.of_case(a), upper = f.upper_of_case(a), value = *f.of_case(b);
+                ASSERT_TRUE(lower <= value && value <= upper) << where << " " << f.name << std::hexfloat << " ["
+                                                              << lower << ", " << upper << "] " << value;
+                ASSERT_EQ(error_summary::bucket_of(lower), error_summary::bucket_of(upper)) << where << " " << f.name;
+                bounded += lower != upper;
+            }
+            if (!a.figure_upper_bounds) continue;
+            const case_score settled = exact_figures(targets[t], c, fast.outcomes[t], fast.exact_for(targets[t].prec));
+            for (const error_figure_definition& f : error_figures)
+                ASSERT_EQ(f.of_case(settled), f.of_case(b)) << where << " " << f.name;
+            ASSERT_EQ(settled.hit_point_ulp, b.hit_point_ulp) << where;
+            ASSERT_FALSE(settled.figure_upper_bounds) << where;
+            if (printed_as_exact(a))
+                for (const error_figure_definition& f : error_figures)
+                    if (f.of_case(a)) ASSERT_EQ(printed_figure(*f.of_case(a)), printed_figure(*f.of_case(b))) << where;
+        }
+    }
+    EXPECT_GT(bounded, 10000u);  // figures were taken from bounds
 }
 
 }  // namespace

@@ -137,7 +137,7 @@ audit_timing_row time_family(const std::string& family, const std::vector<corpus
         };
     };
     // As the audit timed asks (no per-case lines: no disagreement's sentence).
-    figure_request every_figure, verdicts_alone = figure_request::verdict_only();
+    figure_request every_figure = figure_request::audit(), verdicts_alone = figure_request::verdict_only();
     every_figure.details = verdicts_alone.details = false;
     const auto cases_judged = judged_with(every_figure);
     const auto verdicts_judged = judged_with(verdicts_alone);

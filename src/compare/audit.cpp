@@ -126,13 +126,11 @@ constexpr int bucket_shift = 52 - error_summary::resolution_bits;
 
 std::uint64_t bits_of(double x) { return std::bit_cast<std::uint64_t>(x); }
 
-// Larger error wins; on equal errors the smaller global index.
-bool takes_max(double value, std::size_t index, double max, std::size_t max_index) {
-    const std::uint64_t a = bits_of(std::fabs(value)), b = bits_of(std::fabs(max));
-    return a != b ? a > b : index < max_index;
-}
-
 }  // namespace
+
+bool bounds_in_one_bucket(double lower, double upper) {
+    return error_summary::bucket_of(lower) == error_summary::bucket_of(upper);
+}
 
 std::uint64_t error_summary::bucket_of(double error) {
     const double x = std::fabs(error);
@@ -371,6 +369,9 @@ void audit_accumulator::add(const audited_case& c, std::size_t index) {
 
     auto& family_samples = by_family[family];
     family_samples.resize(targets.size());
+    // One target's exact figures, judged again only where a maximum needs them.
+    std::optional<case_score> every_digit;
+    std::size_t every_digit_target = targets.size();
     for (std::size_t t = 0; t < targets.size(); ++t) {
         const case_score& score = c.outcomes[t].score;
         target_samples& s = family_samples[t];
@@ -378,8 +379,24 @@ void audit_accumulator::add(const audited_case& c, std::size_t index) {
         ++s.verdicts[static_cast<int>(score.verdict)];
         if (score.cause) ++s.causes[static_cast<int>(*score.cause)];
         if (score.verdict != verdict_kind::agree) continue;
-        for (const error_figure_definition& f : error_figures)
-            if (const std::optional<double>& e = f.of_case(score)) s.errors[f.figure].add(*e, index, c.source->id);
+        // Figures to their printed digits (case_score::figure_upper_bounds)
+        // are added as bounds; the case judged again to every digit only
+        // where a maximum needs it.
+        for (const error_figure_definition& f : error_figures) {
+            const std::optional<double>& e = f.of_case(score);
+            if (!e) continue;
+            if (!score.figure_upper_bounds || !f.upper_in_score) {
+                s.errors[f.figure].add(*e, index, c.source->id);
+                continue;
+            }
+            s.errors[f.figure].add_bounded(*e, f.upper_of_case(score), index, c.source->id, [&] {
+                if (every_digit_target != t) {
+                    every_digit = exact_figures(targets[t], *c.source, c.outcomes[t], c.exact_for(targets[t].prec));
+                    every_digit_target = t;
+                }
+                return f.of_case(*every_digit).value();
+            });
+        }
     }
 }
 
@@ -507,7 +524,7 @@ audit_accumulator audit_stream(const case_source& next, const std::vector<audit_
     // thread's allocations contends on malloc's arenas).
     constexpr std::size_t grain = 8;
     std::atomic<std::size_t> claimed{0};
-    figure_request wanted;
+    figure_request wanted = figure_request::audit();
     wanted.details = hooks.details;
     const auto work = [&](unsigned worker) {
         audited_case own;

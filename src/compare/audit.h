@@ -3,6 +3,8 @@
 #pragma once
 
 #include <array>
+#include <bit>
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -92,6 +94,11 @@ struct error_summary {
     using histogram_map = boost::container::flat_map<std::uint64_t, std::size_t>;
 
     void add(double error, std::size_t index, const std::string& id);
+    // The same of an error known to lie in [lower, upper] (bounds_in_one_bucket
+    // holds: one bucket); `exact()` gives the error itself, asked for only
+    // where the bounds leave open whether it takes the maximum.
+    template <class Exact>
+    void add_bounded(double lower, double upper, std::size_t index, const std::string& id, Exact exact);
     void merge(const error_summary& other);
     // bucket key → number of errors in it, sorted by key.
     const histogram_map& histogram() const;
@@ -109,6 +116,13 @@ struct error_summary {
 
     static std::uint64_t bucket_of(double error);
     static double upper_edge(std::uint64_t bucket);
+    // Whether `value` at global index `index` takes the maximum `max` held at
+    // `max_index`: the larger error wins; on equal errors the smaller index.
+    static bool takes_max(double value, std::size_t index, double max, std::size_t max_index) {
+        const std::uint64_t a = std::bit_cast<std::uint64_t>(std::fabs(value)),
+                            b = std::bit_cast<std::uint64_t>(std::fabs(max));
+        return a != b ? a > b : index < max_index;
+    }
 
 private:
     // add() runs for every error of every target: the counts live in dense
@@ -160,6 +174,23 @@ private:
     mutable histogram_map sorted_;
     mutable bool sorted_current_ = true;
 };
+
+// Whether every value in [lower, upper] falls in one error_summary bucket:
+// then a figure known only to lie there is counted in its exact value's
+// bucket, and lies on its exact value's side of every threshold at the lower
+// edge of a bucket (a power of two, as agree_far_fraction). The judge takes
+// a figure from the oracle's enclosures where this holds
+// (figure_request::root_errors::to_printed_digits).
+bool bounds_in_one_bucket(double lower, double upper);
+
+template <class Exact>
+void error_summary::add_bounded(double lower, double upper, std::size_t index, const std::string& id, Exact exact) {
+    // It cannot take the maximum where even its upper bound would not: the
+    // maximum stays the exact value of the case attaining it.
+    if (count == 0 || takes_max(upper, index, max, max_index)) return add(exact(), index, id);
+    ++count;
+    count_in(bucket_of(lower), 1);
+}
 
 // Runs job(k) for every k in [0, count) on `threads` threads, the calling one
 // among them, each taking the next k from a shared counter.

@@ -30,22 +30,24 @@ constexpr std::array<double, 23> powers_of_ten = [] {
     return out;
 }();
 
-// printed_figure without a decimal conversion where that is safe: x scaled
-// by an exact power of ten to m in [1000, 10000) (one rounding, relative
-// error ≤ 2^−53), m rounded to the integer n when m lies farther than
-// 2^−40·m from every half-integer (so that the exact x·10^k rounds to n
-// too), and n·10^−k formed by one multiplication or division of exact
-// doubles (correctly rounded: the double nearest the decimal). nullopt
-// where a scale beyond 10^22 is needed or m lies that near a tie.
-std::optional<double> printed_without_conversion(double x) {
-    const double magnitude = std::fabs(x);
-    // The decimal exponent from the binary one (log10(2)·e, within one of
-    // floor(log10(x))), put right by the loop.
+// |x| (finite, not 0) scaled by an exact power of ten to m in [1000, 10000)
+// (one rounding, relative error ≤ 2^−53), as m and k with m ≈ |x|·10^k;
+// nullopt where a scale beyond 10^22 is needed. The decimal exponent comes
+// from the binary one (log10(2)·e, within one of floor(log10(x))), put right
+// by the loop.
+struct four_digit_scaling {
+    double m;
+    int k;
+};
+double scaled_by_power_of_ten(double magnitude, int k) {
+    return k >= 0 ? magnitude * powers_of_ten[k] : magnitude / powers_of_ten[-k];
+}
+std::optional<four_digit_scaling> scaled_to_four_digits(double magnitude) {
     constexpr double log10_of_2 = 0.30102999566398120;
     int k = figure_significant_digits - 1 - static_cast<int>(std::floor(std::ilogb(magnitude) * log10_of_2));
     for (int attempt = 0; attempt < 3; ++attempt) {
         if (k < -22 || k > 22) return std::nullopt;
-        const double m = k >= 0 ? magnitude * powers_of_ten[k] : magnitude / powers_of_ten[-k];
+        const double m = scaled_by_power_of_ten(magnitude, k);
         if (m < 1000) {
             ++k;
             continue;
@@ -54,12 +56,26 @@ std::optional<double> printed_without_conversion(double x) {
             --k;
             continue;
         }
-        const double n = std::floor(m + 0.5);
-        if (std::fabs(std::fabs(m - std::floor(m)) - 0.5) <= 0x1p-40 * m) return std::nullopt;
-        const double rounded = k >= 0 ? n / powers_of_ten[k] : n * powers_of_ten[-k];
-        return std::copysign(rounded, x);
+        return four_digit_scaling{m, k};
     }
     return std::nullopt;
+}
+
+// Whether m lies farther than 2^−40·m from every half-integer, so that the
+// exact |x|·10^k that m rounds rounds to the same integer as m.
+bool clear_of_tie(double m) { return std::fabs(std::fabs(m - std::floor(m)) - 0.5) > 0x1p-40 * m; }
+
+// printed_figure without a decimal conversion where that is safe: m rounded
+// to the integer n when it is clear of a tie, and n·10^−k formed by one
+// multiplication or division of exact doubles (correctly rounded: the double
+// nearest the decimal). nullopt where a scale beyond 10^22 is needed or m
+// lies that near a tie.
+std::optional<double> printed_without_conversion(double x) {
+    const std::optional<four_digit_scaling> s = scaled_to_four_digits(std::fabs(x));
+    if (!s || !clear_of_tie(s->m)) return std::nullopt;
+    const double n = std::floor(s->m + 0.5);
+    const double rounded = s->k >= 0 ? n / powers_of_ten[s->k] : n * powers_of_ten[-s->k];
+    return std::copysign(rounded, x);
 }
 
 // printed_figure, worked out.
@@ -82,6 +98,28 @@ double printed_figure(double x) {
     if (!std::isfinite(x) || x == 0) return x;
     static thread_local remembered_by_bits<double> recent;
     return recent.of(x, rounded_to_printed_digits);
+}
+
+bool printed_alike(double a, double b) {
+    if (a == b) return true;
+    // Both scaled alike, clear of ties: alike when they round to one integer.
+    if (a > 0 && b > 0 && std::isfinite(a) && std::isfinite(b))
+        if (const std::optional<four_digit_scaling> sb = scaled_to_four_digits(b)) {
+            const double ma = scaled_by_power_of_ten(a, sb->k);
+            if (ma >= 1000 && ma < 10000 && clear_of_tie(ma) && clear_of_tie(sb->m))
+                return std::floor(ma + 0.5) == std::floor(sb->m + 0.5);
+        }
+    return printed_figure(a) == printed_figure(b);
+}
+
+bool printed_as_exact(const case_score& s) {
+    if (!s.figure_upper_bounds) return true;
+    for (const error_figure_definition& f : error_figures)
+        if (f.upper_in_score && f.of_case(s) && !printed_alike(*f.of_case(s), f.upper_of_case(s))) return false;
+    if (s.hit_point_ulp)
+        for (int axis = 0; axis < 3; ++axis)
+            if (!printed_alike((*s.hit_point_ulp)[axis], s.figure_upper_bounds->hit_point_ulp[axis])) return false;
+    return true;
 }
 
 std::optional<double> printed_figure(const std::optional<double>& x) {

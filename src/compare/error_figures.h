@@ -34,6 +34,9 @@ inline constexpr int figure_significant_digits = 4;
 // it) has no nearest double, and x is returned unrounded.
 double printed_figure(double x);
 std::optional<double> printed_figure(const std::optional<double>& x);
+// printed_figure(a) == printed_figure(b), for non-negative a ≤ b, mostly
+// without forming either (a few operations where both lie clear of a tie).
+bool printed_alike(double a, double b);
 // The printed figure as text for tables and sentences: "0.1235", "1.235e+04",
 // "0", "inf", "nan".
 std::string format_figure(double x);
@@ -60,25 +63,35 @@ struct error_figure_definition {
     std::string_view case_name;  // per-case lines, and the gate's figures (case_name + "_max", "_p99")
     bool gated;                  // compared against gate baselines (its max and p99)
     std::optional<double> case_score::*in_score;  // its value in a case's score
+    // Its upper bound where the judge decided it to its printed digits
+    // (case_score::figure_upper_bounds); null for a figure always exact.
+    double case_score::upper_bounds::*upper_in_score = nullptr;
     // Its value in a case's score: a member read in place (a value formed
     // on each read came back through memory, a stall in the audit's hottest
     // loop).
     constexpr const std::optional<double>& of_case(const case_score& s) const { return s.*in_score; }
+    // Its upper bound in a case's score that holds it (of_case(s) present):
+    // the value itself where the figure is exact.
+    constexpr double upper_of_case(const case_score& s) const {
+        return s.figure_upper_bounds && upper_in_score ? *s.figure_upper_bounds.*upper_in_score : *of_case(s);
+    }
 };
 
 inline constexpr std::array error_figures{
-    error_figure_definition{error_figure::near_root_ulp, "near_root_ulp", "near_ulp", true, &case_score::near_ulp},
-    error_figure_definition{error_figure::far_root_ulp, "far_root_ulp", "far_ulp", true, &case_score::far_ulp},
+    error_figure_definition{error_figure::near_root_ulp, "near_root_ulp", "near_ulp", true, &case_score::near_ulp,
+                            &case_score::upper_bounds::near_ulp},
+    error_figure_definition{error_figure::far_root_ulp, "far_root_ulp", "far_ulp", true, &case_score::far_ulp,
+                            &case_score::upper_bounds::far_ulp},
     error_figure_definition{error_figure::near_root_scaled_ulp, "near_root_scaled_ulp", "near_scaled_ulp", false,
-                            &case_score::near_scaled_ulp},
+                            &case_score::near_scaled_ulp, &case_score::upper_bounds::near_scaled_ulp},
     error_figure_definition{error_figure::near_root_bits, "near_root_bits", "near_bits", false,
                             &case_score::near_bits},
     error_figure_definition{error_figure::hit_point_ulp, "hit_point_ulp", "hit_point_ulp", false,
-                            &case_score::hit_point_worst_ulp},
+                            &case_score::hit_point_worst_ulp, &case_score::upper_bounds::hit_point_worst_ulp},
     error_figure_definition{error_figure::scale_error_radius, "scale_error_radius", "scale_error_radius", false,
-                            &case_score::scale_error_radius},
+                            &case_score::scale_error_radius, &case_score::upper_bounds::scale_error_radius},
     error_figure_definition{error_figure::scale_error_distance, "scale_error_distance", "scale_error_distance", false,
-                            &case_score::scale_error_distance},
+                            &case_score::scale_error_distance, &case_score::upper_bounds::scale_error_distance},
     error_figure_definition{error_figure::bound_width_ulp, "bound_width_ulp", "bound_width_ulp", false,
                             &case_score::bound_ulp},
     error_figure_definition{error_figure::normal_angle, "normal_angle", "normal_angle", false,
@@ -86,6 +99,12 @@ inline constexpr std::array error_figures{
 };
 
 inline constexpr std::size_t error_figure_count = error_figures.size();
+
+// Whether every figure of `s` prints as its exact value does: where it holds
+// exact figures, and where each figure it holds to a bucket only
+// (case_score::figure_upper_bounds) has bounds that print alike. Where not,
+// what prints the case's own figures prints exact_figures' instead.
+bool printed_as_exact(const case_score& s);
 
 constexpr bool error_figures_in_enum_order() {
     for (std::size_t i = 0; i < error_figure_count; ++i)

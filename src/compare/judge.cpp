@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "compare/audit.h"
 #include "compare/error_figures.h"
 #include "core/case_in_progress.h"
 #include "core/float_bits.h"
@@ -344,11 +345,34 @@ double ulp_of_in(precision p, double x) {
     return with_precision(p, [&]<class T>(std::type_identity<T>) { return static_cast<double>(ulp_of(static_cast<T>(x))); });
 }
 
+// A figure as far as the audit reads it (figure_request::root_errors::
+// to_printed_digits): the lower end of `bounds` where they lie in one
+// histogram bucket (bounds_in_one_bucket), their upper end into `upper`
+// (what prints the figure checks that the two print alike:
+// printed_as_exact); else every_digit(), into both. Bounds from the
+// oracle's enclosures cost a few operations; the figure to every digit,
+// expansions (a fifth to a third of an audit of ordinary cases, by
+// docs/oracle.md, most of it for digits nothing prints).
+template <class EveryDigit>
+double to_printed_digits(const std::optional<figure_bracket>& bounds, double& upper, EveryDigit every_digit) {
+    if (bounds && bounds_in_one_bucket(bounds->lower, bounds->upper)) {
+        upper = bounds->upper;
+        return bounds->lower;
+    }
+    upper = every_digit();
+    return upper;
+}
+
 // The error of a finite value against root i: ULPs of t* and Herbie bits.
+// With `upper`, the ULP error to its printed digits (to_printed_digits).
 void measure_root(const exact_solution& exact, root_index i, double value, std::optional<double>& ulp,
-                  std::optional<double>& bits) {
+                  std::optional<double>& bits, double* upper = nullptr) {
     if (!std::isfinite(value)) return;
-    ulp = exact.root_ulp_error(i, value);
+    if (upper)
+        ulp = to_printed_digits(exact.root_ulp_error_bracket(i, value), *upper,
+                                [&] { return exact.root_ulp_error(i, value); });
+    else
+        ulp = exact.root_ulp_error(i, value);
     bits = error_bits(ulps_between_in(exact.prec, value, exact.root(i).rounded));
 }
 
@@ -433,6 +457,40 @@ expected_hit expected_answer(const contract& promises, const exact_solution& exa
     return promises.query == query_kind::line_roots ? expected_hit{} : expect_hit(promises, exact, range);
 }
 
+// The values an answer's t are judged by: none for a miss, or where no hit is expected.
+judged_list judged_values_of(const contract& promises, const variant_output& out, const exact_solution& exact,
+                             const expected_hit& want) {
+    const bool hit_expected = promises.query == query_kind::line_roots ? exact.cls != line_class::miss : want.hit();
+    return out.roots.count > 0 && hit_expected ? judged_values(promises.query, exact, want) : judged_list{};
+}
+
+// The root errors of the values judged (measure_root, measure_value), to
+// every digit or, asked to_printed_digits, to their printed digits
+// (case_score::figure_upper_bounds, set only where a value is judged). Only
+// where the filters settled the case: where expansions had to (a tangent, an
+// origin on the sphere), the answers' errors are mostly exactly 0 or need them
+// too, and a bracket tried first would only add its cost.
+void measure_root_errors(case_score& s, const judged_list& judged, const double (&t)[2], const exact_solution& exact,
+                         figure_request::root_errors measure) {
+    s.figure_upper_bounds.reset();
+    if (measure == figure_request::root_errors::to_printed_digits && judged.size &&
+        exact.stage == oracle_stage::filter)
+        s.figure_upper_bounds.emplace();
+    for (const judged_value& j : judged) {
+        std::optional<double>& ulp = j.slot == 0 ? s.near_ulp : s.far_ulp;
+        std::optional<double>& bits = j.slot == 0 ? s.near_bits : s.far_bits;
+        double* upper = !s.figure_upper_bounds ? nullptr
+                        : j.slot == 0          ? &s.figure_upper_bounds->near_ulp
+                                               : &s.figure_upper_bounds->far_ulp;
+        if (j.root) {
+            measure_root(exact, *j.root, t[j.slot], ulp, bits, upper);
+        } else {
+            measure_value(exact.prec, j.start, t[j.slot], ulp, bits);
+            if (upper && ulp) *upper = *ulp;
+        }
+    }
+}
+
 // The bracketed form of the root errors: bounds on the largest of the
 // errors measure_root and measure_value give the judged values, each from
 // the root's enclosure where it brackets it, else the error itself.
@@ -489,16 +547,9 @@ void judge_verdict(case_score& s, const contract& promises, const variant_output
     const int values = r.count == 0 || any ? 0 : (line ? 2 : 1);
     const double t[2] = {r.t0, r.t1};
     const bool hit_expected = line ? exact.cls != line_class::miss : want.hit();
-    const judged_list judged = r.count > 0 && hit_expected ? judged_values(query, exact, want) : judged_list{};
-    if (measure == figure_request::root_errors::exact)
-        for (const judged_value& j : judged) {
-            std::optional<double>& ulp = j.slot == 0 ? s.near_ulp : s.far_ulp;
-            std::optional<double>& bits = j.slot == 0 ? s.near_bits : s.far_bits;
-            if (j.root)
-                measure_root(exact, *j.root, t[j.slot], ulp, bits);
-            else
-                measure_value(exact.prec, j.start, t[j.slot], ulp, bits);
-        }
+    const judged_list judged = judged_values_of(promises, out, exact, want);
+    if (measure == figure_request::root_errors::exact || measure == figure_request::root_errors::to_printed_digits)
+        measure_root_errors(s, judged, t, exact, measure);
     if (measure == figure_request::root_errors::bracketed) s.root_ulp_bracket = bracket_root_errors(judged, t, exact);
     if (measure != figure_request::root_errors::none)
         for (const judged_value& j : judged)
@@ -627,7 +678,9 @@ exact_hit exact_hit_of(const contract& promises, const variant_output& output, c
     return hit_at(*first);
 }
 
-// Hit point error of an agreeing answer, per coordinate in ulps.
+// Hit point error of an agreeing answer, per coordinate in ulps; with the
+// score's upper bounds (case_score::figure_upper_bounds), each coordinate's
+// and the largest to their printed digits (to_printed_digits).
 void measure_hit_point(const contract& promises, const variant_output& output, const exact_solution& exact,
                        const t_range& range, const expected_hit& want, const ray_sphere<double>& input,
                        case_score& s) {
@@ -635,12 +688,33 @@ void measure_hit_point(const contract& promises, const variant_output& output, c
     if (hit == exact_hit::none) return;
     const std::optional<root_index> root = root_of(hit);
     const vec3<double>& p = *output.hit_point;
-    std::array<double, 3> errors{};
-    for (int axis = 0; axis < 3; ++axis)
-        errors[axis] = root ? exact.hit_point_ulp_error(*root, axis, p[axis])
-                            : std::fabs(p[axis] - input.origin[axis]) / ulp_of_in(exact.prec, input.origin[axis]);
+    const auto every_digit = [&](int axis) {
+        return root ? exact.hit_point_ulp_error(*root, axis, p[axis])
+                    : std::fabs(p[axis] - input.origin[axis]) / ulp_of_in(exact.prec, input.origin[axis]);
+    };
+    std::array<double, 3> errors{}, uppers{};
+    for (int axis = 0; axis < 3; ++axis) {
+        if (s.figure_upper_bounds && root && std::isfinite(p[axis]))
+            errors[axis] = to_printed_digits(exact.hit_point_ulp_error_bracket(*root, axis, p[axis]), uppers[axis],
+                                             [&] { return every_digit(axis); });
+        else
+            errors[axis] = uppers[axis] = every_digit(axis);
+    }
+    double worst = std::max({errors[0], errors[1], errors[2]});
+    const double worst_upper = std::max({uppers[0], uppers[1], uppers[2]});
+    if (s.figure_upper_bounds) {
+        // Each coordinate decided alone, their largest may still straddle a bucket's edge.
+        if (!bounds_in_one_bucket(worst, worst_upper)) {
+            for (int axis = 0; axis < 3; ++axis) errors[axis] = uppers[axis] = every_digit(axis);
+            worst = std::max({errors[0], errors[1], errors[2]});
+            s.figure_upper_bounds->hit_point_worst_ulp = worst;
+        } else {
+            s.figure_upper_bounds->hit_point_worst_ulp = worst_upper;
+        }
+        s.figure_upper_bounds->hit_point_ulp = uppers;
+    }
     s.hit_point_ulp = errors;
-    s.hit_point_worst_ulp = std::max({errors[0], errors[1], errors[2]});
+    s.hit_point_worst_ulp = worst;
 }
 
 // ulp(t*) of the exact root as the oracle's ULP errors use it: RN(t*)'s,
@@ -707,13 +781,18 @@ scaled origin_to_centre(const ray_sphere<double>& input) {
 // ulp(t*) (a power of two: the product kept as m·2^e); where the ULP error
 // itself overflows (t beyond 2^1024 ulps of t*: |t − t*| > 2^−50), t − RN(t*),
 // whose relative error is then below 2^−1000.
-scaled root_error(const exact_solution& exact, root_index i, double t) {
+// `ulps`: the ULP error of t against root i, or a bound on it (the result
+// then bounds |t − t*| alike).
+scaled root_error_from_ulps(const exact_solution& exact, root_index i, double t, double ulps) {
     if (exact.root(i).sign == 0) return scaled::of(t);
-    const double ulps = exact.root_ulp_error(i, t);
     if (!std::isfinite(ulps)) return distance_between(t, exact.root(i).rounded);
     scaled s = scaled::of(ulps);
     s.e += binade_of(ulp_of_root(exact, i));
     return s;
+}
+
+scaled root_error(const exact_solution& exact, root_index i, double t) {
+    return root_error_from_ulps(exact, i, t, exact.root(i).sign == 0 ? 0.0 : exact.root_ulp_error(i, t));
 }
 
 // The largest of the figures `measure` gives, over the values it gives one for.
@@ -726,22 +805,64 @@ void keep_max(std::optional<double>& figure, double x) { figure = std::max(figur
 // measure) or a non-finite t.
 struct scale_errors {
     std::optional<double> radius, distance;
+    double radius_upper = 0, distance_upper = 0;  // upper bounds on the two (each itself, to every digit)
 };
+// With the score's root errors to their printed digits (measure_root_errors,
+// case_score::figure_upper_bounds), the scale errors are bounded alike, from
+// those bounds; each to every digit where its bounds straddle a bucket's edge,
+// or where the radius figure reaches agree_far_fraction (the farthest agreeing
+// cases are ranked by it). `every_digit`: to every digit whatever the score holds.
 scale_errors measure_scale_errors(const judged_list& judged, const double (&t)[2], const exact_solution& exact,
-                                  const ray_sphere<double>& input, const input_lengths& lengths) {
+                                  const ray_sphere<double>& input, const input_lengths& lengths, const case_score& s,
+                                  bool every_digit = false) {
     scale_errors out;
     if (!judged.size) return out;
     const scaled& d_length = lengths.direction;
     const scaled& distance = lengths.origin_to_centre;
+    const bool bounded = s.figure_upper_bounds && !every_digit;
     for (const judged_value& j : judged) {
         const double value = t[j.slot];
         if (!std::isfinite(value) || (j.root && !std::isfinite(exact.root(*j.root).rounded))) continue;
         // |t − t*|: ULPs of t* times ulp(t*), or |t| itself where t* is exactly 0 (no ulp to count in).
-        const scaled error = j.root ? root_error(exact, *j.root, value) : distance_between(value, j.start);
-        if (input.radius > 0) keep_max(out.radius, (error * d_length / scaled::of(input.radius)).value());
-        if (distance.m != 0) keep_max(out.distance, (error * d_length / distance).value());
+        scaled error;
+        // Where |t − t*| is known only within a factor 1 + 2^−24, each figure
+        // is within a factor 1 + 2^−22 of its value at the lower bound: the
+        // factor and the roundings between (a few, each 2^−53 at most, the
+        // figures normal). A bucket is 2^−7 wide.
+        bool widened = false;
+        const std::optional<double>& ulps = j.slot == 0 ? s.near_ulp : s.far_ulp;
+        if (!j.root) {
+            error = distance_between(value, j.start);
+        } else if (bounded && ulps && exact.root(*j.root).sign != 0) {
+            const double upper = j.slot == 0 ? s.figure_upper_bounds->near_ulp : s.figure_upper_bounds->far_ulp;
+            if (!(upper <= *ulps + *ulps * 0x1p-24))
+                return measure_scale_errors(judged, t, exact, input, lengths, s, true);
+            error = root_error_from_ulps(exact, *j.root, value, *ulps);
+            widened = upper != *ulps;
+        } else {
+            error = root_error(exact, *j.root, value);
+        }
+        const auto upper_of = [&](double figure) {
+            if (!widened) return figure;
+            return figure >= 0x1p-1000 && figure <= 0x1p1000 ? figure * (1 + 0x1p-22)
+                                                             : std::numeric_limits<double>::infinity();
+        };
+        if (input.radius > 0) {
+            const double radius = (error * d_length / scaled::of(input.radius)).value();
+            keep_max(out.radius, radius);
+            out.radius_upper = std::max(out.radius_upper, upper_of(radius));
+        }
+        if (distance.m != 0) {
+            const double along = (error * d_length / distance).value();
+            keep_max(out.distance, along);
+            out.distance_upper = std::max(out.distance_upper, upper_of(along));
+        }
     }
-    return out;
+    if (!bounded) return out;
+    const bool radius_decided =
+        !out.radius || (bounds_in_one_bucket(*out.radius, out.radius_upper) && out.radius_upper < agree_far_fraction);
+    const bool distance_decided = !out.distance || bounds_in_one_bucket(*out.distance, out.distance_upper);
+    return radius_decided && distance_decided ? out : measure_scale_errors(judged, t, exact, input, lengths, s, true);
 }
 
 // 12. imprecise: why an agreeing answer misses the contract's accuracy
@@ -896,14 +1017,22 @@ std::optional<std::string> measure_outputs(const contract& promises, const varia
     const ray_sphere<double>& input = frame.input();
     const judged_list judged = judged_values(promises.query, exact, want);
     const double t[2] = {output.roots.t0, output.roots.t1};
+    case_score::upper_bounds* upper = s.figure_upper_bounds ? &*s.figure_upper_bounds : nullptr;
     s.near_scaled_ulp = s.near_ulp;
+    if (upper) upper->near_scaled_ulp = upper->near_ulp;
     for (const judged_value& j : judged)
-        if (j.slot == 0 && j.root && exact.root(*j.root).sign == 0 && s.near_ulp)
+        if (j.slot == 0 && j.root && exact.root(*j.root).sign == 0 && s.near_ulp) {
             s.near_scaled_ulp = zero_root_error_in_radius_ulps(t[0], input, frame.lengths(), exact.prec);
+            if (upper) upper->near_scaled_ulp = *s.near_scaled_ulp;
+        }
     if (with_scale_errors) {
-        const scale_errors scale = measure_scale_errors(judged, t, exact, input, frame.lengths());
+        const scale_errors scale = measure_scale_errors(judged, t, exact, input, frame.lengths(), s);
         s.scale_error_radius = scale.radius;
         s.scale_error_distance = scale.distance;
+        if (upper) {
+            upper->scale_error_radius = scale.radius_upper;
+            upper->scale_error_distance = scale.distance_upper;
+        }
     }
     const t_bounds_check bounds = check_t_bounds(judged, output, exact);
     s.bound_ulp = bounds.width_ulp;
@@ -1033,6 +1162,18 @@ void judge_output_into(case_score& s, const contract& promises, const variant_ou
             measure_outputs(promises, output, frame, range, want, wanted.scale_errors, s);
         if (!unsound) return;
         disagree(s, verdict_kind::unsound_bound, *unsound);
+    }
+    // Only agreeing answers keep figures to their printed digits: the worst
+    // disagreeing cases are ranked by their root errors, to every digit.
+    if (s.figure_upper_bounds) {
+        figure_request every_digit = wanted;
+        every_digit.roots = figure_request::root_errors::exact;
+        if (s.verdict == verdict_kind::unsound_bound) {  // measured as an agreeing answer's: judged again, rarely
+            s = case_score{};
+            return judge_output_into(s, promises, output, frame, range, every_digit);
+        }
+        const double t[2] = {output.roots.t0, output.roots.t1};
+        measure_root_errors(s, judged_values_of(promises, output, exact, want), t, exact, every_digit.roots);
     }
     if (!s.cause) s.cause = cause_of(promises, output, frame, range, s.verdict);
 }
@@ -1194,6 +1335,16 @@ target_outcome judge_target(const audit_target& target, const corpus_case& c, co
 target_outcome judge_target(const audit_target& target, const corpus_case& c, const exact_solution& exact,
                             const given_answer& given, const figure_request& wanted) {
     return judge_target(target, c, case_frame(exact, target_input(target.prec, c)), given, wanted);
+}
+
+case_score exact_figures(const audit_target& target, const corpus_case& c, const target_outcome& outcome,
+                         const exact_solution& exact) {
+    const case_frame frame(exact, target_input(target.prec, c));
+    figure_request every_digit;
+    every_digit.details = false;
+    case_score s;
+    judge_output_into(s, target.subject.promises, outcome.output, frame, outcome.range, every_digit);
+    return s;
 }
 
 template <class T>

@@ -219,6 +219,22 @@ struct case_score {
     // largest of near_ulp and far_ulp (0 when no returned value has one),
     // which are then left empty, as are their bits.
     std::optional<figure_bracket> root_ulp_bracket;
+    // With the figures asked to their printed digits (figure_request::
+    // root_errors::to_printed_digits) and the answer agreeing: each figure
+    // below may hold a lower bound on its exact value, from the oracle's
+    // enclosures, and this its upper bound. Every value between the two
+    // falls in one histogram bucket (bounds_in_one_bucket), so whatever counts
+    // a figure by bucket reads the member; what prints a case's own figures
+    // (per-case lines, the plot sample) or orders cases by one (the case that
+    // holds a maximum) asks for the exact figures (exact_figures) where the
+    // bounds print apart (printed_as_exact) or leave the order open. Empty
+    // where every figure is exact.
+    struct upper_bounds {
+        double near_ulp = 0, far_ulp = 0, near_scaled_ulp = 0, hit_point_worst_ulp = 0, scale_error_radius = 0,
+               scale_error_distance = 0;
+        std::array<double, 3> hit_point_ulp{};  // per coordinate
+    };
+    std::optional<upper_bounds> figure_upper_bounds;
 };
 
 // What a judgement measures beside its verdict and cause, which it always
@@ -230,6 +246,12 @@ struct figure_request {
         none,
         exact,      // near_ulp, far_ulp and their bits, every digit right
         bracketed,  // root_ulp_bracket alone, from the oracle's enclosures (exact where they cannot bracket)
+        // As exact, but where the filters settled the case an agreeing
+        // answer's ULP, hit-point and scale figures are taken from the
+        // oracle's enclosures where those fall in one histogram bucket
+        // (case_score::figure_upper_bounds); what prints one checks that its
+        // bounds print alike (printed_as_exact). The audit's way.
+        to_printed_digits,
     };
     root_errors roots = root_errors::exact;
     bool hit_point = true;     // hit_point_ulp
@@ -243,6 +265,8 @@ struct figure_request {
     // (imprecise, unsound_bound, an unscored case) keep it.
     bool details = true;
     static constexpr figure_request verdict_only() { return {root_errors::none, false, false}; }
+    // The audit's: every figure, an agreeing answer's to its printed digits.
+    static constexpr figure_request audit() { return {root_errors::to_printed_digits}; }
 };
 
 // The lengths of a case's input that the scale figures divide by, each as
@@ -391,6 +415,11 @@ std::optional<batch_case<T>> run_input(const audit_target& target, const corpus_
 // asks for fewer).
 target_outcome judge_target(const audit_target& target, const corpus_case& c, const exact_solution& exact,
                             const given_answer& given = {}, const figure_request& wanted = {});
+// An outcome judged to its printed digits (case_score::figure_upper_bounds)
+// with every figure exact: its answer judged again, every figure measured to
+// the last bit (the verdict is the same). `exact` as judge_target's.
+case_score exact_figures(const audit_target& target, const corpus_case& c, const target_outcome& outcome,
+                         const exact_solution& exact);
 // The same with the case's frame at the target's precision (the audit judges
 // every target of a case against one frame per precision).
 target_outcome judge_target(const audit_target& target, const corpus_case& c, const case_frame& frame,

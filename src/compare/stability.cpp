@@ -47,6 +47,9 @@ void stability_accumulator::add(const audited_case& c, std::size_t index) {
     auto& family_samples = by_family[family_key(*c.source)];
     family_samples.resize(targets.size());
     const std::string& id = c.source->id;
+    // One target's exact figures, judged again only where a maximum or the line needs them.
+    std::optional<case_score> every_digit;
+    std::size_t every_digit_target = targets.size();
     for (std::size_t t = 0; t < targets.size(); ++t) {
         const case_score& score = c.outcomes[t].score;
         if (!is_scored(score.verdict)) continue;
@@ -63,11 +66,41 @@ void stability_accumulator::add(const audited_case& c, std::size_t index) {
             if (is_by_design(*cause)) ++b.by_design;
         }
         if (score.verdict != verdict_kind::agree) continue;
-        if (score.near_ulp) out.near_ulp[bucket].add(*score.near_ulp, index, id);
-        const std::optional<double> excess =
-            excess_over_line(score, m, c.exact_for(targets[t].prec), targets[t].prec);
+        const exact_solution& exact = c.exact_for(targets[t].prec);
+        std::optional<double> excess = excess_over_line(score, m, exact, targets[t].prec);
+        // A near-root error to its printed digits (case_score::figure_upper_bounds)
+        // is tallied from its bounds; the case judged again to every digit only
+        // where a maximum, or whether it lies above the line, needs it.
+        const auto to_every_digit = [&]() -> const case_score& {
+            if (every_digit_target != t) {
+                every_digit = exact_figures(targets[t], *c.source, c.outcomes[t], exact);
+                every_digit_target = t;
+            }
+            return *every_digit;
+        };
+        if (!score.figure_upper_bounds) {
+            if (score.near_ulp) out.near_ulp[bucket].add(*score.near_ulp, index, id);
+            if (excess) out.excess.add(*excess, index, id);
+        } else {
+            const double upper = score.figure_upper_bounds->near_ulp;
+            if (score.near_ulp)
+                out.near_ulp[bucket].add_bounded(*score.near_ulp, upper, index, id,
+                                                 [&] { return to_every_digit().near_ulp.value(); });
+            if (excess) {
+                const std::optional<double> excess_upper = excess_over_line(
+                    score.near_ulp ? std::optional<double>(upper) : std::nullopt, score, m, exact, targets[t].prec);
+                if (!bounds_in_one_bucket(*excess, *excess_upper) ||
+                    (*excess <= stability_factor) != (*excess_upper <= stability_factor)) {
+                    excess = excess_over_line(to_every_digit(), m, exact, targets[t].prec);
+                    out.excess.add(*excess, index, id);
+                } else {
+                    out.excess.add_bounded(*excess, *excess_upper, index, id, [&] {
+                        return excess_over_line(to_every_digit(), m, exact, targets[t].prec).value();
+                    });
+                }
+            }
+        }
         if (!excess) continue;
-        out.excess.add(*excess, index, id);
         const bool above = !(*excess <= stability_factor);
         out.above_line += above;
         if (m.near_condition && *m.near_condition < 1e3) {

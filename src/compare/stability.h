@@ -42,11 +42,13 @@ inline constexpr double stability_factor = 16;
 // ulp(t*)/(u·|t*|) ∈ (1, 2]); the larger of the two where both apply.
 // Inline: the stability tallies call it for every agreeing case-target, and
 // a call returned its optional through memory, a stall each time.
-inline std::optional<double> excess_over_line(const case_score& score, const stability_measures& m,
-                                              const exact_solution& exact, precision prec) {
+// `near_ulp`: the score's, or a bound on it (the excess is then bounded alike).
+inline std::optional<double> excess_over_line(const std::optional<double>& near_ulp, const case_score& score,
+                                              const stability_measures& m, const exact_solution& exact,
+                                              precision prec) {
     std::optional<double> excess;
-    if (score.near_ulp && m.near_condition && std::isfinite(*m.near_condition))
-        excess = *score.near_ulp / std::max(*m.near_condition, 1.0);
+    if (near_ulp && m.near_condition && std::isfinite(*m.near_condition))
+        excess = *near_ulp / std::max(*m.near_condition, 1.0);
     if (score.zero_root_error) {
         const std::optional<double>& absolute_condition =
             exact.near_root.sign == 0 ? m.near_absolute_condition : m.far_absolute_condition;
@@ -56,6 +58,10 @@ inline std::optional<double> excess_over_line(const case_score& score, const sta
         }
     }
     return excess;
+}
+inline std::optional<double> excess_over_line(const case_score& score, const stability_measures& m,
+                                              const exact_solution& exact, precision prec) {
+    return excess_over_line(score.near_ulp, score, m, exact, prec);
 }
 
 // Per target and condition bucket.

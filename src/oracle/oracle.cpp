@@ -583,6 +583,13 @@ double exact_solution::hit_point_ulp_error(root_index i, int axis, double value)
     return error;
 }
 
+std::optional<figure_bracket> exact_solution::hit_point_ulp_error_bracket(root_index i, int axis, double value) const {
+    const double o = geometry_.origin[axis], d = geometry_.direction[axis];
+    if ((d == 0 || internal::exact_zero_root(*this, i)) && value == o) return figure_bracket{0, 0};  // o's coordinate
+    const ulp_frame& frame = internal::hit_frame(*this, i, axis);
+    return ulp_error_bracket_from(frame.x, frame.ulp_exponent, value);
+}
+
 double exact_solution::rounded_hit_coordinate(root_index i, int axis) const {
     return hit_coordinate_in(i, axis, prec);
 }

@@ -166,6 +166,10 @@ public:
 
     // Same for coordinate `axis` of o + t·d with t the root i.
     double hit_point_ulp_error(root_index i, int axis, double value) const;
+    // Bounds on hit_point_ulp_error(i, axis, value) from the coordinate's
+    // enclosure alone, as root_ulp_error_bracket's; nullopt where it does not
+    // settle the coordinate's binade. value finite; requires cls != miss.
+    std::optional<figure_bracket> hit_point_ulp_error_bracket(root_index i, int axis, double value) const;
 
     // RN of coordinate `axis` of o + t·d for root i, in the solution's precision.
     double rounded_hit_coordinate(root_index i, int axis) const;

@@ -416,16 +416,22 @@ std::string per_case_line(const audited_case& audited, const std::vector<audit_t
             line.key_text(name);
             write_number(line, printed_figure(*x));
         };
+        // Figures the audit kept to their bucket print from their exact
+        // values where their bounds print apart (printed_as_exact).
+        std::optional<case_score> every_digit;
+        if (!printed_as_exact(o.score))
+            every_digit = exact_figures(targets[i], c, o, audited.exact_for(targets[i].prec));
+        const case_score& figures = every_digit ? *every_digit : o.score;
         for (const error_figure_definition& f : error_figures) {
             if (f.figure == error_figure::hit_point_ulp) {
                 // Per coordinate on a case's line (the tally keeps the worst).
-                if (!o.score.hit_point_ulp) continue;
+                if (!figures.hit_point_ulp) continue;
                 line.key_text(f.case_name).begin_array();
-                for (const double e : *o.score.hit_point_ulp) write_number(line, printed_figure(e));
+                for (const double e : *figures.hit_point_ulp) write_number(line, printed_figure(e));
                 line.end_array();
                 continue;
             }
-            figure(f.case_name, f.of_case(o.score));
+            figure(f.case_name, f.of_case(figures));
         }
         if (!o.score.detail.empty()) line.member("detail", o.score.detail);
         line.end_object();

@@ -181,7 +181,11 @@ void case_points::add(const audited_case& c, std::size_t index) {
     for (std::size_t t = 0; t < targets_.size(); ++t) {
         const case_score& score = c.outcomes[t].score;
         r.verdict.push_back(score.verdict);
-        r.near_ulp.push_back(score.verdict == verdict_kind::agree ? score.near_ulp : std::nullopt);
+        std::optional<double> near_ulp = score.verdict == verdict_kind::agree ? score.near_ulp : std::nullopt;
+        // A figure kept to its bucket is printed as its exact value (printed_as_exact).
+        if (near_ulp && score.figure_upper_bounds && !printed_alike(*near_ulp, score.figure_upper_bounds->near_ulp))
+            near_ulp = exact_figures(targets_[t], *c.source, c.outcomes[t], c.exact_for(targets_[t].prec)).near_ulp;
+        r.near_ulp.push_back(near_ulp);
         r.cause.push_back(score.cause);
     }
     insert(c.source->family, key, std::move(r));

@@ -183,6 +183,15 @@ root_index stands_for(const exact_solution& exact, double t, root_index wanted);
 
 // ---- Judging --------------------------------------------------------------------
 
+// The upper bounds of a case_score's figures held as bounds
+// (case_score::figure_upper_bounds). At namespace scope: nested in case_score,
+// clang 14 would not construct it inside the class's own optional member.
+struct case_figure_upper_bounds {
+    double near_ulp = 0, far_ulp = 0, near_scaled_ulp = 0, hit_point_worst_ulp = 0, scale_error_radius = 0,
+           scale_error_distance = 0;
+    std::array<double, 3> hit_point_ulp{};  // per coordinate
+};
+
 struct case_score {
     verdict_kind verdict = verdict_kind::agree;
     std::optional<disagreement_cause> cause;  // set for every disagreement
@@ -229,11 +238,7 @@ struct case_score {
     // holds a maximum) asks for the exact figures (exact_figures) where the
     // bounds print apart (printed_as_exact) or leave the order open. Empty
     // where every figure is exact.
-    struct upper_bounds {
-        double near_ulp = 0, far_ulp = 0, near_scaled_ulp = 0, hit_point_worst_ulp = 0, scale_error_radius = 0,
-               scale_error_distance = 0;
-        std::array<double, 3> hit_point_ulp{};  // per coordinate
-    };
+    using upper_bounds = case_figure_upper_bounds;
     std::optional<upper_bounds> figure_upper_bounds;
 };
 

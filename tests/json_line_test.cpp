@@ -19,7 +19,7 @@
 
 #include "compare/audit.h"
 #include "compare/stability.h"
-#include "corpus/case_stream.h"
+#include "corpus/corpus_io.h"
 #include "intersectors/registry.h"
 #include "report/audit_report.h"
 #include "report/json_line.h"
@@ -187,19 +187,12 @@ TEST(JsonLine, HexFloatsAndReusedStorage) {
 // nlohmann reads it and json_text writes the same bytes back.
 TEST(JsonLine, PerCaseLinesOfTheShippedCorpusAreNlohmannsBytes) {
     const std::vector<audit_target> targets = targets_for(builtin_variants());
-    case_stream stream(std::vector<std::filesystem::path>{RAYVERIFY_CORPUS_DIR}, {});
-    std::vector<corpus_case> chunk;
-    std::vector<std::size_t> indices;
     std::size_t lines = 0;
-    while (stream.next(chunk, indices)) {
-        for (const corpus_case& c : chunk) {
-            const audited_case audited = audit_case(c, targets);
-            const std::string line = per_case_line(audited, targets);
-            ASSERT_EQ(json_text(json::parse(line)), line) << c.id;
-            ++lines;
-        }
-        chunk.clear();
-        indices.clear();
+    for (const corpus_case& c : read_corpus({RAYVERIFY_CORPUS_DIR})) {
+        const audited_case audited = audit_case(c, targets);
+        const std::string line = per_case_line(audited, targets);
+        ASSERT_EQ(json_text(json::parse(line)), line) << c.id;
+        ++lines;
     }
     EXPECT_GT(lines, 2000u);
 }

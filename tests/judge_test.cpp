@@ -23,7 +23,6 @@
 
 #include "compare/audit.h"
 #include "compare/error_figures.h"
-#include "corpus/case_stream.h"
 #include "corpus/corpus_io.h"
 #include "corpus/generators.h"
 #include "intersectors/registry.h"
@@ -871,39 +870,32 @@ TEST(Degenerate, TheTextbookFormulaHitsAZeroLengthCastAndRobustDoesNot) {
 // variant, judged both ways.
 TEST(Judge, SentencesLeftOutChangeNothingElse) {
     const std::vector<audit_target> targets = targets_for(builtin_variants());
-    case_stream stream(std::vector<std::filesystem::path>{RAYVERIFY_CORPUS_DIR}, {});
-    std::vector<corpus_case> chunk;
-    std::vector<std::size_t> indices;
     figure_request without;
     without.details = false;
     std::size_t disagreements = 0;
-    while (stream.next(chunk, indices)) {
-        for (const corpus_case& c : chunk) {
-            const audited_case with = audit_case(c, targets);
-            const audited_case bare = audit_case(c, targets, {}, without);
-            ASSERT_EQ(with.outcomes.size(), bare.outcomes.size());
-            for (std::size_t t = 0; t < targets.size(); ++t) {
-                const case_score& a = with.outcomes[t].score;
-                const case_score& b = bare.outcomes[t].score;
-                const std::string where = c.id + " " + targets[t].subject.name;
-                ASSERT_EQ(a.verdict, b.verdict) << where;
-                ASSERT_EQ(a.cause, b.cause) << where;
-                for (const error_figure_definition& f : error_figures)
-                    ASSERT_EQ(f.of_case(a), f.of_case(b)) << where << " " << f.name;
-                ASSERT_EQ(a.hit_point_ulp, b.hit_point_ulp) << where;
-                ASSERT_EQ(a.far_bits, b.far_bits) << where;
-                ASSERT_EQ(a.zero_root_error, b.zero_root_error) << where;
-                if (!is_disagreement(a.verdict) || a.verdict == verdict_kind::imprecise ||
-                    a.verdict == verdict_kind::unsound_bound)
-                    continue;
-                // The judge's own rows: their sentence formed only when asked.
-                ++disagreements;
-                EXPECT_FALSE(a.detail.empty()) << where;
-                EXPECT_TRUE(b.detail.empty()) << where;
-            }
+    for (const corpus_case& c : read_corpus({RAYVERIFY_CORPUS_DIR})) {
+        const audited_case with = audit_case(c, targets);
+        const audited_case bare = audit_case(c, targets, {}, without);
+        ASSERT_EQ(with.outcomes.size(), bare.outcomes.size());
+        for (std::size_t t = 0; t < targets.size(); ++t) {
+            const case_score& a = with.outcomes[t].score;
+            const case_score& b = bare.outcomes[t].score;
+            const std::string where = c.id + " " + targets[t].subject.name;
+            ASSERT_EQ(a.verdict, b.verdict) << where;
+            ASSERT_EQ(a.cause, b.cause) << where;
+            for (const error_figure_definition& f : error_figures)
+                ASSERT_EQ(f.of_case(a), f.of_case(b)) << where << " " << f.name;
+            ASSERT_EQ(a.hit_point_ulp, b.hit_point_ulp) << where;
+            ASSERT_EQ(a.far_bits, b.far_bits) << where;
+            ASSERT_EQ(a.zero_root_error, b.zero_root_error) << where;
+            if (!is_disagreement(a.verdict) || a.verdict == verdict_kind::imprecise ||
+                a.verdict == verdict_kind::unsound_bound)
+                continue;
+            // The judge's own rows: their sentence formed only when asked.
+            ++disagreements;
+            EXPECT_FALSE(a.detail.empty()) << where;
+            EXPECT_TRUE(b.detail.empty()) << where;
         }
-        chunk.clear();
-        indices.clear();
     }
     EXPECT_GT(disagreements, 1000u);
 }
@@ -919,14 +911,7 @@ TEST(Judge, FiguresToPrintedDigitsBoundTheExactOnes) {
     const std::vector<audit_target> targets = targets_for(builtin_variants());
     std::vector<corpus_case> cases = generate_family("uniform", 300, 5);
     for (corpus_case& c : generate_family("far_sphere", 300, 5)) cases.push_back(std::move(c));
-    case_stream stream(std::vector<std::filesystem::path>{RAYVERIFY_CORPUS_DIR}, {});
-    std::vector<corpus_case> chunk;
-    std::vector<std::size_t> indices;
-    while (stream.next(chunk, indices)) {
-        cases.insert(cases.end(), chunk.begin(), chunk.end());
-        chunk.clear();
-        indices.clear();
-    }
+    for (corpus_case& c : read_corpus({RAYVERIFY_CORPUS_DIR})) cases.push_back(std::move(c));
     figure_request audit_request = figure_request::audit(), every_digit;
     audit_request.details = every_digit.details = false;
     std::size_t bounded = 0;
@@ -940,7 +925,9 @@ TEST(Judge, FiguresToPrintedDigitsBoundTheExactOnes) {
             ASSERT_EQ(a.verdict, b.verdict) << where;
             ASSERT_EQ(a.cause, b.cause) << where;
             ASSERT_FALSE(b.figure_upper_bounds) << where;
-            if (a.verdict != verdict_kind::agree) ASSERT_FALSE(a.figure_upper_bounds) << where;
+            if (a.verdict != verdict_kind::agree) {
+                ASSERT_FALSE(a.figure_upper_bounds) << where;
+            }
             for (const error_figure_definition& f : error_figures) {
                 ASSERT_EQ(f.of_case(a).has_value(), f.of_case(b).has_value()) << where << " " << f.name;
                 if (!f.of_case(a)) continue;
@@ -958,7 +945,9 @@ TEST(Judge, FiguresToPrintedDigitsBoundTheExactOnes) {
             ASSERT_FALSE(settled.figure_upper_bounds) << where;
             if (printed_as_exact(a))
                 for (const error_figure_definition& f : error_figures)
-                    if (f.of_case(a)) ASSERT_EQ(printed_figure(*f.of_case(a)), printed_figure(*f.of_case(b))) << where;
+                    if (f.of_case(a)) {
+                        ASSERT_EQ(printed_figure(*f.of_case(a)), printed_figure(*f.of_case(b))) << where;
+                    }
         }
     }
     EXPECT_GT(bounded, 10000u);  // figures were taken from bounds

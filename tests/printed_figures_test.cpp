@@ -17,7 +17,7 @@
 
 #include "compare/audit.h"
 #include "compare/error_figures.h"
-#include "corpus/case_stream.h"
+#include "corpus/corpus_io.h"
 #include "corpus/json_mapping.h"
 #include "intersectors/registry.h"
 #include "report/audit_report.h"
@@ -211,14 +211,7 @@ void expect_line_figures_printed(const audited_case& audited, const std::vector<
 // names the case that attains the exact maximum.
 TEST(PrintedFigures, PerCaseLinesAndReportOfTheShippedCorpusPrintTheExactFiguresRounded) {
     const std::vector<audit_target> targets = targets_for(builtin_variants());
-    case_stream stream(std::vector<std::filesystem::path>{RAYVERIFY_CORPUS_DIR}, {});
-    std::vector<corpus_case> cases, chunk;
-    std::vector<std::size_t> indices;
-    while (stream.next(chunk, indices)) {
-        cases.insert(cases.end(), chunk.begin(), chunk.end());
-        chunk.clear();
-        indices.clear();
-    }
+    const std::vector<corpus_case> cases = read_corpus({RAYVERIFY_CORPUS_DIR});
     std::size_t figures = 0;
     const audit_totals totals = run_audit(cases, targets, [&](const audited_case& audited) {
         const json line = json::parse(per_case_line(audited, targets));

@@ -369,9 +369,7 @@ void audit_accumulator::add(const audited_case& c, std::size_t index) {
 
     auto& family_samples = by_family[family];
     family_samples.resize(targets.size());
-    // One target's exact figures, judged again only where a maximum needs them.
-    std::optional<case_score> every_digit;
-    std::size_t every_digit_target = targets.size();
+    every_digit_figures every_digit(c, targets);
     for (std::size_t t = 0; t < targets.size(); ++t) {
         const case_score& score = c.outcomes[t].score;
         target_samples& s = family_samples[t];
@@ -380,23 +378,11 @@ void audit_accumulator::add(const audited_case& c, std::size_t index) {
         if (score.cause) ++s.causes[static_cast<int>(*score.cause)];
         if (score.verdict != verdict_kind::agree) continue;
         // Figures to their printed digits (case_score::figure_upper_bounds)
-        // are added as bounds; the case judged again to every digit only
-        // where a maximum needs it.
-        for (const error_figure_definition& f : error_figures) {
-            const std::optional<double>& e = f.of_case(score);
-            if (!e) continue;
-            if (!score.figure_upper_bounds || !f.upper_in_score) {
-                s.errors[f.figure].add(*e, index, c.source->id);
-                continue;
-            }
-            s.errors[f.figure].add_bounded(*e, f.upper_of_case(score), index, c.source->id, [&] {
-                if (every_digit_target != t) {
-                    every_digit = exact_figures(targets[t], *c.source, c.outcomes[t], c.exact_for(targets[t].prec));
-                    every_digit_target = t;
-                }
-                return f.of_case(*every_digit).value();
-            });
-        }
+        // are added by their bounds, exact ones as themselves.
+        for (const error_figure_definition& f : error_figures)
+            if (const std::optional<double>& e = f.of_case(score))
+                s.errors[f.figure].add_bounded(*e, f.upper_of_case(score), index, c.source->id,
+                                               [&] { return f.of_case(every_digit.of(t)).value(); });
     }
 }
 

@@ -6,6 +6,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <functional>
 #include <map>
 #include <optional>
@@ -39,6 +40,28 @@ struct audited_case {
     const exact_solution& exact_for(precision p) const {
         return p == precision::binary32 ? *exact_float : exact_double;
     }
+};
+
+// A case's figures to every digit (exact_figures), one target's at a time:
+// a tally reads a figure kept to its printed digits exactly only where a
+// maximum needs it, and the target is judged again once for all its figures.
+class every_digit_figures {
+public:
+    every_digit_figures(const audited_case& c, std::span<const audit_target> targets) : case_(c), targets_(targets) {}
+    const case_score& of(std::size_t target) {
+        if (target != target_) {
+            const audit_target& t = targets_[target];
+            score_ = exact_figures(t, *case_.source, case_.outcomes[target], case_.exact_for(t.prec));
+            target_ = target;
+        }
+        return *score_;
+    }
+
+private:
+    const audited_case& case_;
+    std::span<const audit_target> targets_;
+    std::optional<case_score> score_;
+    std::size_t target_ = std::numeric_limits<std::size_t>::max();
 };
 
 // Every target judged on the case: the oracle once per precision in use,
@@ -95,8 +118,9 @@ struct error_summary {
 
     void add(double error, std::size_t index, const std::string& id);
     // The same of an error known to lie in [lower, upper] (bounds_in_one_bucket
-    // holds: one bucket); `exact()` gives the error itself, asked for only
-    // where the bounds leave open whether it takes the maximum.
+    // holds: one bucket; lower == upper: the error itself); `exact()` gives
+    // the error, asked for only where the bounds leave open whether it takes
+    // the maximum.
     template <class Exact>
     void add_bounded(double lower, double upper, std::size_t index, const std::string& id, Exact exact);
     void merge(const error_summary& other);
@@ -187,6 +211,7 @@ template <class Exact>
 void error_summary::add_bounded(double lower, double upper, std::size_t index, const std::string& id, Exact exact) {
     // It cannot take the maximum where even its upper bound would not: the
     // maximum stays the exact value of the case attaining it.
+    if (lower == upper) return add(lower, index, id);
     if (count == 0 || takes_max(upper, index, max, max_index)) return add(exact(), index, id);
     ++count;
     count_in(bucket_of(lower), 1);

@@ -457,11 +457,17 @@ expected_hit expected_answer(const contract& promises, const exact_solution& exa
     return promises.query == query_kind::line_roots ? expected_hit{} : expect_hit(promises, exact, range);
 }
 
+// Whether the contract expects a hit: line_roots a real root, the other
+// queries expect_hit's answer (`want`).
+bool hit_expected(const contract& promises, const exact_solution& exact, const expected_hit& want) {
+    return promises.query == query_kind::line_roots ? exact.cls != line_class::miss : want.hit();
+}
+
 // The values an answer's t are judged by: none for a miss, or where no hit is expected.
 judged_list judged_values_of(const contract& promises, const variant_output& out, const exact_solution& exact,
                              const expected_hit& want) {
-    const bool hit_expected = promises.query == query_kind::line_roots ? exact.cls != line_class::miss : want.hit();
-    return out.roots.count > 0 && hit_expected ? judged_values(promises.query, exact, want) : judged_list{};
+    return out.roots.count > 0 && hit_expected(promises, exact, want) ? judged_values(promises.query, exact, want)
+                                                                       : judged_list{};
 }
 
 // The root errors of the values judged (measure_root, measure_value), to
@@ -546,7 +552,6 @@ void judge_verdict(case_score& s, const contract& promises, const variant_output
     // reported tangent too; nearest_hit: t0) and what each is judged against.
     const int values = r.count == 0 || any ? 0 : (line ? 2 : 1);
     const double t[2] = {r.t0, r.t1};
-    const bool hit_expected = line ? exact.cls != line_class::miss : want.hit();
     const judged_list judged = judged_values_of(promises, out, exact, want);
     if (measure == figure_request::root_errors::exact || measure == figure_request::root_errors::to_printed_digits)
         measure_root_errors(s, judged, t, exact, measure);
@@ -560,7 +565,7 @@ void judge_verdict(case_score& s, const contract& promises, const variant_output
         if (std::isnan(t[i])) return fail(verdict_kind::non_finite, both);
     if (any && r.count == 1 && out.nan_seen) return fail(verdict_kind::non_finite, both);
     // 3. false_hit: no hit expected, one reported.
-    if (!hit_expected) {
+    if (!hit_expected(promises, exact, want)) {
         if (r.count == 0) return;
         // A t that stands for a root outside the range, itself outside it: the formula tests the line.
         if (query == query_kind::nearest_hit && exact.cls != line_class::miss && std::isfinite(r.t0) &&

@@ -47,13 +47,12 @@ void stability_accumulator::add(const audited_case& c, std::size_t index) {
     auto& family_samples = by_family[family_key(*c.source)];
     family_samples.resize(targets.size());
     const std::string& id = c.source->id;
-    // One target's exact figures, judged again only where a maximum or the line needs them.
-    std::optional<case_score> every_digit;
-    std::size_t every_digit_target = targets.size();
+    every_digit_figures every_digit(c, targets);
     for (std::size_t t = 0; t < targets.size(); ++t) {
         const case_score& score = c.outcomes[t].score;
         if (!is_scored(score.verdict)) continue;
-        const stability_measures& m = s.at(targets[t].prec);
+        const precision prec = targets[t].prec;
+        const stability_measures& m = s.at(prec);
         const int bucket = condition_bucket(m);
         stability_samples& out = family_samples[t];
         bucket_tally& b = out.buckets[bucket];
@@ -66,41 +65,26 @@ void stability_accumulator::add(const audited_case& c, std::size_t index) {
             if (is_by_design(*cause)) ++b.by_design;
         }
         if (score.verdict != verdict_kind::agree) continue;
-        const exact_solution& exact = c.exact_for(targets[t].prec);
-        std::optional<double> excess = excess_over_line(score, m, exact, targets[t].prec);
-        // A near-root error to its printed digits (case_score::figure_upper_bounds)
-        // is tallied from its bounds; the case judged again to every digit only
-        // where a maximum, or whether it lies above the line, needs it.
-        const auto to_every_digit = [&]() -> const case_score& {
-            if (every_digit_target != t) {
-                every_digit = exact_figures(targets[t], *c.source, c.outcomes[t], exact);
-                every_digit_target = t;
-            }
-            return *every_digit;
-        };
-        if (!score.figure_upper_bounds) {
-            if (score.near_ulp) out.near_ulp[bucket].add(*score.near_ulp, index, id);
-            if (excess) out.excess.add(*excess, index, id);
-        } else {
-            const double upper = score.figure_upper_bounds->near_ulp;
-            if (score.near_ulp)
-                out.near_ulp[bucket].add_bounded(*score.near_ulp, upper, index, id,
-                                                 [&] { return to_every_digit().near_ulp.value(); });
-            if (excess) {
-                const std::optional<double> excess_upper = excess_over_line(
-                    score.near_ulp ? std::optional<double>(upper) : std::nullopt, score, m, exact, targets[t].prec);
-                if (!bounds_in_one_bucket(*excess, *excess_upper) ||
-                    (*excess <= stability_factor) != (*excess_upper <= stability_factor)) {
-                    excess = excess_over_line(to_every_digit(), m, exact, targets[t].prec);
-                    out.excess.add(*excess, index, id);
-                } else {
-                    out.excess.add_bounded(*excess, *excess_upper, index, id, [&] {
-                        return excess_over_line(to_every_digit(), m, exact, targets[t].prec).value();
-                    });
-                }
-            }
+        const exact_solution& exact = c.exact_for(prec);
+        // The near root's error and its excess over the line, kept to their
+        // printed digits (case_score::figure_upper_bounds), are tallied by
+        // their bounds; the case is judged again to every digit only where a
+        // maximum, or on which side of the line it lies, needs it.
+        std::optional<double> near_upper;
+        if (score.near_ulp) {
+            near_upper = definition_of(error_figure::near_root_ulp).upper_of_case(score);
+            out.near_ulp[bucket].add_bounded(*score.near_ulp, *near_upper, index, id,
+                                             [&] { return every_digit.of(t).near_ulp.value(); });
         }
+        std::optional<double> excess = excess_over_line(score, m, exact, prec);
         if (!excess) continue;
+        double excess_upper =
+            score.figure_upper_bounds ? excess_over_line(near_upper, score, m, exact, prec).value() : *excess;
+        const auto exact_excess = [&] { return excess_over_line(every_digit.of(t), m, exact, prec).value(); };
+        if (!bounds_in_one_bucket(*excess, excess_upper) ||
+            (*excess <= stability_factor) != (excess_upper <= stability_factor))
+            excess = excess_upper = exact_excess();
+        out.excess.add_bounded(*excess, excess_upper, index, id, exact_excess);
         const bool above = !(*excess <= stability_factor);
         out.above_line += above;
         if (m.near_condition && *m.near_condition < 1e3) {

@@ -4,29 +4,13 @@
 #include <utility>
 #include <vector>
 
-#if defined(__x86_64__)
-#include <xmmintrin.h>
-#endif
-
 namespace rayverify {
+
+using namespace fp_registers;  // the registers' bits (core/fp_environment.h)
+
 namespace {
 
 #if defined(__x86_64__)
-// MXCSR's control bits (its low six bits are sticky status flags).
-constexpr std::uint32_t mxcsr_controls = 0xFFC0;
-constexpr std::uint32_t mxcsr_daz = 1u << 6, mxcsr_ftz = 1u << 15;
-constexpr std::uint32_t mxcsr_rounding_shift = 13, mxcsr_rounding = 3u << mxcsr_rounding_shift;
-constexpr std::uint32_t mxcsr_mask_shift = 7, mxcsr_masks = 0x3Fu << mxcsr_mask_shift;
-// The x87 control word's defined bits: exception masks (0-5), precision (8-9), rounding (10-11).
-constexpr std::uint16_t x87_defined = 0x0F3F;
-constexpr std::uint16_t x87_default = 0x033F;  // every exception masked, extended precision, to nearest
-
-std::uint16_t x87_control_word() {
-    std::uint16_t word = 0;
-    __asm__ __volatile__("fnstcw %0" : "=m"(word));
-    return word;
-}
-
 void set_x87_control_word(std::uint16_t word) {
     // Only the defined bits change; the rest keep what the CPU has.
     std::uint16_t full = x87_control_word();
@@ -42,30 +26,14 @@ const char* rounding_name(unsigned mode) {  // x86's encoding: 0 nearest, 1 down
     return names[mode & 3];
 }
 #elif defined(__aarch64__)
-constexpr std::uint64_t fpcr_fz = 1ull << 24, fpcr_ah = 1ull << 1;
-constexpr unsigned fpcr_rmode_shift = 22;
-constexpr std::uint64_t fpcr_rmode = 3ull << fpcr_rmode_shift;
 // Trap enables: IOE 8, DZE 9, OFE 10, UFE 11, IXE 12, IDE 15.
 constexpr std::pair<unsigned, const char*> fpcr_traps[] = {{8, "FE_INVALID"},    {9, "FE_DIVBYZERO"},
                                                            {10, "FE_OVERFLOW"},  {11, "FE_UNDERFLOW"},
                                                            {12, "FE_INEXACT"},   {15, "denormal-input"}};
-std::uint64_t read_fpcr() {
-    std::uint64_t value = 0;
-    __asm__ __volatile__("mrs %0, fpcr" : "=r"(value));
-    return value;
-}
 void write_fpcr(std::uint64_t value) { __asm__ __volatile__("msr fpcr, %0" : : "r"(value)); }
 const char* rounding_name(unsigned mode) {  // RMode: 0 nearest, 1 +inf, 2 -inf, 3 zero
     constexpr const char* names[] = {"to nearest", "upward", "downward", "toward zero"};
     return names[mode & 3];
-}
-#else
-int trapped_exceptions() {
-#if defined(__GLIBC__)
-    return fegetexcept();
-#else
-    return 0;
-#endif
 }
 #endif
 
@@ -76,20 +44,6 @@ std::string joined(const std::vector<std::string>& parts) {
 }
 
 }  // namespace
-
-fp_state current_fp_state() {
-    fp_state s;
-#if defined(__x86_64__)
-    s.mxcsr = _mm_getcsr() & mxcsr_controls;
-    s.x87_control = static_cast<std::uint16_t>(x87_control_word() & x87_defined);
-#elif defined(__aarch64__)
-    s.fpcr = read_fpcr();
-#else
-    s.rounding = std::fegetround();
-    s.traps = trapped_exceptions();
-#endif
-    return s;
-}
 
 void set_fp_state(const fp_state& s) {
 #if defined(__x86_64__)
@@ -105,26 +59,6 @@ void set_fp_state(const fp_state& s) {
     if (s.traps) feenableexcept(s.traps);
 #endif
 #endif
-}
-
-fp_state ieee_default_fp_state() {
-    fp_state s;
-#if defined(__x86_64__)
-    s.mxcsr = mxcsr_masks;  // 0x1F80: masked, to nearest, no FTZ or DAZ
-    s.x87_control = x87_default;
-#elif defined(__aarch64__)
-    s.fpcr = 0;
-#else
-    s.rounding = FE_TONEAREST;
-    s.traps = 0;
-#endif
-    return s;
-}
-
-bool restore_ieee_default() {
-    if (is_ieee_default(current_fp_state())) return false;
-    set_fp_state(ieee_default_fp_state());
-    return true;
 }
 
 std::string describe_fp_state(const fp_state& s) {

@@ -11,9 +11,11 @@
 // are not part of it) and the x87 control word (precision, rounding, masks);
 // on aarch64 FPCR (FZ, RMode, the trap enables, AH); elsewhere the rounding
 // mode and the trapped exceptions of <cfenv>. Reading it costs a few
-// instructions, so it can be checked around every call into foreign code.
+// instructions, inline here, so it can be checked around every call into
+// foreign code and on every case the oracle solves.
 #pragma once
 
+#include <cfenv>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -21,7 +23,50 @@
 #include <string>
 #include <string_view>
 
+#if defined(__x86_64__)
+#include <xmmintrin.h>
+#endif
+
 namespace rayverify {
+
+// The hardware's encoding of the state (x86-64: MXCSR and the x87 control
+// word; aarch64: FPCR), read and written by fp_environment.cpp.
+namespace fp_registers {
+#if defined(__x86_64__)
+// MXCSR's control bits (its low six bits are sticky status flags).
+inline constexpr std::uint32_t mxcsr_controls = 0xFFC0;
+inline constexpr std::uint32_t mxcsr_daz = 1u << 6, mxcsr_ftz = 1u << 15;
+inline constexpr std::uint32_t mxcsr_rounding_shift = 13, mxcsr_rounding = 3u << mxcsr_rounding_shift;
+inline constexpr std::uint32_t mxcsr_mask_shift = 7, mxcsr_masks = 0x3Fu << mxcsr_mask_shift;
+// The x87 control word's defined bits: exception masks (0-5), precision (8-9), rounding (10-11).
+inline constexpr std::uint16_t x87_defined = 0x0F3F;
+inline constexpr std::uint16_t x87_default = 0x033F;  // every exception masked, extended precision, to nearest
+
+inline std::uint16_t x87_control_word() {
+    std::uint16_t word = 0;
+    __asm__ __volatile__("fnstcw %0" : "=m"(word));
+    return word;
+}
+#elif defined(__aarch64__)
+inline constexpr std::uint64_t fpcr_fz = 1ull << 24, fpcr_ah = 1ull << 1;
+inline constexpr unsigned fpcr_rmode_shift = 22;
+inline constexpr std::uint64_t fpcr_rmode = 3ull << fpcr_rmode_shift;
+
+inline std::uint64_t read_fpcr() {
+    std::uint64_t value = 0;
+    __asm__ __volatile__("mrs %0, fpcr" : "=r"(value));
+    return value;
+}
+#else
+inline int trapped_exceptions() {
+#if defined(__GLIBC__)
+    return fegetexcept();
+#else
+    return 0;
+#endif
+}
+#endif
+}  // namespace fp_registers
 
 struct fp_state {
 #if defined(__x86_64__)
@@ -37,17 +82,46 @@ struct fp_state {
 };
 
 // The calling thread's state, and setting it.
-fp_state current_fp_state();
+inline fp_state current_fp_state() {
+    fp_state s;
+#if defined(__x86_64__)
+    s.mxcsr = _mm_getcsr() & fp_registers::mxcsr_controls;
+    s.x87_control = static_cast<std::uint16_t>(fp_registers::x87_control_word() & fp_registers::x87_defined);
+#elif defined(__aarch64__)
+    s.fpcr = fp_registers::read_fpcr();
+#else
+    s.rounding = std::fegetround();
+    s.traps = fp_registers::trapped_exceptions();
+#endif
+    return s;
+}
 void set_fp_state(const fp_state& state);
 
 // Round to nearest, gradual underflow, every exception masked (x87: extended
 // precision): what the C and C++ standards start a program in.
-fp_state ieee_default_fp_state();
+inline fp_state ieee_default_fp_state() {
+    fp_state s;
+#if defined(__x86_64__)
+    s.mxcsr = fp_registers::mxcsr_masks;  // 0x1F80: masked, to nearest, no FTZ or DAZ
+    s.x87_control = fp_registers::x87_default;
+#elif defined(__aarch64__)
+    s.fpcr = 0;
+#else
+    s.rounding = FE_TONEAREST;
+    s.traps = 0;
+#endif
+    return s;
+}
 inline bool is_ieee_default(const fp_state& s) { return s == ieee_default_fp_state(); }
 
 // Make the calling thread's environment the IEEE default if it is not; true
 // when it had to (something left it changed).
-bool restore_ieee_default();
+inline bool restore_ieee_default() {
+    if (is_ieee_default(current_fp_state())) [[likely]]
+        return false;
+    set_fp_state(ieee_default_fp_state());
+    return true;
+}
 
 // "the IEEE default", or what differs from it, e.g. "FTZ+DAZ",
 // "rounding upward", "FTZ+DAZ, FE_INVALID trapped", "x87 precision single".

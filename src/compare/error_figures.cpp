@@ -6,8 +6,10 @@
 #include "compare/error_figures.h"
 
 #include <array>
+#include <bit>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <system_error>
 
 #include <fmt/format.h>
@@ -34,7 +36,9 @@ constexpr std::array<double, 23> powers_of_ten = [] {
 // (one rounding, relative error ≤ 2^−53), as m and k with m ≈ |x|·10^k;
 // nullopt where a scale beyond 10^22 is needed. The decimal exponent comes
 // from the binary one (log10(2)·e, within one of floor(log10(x))), put right
-// by the loop.
+// by the loop. Each step is a few instructions: the per-case lines and the
+// plot sample ask it of every figure they print, twice where a figure is
+// kept to its printed digits (printed_alike).
 struct four_digit_scaling {
     double m;
     int k;
@@ -42,9 +46,23 @@ struct four_digit_scaling {
 double scaled_by_power_of_ten(double magnitude, int k) {
     return k >= 0 ? magnitude * powers_of_ten[k] : magnitude / powers_of_ten[-k];
 }
+// The binary exponent of a finite x ≠ 0: its exponent field, or ilogb's for a subnormal.
+int binary_exponent(double x) {
+    const int field = static_cast<int>((std::bit_cast<std::uint64_t>(x) >> 52) & 0x7FF);
+    return field != 0 ? field - 1023 : std::ilogb(x);
+}
+
+// floor(e·log10 2) for |e| ≤ 1074, within one: (e·78913) >> 18, 78913/2^18
+// being log10 2 within 2.6·10^−6 of it (Ryu's log10Pow2; the shift floors).
+int decimal_exponent_of_binary(int e) { return (e * 78913) >> 18; }
+
+// The integer part of m in [0, 2^53), and the integer nearest it (halves
+// up): conversions, where std::floor is a library call on baseline x86-64.
+double integer_part(double m) { return static_cast<double>(static_cast<std::int64_t>(m)); }
+double nearest_integer(double m) { return integer_part(m + 0.5); }
+
 std::optional<four_digit_scaling> scaled_to_four_digits(double magnitude) {
-    constexpr double log10_of_2 = 0.30102999566398120;
-    int k = figure_significant_digits - 1 - static_cast<int>(std::floor(std::ilogb(magnitude) * log10_of_2));
+    int k = figure_significant_digits - 1 - decimal_exponent_of_binary(binary_exponent(magnitude));
     for (int attempt = 0; attempt < 3; ++attempt) {
         if (k < -22 || k > 22) return std::nullopt;
         const double m = scaled_by_power_of_ten(magnitude, k);
@@ -63,7 +81,7 @@ std::optional<four_digit_scaling> scaled_to_four_digits(double magnitude) {
 
 // Whether m lies farther than 2^−40·m from every half-integer, so that the
 // exact |x|·10^k that m rounds rounds to the same integer as m.
-bool clear_of_tie(double m) { return std::fabs(std::fabs(m - std::floor(m)) - 0.5) > 0x1p-40 * m; }
+bool clear_of_tie(double m) { return std::fabs((m - integer_part(m)) - 0.5) > 0x1p-40 * m; }
 
 // printed_figure without a decimal conversion where that is safe: m rounded
 // to the integer n when it is clear of a tie, and n·10^−k formed by one
@@ -73,7 +91,7 @@ bool clear_of_tie(double m) { return std::fabs(std::fabs(m - std::floor(m)) - 0.
 std::optional<double> printed_without_conversion(double x) {
     const std::optional<four_digit_scaling> s = scaled_to_four_digits(std::fabs(x));
     if (!s || !clear_of_tie(s->m)) return std::nullopt;
-    const double n = std::floor(s->m + 0.5);
+    const double n = nearest_integer(s->m);
     const double rounded = s->k >= 0 ? n / powers_of_ten[s->k] : n * powers_of_ten[-s->k];
     return std::copysign(rounded, x);
 }
@@ -107,7 +125,7 @@ bool printed_alike(double a, double b) {
         if (const std::optional<four_digit_scaling> sb = scaled_to_four_digits(b)) {
             const double ma = scaled_by_power_of_ten(a, sb->k);
             if (ma >= 1000 && ma < 10000 && clear_of_tie(ma) && clear_of_tie(sb->m))
-                return std::floor(ma + 0.5) == std::floor(sb->m + 0.5);
+                return nearest_integer(ma) == nearest_integer(sb->m);
         }
     return printed_figure(a) == printed_figure(b);
 }

@@ -103,6 +103,33 @@ TEST(PrintedFigures, AgreeWithPrintfOnRandomDoublesOfEveryBinade) {
     }
 }
 
+// The four-digit scaling estimates a figure's decimal exponent from its
+// binary one and puts the estimate right: every binade's first and last
+// double, and the doubles next to each power of ten the fast range reaches
+// (where the estimate is likeliest to be off), against printf; each with
+// its neighbour above through printed_alike.
+TEST(PrintedFigures, AgreeWithPrintfAtEveryBinadeEdgeAndPowerOfTen) {
+    std::vector<double> values;
+    for (int e = -1074; e <= 1023; ++e) {
+        const double first = std::ldexp(1.0, e);
+        values.push_back(first);
+        if (e < 1023) values.push_back(std::nextafter(std::ldexp(1.0, e + 1), 0.0));
+    }
+    for (int k = -24; k <= 26; ++k) {
+        const double power = std::pow(10.0, k);
+        for (double x : {std::nextafter(power, 0.0), power, std::nextafter(power, INFINITY)}) values.push_back(x);
+    }
+    for (const double x : values) {
+        char text[64];
+        std::snprintf(text, sizeof text, "%.3e", x);
+        ASSERT_EQ(printed_figure(x), std::strtod(text, nullptr)) << text << " from " << std::hexfloat << x;
+        const double above = std::nextafter(x, INFINITY);
+        if (std::isfinite(above)) {
+            ASSERT_EQ(printed_alike(x, above), printed_figure(x) == printed_figure(above)) << std::hexfloat << x;
+        }
+    }
+}
+
 // printed_alike(a, b), which the audit asks of a figure's bounds, says
 // whether the two print alike: against printed_figure on pairs a few ulps
 // apart, pairs straddling a printed decimal's tie, and pairs far apart.

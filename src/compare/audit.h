@@ -6,8 +6,8 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
-#include <limits>
 #include <functional>
+#include <limits>
 #include <map>
 #include <optional>
 #include <span>
@@ -209,9 +209,10 @@ bool bounds_in_one_bucket(double lower, double upper);
 
 template <class Exact>
 void error_summary::add_bounded(double lower, double upper, std::size_t index, const std::string& id, Exact exact) {
+    // Bounds that meet are the error itself (NaN too: no bracket holds one).
+    if (lower == upper || (std::isnan(lower) && std::isnan(upper))) return add(lower, index, id);
     // It cannot take the maximum where even its upper bound would not: the
     // maximum stays the exact value of the case attaining it.
-    if (lower == upper) return add(lower, index, id);
     if (count == 0 || takes_max(upper, index, max, max_index)) return add(exact(), index, id);
     ++count;
     count_in(bucket_of(lower), 1);

@@ -10,9 +10,9 @@
 // bit 6, rounding bits 13-14, exception masks bits 7-12; its status flags
 // are not part of it) and the x87 control word (precision, rounding, masks);
 // on aarch64 FPCR (FZ, RMode, the trap enables, AH); elsewhere the rounding
-// mode and the trapped exceptions of <cfenv>. Reading it costs a few
-// instructions, inline here, so it can be checked around every call into
-// foreign code and on every case the oracle solves.
+// mode and the trapped exceptions of <cfenv>. On x86-64 and aarch64 reading
+// it costs a few instructions, inline here, so it can be checked around every
+// call into foreign code and on every case the oracle solves.
 #pragma once
 
 #include <cfenv>
@@ -29,8 +29,9 @@
 
 namespace rayverify {
 
-// The hardware's encoding of the state (x86-64: MXCSR and the x87 control
-// word; aarch64: FPCR), read and written by fp_environment.cpp.
+// How the state is read: on x86-64 MXCSR and the x87 control word, on
+// aarch64 FPCR (their bits, which fp_environment.cpp also writes and
+// describes), elsewhere <cfenv>'s trapped exceptions where glibc tells them.
 namespace fp_registers {
 #if defined(__x86_64__)
 // MXCSR's control bits (its low six bits are sticky status flags).

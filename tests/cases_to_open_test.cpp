@@ -11,6 +11,7 @@
 #include "compare/audit.h"
 #include "compare/case_examples.h"
 #include "corpus/corpus_io.h"
+#include "corpus/generators.h"
 #include "intersectors/registry.h"
 #include "plugin/plugin_loader.h"
 #include "support/process.h"
@@ -36,7 +37,7 @@ TEST(CasesToOpen, FailuresFileHoldsEveryFailingCaseAndTheSummaryNamesTheFirst) {
     case_examples examples(targets.size());
     std::size_t index = 0;
     run_audit(cases, targets, [&](const audited_case& c) {
-        examples.add(c, index++);
+        examples.add(c, index++, targets);
         if (is_disagreement(c.outcomes[0].score.verdict)) failing.push_back(c.source->id);
     });
     const std::vector<corpus_case> written = read_corpus_file(failures);
@@ -86,8 +87,8 @@ TEST(CasesToOpen, WorstCasesAreTheLargestRootErrorsWhateverTheShardsAndMergeOrde
     std::vector<std::array<std::vector<std::pair<double, std::size_t>>, verdict_kind_count>> errors(targets.size());
     std::size_t index = 0;
     run_audit(cases, targets, [&](const audited_case& c) {
-        whole.add(c, index);
-        shards[index % shards.size()].add(c, index);
+        whole.add(c, index, targets);
+        shards[index % shards.size()].add(c, index, targets);
         for (std::size_t t = 0; t < targets.size(); ++t) {
             const case_score& s = c.outcomes[t].score;
             if (is_disagreement(s.verdict) && (s.near_ulp || s.far_ulp))
@@ -113,6 +114,58 @@ TEST(CasesToOpen, WorstCasesAreTheLargestRootErrorsWhateverTheShardsAndMergeOrde
     // A false miss has no t to measure: first cases, no worst.
     EXPECT_FALSE(whole.first[0][static_cast<int>(verdict_kind::false_miss)].empty());
     EXPECT_TRUE(whole.worst[0][static_cast<int>(verdict_kind::false_miss)].empty());
+}
+
+// The audit keeps an agreeing answer's scale error to its printed digits
+// (bounds in one histogram bucket); the farthest list is still the cases
+// with the largest exact figures at or above agree_far_fraction, ties by
+// index, whatever the shards and the order they merge in.
+TEST(CasesToOpen, FarthestAgreeingCasesAreTheLargestExactScaleErrorsWhateverTheShards) {
+    std::vector<corpus_case> cases = generate_family("near_tangent", 1500, 21);
+    for (corpus_case& c : generate_family("far_sphere", 1500, 22)) cases.push_back(std::move(c));
+    const std::vector<audit_target> targets = targets_for(builtin_variants());
+    case_examples whole(targets.size());
+    std::vector<case_examples> shards(3, case_examples(targets.size()));
+    // [target]: every (exact scale error in radii, index) at or above agree_far_fraction.
+    std::vector<std::vector<std::pair<double, std::size_t>>> errors(targets.size());
+    std::size_t index = 0, bounded_far = 0;
+    run_audit(cases, targets, [&](const audited_case& c) {
+        whole.add(c, index, targets);
+        shards[index % shards.size()].add(c, index, targets);
+        for (std::size_t t = 0; t < targets.size(); ++t) {
+            const case_score& s = c.outcomes[t].score;
+            if (s.verdict != verdict_kind::agree || !s.scale_error_radius) continue;
+            const bool bounded = s.figure_upper_bounds && s.figure_upper_bounds->scale_error_radius != *s.scale_error_radius;
+            const double exact =
+                bounded ? exact_figures(targets[t], *c.source, c.outcomes[t], c.exact_for(targets[t].prec))
+                              .scale_error_radius.value()
+                        : *s.scale_error_radius;
+            if (exact < agree_far_fraction) continue;
+            bounded_far += bounded;
+            errors[t].push_back({exact, index});
+        }
+        ++index;
+    });
+    case_examples forward(targets.size()), backward(targets.size());
+    for (const case_examples& shard : shards) forward.merge(shard);
+    for (auto shard = shards.rbegin(); shard != shards.rend(); ++shard) backward.merge(*shard);
+    std::size_t targets_with_far = 0;
+    for (std::size_t t = 0; t < targets.size(); ++t) {
+        const std::vector<std::size_t> expected = worst_by_brute_force(errors[t]);
+        targets_with_far += !expected.empty();
+        const std::string where = targets[t].label();
+        EXPECT_EQ(indices_of(whole.farthest[t]), expected) << where;
+        EXPECT_EQ(indices_of(forward.farthest[t]), expected) << where;
+        EXPECT_EQ(indices_of(backward.farthest[t]), expected) << where;
+        for (const case_example& e : whole.farthest[t]) {
+            const auto exact = std::find_if(errors[t].begin(), errors[t].end(),
+                                            [&](const auto& error) { return error.second == e.index; });
+            ASSERT_NE(exact, errors[t].end()) << where;
+            EXPECT_EQ(e.error, exact->first) << where << " case " << e.index;
+        }
+    }
+    EXPECT_GE(targets_with_far, 10u);
+    EXPECT_GT(bounded_far, 100u) << "far agreeing figures kept to their printed digits";
 }
 
 TEST(CasesToOpen, TheSummaryAndReportNameTheWorstCaseWithItsCorpusLine) {

@@ -911,10 +911,12 @@ TEST(Judge, FiguresToPrintedDigitsBoundTheExactOnes) {
     const std::vector<audit_target> targets = targets_for(builtin_variants());
     std::vector<corpus_case> cases = generate_family("uniform", 300, 5);
     for (corpus_case& c : generate_family("far_sphere", 300, 5)) cases.push_back(std::move(c));
+    // Near a tangent, root enclosures are wide: scale figures bounded from both ends.
+    for (corpus_case& c : generate_family("near_tangent", 300, 5)) cases.push_back(std::move(c));
     for (corpus_case& c : read_corpus({RAYVERIFY_CORPUS_DIR})) cases.push_back(std::move(c));
     figure_request audit_request = figure_request::audit(), every_digit;
     audit_request.details = every_digit.details = false;
-    std::size_t bounded = 0;
+    std::size_t bounded = 0, scale_from_wide_bounds = 0;
     for (const corpus_case& c : cases) {
         const audited_case fast = audit_case(c, targets, {}, audit_request);
         const audited_case exact = audit_case(c, targets, {}, every_digit);
@@ -936,6 +938,10 @@ TEST(Judge, FiguresToPrintedDigitsBoundTheExactOnes) {
                                                               << lower << ", " << upper << "] " << value;
                 ASSERT_EQ(error_summary::bucket_of(lower), error_summary::bucket_of(upper)) << where << " " << f.name;
                 bounded += lower != upper;
+                // Wider than the factor 1 + 2^-22 a tight root bracket allows.
+                const bool scale = f.figure == error_figure::scale_error_radius ||
+                                   f.figure == error_figure::scale_error_distance;
+                scale_from_wide_bounds += scale && upper > lower * (1 + 0x1p-21);
             }
             if (!a.figure_upper_bounds) continue;
             const case_score settled = exact_figures(targets[t], c, fast.outcomes[t], fast.exact_for(targets[t].prec));
@@ -951,6 +957,7 @@ TEST(Judge, FiguresToPrintedDigitsBoundTheExactOnes) {
         }
     }
     EXPECT_GT(bounded, 10000u);  // figures were taken from bounds
+    EXPECT_GT(scale_from_wide_bounds, 100u);
 }
 
 }  // namespace

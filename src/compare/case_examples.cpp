@@ -31,7 +31,8 @@ std::optional<double> root_error_ulp(const case_score& s) {
 
 case_examples::case_examples(std::size_t targets) : first(targets), worst(targets), farthest(targets) {}
 
-void case_examples::add(const audited_case& c, std::size_t index) {
+void case_examples::add(const audited_case& c, std::size_t index, std::span<const audit_target> targets) {
+    every_digit_figures every_digit(c, targets);
     for (std::size_t t = 0; t < c.outcomes.size() && t < first.size(); ++t) {
         const case_score& s = c.outcomes[t].score;
         if (is_disagreement(s.verdict)) {
@@ -42,11 +43,17 @@ void case_examples::add(const audited_case& c, std::size_t index) {
             auto& worst_list = worst[t][static_cast<int>(s.verdict)];
             if (ulp && !std::isnan(*ulp) && (worst_list.size() < kept || farther({index, *ulp, {}, {}}, worst_list.back())))
                 keep(worst_list, {index, *ulp, *c.source, s.cause}, farther);
-        } else if (s.verdict == verdict_kind::agree && s.scale_error_radius &&
-                   !(*s.scale_error_radius < agree_far_fraction)) {
+        } else if (s.verdict == verdict_kind::agree && s.scale_error_radius) {
+            // The figure, or its bounds where it is kept to its printed
+            // digits: both in one histogram bucket, so on one side of
+            // agree_far_fraction (a bucket's edge).
+            const double lower = *s.scale_error_radius;
+            const double upper = s.figure_upper_bounds ? s.figure_upper_bounds->scale_error_radius : lower;
+            if (upper < agree_far_fraction) continue;
             auto& list = farthest[t];
-            const double error = *s.scale_error_radius;
-            if (list.size() < kept || farther({index, error, {}, {}}, list.back()))
+            if (list.size() == kept && !farther({index, upper, {}, {}}, list.back())) continue;
+            const double error = upper == lower ? lower : every_digit.of(t).scale_error_radius.value();
+            if (!(error < agree_far_fraction) && (list.size() < kept || farther({index, error, {}, {}}, list.back())))
                 keep(list, {index, error, *c.source, std::nullopt}, farther);
         }
     }

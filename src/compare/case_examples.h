@@ -10,6 +10,7 @@
 #include <array>
 #include <cstddef>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "compare/audit.h"
@@ -27,7 +28,10 @@ struct case_examples {
     static constexpr std::size_t kept = 3;
 
     explicit case_examples(std::size_t targets = 0);
-    void add(const audited_case& c, std::size_t index);
+    // `targets`: those `c` was judged for. An agreeing answer's scale error
+    // kept to its printed digits (case_score::figure_upper_bounds) is judged
+    // again to every digit only where it may enter the farthest list.
+    void add(const audited_case& c, std::size_t index, std::span<const audit_target> targets);
     void merge(const case_examples& other);
 
     // [target][verdict]: the first `kept` cases of each disagreeing verdict, by index.

@@ -814,9 +814,11 @@ struct scale_errors {
 };
 // With the score's root errors to their printed digits (measure_root_errors,
 // case_score::figure_upper_bounds), the scale errors are bounded alike, from
-// those bounds; each to every digit where its bounds straddle a bucket's edge,
-// or where the radius figure reaches agree_far_fraction (the farthest agreeing
-// cases are ranked by it). `every_digit`: to every digit whatever the score holds.
+// those bounds; each to every digit where its bounds straddle a bucket's edge
+// (agree_far_fraction is one: the agree-but-far count is the histogram's;
+// the farthest agreeing cases, ranked by the radius figure, are judged again
+// where they may enter that list, case_examples.h). `every_digit`: to every
+// digit whatever the score holds.
 scale_errors measure_scale_errors(const judged_list& judged, const double (&t)[2], const exact_solution& exact,
                                   const ray_sphere<double>& input, const input_lengths& lengths, const case_score& s,
                                   bool every_digit = false) {
@@ -830,42 +832,62 @@ scale_errors measure_scale_errors(const judged_list& judged, const double (&t)[2
         if (!std::isfinite(value) || (j.root && !std::isfinite(exact.root(*j.root).rounded))) continue;
         // |t − t*|: ULPs of t* times ulp(t*), or |t| itself where t* is exactly 0 (no ulp to count in).
         scaled error;
-        // Where |t − t*| is known only within a factor 1 + 2^−24, each figure
-        // is within a factor 1 + 2^−22 of its value at the lower bound: the
-        // factor and the roundings between (a few, each 2^−53 at most, the
-        // figures normal). A bucket is 2^−7 wide.
+        // Where the ULP error is bounded (kept to its printed digits), so is
+        // each figure. With |t − t*| known within a factor 1 + 2^−24, each
+        // figure is within a factor 1 + 2^−22 of its value at the lower
+        // bound: the factor and the roundings between (a few, each 2^−53 at
+        // most, the figures normal; a bucket is 2^−7 wide). Where the bounds
+        // are wider (a root whose enclosure is wide, near a tangent), the
+        // figure is formed again from the upper one: every step (a product,
+        // a quotient, a rounding to double) is monotone, so a larger error
+        // gives a figure no smaller, and the bounds hold the figure formed
+        // from the exact ULP error.
         bool widened = false;
+        std::optional<scaled> error_upper;
         const std::optional<double>& ulps = j.slot == 0 ? s.near_ulp : s.far_ulp;
+        // The score's ULP error of this value is exact where no upper bound
+        // stands beside it, or where the bound is the figure itself.
+        const double* upper = !s.figure_upper_bounds ? nullptr
+                              : j.slot == 0          ? &s.figure_upper_bounds->near_ulp
+                                                     : &s.figure_upper_bounds->far_ulp;
         if (!j.root) {
             error = distance_between(value, j.start);
-        } else if (bounded && ulps && exact.root(*j.root).sign != 0) {
-            const double upper = j.slot == 0 ? s.figure_upper_bounds->near_ulp : s.figure_upper_bounds->far_ulp;
-            if (!(upper <= *ulps + *ulps * 0x1p-24))
-                return measure_scale_errors(judged, t, exact, input, lengths, s, true);
+        } else if (bounded && upper && ulps && exact.root(*j.root).sign != 0) {
+            if (!std::isfinite(*upper)) return measure_scale_errors(judged, t, exact, input, lengths, s, true);
             error = root_error_from_ulps(exact, *j.root, value, *ulps);
-            widened = upper != *ulps;
+            if (*upper <= *ulps + *ulps * 0x1p-24)
+                widened = *upper != *ulps;
+            else
+                error_upper = root_error_from_ulps(exact, *j.root, value, *upper);
+        } else if (ulps && (!upper || *upper == *ulps)) {
+            // measure_root_errors judged this value against this root (the
+            // same list): its exact ULP error, not formed a second time.
+            error = root_error_from_ulps(exact, *j.root, value, *ulps);
         } else {
             error = root_error(exact, *j.root, value);
         }
-        const auto upper_of = [&](double figure) {
+        // A figure's upper bound: `figure` itself, formed from `error`, and
+        // `over` what it was divided by.
+        const auto upper_of = [&](double figure, const scaled& over) {
+            if (error_upper) return (*error_upper * d_length / over).value();
             if (!widened) return figure;
             return figure >= 0x1p-1000 && figure <= 0x1p1000 ? figure * (1 + 0x1p-22)
                                                              : std::numeric_limits<double>::infinity();
         };
         if (input.radius > 0) {
-            const double radius = (error * d_length / scaled::of(input.radius)).value();
+            const scaled radius_length = scaled::of(input.radius);
+            const double radius = (error * d_length / radius_length).value();
             keep_max(out.radius, radius);
-            out.radius_upper = std::max(out.radius_upper, upper_of(radius));
+            out.radius_upper = std::max(out.radius_upper, upper_of(radius, radius_length));
         }
         if (distance.m != 0) {
             const double along = (error * d_length / distance).value();
             keep_max(out.distance, along);
-            out.distance_upper = std::max(out.distance_upper, upper_of(along));
+            out.distance_upper = std::max(out.distance_upper, upper_of(along, distance));
         }
     }
     if (!bounded) return out;
-    const bool radius_decided =
-        !out.radius || (bounds_in_one_bucket(*out.radius, out.radius_upper) && out.radius_upper < agree_far_fraction);
+    const bool radius_decided = !out.radius || bounds_in_one_bucket(*out.radius, out.radius_upper);
     const bool distance_decided = !out.distance || bounds_in_one_bucket(*out.distance, out.distance_upper);
     return radius_decided && distance_decided ? out : measure_scale_errors(judged, t, exact, input, lengths, s, true);
 }

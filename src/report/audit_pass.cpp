@@ -40,7 +40,7 @@ audit_state run_audit_pass(const case_source& next, const std::vector<audit_targ
         state.stability.add(c, index);
         if (with_points) state.points.add(c, index);
         state.lint.add(c);
-        state.examples.add(c, index);
+        state.examples.add(c, index, targets);
         if (per_case != nullptr) {
             std::string& rendering = workers[worker].state.rendering;
             rendering = per_case_line(c, targets, std::move(rendering));

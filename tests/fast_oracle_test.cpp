@@ -594,6 +594,58 @@ TEST(FastOracleBox, MeetsSphereAsTheExactRouteDoes) {
     EXPECT_EQ(box_meets_sphere({0.25, 0.25, 0.25}, {0.5, 0.5, 0.5}, {0, 0, 0}, 1), false);
 }
 
+// compare(|d|², x) against integer arithmetic: d = (m1, m2, m3)·2^k with
+// m_i below 2^26, so |d|² = S·2^2k with S = m1² + m2² + m3² an exact integer
+// below 2^54, against x the doubles around it (S itself where it is a
+// double: a unit axis direction against 1 is one). Inside the filter range
+// every comparison settles without big numbers, equal ones in expansions.
+TEST(FastOracleSquaredLength, ComparesAsIntegerArithmeticDoes) {
+    const std::uint64_t seed = 20261203;
+    std::printf("seed %llu\n", static_cast<unsigned long long>(seed));
+    std::mt19937_64 rng(seed);
+    stage_tally& tally = oracle_stage_counts_this_thread().comparisons;
+    tally = {};
+    // sign(S·2^2k − x) for x = X·2^e (X an integer of at most 53 bits), exactly.
+    const auto expected = [](unsigned __int128 S, int k, double x) {
+        int e = 0;
+        const double fraction = std::frexp(x, &e);  // x = fraction·2^e, 0.5 ≤ fraction < 1
+        const auto X = static_cast<unsigned __int128>(std::ldexp(fraction, 53));
+        e -= 53;
+        // Both sides as integers times 2^min(2k, e).
+        const int low = std::min(2 * k, e);
+        const unsigned __int128 left = S << (2 * k - low), right = X << (e - low);
+        return left > right ? comparison::larger : left < right ? comparison::smaller : comparison::equal;
+    };
+    int equal = 0, total = 0;
+    for (int i = 0; i < 20000; ++i) {
+        const int bits = 1 + static_cast<int>(rng() % 26);
+        const auto draw = [&] { return i % 7 == 0 ? 0 : static_cast<std::int64_t>(rng() % (std::uint64_t{1} << bits)); };
+        const std::int64_t m[3] = {draw(), draw(), i % 5 == 0 ? std::int64_t{1} << (bits - 1) : draw()};
+        const int k = static_cast<int>(rng() % 33) - 20;  // |d|² within 2^-40 .. 2^78: the filter range
+        const vec3<double> d{std::ldexp(double(m[0]), k), std::ldexp(double(m[1]), k), std::ldexp(double(m[2]), k)};
+        const unsigned __int128 S = static_cast<unsigned __int128>(m[0] * m[0]) + static_cast<unsigned __int128>(m[1] * m[1]) +
+                                    static_cast<unsigned __int128>(m[2] * m[2]);
+        if (S == 0) continue;
+        const double nearest = std::ldexp(static_cast<double>(S), 2 * k);
+        for (const double x : {nearest, std::nextafter(nearest, 0.0), std::nextafter(nearest, inf)}) {
+            const comparison want = expected(S, k, x);
+            equal += want == comparison::equal;
+            ++total;
+            ASSERT_EQ(compare_squared_length(d, x), want)
+                << "case " << i << ": d " << hex(d.x) << " " << hex(d.y) << " " << hex(d.z) << ", x " << hex(x);
+        }
+    }
+    std::printf("%d comparisons, %d equal\n", total, equal);
+    EXPECT_GT(equal, total / 10);
+    EXPECT_EQ(tally.exact, 0u) << "inside the filter range no comparison needs big numbers";
+    EXPECT_GT(tally.expansion, 0u);
+    EXPECT_EQ(compare_squared_length({0, 0, 1}, 1), comparison::equal);
+    EXPECT_EQ(compare_squared_length({0, -1, 0}, 1), comparison::equal);
+    // Outside the range, the exact route: 2^200 squared is 2^400.
+    EXPECT_EQ(compare_squared_length({0x1p200, 0, 0}, 0x1p400), comparison::equal);
+    EXPECT_GT(tally.exact, 0u);
+}
+
 // The lazily built exact state answers queries the enclosure cannot: the
 // root itself (value == t*) and copies made before the first query.
 TEST(FastOracleLazyState, CopiesAnswerAlike) {

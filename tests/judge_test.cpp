@@ -872,7 +872,7 @@ TEST(Judge, SentencesLeftOutChangeNothingElse) {
     const std::vector<audit_target> targets = targets_for(builtin_variants());
     figure_request without;
     without.details = false;
-    std::size_t disagreements = 0;
+    std::size_t disagreements = 0, breaches = 0;
     for (const corpus_case& c : read_corpus({RAYVERIFY_CORPUS_DIR})) {
         const audited_case with = audit_case(c, targets);
         const audited_case bare = audit_case(c, targets, {}, without);
@@ -888,6 +888,13 @@ TEST(Judge, SentencesLeftOutChangeNothingElse) {
             ASSERT_EQ(a.hit_point_ulp, b.hit_point_ulp) << where;
             ASSERT_EQ(a.far_bits, b.far_bits) << where;
             ASSERT_EQ(a.zero_root_error, b.zero_root_error) << where;
+            if (a.verdict == verdict_kind::contract_violation && targets[t].subject.promises.assumes_unit_direction) {
+                // A unit-direction breach: its words (|d|² to 17 digits) only when asked.
+                ++breaches;
+                EXPECT_TRUE(a.detail.starts_with("assumes a unit direction, but |d|² ≈ ")) << where << ": " << a.detail;
+                EXPECT_TRUE(b.detail.empty()) << where;
+                continue;
+            }
             if (!is_disagreement(a.verdict) || a.verdict == verdict_kind::imprecise ||
                 a.verdict == verdict_kind::unsound_bound)
                 continue;
@@ -898,6 +905,7 @@ TEST(Judge, SentencesLeftOutChangeNothingElse) {
         }
     }
     EXPECT_GT(disagreements, 1000u);
+    EXPECT_GT(breaches, 1000u);
 }
 
 // The audit asks for an agreeing answer's figures to their printed digits

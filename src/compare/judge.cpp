@@ -1152,10 +1152,13 @@ const input_lengths& case_frame::lengths() const {
     return *lengths_;
 }
 
+bool case_frame::unit_direction_breached() const {
+    if (!unit_direction_breached_) unit_direction_breached_ = breaches_unit_direction(input_, exact_.prec);
+    return *unit_direction_breached_;
+}
+
 const std::optional<std::string>& case_frame::unit_direction_breach() const {
-    if (!unit_direction_breach_) {
-        unit_direction_breach_ = unit_direction_breach_of(input_, exact_.prec);
-    }
+    if (!unit_direction_breach_) unit_direction_breach_ = unit_direction_breach_of(input_, exact_.prec);
     return *unit_direction_breach_;
 }
 
@@ -1225,13 +1228,25 @@ std::optional<std::string> contract_breach(const contract& promises, const ray_s
     return unit_direction_breach_of(input, prec);
 }
 
+namespace {
+
+// A unit direction's tolerance, 8ε of the precision: 1 ± 8ε are both exact doubles.
+double unit_direction_tolerance(precision prec) {
+    return 8 * with_precision(prec, []<class T>(std::type_identity<T>) { return double(std::numeric_limits<T>::epsilon()); });
+}
+
+}  // namespace
+
+bool breaches_unit_direction(const ray_sphere<double>& input, precision prec) {
+    const double tolerance = unit_direction_tolerance(prec);
+    return compare_squared_length(input.direction, 1 + tolerance) == comparison::larger ||
+           compare_squared_length(input.direction, 1 - tolerance) == comparison::smaller;
+}
+
 std::optional<std::string> unit_direction_breach_of(const ray_sphere<double>& input, precision prec) {
-    // |d|² within [1 − 8ε, 1 + 8ε], both ends exact doubles, decided exactly.
-    const double tolerance =
-        8 * with_precision(prec, []<class T>(std::type_identity<T>) { return double(std::numeric_limits<T>::epsilon()); });
+    if (!breaches_unit_direction(input, prec)) return std::nullopt;
+    const double tolerance = unit_direction_tolerance(prec);
     const comparison above = compare_squared_length(input.direction, 1 + tolerance);
-    const comparison below = compare_squared_length(input.direction, 1 - tolerance);
-    if (above != comparison::larger && below != comparison::smaller) return std::nullopt;
     const double squared = dot(input.direction, input.direction);
     return fmt::format("assumes a unit direction, but |d|² ≈ {:.17g} is {} 1 {} 8ε (8ε = {:.3g})", squared,
                        above == comparison::larger ? "above" : "below", above == comparison::larger ? "+" : "−", tolerance);
@@ -1305,8 +1320,12 @@ case_score judge_degenerate(const variant_output& output, invalid_reason why) {
 // default one), and true; else false, `score` untouched. Written in place:
 // returned, the optional case_score (about 250 bytes, a string among them)
 // was built, cleared and destroyed for every case-target, most of which it
-// does not concern.
-bool judged_unscored(const contract& promises, const corpus_case& c, const case_frame& frame, case_score& score) {
+// does not concern. A unit-direction breach's words are formed only where
+// they are read (`details`, figure_request::details): they print |d|² to 17
+// digits, and formatting them for every frame of near_tangent (half of its
+// directions are not unit) was a twelfth of its audit's instructions.
+bool judged_unscored(const contract& promises, const corpus_case& c, const case_frame& frame, case_score& score,
+                     bool details = true) {
     const auto set = [&score](verdict_kind verdict, std::string detail) {
         score.verdict = verdict;
         score.detail = std::move(detail);
@@ -1317,17 +1336,15 @@ bool judged_unscored(const contract& promises, const corpus_case& c, const case_
                    "a ray case: this target takes a segment's end points (cast=segment) and runs on segment cases only");
     if (!frame.exact().valid() && !runs_degenerate(promises, frame.exact()))
         return set(verdict_kind::invalid, invalid_reason_name(frame.exact().invalid));
-    if (!promises.assumes_unit_direction) return false;
-    if (const std::optional<std::string>& breach = frame.unit_direction_breach())
-        return set(verdict_kind::contract_violation, *breach);
-    return false;
+    if (!promises.assumes_unit_direction || !frame.unit_direction_breached()) return false;
+    return set(verdict_kind::contract_violation, details ? *frame.unit_direction_breach() : std::string());
 }
 
 template <class T>
 void judge_target_in(target_outcome& outcome, const audit_target& target, const corpus_case& c,
                      const case_frame& frame, const given_answer& given, const figure_request& wanted) {
     const contract& promises = target.subject.promises;
-    if (judged_unscored(promises, c, frame, outcome.score)) return;
+    if (judged_unscored(promises, c, frame, outcome.score, wanted.details)) return;
     const ray_sphere<T> input = target_input<T>(c);
     outcome.range = range_for(promises, c, target.prec);
     const answer<T>* ahead = std::get_if<answer<T>>(&given);

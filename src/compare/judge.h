@@ -266,8 +266,9 @@ struct figure_request {
     // comparison print it; an audit that prints none leaves it unformed for
     // the verdicts of the table's rows before imprecise (on far spheres,
     // where most formulas miss, formatting them was a seventh of an audit's
-    // instructions). The rarer verdicts decided with their sentence
-    // (imprecise, unsound_bound, an unscored case) keep it.
+    // instructions), and a unit-direction breach's words. The rarer verdicts
+    // decided with their sentence (imprecise, unsound_bound, an invalid case)
+    // keep it.
     bool details = true;
     static constexpr figure_request verdict_only() { return {root_errors::none, false, false}; }
     // The audit's: every figure, an agreeing answer's to its printed digits.
@@ -304,8 +305,10 @@ public:
     // |d| and |o − c|, formed on first use: every agreeing answer's scale
     // errors, and an accuracy clause's figure, are measured against them.
     const input_lengths& lengths() const;
-    // Why the case breaks a unit-direction assumption at this precision
-    // (contract_breach's words), or nullopt when |d|² is within 1 ± 8ε.
+    // Whether the case breaks a unit-direction assumption at this precision
+    // (breaches_unit_direction), and why (contract_breach's words), or
+    // nullopt when |d|² is within 1 ± 8ε; each formed on first use.
+    bool unit_direction_breached() const;
     const std::optional<std::string>& unit_direction_breach() const;
     // compare(|d|², 1), exactly.
     comparison squared_length_against_one() const;
@@ -318,6 +321,7 @@ private:
     ray_sphere<double> input_;
     mutable std::optional<stability_measures> stability_;
     mutable std::optional<input_lengths> lengths_;
+    mutable std::optional<bool> unit_direction_breached_;
     mutable std::optional<std::optional<std::string>> unit_direction_breach_;
     mutable std::optional<comparison> squared_length_against_one_;
     mutable std::optional<exact_solution> unit_direction_design_;
@@ -373,8 +377,10 @@ answer<T> answer_of(const audit_target& target, const corpus_case& c, const ray_
 // direction means |d·d − 1| ≤ 8ε, decided exactly (ε of the precision).
 std::optional<std::string> contract_breach(const contract& promises, const ray_sphere<double>& input,
                                            precision prec);
-// The unit-direction assumption's check alone: why |d|² lies outside
-// [1 − 8ε, 1 + 8ε], or nullopt (contract_breach of a unit-direction contract).
+// The unit-direction assumption's check alone: whether |d|² lies outside
+// [1 − 8ε, 1 + 8ε], decided exactly; and why, or nullopt (contract_breach of
+// a unit-direction contract).
+bool breaches_unit_direction(const ray_sphere<double>& input, precision prec);
 std::optional<std::string> unit_direction_breach_of(const ray_sphere<double>& input, precision prec);
 
 // The oracle's answer for a case at precision p: on the inputs rounded to p

@@ -20,6 +20,7 @@
 #include "core/fp_environment.h"
 #include "core/name_table.h"
 
+#include "oracle/expansion.h"
 #include "oracle/filter.h"
 #include "oracle/internal/correct_rounding.h"
 #include "oracle/internal/exact_number.h"
@@ -629,11 +630,11 @@ exact_solution solve_exact_unit_direction_reference(const ray_sphere<double>& g,
 }
 
 comparison compare_squared_length(const vec3<double>& d, double x) {
+    const bool in_range = in_filter_range(d.x) && in_filter_range(d.y) && in_filter_range(d.z) && in_filter_range(x);
     return settle(
         oracle_stage_counts_this_thread().comparisons,
         [&]() -> uncertain_comparison {
-            if (!in_filter_range(d.x) || !in_filter_range(d.y) || !in_filter_range(d.z) || !in_filter_range(x))
-                return std::nullopt;
+            if (!in_range) return std::nullopt;
             // In plain double first: s = |d|² with 5 roundings is within
             // 4.01·2^−53·|d|² < 0.55·2^−50·s of the exact value (no underflow
             // in the filter range), and s − x rounds by at most 2^−53 of itself.
@@ -643,6 +644,16 @@ comparison compare_squared_length(const vec3<double>& d, double x) {
             const bounded length =
                 exactly(two_prod(d.x, d.x)) + exactly(two_prod(d.y, d.y)) + exactly(two_prod(d.z, d.z));
             return comparison_from(sign_of(length - exactly(x)));
+        },
+        [&]() -> uncertain_comparison {
+            // Equal, or within the double-word bound of it (a unit axis
+            // direction against 1): the exact sign of the sum of the three
+            // error-free squares less x, an expansion (no product underflows
+            // in the filter range).
+            if (!in_range) return std::nullopt;
+            const expansion<7> difference = (expansion_of(d.x) * d.x + expansion_of(d.y) * d.y) +
+                                            (expansion_of(d.z) * d.z - expansion_of(x));
+            return comparison_of_sign(sign_of(difference));
         },
         [&] {
             const exact dx(d.x), dy(d.y), dz(d.z);

@@ -1411,7 +1411,9 @@ std::optional<batch_case<T>> run_input(const audit_target& target, const corpus_
             return batch_case<T>{input, interval_in<T>(range), segment_end, with_ends};
         return std::nullopt;
     }
-    if (contract_breach(target.subject.promises, rounded_to<double>(input), target.prec)) return std::nullopt;
+    // Whether the contract is breached, not why: no sentence formed for a case not run.
+    if (target.subject.promises.assumes_unit_direction && breaches_unit_direction(rounded_to<double>(input), target.prec))
+        return std::nullopt;
     return batch_case<T>{input, interval_in<T>(range), segment_end, with_ends};
 }
 

@@ -235,9 +235,9 @@ struct case_score {
     // falls in one histogram bucket (bounds_in_one_bucket), so whatever counts
     // a figure by bucket reads the member; what prints a case's own figures
     // (per-case lines, the plot sample) or orders cases by one (the case that
-    // holds a maximum) asks for the exact figures (exact_figures) where the
-    // bounds print apart (printed_as_exact) or leave the order open. Empty
-    // where every figure is exact.
+    // holds a maximum, the farthest agreeing cases) asks for the exact figures
+    // (exact_figures) where the bounds print apart (printed_as_exact) or leave
+    // the order open. Empty where every figure is exact.
     using upper_bounds = case_figure_upper_bounds;
     std::optional<upper_bounds> figure_upper_bounds;
 };
@@ -267,8 +267,8 @@ struct figure_request {
     // the verdicts of the table's rows before imprecise (on far spheres,
     // where most formulas miss, formatting them was a seventh of an audit's
     // instructions), and a unit-direction breach's words. The rarer verdicts
-    // decided with their sentence (imprecise, unsound_bound, an invalid case)
-    // keep it.
+    // decided with their sentence (imprecise, unsound_bound, degenerate_hit,
+    // an invalid case, a ray case given to a segment target) keep it.
     bool details = true;
     static constexpr figure_request verdict_only() { return {root_errors::none, false, false}; }
     // The audit's: every figure, an agreeing answer's to its printed digits.

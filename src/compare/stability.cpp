@@ -48,12 +48,16 @@ void stability_accumulator::add(const audited_case& c, std::size_t index) {
     family_samples.resize(targets.size());
     const std::string& id = c.source->id;
     every_digit_figures every_digit(c, targets);
+    // The case's κ decade at each precision, found once for its targets (a log10 each).
+    std::optional<int> float_bucket, double_bucket;
     for (std::size_t t = 0; t < targets.size(); ++t) {
         const case_score& score = c.outcomes[t].score;
         if (!is_scored(score.verdict)) continue;
         const precision prec = targets[t].prec;
         const stability_measures& m = s.at(prec);
-        const int bucket = condition_bucket(m);
+        std::optional<int>& found = prec == precision::binary32 ? float_bucket : double_bucket;
+        if (!found) found = condition_bucket(m);
+        const int bucket = *found;
         stability_samples& out = family_samples[t];
         bucket_tally& b = out.buckets[bucket];
         ++b.cases;

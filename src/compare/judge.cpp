@@ -801,16 +801,28 @@ scaled root_error(const exact_solution& exact, root_index i, double t) {
 }
 
 // The largest of the figures `measure` gives, over the values it gives one for.
-void keep_max(std::optional<double>& figure, double x) { figure = std::max(figure.value_or(0), x); }
+// Written in place: an optional assigned whole was assembled on the stack
+// from two stores and read back as one, a stall in the judge's figures.
+void keep_max(std::optional<double>& figure, double x) {
+    const double larger = std::max(figure.value_or(0), x);
+    if (figure)
+        *figure = larger;
+    else
+        figure.emplace(larger);
+}
 
 // An agreeing answer's error in the scene's length scale: |t − t*|·|d| over
 // the radius and over |o − c|, the largest over the values judged (each
 // where its length is not 0: a point sphere, an origin at the centre). None
 // for a t* that rounds to an infinity (beyond the precision, no length to
 // measure) or a non-finite t.
-struct scale_errors {
-    std::optional<double> radius, distance;
-    double radius_upper = 0, distance_upper = 0;  // upper bounds on the two (each itself, to every digit)
+// They are written in the score in place (scale_error_radius,
+// scale_error_distance): returned in a struct of optionals, they were
+// assembled on the stack and read back whole, a stall in the judge's
+// figures. Returned: their upper bounds (each the figure itself, to every
+// digit; 0 where the figure is absent).
+struct scale_error_uppers {
+    double radius = 0, distance = 0;
 };
 // With the score's root errors to their printed digits (measure_root_errors,
 // case_score::figure_upper_bounds), the scale errors are bounded alike, from
@@ -819,10 +831,12 @@ struct scale_errors {
 // the farthest agreeing cases, ranked by the radius figure, are judged again
 // where they may enter that list, case_examples.h). `every_digit`: to every
 // digit whatever the score holds.
-scale_errors measure_scale_errors(const judged_list& judged, const double (&t)[2], const exact_solution& exact,
-                                  const ray_sphere<double>& input, const input_lengths& lengths, const case_score& s,
-                                  bool every_digit = false) {
-    scale_errors out;
+scale_error_uppers measure_scale_errors(const judged_list& judged, const double (&t)[2], const exact_solution& exact,
+                                        const ray_sphere<double>& input, const input_lengths& lengths, case_score& s,
+                                        bool every_digit = false) {
+    scale_error_uppers out;
+    s.scale_error_radius.reset();
+    s.scale_error_distance.reset();
     if (!judged.size) return out;
     const scaled& d_length = lengths.direction;
     const scaled& distance = lengths.origin_to_centre;
@@ -877,18 +891,20 @@ scale_errors measure_scale_errors(const judged_list& judged, const double (&t)[2
         if (input.radius > 0) {
             const scaled radius_length = scaled::of(input.radius);
             const double radius = (error * d_length / radius_length).value();
-            keep_max(out.radius, radius);
-            out.radius_upper = std::max(out.radius_upper, upper_of(radius, radius_length));
+            keep_max(s.scale_error_radius, radius);
+            out.radius = std::max(out.radius, upper_of(radius, radius_length));
         }
         if (distance.m != 0) {
             const double along = (error * d_length / distance).value();
-            keep_max(out.distance, along);
-            out.distance_upper = std::max(out.distance_upper, upper_of(along, distance));
+            keep_max(s.scale_error_distance, along);
+            out.distance = std::max(out.distance, upper_of(along, distance));
         }
     }
     if (!bounded) return out;
-    const bool radius_decided = !out.radius || bounds_in_one_bucket(*out.radius, out.radius_upper);
-    const bool distance_decided = !out.distance || bounds_in_one_bucket(*out.distance, out.distance_upper);
+    const bool radius_decided =
+        !s.scale_error_radius || bounds_in_one_bucket(*s.scale_error_radius, out.radius);
+    const bool distance_decided =
+        !s.scale_error_distance || bounds_in_one_bucket(*s.scale_error_distance, out.distance);
     return radius_decided && distance_decided ? out : measure_scale_errors(judged, t, exact, input, lengths, s, true);
 }
 
@@ -1053,12 +1069,10 @@ std::optional<std::string> measure_outputs(const contract& promises, const varia
             if (upper) upper->near_scaled_ulp = *s.near_scaled_ulp;
         }
     if (with_scale_errors) {
-        const scale_errors scale = measure_scale_errors(judged, t, exact, input, frame.lengths(), s);
-        s.scale_error_radius = scale.radius;
-        s.scale_error_distance = scale.distance;
+        const scale_error_uppers scale = measure_scale_errors(judged, t, exact, input, frame.lengths(), s);
         if (upper) {
-            upper->scale_error_radius = scale.radius_upper;
-            upper->scale_error_distance = scale.distance_upper;
+            upper->scale_error_radius = scale.radius;
+            upper->scale_error_distance = scale.distance;
         }
     }
     const t_bounds_check bounds = check_t_bounds(judged, output, exact);

@@ -403,6 +403,11 @@ inline t_range range_for(const contract& promises, const corpus_case& c, precisi
 }
 
 struct target_outcome {
+    // Provided, so that a value-initialised outcome (the audit's
+    // outcomes.emplace_back()) runs the members' initializers alone: with the
+    // implicit constructor it was zeroed whole first, some 560 bytes per
+    // target and case (every member has an initializer).
+    target_outcome() {}
     case_score score;
     variant_output output;  // empty for invalid or contract-violating cases
     t_range range;          // the range the target answered on

@@ -175,18 +175,22 @@ void case_points::add(const audited_case& c, std::size_t index) {
     r.kappa_float = kappa(s.at_float);
     r.kappa_double = kappa(s.at_double);
     if (s.at_double && s.at_double->valid) r.ratio = s.at_double->distance_ratio;
-    r.verdict.reserve(targets_.size());
-    r.near_ulp.reserve(targets_.size());
-    r.cause.reserve(targets_.size());
+    // Sized once, empty, and each present value assigned in place: an
+    // optional pushed back was assembled on the stack from two stores and
+    // read back as one, a stall that was most of this function's time.
+    r.verdict.resize(targets_.size());
+    r.near_ulp.resize(targets_.size());
+    r.cause.resize(targets_.size());
     for (std::size_t t = 0; t < targets_.size(); ++t) {
         const case_score& score = c.outcomes[t].score;
-        r.verdict.push_back(score.verdict);
-        std::optional<double> near_ulp = score.verdict == verdict_kind::agree ? score.near_ulp : std::nullopt;
+        r.verdict[t] = score.verdict;
+        if (score.cause) r.cause[t] = *score.cause;
+        if (score.verdict != verdict_kind::agree || !score.near_ulp) continue;
         // A figure kept to its bucket is printed as its exact value (printed_as_exact).
-        if (near_ulp && score.figure_upper_bounds && !printed_alike(*near_ulp, score.figure_upper_bounds->near_ulp))
-            near_ulp = exact_figures(targets_[t], *c.source, c.outcomes[t], c.exact_for(targets_[t].prec)).near_ulp;
-        r.near_ulp.push_back(near_ulp);
-        r.cause.push_back(score.cause);
+        if (score.figure_upper_bounds && !printed_alike(*score.near_ulp, score.figure_upper_bounds->near_ulp))
+            r.near_ulp[t] = exact_figures(targets_[t], *c.source, c.outcomes[t], c.exact_for(targets_[t].prec)).near_ulp;
+        else
+            r.near_ulp[t] = *score.near_ulp;
     }
     insert(c.source->family, key, std::move(r));
 }

@@ -1284,17 +1284,18 @@ exact_solution solve_case(const corpus_case& c, precision p, oracle_route route)
                    ? solve_exact_segment_reference(input.origin, p1, input.centre, input.radius, p)
                    : solve_exact_segment(input.origin, p1, input.centre, input.radius, p);
     }
+    const auto solve = [&](const std::optional<double>& tmin, const std::optional<double>& tmax) {
+        return route == oracle_route::reference ? solve_exact_reference(input, p, tmin, tmax)
+                                                : solve_exact(input, p, tmin, tmax);
+    };
     // The case's range ends rounded to p. Where rounding leaves them as they
     // are (double inputs, or no end), the case's own are passed: an optional
     // formed on the stack was read back whole, a store-forwarding stall.
-    if (p == precision::binary64 || (!c.tmin && !c.tmax))
-        return route == oracle_route::reference ? solve_exact_reference(input, p, c.tmin, c.tmax)
-                                                : solve_exact(input, p, c.tmin, c.tmax);
+    if (p == precision::binary64 || (!c.tmin && !c.tmax)) return solve(c.tmin, c.tmax);
     const auto bound = [p](std::optional<double> t) -> std::optional<double> {
         return t ? std::optional<double>(rounded_to(p, *t)) : t;
     };
-    return route == oracle_route::reference ? solve_exact_reference(input, p, bound(c.tmin), bound(c.tmax))
-                                            : solve_exact(input, p, bound(c.tmin), bound(c.tmax));
+    return solve(bound(c.tmin), bound(c.tmax));
 }
 
 namespace {

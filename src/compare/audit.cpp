@@ -42,6 +42,7 @@ void audit_case_into(audited_case& out, const corpus_case& c, std::span<const au
     std::optional<case_frame> at_float;
     if (float_used) at_float.emplace(*out.exact_float, target_input(precision::binary32, c));
     out.outcomes.clear();  // the outcomes' storage is kept from case to case
+    out.every_digit_.clear();
     for (std::size_t t = 0; t < targets.size(); ++t) {
         const case_frame& frame = targets[t].prec == precision::binary32 ? *at_float : at_double;
         judge_target_into(out.outcomes.emplace_back(), targets[t], c, frame,
@@ -52,6 +53,12 @@ void audit_case_into(audited_case& out, const corpus_case& c, std::span<const au
         out.stability.at_float = at_float->stability();
     else
         out.stability.at_float.reset();
+}
+
+const case_score& audited_case::every_digit(std::size_t t, const audit_target& target) const {
+    for (const auto& [judged, figures] : every_digit_)
+        if (judged == t) return figures;
+    return every_digit_.emplace_back(t, exact_figures(target, *source, outcomes[t], exact_for(target.prec))).second;
 }
 
 audited_case audit_case(const corpus_case& c, std::span<const audit_target> targets,
@@ -369,7 +376,6 @@ void audit_accumulator::add(const audited_case& c, std::size_t index) {
 
     auto& family_samples = by_family[family];
     family_samples.resize(targets.size());
-    every_digit_figures every_digit(c, targets);
     for (std::size_t t = 0; t < targets.size(); ++t) {
         const case_score& score = c.outcomes[t].score;
         target_samples& s = family_samples[t];
@@ -382,7 +388,7 @@ void audit_accumulator::add(const audited_case& c, std::size_t index) {
         for (const error_figure_definition& f : error_figures)
             if (const std::optional<double>& e = f.of_case(score))
                 s.errors[f.figure].add_bounded(*e, f.upper_of_case(score), index, c.source->id,
-                                               [&] { return f.of_case(every_digit.of(t)).value(); });
+                                               [&] { return f.of_case(c.every_digit(t, targets[t])).value(); });
     }
 }
 

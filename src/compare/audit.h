@@ -40,28 +40,23 @@ struct audited_case {
     const exact_solution& exact_for(precision p) const {
         return p == precision::binary32 ? *exact_float : exact_double;
     }
-};
 
-// A case's figures to every digit (exact_figures), one target's at a time:
-// a tally reads a figure kept to its printed digits exactly only where a
-// maximum needs it, and the target is judged again once for all its figures.
-class every_digit_figures {
-public:
-    every_digit_figures(const audited_case& c, std::span<const audit_target> targets) : case_(c), targets_(targets) {}
-    const case_score& of(std::size_t target) {
-        if (target != target_) {
-            const audit_target& t = targets_[target];
-            score_ = exact_figures(t, *case_.source, case_.outcomes[target], case_.exact_for(t.prec));
-            target_ = target;
-        }
-        return *score_;
-    }
+    // Target t's figures to every digit (exact_figures of outcomes[t];
+    // `target` is the audit's t-th, the one the outcome was judged for). A
+    // tally reads a figure kept to its printed digits exactly only where a
+    // maximum or a printed digit needs it; the target is then judged again
+    // once for all its figures and all the tallies that ask in this case
+    // (the audit's and the stability tallies, the plot sample, the
+    // examples, the per-case line), not once per tally. The cache is the
+    // case's: audit_case_into empties it, and an audited case is read by one
+    // thread at a time (its worker, or the ordered hook between chunks).
+    const case_score& every_digit(std::size_t t, const audit_target& target) const;
 
 private:
-    const audited_case& case_;
-    std::span<const audit_target> targets_;
-    std::optional<case_score> score_;
-    std::size_t target_ = std::numeric_limits<std::size_t>::max();
+    friend void audit_case_into(audited_case&, const corpus_case&, std::span<const audit_target>,
+                                std::span<const given_answer>, const figure_request&, oracle_route);
+    // (target index, its figures to every digit), in the order first asked for.
+    mutable std::vector<std::pair<std::size_t, case_score>> every_digit_;
 };
 
 // Every target judged on the case: the oracle once per precision in use,

@@ -32,7 +32,6 @@ std::optional<double> root_error_ulp(const case_score& s) {
 case_examples::case_examples(std::size_t targets) : first(targets), worst(targets), farthest(targets) {}
 
 void case_examples::add(const audited_case& c, std::size_t index, std::span<const audit_target> targets) {
-    every_digit_figures every_digit(c, targets);
     for (std::size_t t = 0; t < c.outcomes.size() && t < first.size(); ++t) {
         const case_score& s = c.outcomes[t].score;
         if (is_disagreement(s.verdict)) {
@@ -52,7 +51,7 @@ void case_examples::add(const audited_case& c, std::size_t index, std::span<cons
             if (upper < agree_far_fraction) continue;
             auto& list = farthest[t];
             if (list.size() == kept && !farther({index, upper, {}, {}}, list.back())) continue;
-            const double error = upper == lower ? lower : every_digit.of(t).scale_error_radius.value();
+            const double error = upper == lower ? lower : c.every_digit(t, targets[t]).scale_error_radius.value();
             if (!(error < agree_far_fraction) && (list.size() < kept || farther({index, error, {}, {}}, list.back())))
                 keep(list, {index, error, *c.source, std::nullopt}, farther);
         }

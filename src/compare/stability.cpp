@@ -47,7 +47,6 @@ void stability_accumulator::add(const audited_case& c, std::size_t index) {
     auto& family_samples = by_family[family_key(*c.source)];
     family_samples.resize(targets.size());
     const std::string& id = c.source->id;
-    every_digit_figures every_digit(c, targets);
     // The case's κ decade at each precision, found once for its targets (a log10 each).
     std::optional<int> float_bucket, double_bucket;
     for (std::size_t t = 0; t < targets.size(); ++t) {
@@ -78,13 +77,13 @@ void stability_accumulator::add(const audited_case& c, std::size_t index) {
         if (score.near_ulp) {
             near_upper = definition_of(error_figure::near_root_ulp).upper_of_case(score);
             out.near_ulp[bucket].add_bounded(*score.near_ulp, *near_upper, index, id,
-                                             [&] { return every_digit.of(t).near_ulp.value(); });
+                                             [&] { return c.every_digit(t, targets[t]).near_ulp.value(); });
         }
         std::optional<double> excess = excess_over_line(score, m, exact, prec);
         if (!excess) continue;
         double excess_upper =
             score.figure_upper_bounds ? excess_over_line(near_upper, score, m, exact, prec).value() : *excess;
-        const auto exact_excess = [&] { return excess_over_line(every_digit.of(t), m, exact, prec).value(); };
+        const auto exact_excess = [&] { return excess_over_line(c.every_digit(t, targets[t]), m, exact, prec).value(); };
         if (!bounds_in_one_bucket(*excess, excess_upper) ||
             (*excess <= stability_factor) != (excess_upper <= stability_factor))
             excess = excess_upper = exact_excess();

@@ -418,10 +418,7 @@ std::string per_case_line(const audited_case& audited, const std::vector<audit_t
         };
         // Figures the audit kept to their bucket print from their exact
         // values where their bounds print apart (printed_as_exact).
-        std::optional<case_score> every_digit;
-        if (!printed_as_exact(o.score))
-            every_digit = exact_figures(targets[i], c, o, audited.exact_for(targets[i].prec));
-        const case_score& figures = every_digit ? *every_digit : o.score;
+        const case_score& figures = printed_as_exact(o.score) ? o.score : audited.every_digit(i, targets[i]);
         for (const error_figure_definition& f : error_figures) {
             if (f.figure == error_figure::hit_point_ulp) {
                 // Per coordinate on a case's line (the tally keeps the worst).

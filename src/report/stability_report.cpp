@@ -188,7 +188,7 @@ void case_points::add(const audited_case& c, std::size_t index) {
         if (score.verdict != verdict_kind::agree || !score.near_ulp) continue;
         // A figure kept to its bucket is printed as its exact value (printed_as_exact).
         if (score.figure_upper_bounds && !printed_alike(*score.near_ulp, score.figure_upper_bounds->near_ulp))
-            r.near_ulp[t] = exact_figures(targets_[t], *c.source, c.outcomes[t], c.exact_for(targets_[t].prec)).near_ulp;
+            r.near_ulp[t] = c.every_digit(t, targets_[t]).near_ulp;
         else
             r.near_ulp[t] = *score.near_ulp;
     }

@@ -15,6 +15,7 @@
 #include "bench/timing.h"
 #include "corpus/generators.h"
 #include "intersectors/registry.h"
+#include "report/audit_timing_report.h"
 
 namespace rayverify::bench {
 namespace {
@@ -70,6 +71,45 @@ TEST(Bench, LongDoubleVariantsComputeInLongDouble) {
     EXPECT_EQ(wide.count, direct.count);
     EXPECT_EQ(wide.t0, static_cast<double>(direct.t0));
     EXPECT_FALSE(variants[0].run_float);
+}
+
+// A missed audit target says what meeting it would take, from the run's
+// parts: the largest parts that would have to go, or, where the parts (each
+// a median of its own timings) already sum within the target, that the gap
+// is between medians, not a part to remove.
+TEST(Bench, MissedAuditTargetSaysWhatMeetingItTakes) {
+    audit_timing timing;
+    timing.repetitions = 3;
+    timing.target_count = 28;
+    const auto row = [](std::string family, double ratio, audit_parts parts) {
+        audit_timing_row r;
+        r.family = std::move(family);
+        r.cases = 500;
+        r.naive_ns = 2.5;
+        r.audit_ns = ratio * 2.5;
+        r.audit_ratio = ratio;
+        r.per_case_ratio = 1.5;
+        r.per_case_bytes = 200;
+        r.parts = parts;
+        return r;
+    };
+    // Parts summing to 67.9x of 76.5x, against 40x: figures and verdicts go.
+    timing.rows.push_back(row("uniform", 76.5, {5.2, 1.6, 18.1, 17.3, 14.8, 10.9}));
+    // Parts summing to 98.9x of 101.2x, against 100x: no part need go.
+    timing.rows.push_back(row("near_tangent", 101.2, {3.0, 6.2, 21.9, 25.4, 14.1, 28.3}));
+    timing.rows.push_back(row("all", 90, {4, 4, 20, 20, 14, 20}));
+    const std::string text = audit_timing_text(timing);
+    EXPECT_NE(text.find("audit / naive double, uniform                           76.50x  target <= 40x  MISSED\n"
+                        "      needs 36.5x of 76.5x gone (48%); removing the largest parts until the rest meets it "
+                        "takes verdicts (18.1x) + figures (17.3x), leaving 32.5x\n"),
+              std::string::npos)
+        << text;
+    EXPECT_NE(text.find("audit / naive double, near_tangent                     101.20x  target <= 100x  MISSED\n"
+                        "      needs 1.2x of 101.2x gone (1%); its parts sum to 98.9x, within the target: the 2.3x "
+                        "beyond them is the difference between separately timed medians, within this run's noise\n"),
+              std::string::npos)
+        << text;
+    EXPECT_EQ(text.find("takes ,"), std::string::npos) << text;
 }
 
 TEST(Bench, TimingRowsAreCompleteAndConsumeResults) {

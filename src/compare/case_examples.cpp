@@ -16,6 +16,9 @@ bool farther(const case_example& a, const case_example& b) {
 template <class Better>
 void keep(std::vector<case_example>& into, case_example e, Better better) {
     if (into.size() == case_examples::kept && !better(e, into.back())) return;
+    // Room for the kept cases and the one that may push the last out, made
+    // at the first: growing one at a time reallocated on each of the first three.
+    if (into.capacity() == 0) into.reserve(case_examples::kept + 1);
     into.insert(std::upper_bound(into.begin(), into.end(), e, better), std::move(e));
     if (into.size() > case_examples::kept) into.pop_back();
 }

@@ -348,20 +348,32 @@ void map_json(json_io& io, case_point_record& p) {
     io.field("ratio", p.row.ratio);
     io.field("kappa_float", p.row.kappa_float);
     io.field("kappa_double", p.row.kappa_double);
-    io.field("verdict", p.row.verdict);
-    io.field("near_ulp", p.row.near_ulp);
-    io.field("cause", p.row.cause);
+    // The row's targets as three columns, as the plots' sample prints them.
+    std::vector<verdict_kind> verdict;
+    std::vector<std::optional<double>> near_ulp;
+    std::vector<std::optional<disagreement_cause>> cause;
+    if (!io.reading())
+        for (const case_points::row::target_point& point : p.row.per_target) {
+            verdict.push_back(point.verdict);
+            near_ulp.push_back(point.near_ulp);
+            cause.push_back(point.cause);
+        }
+    io.field("verdict", verdict);
+    io.field("near_ulp", near_ulp);
+    io.field("cause", cause);
     if (!io.reading()) return;
     p.key.second = p.row.index;
     check_family(io, "family_key", p.family_key.empty() ? "-" : p.family_key);  // the audit counts it as "-"
     check_case_index(io, "index", p.row.index);
     const std::size_t targets = context_of(io).header.targets.size();
-    if (p.row.verdict.size() != targets)
-        io.fail("verdict", fmt::format("has {} entries, expected {}", p.row.verdict.size(), targets));
-    if (p.row.near_ulp.size() != targets)
-        io.fail("near_ulp", fmt::format("has {} entries, expected {}", p.row.near_ulp.size(), targets));
-    if (p.row.cause.size() != targets)
-        io.fail("cause", fmt::format("has {} entries, expected {}", p.row.cause.size(), targets));
+    if (verdict.size() != targets)
+        io.fail("verdict", fmt::format("has {} entries, expected {}", verdict.size(), targets));
+    if (near_ulp.size() != targets)
+        io.fail("near_ulp", fmt::format("has {} entries, expected {}", near_ulp.size(), targets));
+    if (cause.size() != targets)
+        io.fail("cause", fmt::format("has {} entries, expected {}", cause.size(), targets));
+    p.row.per_target.resize(targets);
+    for (std::size_t t = 0; t < targets; ++t) p.row.per_target[t] = {verdict[t], near_ulp[t], cause[t]};
 }
 
 // A case kept to open (compare/case_examples.h), as the state keeps it: the

@@ -178,19 +178,18 @@ void case_points::add(const audited_case& c, std::size_t index) {
     // Sized once, empty, and each present value assigned in place: an
     // optional pushed back was assembled on the stack from two stores and
     // read back as one, a stall that was most of this function's time.
-    r.verdict.resize(targets_.size());
-    r.near_ulp.resize(targets_.size());
-    r.cause.resize(targets_.size());
+    r.per_target.resize(targets_.size());
     for (std::size_t t = 0; t < targets_.size(); ++t) {
         const case_score& score = c.outcomes[t].score;
-        r.verdict[t] = score.verdict;
-        if (score.cause) r.cause[t] = *score.cause;
+        row::target_point& point = r.per_target[t];
+        point.verdict = score.verdict;
+        if (score.cause) point.cause = *score.cause;
         if (score.verdict != verdict_kind::agree || !score.near_ulp) continue;
         // A figure kept to its bucket is printed as its exact value (printed_as_exact).
         if (score.figure_upper_bounds && !printed_alike(*score.near_ulp, score.figure_upper_bounds->near_ulp))
-            r.near_ulp[t] = c.every_digit(t, targets_[t]).near_ulp;
+            point.near_ulp = c.every_digit(t, targets_[t]).near_ulp;
         else
-            r.near_ulp[t] = *score.near_ulp;
+            point.near_ulp = *score.near_ulp;
     }
     insert(c.source->family, key, std::move(r));
 }
@@ -215,9 +214,10 @@ json case_points::to_json() const {
         kappa_float.push_back(optional_number(r->kappa_float));
         kappa_double.push_back(optional_number(r->kappa_double));
         for (std::size_t t = 0; t < targets_.size(); ++t) {
-            verdict[t].push_back(verdict_name(r->verdict[t]));
-            near_ulp[t].push_back(optional_number(printed_figure(r->near_ulp[t])));
-            cause[t].push_back(r->cause[t] ? json(cause_name(*r->cause[t])) : json());
+            const row::target_point& point = r->per_target[t];
+            verdict[t].push_back(verdict_name(point.verdict));
+            near_ulp[t].push_back(optional_number(printed_figure(point.near_ulp)));
+            cause[t].push_back(point.cause ? json(cause_name(*point.cause)) : json());
         }
     }
     // The columns are moved into place: a brace-initialised json copies

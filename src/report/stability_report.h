@@ -45,9 +45,15 @@ public:
         std::size_t index = 0;
         std::string family;
         std::optional<double> ratio, kappa_float, kappa_double;  // absent: null in the report
-        std::vector<verdict_kind> verdict;                       // aligned with the targets
-        std::vector<std::optional<double>> near_ulp;             // an agreeing target's near-root ulps
-        std::vector<std::optional<disagreement_cause>> cause;    // a disagreeing target's cause
+        // What the plots draw of one target's answer.
+        struct target_point {
+            verdict_kind verdict = verdict_kind::agree;
+            std::optional<double> near_ulp;           // an agreeing target's near-root ulps
+            std::optional<disagreement_cause> cause;  // a disagreeing target's cause
+        };
+        // Aligned with the targets: one allocation per row (three columns of
+        // their own were three, in every case of a family of ≤ 1024).
+        std::vector<target_point> per_target;
     };
     using sample_key = std::pair<std::uint64_t, std::size_t>;  // (hash of id, global index)
 

@@ -49,7 +49,8 @@ struct audited_case {
     // (the audit's and the stability tallies, the plot sample, the
     // examples, the per-case line), not once per tally. The cache is the
     // case's: audit_case_into empties it, and an audited case is read by one
-    // thread at a time (its worker, or the ordered hook between chunks).
+    // thread at a time (its worker, or the ordered hook between chunks). The
+    // reference holds until another target's figures are asked for.
     const case_score& every_digit(std::size_t t, const audit_target& target) const;
 
 private:

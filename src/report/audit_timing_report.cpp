@@ -78,7 +78,7 @@ std::string what_it_would_take(const audit_parts& parts, double ratio, double li
     // may meet the target where the whole does not, and then no part need go.
     if (left <= limit)
         return out + fmt::format("; its parts sum to {:.1f}x, within the target: the {:.1f}x beyond them is the "
-                                 "difference between separately timed medians, within this run's noise\n",
+                                 "difference between separately timed medians, not a part to remove\n",
                                  left, ratio - left);
     std::string removed;
     for (const auto& [name, value] : largest) {

@@ -428,8 +428,8 @@ static void map_json(json_io& io, audit_state& state) {
 
     std::vector<case_point_record> points;
     if (!io.reading())
-        for (const auto& [family, kept] : state.points.sample())
-            for (const auto& [key, row] : kept) points.push_back({family, key, row});
+        state.points.for_each_in_key_order([&points](const std::string& family, const case_points::sample_key& key,
+                                                     const case_points::row& row) { points.push_back({family, key, row}); });
     io.field("case_points", points);
 
     std::vector<case_example_record> examples;

@@ -149,16 +149,42 @@ void write_stability_measures(json_line& out, const case_stability& s) {
 case_points::case_points(std::vector<audit_target> targets, std::vector<std::string> labels)
     : targets_(std::move(targets)), labels_(std::move(labels)) {}
 
+namespace {
+
+bool by_sample_key(const std::pair<case_points::sample_key, case_points::row>& a,
+                   const std::pair<case_points::sample_key, case_points::row>& b) {
+    return a.first < b.first;
+}
+
+}  // namespace
+
 void case_points::insert(const std::string& family, const sample_key& key, row r) {
-    auto& kept = sample_[family];
-    if (kept.size() >= per_family && !(key < kept.rbegin()->first)) return;
-    kept.emplace(key, std::move(r));
-    if (kept.size() > per_family) kept.erase(std::prev(kept.end()));
+    kept_rows& kept = sample_[family];
+    if (kept.size() >= per_family) {
+        if (!(key < kept.front().first)) return;
+        // The largest key leaves; the new row takes its place.
+        std::pop_heap(kept.begin(), kept.end(), by_sample_key);
+        kept.back() = {key, std::move(r)};
+    } else {
+        kept.emplace_back(key, std::move(r));
+    }
+    std::push_heap(kept.begin(), kept.end(), by_sample_key);
 }
 
 bool case_points::would_keep(const std::string& family, const sample_key& key) const {
     const auto found = sample_.find(family);
-    return found == sample_.end() || found->second.size() < per_family || key < found->second.rbegin()->first;
+    return found == sample_.end() || found->second.size() < per_family || key < found->second.front().first;
+}
+
+void case_points::for_each_in_key_order(
+    const std::function<void(const std::string& family, const sample_key& key, const row& r)>& visit) const {
+    for (const auto& [family, kept] : sample_) {
+        std::vector<const std::pair<sample_key, row>*> ordered;
+        ordered.reserve(kept.size());
+        for (const auto& entry : kept) ordered.push_back(&entry);
+        std::sort(ordered.begin(), ordered.end(), [](const auto* a, const auto* b) { return a->first < b->first; });
+        for (const auto* entry : ordered) visit(family, entry->first, entry->second);
+    }
 }
 
 void case_points::add(const audited_case& c, std::size_t index) {

@@ -5,6 +5,7 @@
 
 #include <nlohmann/json.hpp>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <string>
 #include <utility>
@@ -34,7 +35,8 @@ void write_stability_measures(json_line& out, const case_stability& s);
 // A bounded, deterministic sample: per family, the `per_family` cases with the
 // smallest hash of their id (ties: smallest global index), listed in input
 // order; every case when a family has no more. Mergeable like the
-// accumulators (one per thread or shard), and the state is public for shards.
+// accumulators (one per thread or shard); the shard state lists its rows
+// (for_each_in_key_order) and inserts them back.
 class case_points {
 public:
     static constexpr std::size_t per_family = 1024;
@@ -65,12 +67,19 @@ public:
     void merge(const case_points& other);
     nlohmann::ordered_json to_json() const;
 
-    const std::map<std::string, std::map<sample_key, row>>& sample() const { return sample_; }
+    // visit(family, key, row) for every kept row, by family, then by key
+    // (the order the shard state lists them in).
+    void for_each_in_key_order(
+        const std::function<void(const std::string& family, const sample_key& key, const row& r)>& visit) const;
 
 private:
+    // A family's kept rows as a max-heap by key: the largest, the first to
+    // leave, on top. Keeping a case costs a sift; a tree of up to 1024 nodes
+    // cost a walk from node to node, each a load that missed the cache.
+    using kept_rows = std::vector<std::pair<sample_key, row>>;
     std::vector<audit_target> targets_;
     std::vector<std::string> labels_;
-    std::map<std::string, std::map<sample_key, row>> sample_;  // family → kept rows
+    std::map<std::string, kept_rows> sample_;  // family → kept rows
 };
 
 // report["timing"]: every row, the reference and each row's ratio to the

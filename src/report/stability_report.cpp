@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <iterator>
 #include <map>
 #include <utility>
 
@@ -182,7 +181,7 @@ void case_points::for_each_in_key_order(
         std::vector<const std::pair<sample_key, row>*> ordered;
         ordered.reserve(kept.size());
         for (const auto& entry : kept) ordered.push_back(&entry);
-        std::sort(ordered.begin(), ordered.end(), [](const auto* a, const auto* b) { return a->first < b->first; });
+        std::sort(ordered.begin(), ordered.end(), [](const auto* a, const auto* b) { return by_sample_key(*a, *b); });
         for (const auto* entry : ordered) visit(family, entry->first, entry->second);
     }
 }

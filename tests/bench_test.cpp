@@ -3,6 +3,8 @@
 // return, and every row it reports is complete.
 #include <gtest/gtest.h>
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <set>
 #include <sstream>
@@ -168,6 +170,8 @@ TEST(Bench, OracleTimingTimesEveryRoute) {
         EXPECT_EQ(r.class_over_naive, r.class_ns / r.naive_ns) << r.family;
         EXPECT_GT(r.roots_ns, 0) << r.family;
         EXPECT_EQ(r.roots_over_naive, r.roots_ns / r.naive_ns) << r.family;
+        EXPECT_GT(r.class_per_call_over_naive, 0) << r.family;
+        EXPECT_GT(r.roots_per_call_over_naive, 0) << r.family;
     }
     EXPECT_EQ(t.all.cases, 160u);
     const std::string table = format_oracle_timing(t);
@@ -177,6 +181,13 @@ TEST(Bench, OracleTimingTimesEveryRoute) {
     EXPECT_NE(table.find("static/naive"), std::string::npos) << table;
     EXPECT_NE(table.find("class/naive"), std::string::npos) << table;
     EXPECT_NE(table.find("roots/naive"), std::string::npos) << table;
+    // The partial answers' targets time a batch, and say what one call per case costs.
+    for (const char* family : {"uniform", "far_sphere"})
+        for (const char* depth : {"class and signs", "roots rounded"}) {
+            const std::size_t at = table.find(fmt::format("oracle {} / naive, {} ", depth, family));
+            ASSERT_NE(at, std::string::npos) << depth << ", " << family << "\n" << table;
+            EXPECT_NE(table.find("      one call per case: ", at), std::string::npos) << table;
+        }
     // Every missed target is followed by what meeting it would take.
     std::istringstream lines(table);
     std::string line, previous;

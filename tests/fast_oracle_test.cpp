@@ -18,6 +18,7 @@
 
 #include "support/hostile_fp_plugins.h"
 #include "core/float_bits.h"
+#include "core/fp_environment.h"
 #include "corpus/corpus_io.h"
 #include "oracle/oracle.h"
 #include "oracle/static_filter.h"
@@ -388,6 +389,43 @@ TEST(FastOracleStage, PartialAnswersEndInTheStaticFilterOnUniformCases) {
     }
     EXPECT_GE(settled[static_cast<int>(oracle_depth::roots_rounded)], n * 99 / 100);
     EXPECT_GE(settled[static_cast<int>(oracle_depth::class_and_signs)], n * 99 / 100);
+}
+
+// A batch answers each case as a call of its own would, field by field, in
+// every regime (the static filter's cases and those it leaves to the whole
+// solution), also when foreign code left the thread in another environment
+// before it: the batch restores the IEEE default once, before its first case.
+TEST(FastOracleStage, ABatchAnswersAsOneCallPerCase) {
+    std::vector<ray_sphere<double>> cases;
+    std::uint64_t seed = 20261203;
+    std::printf("seed %llu\n", static_cast<unsigned long long>(seed));
+    for (const regime& r : regimes) {
+        std::mt19937_64 rng(seed++);
+        for (int i = 0; i < 300; ++i) cases.push_back(r.make(rng));
+    }
+    const fp_state hostile = *fp_state_for(*parse_fp_environment("ftz+daz+upward"));
+    for (const oracle_depth depth : {oracle_depth::class_and_signs, oracle_depth::roots_rounded}) {
+        std::vector<exact_roots> one_by_one;
+        for (const ray_sphere<double>& g : cases) one_by_one.push_back(solve_exact_roots(g, precision::binary64, depth));
+        std::vector<exact_roots> batch(cases.size());
+        set_fp_state(hostile);
+        solve_exact_roots(cases, precision::binary64, depth, batch);
+        ASSERT_TRUE(is_ieee_default(current_fp_state())) << describe_fp_state(current_fp_state());
+        std::size_t two_hits = 0;
+        for (std::size_t i = 0; i < cases.size(); ++i) {
+            SCOPED_TRACE(testing::Message() << "case " << i << " (" << regimes[i / 300].name << "): "
+                                            << describe(cases[i], std::nullopt, std::nullopt));
+            const exact_roots &mine = batch[i], &alone = one_by_one[i];
+            ASSERT_EQ(mine.invalid, alone.invalid);
+            ASSERT_EQ(mine.cls, alone.cls);
+            for (const auto& [m, a] : {std::pair{mine.near_root, alone.near_root}, {mine.far_root, alone.far_root}}) {
+                ASSERT_EQ(m.sign, a.sign);
+                ASSERT_TRUE(same_bits(m.rounded, a.rounded)) << hex(m.rounded) << " alone " << hex(a.rounded);
+            }
+            two_hits += mine.cls == line_class::two_hit;
+        }
+        EXPECT_GT(two_hits, cases.size() / 4) << "most regimes aim at the sphere";
+    }
 }
 
 // A double's ULP error needs its root to about 2^−150 (the error of a

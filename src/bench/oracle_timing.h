@@ -27,9 +27,12 @@ struct oracle_timing_row {
     double fast_ns = 0;       // solve_exact (double inputs, the case's interval): everything
     // Partial answers (solve_exact_roots, no interval): the class and the
     // roots' signs, and those with both roots correctly rounded; each with its
-    // ratio to naive (median of each repetition's).
+    // ratio to naive (median of each repetition's). Asked for the family's
+    // cases as one batch (the environment checked once), and case by case
+    // (checked on every call).
     double class_ns = 0, class_over_naive = 0;
     double roots_ns = 0, roots_over_naive = 0;
+    double class_per_call_over_naive = 0, roots_per_call_over_naive = 0;
     // The static filter alone stopped after the class and signs (its ratio to
     // naive): what of class_ns is the filter's arithmetic, and what the rest
     // (the case's validity check, the IEEE environment's restore, the result).

@@ -27,6 +27,7 @@
 #include "oracle/refinement.h"
 #include "oracle/static_filter.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -759,27 +760,23 @@ void count_solved(const exact_solution& solution) {
 
 }  // namespace
 
-exact_solution solve_exact(const ray_sphere<double>& g, precision prec, std::optional<double> tmin,
-                           std::optional<double> tmax) {
-    // The filters' error bounds assume rounding to nearest and gradual
-    // underflow: whatever foreign code left on this thread, the truth is
-    // computed in the IEEE default (core/fp_environment.h; a few instructions).
-    // Every audited case, hunted candidate and explained case is solved here
-    // first, and each target's calls restore the default after them, so the
-    // judge and the measures that follow run in it too.
-    restore_ieee_default();
+namespace {
+
+// solve_exact's answer, in the IEEE default its caller has made sure of.
+exact_solution solved_in_ieee_default(const ray_sphere<double>& g, precision prec, std::optional<double> tmin,
+                                      std::optional<double> tmax) {
     exact_solution solution = exact_solution::internal::filtered(g, prec, tmin, tmax);
     count_solved(solution);
     return solution;
 }
 
-exact_roots solve_exact_roots(const ray_sphere<double>& g, precision prec, oracle_depth depth) {
-    restore_ieee_default();  // as solve_exact: the filters' bounds assume the IEEE default
+// solve_exact_roots' answer, likewise; `solutions` is this thread's tally.
+exact_roots roots_in_ieee_default(const ray_sphere<double>& g, precision prec, oracle_depth depth,
+                                  stage_tally& solutions) {
     exact_roots out;
     // The static filter settles valid cases only: a case it settles needs no validity check.
     if (depth == oracle_depth::class_and_signs) {
         if (oracle_internal::certified_signs signs; oracle_internal::static_class_and_signs(g, signs)) {
-            stage_tally& solutions = oracle_stage_counts_this_thread().solutions;
             ++(has_zero_root(signs) ? solutions.expansion : solutions.filter);
             if (signs.discriminant_sign < 0) return out;
             out.cls = line_class::two_hit;
@@ -790,7 +787,6 @@ exact_roots solve_exact_roots(const ray_sphere<double>& g, precision prec, oracl
     }
     oracle_internal::filtered_case filter;
     if (depth == oracle_depth::roots_rounded && oracle_internal::static_filter_case(g, prec, filter, depth)) {
-        stage_tally& solutions = oracle_stage_counts_this_thread().solutions;
         ++(has_zero_root(filter) ? solutions.expansion : solutions.filter);
         if (*filter.discriminant_sign < 0) return out;
         out.cls = line_class::two_hit;  // the static filter certifies no tangent
@@ -802,7 +798,7 @@ exact_roots solve_exact_roots(const ray_sphere<double>& g, precision prec, oracl
     }
     // What the static filter cannot certify (or everything): the whole
     // solution's answer, an invalid case's reason among them.
-    const exact_solution whole = solve_exact(g, prec);
+    const exact_solution whole = solved_in_ieee_default(g, prec, std::nullopt, std::nullopt);
     out.invalid = whole.invalid;
     out.cls = whole.cls;
     if (whole.cls == line_class::miss) return out;
@@ -810,6 +806,33 @@ exact_roots solve_exact_roots(const ray_sphere<double>& g, precision prec, oracl
     out.far_root = whole.far_root;
     if (depth == oracle_depth::class_and_signs) out.near_root.rounded = out.far_root.rounded = 0;
     return out;
+}
+
+}  // namespace
+
+exact_solution solve_exact(const ray_sphere<double>& g, precision prec, std::optional<double> tmin,
+                           std::optional<double> tmax) {
+    // The filters' error bounds assume rounding to nearest and gradual
+    // underflow: whatever foreign code left on this thread, the truth is
+    // computed in the IEEE default (core/fp_environment.h; a few instructions).
+    // Every audited case, hunted candidate and explained case is solved here
+    // first, and each target's calls restore the default after them, so the
+    // judge and the measures that follow run in it too.
+    restore_ieee_default();
+    return solved_in_ieee_default(g, prec, tmin, tmax);
+}
+
+exact_roots solve_exact_roots(const ray_sphere<double>& g, precision prec, oracle_depth depth) {
+    restore_ieee_default();  // as solve_exact: the filters' bounds assume the IEEE default
+    return roots_in_ieee_default(g, prec, depth, oracle_stage_counts_this_thread().solutions);
+}
+
+void solve_exact_roots(std::span<const ray_sphere<double>> cases, precision prec, oracle_depth depth,
+                       std::span<exact_roots> out) {
+    restore_ieee_default();  // once: nothing but the oracle runs until the batch is answered
+    stage_tally& solutions = oracle_stage_counts_this_thread().solutions;
+    const std::size_t n = std::min(cases.size(), out.size());
+    for (std::size_t i = 0; i < n; ++i) out[i] = roots_in_ieee_default(cases[i], prec, depth, solutions);
 }
 
 namespace {

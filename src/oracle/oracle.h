@@ -15,6 +15,7 @@
 #include <limits>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <type_traits>
@@ -271,6 +272,15 @@ struct exact_roots {
 // whole answer, of which this returns the same fields. `geometry` as for
 // solve_exact (for a float variant: the inputs rounded to float).
 exact_roots solve_exact_roots(const ray_sphere<double>& geometry, precision prec, oracle_depth depth);
+// The same for many cases at once: out[i] answers cases[i], for each case
+// `out` has room for (it should be as long as `cases`). The environment is
+// checked once for the batch rather than once a case: reading MXCSR waits
+// for the floating-point operations in flight, about as long as a naive
+// intersection (bench --oracle prints both). Nothing else may run on the
+// thread meanwhile, so a batch is for cases already in hand, not for cases
+// interleaved with calls into the code under audit.
+void solve_exact_roots(std::span<const ray_sphere<double>> cases, precision prec, oracle_depth depth,
+                       std::span<exact_roots> out);
 
 // Solve one case exactly. `geometry` must hold exactly the values the variant
 // receives (for a float variant: the inputs already rounded to float). Never

@@ -9,6 +9,7 @@
 
 #include <array>
 #include <bit>
+#include <charconv>
 #include <cstdint>
 #include <cstdio>
 #include <limits>
@@ -62,6 +63,56 @@ TEST(JsonLine, NumbersAreWrittenShortestAndReadBackExactly) {
         line.value(x);
         EXPECT_EQ(line.take(), json(x).dump());
     }
+}
+
+// A decimal spelled from its digits is what json_number_text writes for the
+// double nearest it (std::from_chars rounds the decimal correctly): every
+// one of one to four digits (and 10^4, a figure rounded up) at every
+// exponent that scales it within 10^±40, and random decimals of up to 15
+// digits across the normal range; each with both signs, through
+// json_line::decimal as well.
+TEST(JsonLine, ADecimalIsSpelledAsTheDoubleNearestIt) {
+    const auto nearest = [](bool negative, std::uint64_t digits, int exponent) {
+        char text[48];
+        char* end = std::to_chars(text, text + sizeof text, digits).ptr;
+        *end++ = 'e';
+        end = std::to_chars(end, text + sizeof text, exponent).ptr;
+        double x = 0;
+        std::from_chars(text, end, x);
+        return negative ? -x : x;
+    };
+    const auto check = [&](bool negative, std::uint64_t digits, int exponent) {
+        char mine[32], theirs[32];
+        const std::string_view spelled(mine, json_decimal_text(mine, negative, digits, exponent));
+        const double x = nearest(negative, digits, exponent);
+        const std::string_view expected(theirs, json_number_text(theirs, x));
+        if (spelled != expected)
+            return testing::AssertionFailure() << (negative ? "-" : "") << digits << "e" << exponent << ": spelled "
+                                               << spelled << ", json_number_text " << expected;
+        return testing::AssertionSuccess();
+    };
+    std::size_t checked = 0;
+    for (std::uint64_t digits = 1; digits <= 10000; ++digits)
+        for (int exponent = -44; exponent <= 40; ++exponent)
+            for (const bool negative : {false, true}) {
+                ASSERT_TRUE(check(negative, digits, exponent));
+                ++checked;
+            }
+    const std::uint64_t seed = std::random_device{}();
+    std::printf("seed %llu\n", static_cast<unsigned long long>(seed));
+    std::mt19937_64 rng(seed);
+    for (int i = 0; i < 200000; ++i) {
+        const int count = 1 + static_cast<int>(rng() % 15);
+        std::uint64_t digits = 1 + rng() % 9;
+        for (int k = 1; k < count; ++k) digits = 10 * digits + rng() % 10;
+        const int exponent = static_cast<int>(rng() % 601) - 300 - count;
+        ASSERT_TRUE(check(rng() % 2 == 0, digits, exponent));
+        ++checked;
+    }
+    json_line line;
+    line.begin_array().decimal(false, 4267, -5).decimal(true, 12000, -1).decimal(false, 1, 21).end_array();
+    EXPECT_EQ(line.take(), "[0.04267,-1200.0,1e+21]");
+    std::printf("%zu decimals spelled as json_number_text writes their doubles\n", checked);
 }
 
 TEST(JsonLine, StringsNestingAndOrderAreWrittenAsNlohmannWritesThem) {
@@ -163,6 +214,9 @@ TEST(JsonLine, AKeyFromPiecesIsTheKeyOfTheirJoin) {
         json_line line;
         line.begin_object().key_text(pieces).value(1).end_object();
         ASSERT_EQ(line.take(), (json{{whole, 1}}.dump())) << whole;
+        // After another member: the comma, written with the name or before its escapes.
+        line.begin_object().member("x", 0).key_text(pieces).value(1).end_object();
+        ASSERT_EQ(line.take(), (json{{"x", 0}, {whole, 1}}.dump())) << whole;
     }
 }
 

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <bit>
+#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -13,6 +14,7 @@
 #include <limits>
 #include <random>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "compare/audit.h"
@@ -133,6 +135,45 @@ TEST(PrintedFigures, AgreeWithPrintfAtEveryBinadeEdgeAndPowerOfTen) {
 // printed_alike(a, b), which the audit asks of a figure's bounds, says
 // whether the two print alike: against printed_figure on pairs a few ulps
 // apart, pairs straddling a printed decimal's tie, and pairs far apart.
+// Where arithmetic finds a figure's decimal, it is the one printed_figure
+// rounds to: the double nearest it is printed_figure's, bit for bit, with at
+// most four digits (or 10^4); on random doubles of every binade, and it is
+// found for nearly every figure an audit prints (a ULP or bits figure within
+// 10^±18 of 1).
+TEST(PrintedFigures, AFiguresDecimalIsThePrintedFigures) {
+    const std::uint64_t seed = std::random_device{}();
+    std::printf("seed %llu\n", static_cast<unsigned long long>(seed));
+    std::mt19937_64 rng(seed);
+    std::size_t found = 0, ordinary = 0, ordinary_found = 0;
+    for (int i = 0; i < 400000; ++i) {
+        const double x = std::bit_cast<double>(rng());
+        printed_decimal d;
+        const bool in_ordinary_range = std::isfinite(x) && std::fabs(x) >= 1e-18 && std::fabs(x) <= 1e18;
+        ordinary += in_ordinary_range;
+        if (!printed_figure_decimal(x, d)) continue;
+        ++found;
+        ordinary_found += in_ordinary_range;
+        ASSERT_LE(d.digits, 10000u) << std::hexfloat << x;
+        ASSERT_EQ(d.negative, std::signbit(x));
+        char text[48];
+        char* end = std::to_chars(text, text + sizeof text, d.digits).ptr;
+        *end++ = 'e';
+        end = std::to_chars(end, text + sizeof text, d.exponent).ptr;
+        double nearest = 0;
+        std::from_chars(text, end, nearest);
+        if (d.negative) nearest = -nearest;
+        ASSERT_EQ(std::bit_cast<std::uint64_t>(nearest), std::bit_cast<std::uint64_t>(printed_figure(x)))
+            << std::hexfloat << x << ": " << std::string_view(text, end);
+    }
+    for (const double x : {0.0, -0.0, std::numeric_limits<double>::infinity(), std::numeric_limits<double>::quiet_NaN()}) {
+        printed_decimal none;
+        EXPECT_FALSE(printed_figure_decimal(x, none)) << x;
+    }
+    std::printf("decimals found for %zu of 400000 random doubles, %zu of the %zu within 10^±18\n", found,
+                ordinary_found, ordinary);
+    EXPECT_GE(ordinary_found, ordinary * 99 / 100);
+}
+
 TEST(PrintedFigures, PrintedAlikeIsPrintedFigureEquality) {
     const std::uint64_t seed = std::random_device{}();
     std::printf("seed %llu\n", static_cast<unsigned long long>(seed));

@@ -57,10 +57,13 @@ int decimal_exponent_of_binary(int e) { return (e * 78913) >> 18; }
 double integer_part(double m) { return static_cast<double>(static_cast<std::int64_t>(m)); }
 double nearest_integer(double m) { return integer_part(m + 0.5); }
 
-std::optional<four_digit_scaling> scaled_to_four_digits(double magnitude) {
+// Written into `out` (false where no scale within 10^±22 does), inlined:
+// returned as an optional, the pair went through the stack and was reloaded
+// by a load wider than the stores that wrote it.
+[[gnu::always_inline]] inline bool scaled_to_four_digits(double magnitude, four_digit_scaling& out) {
     int k = figure_significant_digits - 1 - decimal_exponent_of_binary(binade_of(magnitude));
     for (int attempt = 0; attempt < 3; ++attempt) {
-        if (k < -22 || k > 22) return std::nullopt;
+        if (k < -22 || k > 22) return false;
         const double m = scaled_by_power_of_ten(magnitude, k);
         if (m < 1000) {
             ++k;
@@ -70,27 +73,38 @@ std::optional<four_digit_scaling> scaled_to_four_digits(double magnitude) {
             --k;
             continue;
         }
-        return four_digit_scaling{m, k};
+        out = {m, k};
+        return true;
     }
-    return std::nullopt;
+    return false;
 }
 
 // Whether m lies farther than 2^−40·m from every half-integer, so that the
 // exact |x|·10^k that m rounds rounds to the same integer as m.
 bool clear_of_tie(double m) { return std::fabs((m - integer_part(m)) - 0.5) > 0x1p-40 * m; }
 
-// printed_figure without a decimal conversion where that is safe: m rounded
-// to the integer n when it is clear of a tie, and n·10^−k formed by one
-// multiplication or division of exact doubles (correctly rounded: the double
-// nearest the decimal). nullopt where a scale beyond 10^22 is needed or m
-// lies that near a tie.
+// printed_figure without a decimal conversion where that is safe: the
+// decimal n·10^−k (printed_figure_decimal) formed by one multiplication or
+// division of exact doubles (correctly rounded: the double nearest it).
 std::optional<double> printed_without_conversion(double x) {
-    const std::optional<four_digit_scaling> s = scaled_to_four_digits(std::fabs(x));
-    if (!s || !clear_of_tie(s->m)) return std::nullopt;
-    const double n = nearest_integer(s->m);
-    const double rounded = s->k >= 0 ? n / powers_of_ten[s->k] : n * powers_of_ten[-s->k];
+    printed_decimal d;
+    if (!printed_figure_decimal(x, d)) return std::nullopt;
+    const double n = d.digits;
+    const double rounded = d.exponent <= 0 ? n / powers_of_ten[-d.exponent] : n * powers_of_ten[d.exponent];
     return std::copysign(rounded, x);
 }
+
+}  // namespace
+
+// m rounded to the integer n when it is clear of a tie: the decimal n·10^−k.
+bool printed_figure_decimal(double x, printed_decimal& out) {
+    four_digit_scaling s;
+    if (!std::isfinite(x) || x == 0 || !scaled_to_four_digits(std::fabs(x), s) || !clear_of_tie(s.m)) return false;
+    out = {std::signbit(x), static_cast<std::uint32_t>(nearest_integer(s.m)), -s.k};
+    return true;
+}
+
+namespace {
 
 // printed_figure, worked out.
 double rounded_to_printed_digits(double x) {
@@ -118,10 +132,10 @@ bool printed_alike(double a, double b) {
     if (a == b) return true;
     // Both scaled alike, clear of ties: alike when they round to one integer.
     if (a > 0 && b > 0 && std::isfinite(a) && std::isfinite(b))
-        if (const std::optional<four_digit_scaling> sb = scaled_to_four_digits(b)) {
-            const double ma = scaled_by_power_of_ten(a, sb->k);
-            if (ma >= 1000 && ma < 10000 && clear_of_tie(ma) && clear_of_tie(sb->m))
-                return nearest_integer(ma) == nearest_integer(sb->m);
+        if (four_digit_scaling sb; scaled_to_four_digits(b, sb)) {
+            const double ma = scaled_by_power_of_ten(a, sb.k);
+            if (ma >= 1000 && ma < 10000 && clear_of_tie(ma) && clear_of_tie(sb.m))
+                return nearest_integer(ma) == nearest_integer(sb.m);
         }
     return printed_figure(a) == printed_figure(b);
 }

@@ -15,6 +15,7 @@
 
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -34,6 +35,18 @@ inline constexpr int figure_significant_digits = 4;
 // it) has no nearest double, and x is returned unrounded.
 double printed_figure(double x);
 std::optional<double> printed_figure(const std::optional<double>& x);
+// The decimal printed_figure(x) is nearest, ±digits·10^exponent (digits at
+// most 10^figure_significant_digits), written into `out` where arithmetic
+// alone finds it: x finite, not 0, scaled to four digits by a power of ten
+// within 10^±22 and clear of a tie. False elsewhere (printed_figure then
+// converts). For a writer that spells the figure from its digits, not from
+// the double (json_line::decimal): the same decimal printed_figure rounds to.
+struct printed_decimal {
+    bool negative = false;
+    std::uint32_t digits = 0;
+    int exponent = 0;
+};
+bool printed_figure_decimal(double x, printed_decimal& out);
 // printed_figure(a) == printed_figure(b), for non-negative a ≤ b, mostly
 // without forming either (a few operations where both lie clear of a tie).
 bool printed_alike(double a, double b);

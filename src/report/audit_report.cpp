@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <limits>
@@ -27,6 +28,27 @@ void write_number(json_line& out, double x) {
     else
         out.value(x);
 }
+
+namespace {
+
+// The figures' names on a case's line (error_figures' case_name), checked
+// when compiled to need no escaping, so that each line copies them as they are.
+constexpr std::array<json_name, error_figure_count> figure_case_names =
+    []<std::size_t... figure>(std::index_sequence<figure...>) {
+        return std::array<json_name, error_figure_count>{json_name(error_figures[figure].case_name)...};
+    }(std::make_index_sequence<error_figure_count>{});
+
+// A figure as printed (printed_figure), spelled from its decimal digits
+// where arithmetic finds them, else from the printed double: the same text
+// either way (json_decimal_text).
+void write_figure(json_line& out, double x) {
+    if (printed_decimal d; printed_figure_decimal(x, d))
+        out.decimal(d.negative, d.digits, d.exponent);
+    else
+        write_number(out, printed_figure(x));
+}
+
+}  // namespace
 
 json build_json() {
     return {{"rayverify_version", build_info::version},
@@ -411,24 +433,25 @@ std::string per_case_line(const audited_case& audited, const std::vector<audit_t
                 hex_vec(*o.output.normal);
             }
         }
-        const auto figure = [&](std::string_view name, const std::optional<double>& x) {
+        const auto figure = [&](json_name name, const std::optional<double>& x) {
             if (!x) return;
-            line.key_text(name);
-            write_number(line, printed_figure(*x));
+            line.key(name);
+            write_figure(line, *x);
         };
         // Figures the audit kept to their bucket print from their exact
         // values where their bounds print apart (printed_as_exact).
         const case_score& figures = printed_as_exact(o.score) ? o.score : audited.every_digit(i, targets[i]);
         for (const error_figure_definition& f : error_figures) {
+            const json_name name = figure_case_names[static_cast<std::size_t>(f.figure)];
             if (f.figure == error_figure::hit_point_ulp) {
                 // Per coordinate on a case's line (the tally keeps the worst).
                 if (!figures.hit_point_ulp) continue;
-                line.key_text(f.case_name).begin_array();
-                for (const double e : *figures.hit_point_ulp) write_number(line, printed_figure(e));
+                line.key(name).begin_array();
+                for (const double e : *figures.hit_point_ulp) write_figure(line, e);
                 line.end_array();
                 continue;
             }
-            figure(f.case_name, f.of_case(figures));
+            figure(name, f.of_case(figures));
         }
         if (!o.score.detail.empty()) line.member("detail", o.score.detail);
         line.end_object();

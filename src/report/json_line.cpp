@@ -28,6 +28,52 @@ char* json_number_text(char* out, double x) {
     return end;
 }
 
+char* json_decimal_text(char* out, bool negative, std::uint64_t digits, int exponent) {
+    for (; digits % 10 == 0; digits /= 10) ++exponent;
+    char text[20];  // the digits, most significant first
+    char* const text_end = std::to_chars(text, text + sizeof text, digits).ptr;
+    const int count = static_cast<int>(text_end - text);
+    const int point = exponent + count - 1;  // the scientific form's exponent
+    if (negative) *out++ = '-';
+    const auto scientific = [&](char* at) {
+        *at++ = text[0];
+        if (count > 1) {
+            *at++ = '.';
+            at = std::copy(text + 1, text_end, at);
+        }
+        *at++ = 'e';
+        *at++ = point < 0 ? '-' : '+';
+        const int magnitude = point < 0 ? -point : point;
+        if (magnitude < 10) *at++ = '0';
+        return std::to_chars(at, at + 4, magnitude).ptr;
+    };
+    // json_number_text's choices: from 10^16 on the scientific form; below,
+    // std::to_chars' shortest layout, fixed unless the scientific form is
+    // shorter, and an integer gets ".0" unless its scientific form is shorter
+    // than that.
+    const int scientific_size = count + (count > 1 ? 1 : 0) + 2 + (point <= -100 || point >= 100 ? 3 : 2);
+    if (point >= 16) return scientific(out);
+    if (point >= count - 1) {  // an integer: the digits, then zeros
+        const int integer_size = point + 1;
+        if (scientific_size < integer_size + 2) return scientific(out);
+        out = std::copy(text, text_end, out);
+        out = std::fill_n(out, integer_size - count, '0');
+        std::memcpy(out, ".0", 2);
+        return out + 2;
+    }
+    const int fixed_size = point >= 0 ? count + 1 : count + 1 - point;
+    if (scientific_size < fixed_size) return scientific(out);
+    if (point >= 0) {  // d.ddd with the point inside the digits
+        out = std::copy(text, text + point + 1, out);
+        *out++ = '.';
+        return std::copy(text + point + 1, text_end, out);
+    }
+    *out++ = '0';
+    *out++ = '.';
+    out = std::fill_n(out, -point - 1, '0');
+    return std::copy(text, text_end, out);
+}
+
 namespace {
 
 void write_indent(std::string& out, int indent, int depth) {

@@ -35,6 +35,13 @@ namespace rayverify {
 // ("2.0", "1e+21", "0.04266", "-5e-324"); at most 25 bytes, written at
 // `out`. Returns the end.
 char* json_number_text(char* out, double x);
+// What json_number_text writes for the double nearest ±digits·10^exponent,
+// spelled from the digits (no conversion from binary): where the decimal has
+// at most 15 significant digits and its nearest double is normal, that
+// double's shortest round-trip form is the decimal itself, trailing zeros
+// dropped, and only the layout (fixed or scientific, ".0" after an
+// integer) is left to choose. digits > 0; at most 25 bytes. Returns the end.
+char* json_decimal_text(char* out, bool negative, std::uint64_t digits, int exponent);
 
 // The document as nlohmann's dump(indent) lays it out (indent < 0: compact;
 // otherwise one member or element a line), with every floating-point number
@@ -121,7 +128,9 @@ void json_escaped(std::string_view s, Put&& put) {
 class json_name {
 public:
     template <std::size_t N>
-    consteval json_name(const char (&text)[N]) : text_(text, N - 1) {  // NOLINT: implicit from a literal
+    consteval json_name(const char (&text)[N]) : json_name(std::string_view(text, N - 1)) {}  // NOLINT: implicit from a literal
+    // A name from a table fixed in the code (error_figures' case_name).
+    consteval explicit json_name(std::string_view text) : text_(text) {
         for (const char ch : text_)
             if (json_escapes(ch)) throw "a json_name must be written without escapes; use key_text";
     }
@@ -148,22 +157,52 @@ public:
 
     // A member's name; its value follows. key_text takes any text and
     // escapes it as needed.
+    // Written with one check for room (the separator, the quoted name and
+    // its colon at once): piece by piece, through put's out-of-line calls,
+    // each piece reloaded the string's size and the text's length.
     json_line& key(json_name name) {
-        separate();
-        put('"');
-        put(name.text());
-        put(std::string_view("\":"));
+        const std::string_view text = name.text();
+        const bool comma = take_separator();
+        char* at = room(text.size() + 4);
+        if (comma) *at++ = ',';
+        *at = '"';
+        copy_piece(at + 1, text);
+        at[text.size() + 1] = '"';
+        at[text.size() + 2] = ':';
+        used_ += static_cast<std::size_t>(comma) + text.size() + 3;
         after_key_ = true;
         return *this;
     }
     json_line& key_text(std::string_view name) { return key_text(std::span<const std::string_view>(&name, 1)); }
-    // A name written from pieces, escaped as the one text they make.
+    // A name written from pieces, escaped as the one text they make. Pieces
+    // with nothing to escape (a target's name, "/", its precision) are
+    // written as key(json_name) writes a name, with one check for room.
     json_line& key_text(std::span<const std::string_view> pieces) {
-        separate();
-        put('"');
-        for (std::string_view piece : pieces) escaped(piece);
-        put(std::string_view("\":"));
+        std::size_t size = 0;
+        bool plain = true;
+        for (std::string_view piece : pieces) {
+            size += piece.size();
+            plain = plain && json_escaping::plain_prefix(piece) == piece.size();
+        }
+        const bool comma = take_separator();
         after_key_ = true;
+        if (!plain) {
+            if (comma) put(',');
+            put('"');
+            for (std::string_view piece : pieces) escaped(piece);
+            put(std::string_view("\":"));
+            return *this;
+        }
+        char* at = room(size + 4);
+        if (comma) *at++ = ',';
+        *at++ = '"';
+        for (std::string_view piece : pieces) {
+            copy_piece(at, piece);
+            at += piece.size();
+        }
+        at[0] = '"';
+        at[1] = ':';
+        used_ += static_cast<std::size_t>(comma) + size + 3;
         return *this;
     }
 
@@ -208,6 +247,14 @@ public:
         put(shortest_text_of(x));
         return *this;
     }
+    // The double nearest ±digits·10^exponent, written as value(double) writes
+    // it (json_decimal_text's conditions).
+    json_line& decimal(bool negative, std::uint64_t digits, int exponent) {
+        separate();
+        char* const at = room(25);
+        used_ += static_cast<std::size_t>(json_decimal_text(at, negative, digits, exponent) - at);
+        return *this;
+    }
     json_line& null() {
         separate();
         put("null");
@@ -240,11 +287,14 @@ private:
     [[gnu::noinline]] void grow(std::size_t n) { out_.resize(std::max(2 * out_.size(), used_ + n + 256)); }
     void put(char ch) { *room(1) = ch, ++used_; }
     void put(std::string_view s) {
-        char* const at = room(s.size());
+        copy_piece(room(s.size()), s);
+        used_ += s.size();
+    }
+    // Most pieces of a line are short (names, verdicts, brackets with
+    // quotes): copied by two overlapping fixed-size copies within the
+    // piece, not by a call to memmove, which cost more than the copy.
+    static void copy_piece(char* at, std::string_view s) {
         const std::size_t n = s.size();
-        // Most pieces of a line are short (names, verdicts, brackets with
-        // quotes): copied by two overlapping fixed-size copies within the
-        // piece, not by a call to memmove, which cost more than the copy.
         if (n >= 8 && n <= 16) {
             std::memcpy(at, s.data(), 8);
             std::memcpy(at + n - 8, s.data() + n - 8, 8);
@@ -256,7 +306,6 @@ private:
         } else {
             std::memcpy(at, s.data(), n);
         }
-        used_ += n;
     }
 
     json_line& open(char bracket) {
@@ -270,14 +319,20 @@ private:
         first_ = false;
         return *this;
     }
-    // The comma before a value or key that is not the first of its container.
-    void separate() {
+    // Whether a comma comes before the next value or key: not after a key,
+    // nor before the first of its container (the state moves past it).
+    bool take_separator() {
         if (after_key_) {
             after_key_ = false;
-            return;
+            return false;
         }
-        if (!first_ && used_ != 0) put(',');
+        const bool comma = !first_ && used_ != 0;
         first_ = false;
+        return comma;
+    }
+    // The comma before a value or key that is not the first of its container.
+    void separate() {
+        if (take_separator()) put(',');
     }
     void quoted(std::string_view s) {
         put('"');

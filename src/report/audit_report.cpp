@@ -349,9 +349,13 @@ std::string per_case_line(const audited_case& audited, const std::vector<audit_t
                           std::string buffer) {
     const corpus_case& c = *audited.source;
     const auto& g = c.geometry;
-    // Lines run to about 400 bytes per target plus the case's own fields: room for
-    // 512 per target and 1 KB more is allocated once and reused.
-    json_line line(std::move(buffer), 1024 + 512 * targets.size());
+    // Lines run to about 400 bytes per target plus the case's own fields: room
+    // for 512 per target and 1 KB more is allocated once and reused, and made
+    // ready for the previous line's length and a quarter more where `buffer`
+    // holds one (json_line grows it where a line is longer).
+    const std::size_t expected_size =
+        buffer.empty() ? 1024 + 512 * targets.size() : buffer.size() + buffer.size() / 4 + 256;
+    json_line line(std::move(buffer), expected_size);
     line.begin_object();
     line.member("schema_version", schema_version::per_case);
     line.member("id", c.id);

@@ -145,9 +145,12 @@ public:
     json_line() = default;
     // Written into the given string's storage (its text is dropped), with
     // room for about expected_size bytes from the start: a caller writing
-    // line after line reuses one allocation.
+    // line after line reuses one allocation. The storage keeps its text's
+    // length and is widened to expected_size only, not to its capacity:
+    // std::string zero-fills what it widens, and a line widened to the
+    // longest line's capacity cleared kilobytes it never wrote.
     explicit json_line(std::string&& storage, std::size_t expected_size = 0) : out_(std::move(storage)) {
-        out_.resize(std::max(out_.capacity(), expected_size));
+        out_.resize(std::max(out_.size(), expected_size));
     }
 
     json_line& begin_object() { return open('{'); }

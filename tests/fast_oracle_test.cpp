@@ -404,6 +404,10 @@ TEST(FastOracleStage, ABatchAnswersAsOneCallPerCase) {
         for (int i = 0; i < 300; ++i) cases.push_back(r.make(rng));
     }
     const fp_state hostile = *fp_state_for(*parse_fp_environment("ftz+daz+upward"));
+    // Whatever fails below, the tests after this one run in the IEEE default.
+    struct ieee_default_on_exit {
+        ~ieee_default_on_exit() { set_fp_state(ieee_default_fp_state()); }
+    } restore;
     for (const oracle_depth depth : {oracle_depth::class_and_signs, oracle_depth::roots_rounded}) {
         std::vector<exact_roots> one_by_one;
         for (const ray_sphere<double>& g : cases) one_by_one.push_back(solve_exact_roots(g, precision::binary64, depth));

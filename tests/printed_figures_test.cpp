@@ -132,14 +132,11 @@ TEST(PrintedFigures, AgreeWithPrintfAtEveryBinadeEdgeAndPowerOfTen) {
     }
 }
 
-// printed_alike(a, b), which the audit asks of a figure's bounds, says
-// whether the two print alike: against printed_figure on pairs a few ulps
-// apart, pairs straddling a printed decimal's tie, and pairs far apart.
-// Where arithmetic finds a figure's decimal, it is the one printed_figure
-// rounds to: the double nearest it is printed_figure's, bit for bit, with at
-// most four digits (or 10^4); on random doubles of every binade, and it is
-// found for nearly every figure an audit prints (a ULP or bits figure within
-// 10^±18 of 1).
+// Where arithmetic finds a figure's decimal, it is the one glibc's printf
+// rounds the double to at four significant digits ("%.3e", ties to even),
+// and the double nearest it is printed_figure's, bit for bit; on random
+// doubles of every binade. It is found for nearly every figure an audit
+// prints (a ULP or bits figure within 10^±18 of 1).
 TEST(PrintedFigures, AFiguresDecimalIsThePrintedFigures) {
     const std::uint64_t seed = std::random_device{}();
     std::printf("seed %llu\n", static_cast<unsigned long long>(seed));
@@ -155,6 +152,19 @@ TEST(PrintedFigures, AFiguresDecimalIsThePrintedFigures) {
         ordinary_found += in_ordinary_range;
         ASSERT_LE(d.digits, 10000u) << std::hexfloat << x;
         ASSERT_EQ(d.negative, std::signbit(x));
+        // printf's four digits, "d.ddde±XX", as an integer and an exponent,
+        // against the decimal's with trailing zeros dropped from both.
+        char by_printf[40];
+        std::snprintf(by_printf, sizeof by_printf, "%.3e", std::fabs(x));
+        const std::string printf_text(by_printf);
+        std::uint64_t printf_digits = std::stoull(printf_text.substr(0, 1) + printf_text.substr(2, 3));
+        int printf_exponent = std::stoi(printf_text.substr(6)) - 3;
+        std::uint64_t digits = d.digits;
+        int exponent = d.exponent;
+        for (; printf_digits % 10 == 0; printf_digits /= 10) ++printf_exponent;
+        for (; digits % 10 == 0; digits /= 10) ++exponent;
+        ASSERT_EQ(digits, printf_digits) << std::hexfloat << x << ": printf " << printf_text;
+        ASSERT_EQ(exponent, printf_exponent) << std::hexfloat << x << ": printf " << printf_text;
         char text[48];
         char* end = std::to_chars(text, text + sizeof text, d.digits).ptr;
         *end++ = 'e';
@@ -174,6 +184,9 @@ TEST(PrintedFigures, AFiguresDecimalIsThePrintedFigures) {
     EXPECT_GE(ordinary_found, ordinary * 99 / 100);
 }
 
+// printed_alike(a, b), which the audit asks of a figure's bounds, says
+// whether the two print alike: against printed_figure on pairs a few ulps
+// apart, pairs straddling a printed decimal's tie, and pairs far apart.
 TEST(PrintedFigures, PrintedAlikeIsPrintedFigureEquality) {
     const std::uint64_t seed = std::random_device{}();
     std::printf("seed %llu\n", static_cast<unsigned long long>(seed));

@@ -108,7 +108,7 @@ oracle_timing_row time_family(const std::string& family, const prepared& p, cons
             benchmark::DoNotOptimize(a);
         }
     };
-    // One repetition of each benchmark at a time, the nine back to back.
+    // One repetition of each benchmark at a time, all of them back to back.
     oracle_timing_options once = options;
     once.repetitions = 1;
     std::vector<double> naive, fast, reference, algebraic, filter, fast_ratio, reference_ratio, algebraic_ratio,
@@ -236,7 +236,7 @@ std::string format_oracle_timing(const oracle_timing& t) {
     for (const oracle_timing_row& r : t.families) line(r);
     line(t.all);
     out += fmt::format("ns per case, CPU time, median of {} repetitions (ratios: medians of each repetition's, the "
-                       "nine timed back to back); class = solve_exact_roots answering the class and the roots' "
+                       "benchmarks timed back to back); class = solve_exact_roots answering the class and the roots' "
                        "signs alone, roots = the same with both roots correctly rounded (oracle_depth; no interval, "
                        "no hit point, no state kept), each asked for the family's cases as one batch; oracle = solve_exact (filtered): a whole solution, the class, signs, rounded roots "
                        "and the enclosures later questions start from (hit points are rounded when asked), reference = "

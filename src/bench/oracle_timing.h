@@ -35,7 +35,8 @@ struct oracle_timing_row {
     double class_per_call_over_naive = 0, roots_per_call_over_naive = 0;
     // The static filter alone stopped after the class and signs (its ratio to
     // naive): what of class_ns is the filter's arithmetic, and what the rest
-    // (the case's validity check, the IEEE environment's restore, the result).
+    // (the stage count, the result written; the environment's check is the
+    // per-call figure's, once per batch in class_ns).
     double static_class_over_naive = 0;
     double reference_ns = 0;  // solve_exact_reference, same inputs
     double algebraic_ns = 0;  // solve_algebraic, same inputs

@@ -28,6 +28,7 @@
 #include "oracle/static_filter.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <limits>
 
@@ -829,6 +830,7 @@ exact_roots solve_exact_roots(const ray_sphere<double>& g, precision prec, oracl
 
 void solve_exact_roots(std::span<const ray_sphere<double>> cases, precision prec, oracle_depth depth,
                        std::span<exact_roots> out) {
+    assert(out.size() == cases.size() && "a batch's answers are as many as its cases");
     restore_ieee_default();  // once: nothing but the oracle runs until the batch is answered
     stage_tally& solutions = oracle_stage_counts_this_thread().solutions;
     const std::size_t n = std::min(cases.size(), out.size());

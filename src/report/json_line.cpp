@@ -1,6 +1,7 @@
 #include "report/json_line.h"
 
 #include <algorithm>
+#include <cassert>
 #include <charconv>
 #include <cmath>
 #include <cstring>
@@ -29,7 +30,8 @@ char* json_number_text(char* out, double x) {
 }
 
 char* json_decimal_text(char* out, bool negative, std::uint64_t digits, int exponent) {
-    for (; digits % 10 == 0; digits /= 10) ++exponent;
+    assert(digits > 0 && digits < 1'000'000'000'000'000 && "at most 15 significant digits");
+    for (; digits % 10 == 0 && digits != 0; digits /= 10) ++exponent;
     char text[20];  // the digits, most significant first
     char* const text_end = std::to_chars(text, text + sizeof text, digits).ptr;
     const int count = static_cast<int>(text_end - text);

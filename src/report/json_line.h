@@ -40,7 +40,8 @@ char* json_number_text(char* out, double x);
 // at most 15 significant digits and its nearest double is normal, that
 // double's shortest round-trip form is the decimal itself, trailing zeros
 // dropped, and only the layout (fixed or scientific, ".0" after an
-// integer) is left to choose. digits > 0; at most 25 bytes. Returns the end.
+// integer) is left to choose. 0 < digits < 10^15 (asserted); at most 25
+// bytes. Returns the end.
 char* json_decimal_text(char* out, bool negative, std::uint64_t digits, int exponent);
 
 // The document as nlohmann's dump(indent) lays it out (indent < 0: compact;

@@ -161,21 +161,9 @@ public:
 
     // A member's name; its value follows. key_text takes any text and
     // escapes it as needed.
-    // Written with one check for room (the separator, the quoted name and
-    // its colon at once): piece by piece, through put's out-of-line calls,
-    // each piece reloaded the string's size and the text's length.
     json_line& key(json_name name) {
         const std::string_view text = name.text();
-        const bool comma = take_separator();
-        char* at = room(text.size() + 4);
-        if (comma) *at++ = ',';
-        *at = '"';
-        copy_piece(at + 1, text);
-        at[text.size() + 1] = '"';
-        at[text.size() + 2] = ':';
-        used_ += static_cast<std::size_t>(comma) + text.size() + 3;
-        after_key_ = true;
-        return *this;
+        return plain_key(take_separator(), std::span<const std::string_view>(&text, 1), text.size());
     }
     json_line& key_text(std::string_view name) { return key_text(std::span<const std::string_view>(&name, 1)); }
     // A name written from pieces, escaped as the one text they make. Pieces
@@ -189,24 +177,12 @@ public:
             plain = plain && json_escaping::plain_prefix(piece) == piece.size();
         }
         const bool comma = take_separator();
+        if (plain) return plain_key(comma, pieces, size);
         after_key_ = true;
-        if (!plain) {
-            if (comma) put(',');
-            put('"');
-            for (std::string_view piece : pieces) escaped(piece);
-            put(std::string_view("\":"));
-            return *this;
-        }
-        char* at = room(size + 4);
-        if (comma) *at++ = ',';
-        *at++ = '"';
-        for (std::string_view piece : pieces) {
-            copy_piece(at, piece);
-            at += piece.size();
-        }
-        at[0] = '"';
-        at[1] = ':';
-        used_ += static_cast<std::size_t>(comma) + size + 3;
+        if (comma) put(',');
+        put('"');
+        for (std::string_view piece : pieces) escaped(piece);
+        put(std::string_view("\":"));
         return *this;
     }
 
@@ -310,6 +286,25 @@ private:
         } else {
             std::memcpy(at, s.data(), n);
         }
+    }
+
+    // A name whose pieces need no escaping (`size` bytes in all), after a
+    // comma where `comma` asks for one: written with one check for room.
+    // Piece by piece, through put's out-of-line calls, each piece reloaded
+    // the string's size and the text's length.
+    json_line& plain_key(bool comma, std::span<const std::string_view> pieces, std::size_t size) {
+        char* at = room(size + 4);
+        if (comma) *at++ = ',';
+        *at++ = '"';
+        for (std::string_view piece : pieces) {
+            copy_piece(at, piece);
+            at += piece.size();
+        }
+        at[0] = '"';
+        at[1] = ':';
+        used_ += static_cast<std::size_t>(comma) + size + 3;
+        after_key_ = true;
+        return *this;
     }
 
     json_line& open(char bracket) {

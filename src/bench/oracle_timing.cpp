@@ -257,12 +257,13 @@ std::string format_oracle_timing(const oracle_timing& t) {
     };
     // The partial answers, on the ordinary families: what the class and signs
     // cost, and what rounding both roots adds, asked for the family's cases as
-    // one batch; and what asking case by case adds (the environment's check).
+    // one batch; and what asking case by case adds (the environment's check,
+    // and for the roots the misses taken among the hits).
     constexpr double class_limit = 5.0, roots_limit = 10.0;
-    const auto per_call = [&out](double batch, double each) {
+    const auto per_call = [&out](double batch, double each, std::string_view batch_also) {
         out += fmt::format("      one call per case: {:.1f}x ({:+.1f}x: each call checks the IEEE environment, "
-                           "reading MXCSR, which waits for the operations in flight; a batch checks it once)\n",
-                           each, each - batch);
+                           "reading MXCSR, which waits for the operations in flight; a batch checks it once{})\n",
+                           each, each - batch, batch_also);
     };
     for (const oracle_timing_row& r : t.families) {
         if (r.family != "uniform" && r.family != "far_sphere") continue;
@@ -280,17 +281,19 @@ std::string format_oracle_timing(const oracle_timing& t) {
                                      "several cases at once (vectorised), not one case faster"
                                    : "less around the filter: the stage counted once per batch, the result written "
                                      "in fewer bytes");
-        per_call(r.class_over_naive, r.class_per_call_over_naive);
+        per_call(r.class_over_naive, r.class_per_call_over_naive, "");
         if (!target(fmt::format("oracle roots rounded / naive, {}", r.family), r.roots_over_naive, roots_limit, true))
             out += fmt::format("      needs {:.1f}x of {:.1f}x gone ({:.0f}%); the class and signs take {:.1f}x, "
-                               "rounding both roots {:.1f}x more (their residuals from error-free products and one "
-                               "Newton step, both roots at once, and the roundings of their enclosures): meeting it "
-                               "needs a root rounded from one correction cheaper than that step, or only the root a "
-                               "question asks for\n",
+                               "rounding both roots {:.1f}x more (the class again, then their residuals from "
+                               "error-free products and one Newton step, both roots at once, and the roundings of "
+                               "their enclosures; misses answered first): meeting it needs a root rounded from one "
+                               "correction cheaper than that step, or only the root a question asks for\n",
                                r.roots_over_naive - roots_limit, r.roots_over_naive,
                                100 * (r.roots_over_naive - roots_limit) / r.roots_over_naive, r.class_over_naive,
                                r.roots_over_naive - r.class_over_naive);
-        per_call(r.roots_over_naive, r.roots_per_call_over_naive);
+        per_call(r.roots_over_naive, r.roots_per_call_over_naive,
+                 ", and answers the misses among each 64 cases before it rounds the others' roots, where one by one "
+                 "a miss or a hit comes as it may and the branch between them mispredicts");
     }
     for (const oracle_timing_row& r : t.families) {
         const bool ordinary = r.family == "uniform" || r.family == "far_sphere";

@@ -277,9 +277,13 @@ exact_roots solve_exact_roots(const ray_sphere<double>& geometry, precision prec
 // `out` has room for). The environment is checked once for the batch rather
 // than once a case: reading MXCSR waits for the floating-point operations
 // in flight, 1.2–1.6 times a naive intersection on the machine measured
-// (bench --oracle prints both). Nothing else may run on the
-// thread meanwhile, so a batch is for cases already in hand, not for cases
-// interleaved with calls into the code under audit.
+// (bench --oracle prints both). With both roots rounded, a batch also takes
+// each 64 cases in two passes: the class alone answers the misses it
+// certifies, then the others' roots are rounded; case by case, the branch
+// between a miss and a hit mispredicted wherever the two mix (`uniform`).
+// Nothing else may run on the thread meanwhile, so a batch is for cases
+// already in hand, not for cases interleaved with calls into the code under
+// audit.
 void solve_exact_roots(std::span<const ray_sphere<double>> cases, precision prec, oracle_depth depth,
                        std::span<exact_roots> out);
 

@@ -771,20 +771,6 @@ exact_solution solved_in_ieee_default(const ray_sphere<double>& g, precision pre
     return solution;
 }
 
-// solve_exact_roots' answer at oracle_depth::roots_rounded from what the
-// static filter settled, counted in `solutions`, this thread's tally.
-exact_roots roots_settled_statically(const oracle_internal::filtered_case& filter, stage_tally& solutions) {
-    ++(has_zero_root(filter) ? solutions.expansion : solutions.filter);
-    exact_roots out;
-    if (*filter.discriminant_sign < 0) return out;
-    out.cls = line_class::two_hit;  // the static filter certifies no tangent
-    out.near_root.sign = *filter.sign[0];
-    out.far_root.sign = *filter.sign[1];
-    out.near_root.rounded = *filter.rounded[0];
-    out.far_root.rounded = *filter.rounded[1];
-    return out;
-}
-
 // solve_exact_roots' answer, likewise; `solutions` is this thread's tally.
 exact_roots roots_in_ieee_default(const ray_sphere<double>& g, precision prec, oracle_depth depth,
                                   stage_tally& solutions) {
@@ -801,8 +787,16 @@ exact_roots roots_in_ieee_default(const ray_sphere<double>& g, precision prec, o
         }
     }
     oracle_internal::filtered_case filter;
-    if (depth == oracle_depth::roots_rounded && oracle_internal::static_filter_case(g, prec, filter, depth))
-        return roots_settled_statically(filter, solutions);
+    if (depth == oracle_depth::roots_rounded && oracle_internal::static_filter_case(g, prec, filter, depth)) {
+        ++(has_zero_root(filter) ? solutions.expansion : solutions.filter);
+        if (*filter.discriminant_sign < 0) return out;
+        out.cls = line_class::two_hit;  // the static filter certifies no tangent
+        out.near_root.sign = *filter.sign[0];
+        out.far_root.sign = *filter.sign[1];
+        out.near_root.rounded = *filter.rounded[0];
+        out.far_root.rounded = *filter.rounded[1];
+        return out;
+    }
     // What the static filter cannot certify (or everything): the whole
     // solution's answer, an invalid case's reason among them.
     const exact_solution whole = solved_in_ieee_default(g, prec, std::nullopt, std::nullopt);
@@ -858,7 +852,7 @@ void solve_exact_roots(std::span<const ray_sphere<double>> cases, precision prec
         for (std::size_t i = begin; i < end; ++i) {
             oracle_internal::certified_signs signs;
             const bool miss = oracle_internal::static_class_and_signs(cases[i], signs) && signs.discriminant_sign < 0;
-            out[i] = exact_roots{};  // a miss's answer
+            out[i] = exact_roots{};  // a miss's answer, counted as roots_in_ieee_default counts it
             solutions.filter += miss;
             others[kept] = static_cast<std::uint8_t>(i - begin);
             kept += !miss;  // written always, kept where not a miss: no branch
